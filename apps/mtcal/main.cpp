@@ -1,0 +1,316 @@
+// mtcal command line: a thin layer that parses options, calls the library and prints results.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "mtcal/io/csv.hpp"
+#include "mtcal/io/joints.hpp"
+#include "mtcal/io/machine_file.hpp"
+#include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/util/errors.hpp"
+#include "mtcal/version.hpp"
+
+using namespace mtcal;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+const char* kOutputKeys[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
+
+struct ModelOptions {
+  std::string machine;
+  std::vector<std::string> set;
+  std::string only;
+  double tool_length = std::nan("");
+};
+
+void add_model_options(CLI::App* cmd, ModelOptions& o) {
+  cmd->add_option("--machine,-m", o.machine, "Machine file (YAML, see docs/machine-file.md)")
+      ->required();
+  cmd->add_option("--set", o.set,
+                  "Override a parameter in internal units (mm, rad): NAME=VALUE, e.g. EC0Y=2e-5 or "
+                  "EXX.1=5e-6; repeatable");
+  cmd->add_option("--only", o.only,
+                  "Keep only these errors or parameters (comma-separated, e.g. EXX,EC0Y); all "
+                  "others are set to zero");
+  cmd->add_option("--tool-length", o.tool_length, "Tool length in mm (overrides the machine file)");
+}
+
+Machine load(const ModelOptions& o) {
+  Machine m = load_machine(o.machine);
+  if (!std::isnan(o.tool_length)) m.tool.length = o.tool_length;
+  for (const auto& s : o.set) {
+    auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
+    const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != value.size() || !std::isfinite(v))
+      throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");
+    m.set_parameter(name, v);
+  }
+  if (!o.only.empty()) {
+    std::vector<std::string> names;
+    std::size_t start = 0;
+    while (start <= o.only.size()) {
+      auto end = o.only.find(',', start);
+      if (end == std::string::npos) end = o.only.size();
+      if (end > start) names.push_back(o.only.substr(start, end - start));
+      start = end + 1;
+    }
+    m.keep_only(names);
+  }
+  return m;
+}
+
+std::string fmt_num(double v) { return fmt::format("{:.9g}", v); }
+
+int run_eval(const ModelOptions& mo, const std::string& at, const std::string& points,
+             const std::string& grid, const std::string& out, bool as_json, bool no_travel_check,
+             int threads) {
+  const int modes = !at.empty() + !points.empty() + !grid.empty();
+  if (modes != 1) throw InputError({"eval", 0, ""}, "expected exactly one of --at, --points, --grid");
+  const Machine m = load(mo);
+  const ErrorModel model(m);
+  const std::size_t n = m.axes.size();
+
+  if (!at.empty()) {
+    if (!out.empty()) throw InputError({"--out", 0, ""}, "--out goes with --points or --grid, not --at");
+    const auto q = parse_joint_values(m, at);
+    if (!no_travel_check) check_travel(m, q, "--at");
+    const VolumetricError e = model.evaluate(q);
+    const double v[6] = {e.translation.x(), e.translation.y(), e.translation.z(),
+                         e.rotation.x(),    e.rotation.y(),    e.rotation.z()};
+    if (as_json) {
+      json j;
+      for (int c = 0; c < 6; ++c) j[kOutputKeys[c]] = v[c];
+      std::cout << j.dump(2) << "\n";
+    } else {
+      for (int c = 0; c < 6; ++c)
+        std::cout << fmt::format("{} {:>16} {}\n", kOutputKeys[c], fmt_num(v[c]), c < 3 ? "mm" : "rad");
+    }
+    return 0;
+  }
+
+  // Batched modes: build the configurations.
+  std::vector<double> q;
+  std::vector<std::int8_t> dir;
+  CsvTable table;
+  if (!points.empty()) {
+    table = read_csv(points);
+    std::vector<int> qcol(n, -1), dcol(n, -1);
+    for (std::size_t k = 0; k < n; ++k) {
+      qcol[k] = table.column(std::string(1, m.axes[k].letter));
+      dcol[k] = table.column(std::string("dir") + m.axes[k].letter);
+    }
+    for (const auto& c : table.columns) {
+      bool known = false;
+      for (const auto& ax : m.axes)
+        known = known || c == std::string(1, ax.letter) || c == std::string("dir") + ax.letter;
+      for (const char* k : kOutputKeys) known = known || c == k;
+      if (!known)
+        throw InputError({points, 1, c}, "unknown column '" + c + "' (expected axis letters of " +
+                                             m.topology.chain + " and optional dir<axis>)");
+    }
+    bool any_dir = false;
+    for (int d : dcol) any_dir = any_dir || d >= 0;
+    q.resize(table.rows.size() * n);
+    if (any_dir) dir.assign(table.rows.size() * n, 0);
+    for (std::size_t r = 0; r < table.rows.size(); ++r) {
+      std::vector<double> qr(n, 0.0);
+      for (std::size_t k = 0; k < n; ++k) {
+        if (qcol[k] >= 0) qr[k] = table.rows[r][qcol[k]] * joint_unit_factor(m.axes[k]);
+        if (dcol[k] >= 0) {
+          const double d = table.rows[r][dcol[k]];
+          if (d != 1 && d != -1 && d != 0)
+            throw InputError({points, table.lines[r], std::string("dir") + m.axes[k].letter},
+                             fmt::format("expected +1, -1 or 0, found {:g}", d));
+          dir[r * n + k] = static_cast<std::int8_t>(d);
+        }
+      }
+      if (!no_travel_check) check_travel(m, qr, fmt::format("{}:{}", points, table.lines[r]));
+      std::copy(qr.begin(), qr.end(), q.begin() + static_cast<std::ptrdiff_t>(r * n));
+    }
+  } else {
+    const auto g = parse_grid(m, grid);
+    std::size_t total = 1;
+    for (const auto& v : g) total *= v.size();
+    if (total > 200'000'000) throw InputError({"--grid", 0, ""}, fmt::format("{} configurations is too many (at most 2e8)", total));
+    q.resize(total * n);
+    std::vector<std::size_t> idx(n, 0);
+    for (std::size_t i = 0; i < total; ++i) {
+      for (std::size_t k = 0; k < n; ++k) q[i * n + k] = g[k][idx[k]];
+      for (std::size_t k = n; k-- > 0;) {
+        if (++idx[k] < g[k].size()) break;
+        idx[k] = 0;
+      }
+    }
+    if (!no_travel_check) {
+      std::vector<double> lo(n), hi(n);
+      for (std::size_t k = 0; k < n; ++k) {
+        lo[k] = *std::min_element(g[k].begin(), g[k].end());
+        hi[k] = *std::max_element(g[k].begin(), g[k].end());
+      }
+      check_travel(m, lo, "--grid");
+      check_travel(m, hi, "--grid");
+    }
+  }
+
+  const std::size_t count = q.size() / n;
+  std::vector<double> res(count * 6);
+  const auto t0 = std::chrono::steady_clock::now();
+  model.evaluate_batch(q, dir, res, BatchOptions{threads});
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  if (!out.empty()) {
+    std::string text;
+    for (std::size_t k = 0; k < n; ++k) text += (k ? "," : "") + std::string(1, m.axes[k].letter);
+    if (!dir.empty())
+      for (std::size_t k = 0; k < n; ++k) text += std::string(",dir") + m.axes[k].letter;
+    for (const char* k : kOutputKeys) text += std::string(",") + k;
+    text += "\n";
+    for (std::size_t r = 0; r < count; ++r) {
+      for (std::size_t k = 0; k < n; ++k)
+        text += (k ? "," : "") + fmt::format("{:.10g}", q[r * n + k] / joint_unit_factor(m.axes[k]));
+      if (!dir.empty())
+        for (std::size_t k = 0; k < n; ++k) text += fmt::format(",{}", dir[r * n + k]);
+      for (int c = 0; c < 6; ++c) text += fmt::format(",{:.9e}", res[r * 6 + c]);
+      text += "\n";
+    }
+    write_file_atomically(out, text);
+  }
+
+  // Summary: largest translational and rotational error and where.
+  std::size_t it = 0, ir = 0;
+  double bt = -1, br = -1;
+  for (std::size_t r = 0; r < count; ++r) {
+    const double t = std::hypot(res[r * 6], res[r * 6 + 1], res[r * 6 + 2]);
+    const double a = std::hypot(res[r * 6 + 3], res[r * 6 + 4], res[r * 6 + 5]);
+    if (t > bt) bt = t, it = r;
+    if (a > br) br = a, ir = r;
+  }
+  auto where = [&](std::size_t r) {
+    json j;
+    for (std::size_t k = 0; k < n; ++k)
+      j[std::string(1, m.axes[k].letter)] = q[r * n + k] / joint_unit_factor(m.axes[k]);
+    return j;
+  };
+  auto where_text = [&](std::size_t r) {
+    std::string s;
+    for (std::size_t k = 0; k < n; ++k)
+      s += fmt::format("{}{}={:g}", k ? "," : "", m.axes[k].letter, q[r * n + k] / joint_unit_factor(m.axes[k]));
+    return s;
+  };
+  if (as_json) {
+    json j;
+    j["configurations"] = count;
+    j["seconds"] = seconds;
+    j["max_translation"] = {{"value", count ? bt : 0.0}, {"at", count ? where(it) : json::object()}};
+    j["max_rotation"] = {{"value", count ? br : 0.0}, {"at", count ? where(ir) : json::object()}};
+    if (!out.empty()) j["out"] = out;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << fmt::format("machine      {} ({})\n", m.name, m.topology.chain);
+    std::cout << fmt::format("evaluated    {} configurations in {:.3f} s ({:.3g} per second)\n", count,
+                             seconds, seconds > 0 ? static_cast<double>(count) / seconds : 0.0);
+    if (count) {
+      std::cout << fmt::format("largest translational error  {:.6f} mm  at {}\n", bt, where_text(it));
+      std::cout << fmt::format("largest rotational error     {:.3f} urad  at {}\n", br * 1e6, where_text(ir));
+    }
+    if (!out.empty()) std::cout << "wrote        " << out << "\n";
+  }
+  return 0;
+}
+
+int run_errors(const ModelOptions& mo, bool as_json, bool nonzero) {
+  const Machine m = load(mo);
+  const auto params = m.parameters();
+  if (as_json) {
+    json arr = json::array();
+    for (const auto& p : params) {
+      if (nonzero && p.value == 0.0) continue;
+      arr.push_back({{"name", p.name},
+                     {"error", p.error.str()},
+                     {"kind", std::string(to_string(p.error.kind))},
+                     {"unit", p.unit},
+                     {"value", p.value}});
+    }
+    json j;
+    j["machine"] = m.name;
+    j["topology"] = m.topology.chain;
+    j["parameters"] = arr;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << fmt::format("{:<10} {:<9} {:<10} {:>16}\n", "name", "kind", "unit", "value");
+  for (const auto& p : params) {
+    if (nonzero && p.value == 0.0) continue;
+    std::cout << fmt::format("{:<10} {:<9} {:<10} {:>16}\n", p.name, to_string(p.error.kind), p.unit,
+                             fmt_num(p.value));
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"mtcal - geometric accuracy of CNC machine tools: error models, evaluation, "
+               "identification and compensation"};
+  app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
+  app.require_subcommand(1);
+
+  ModelOptions eval_model;
+  std::string at, points, grid, out;
+  bool eval_json = false, no_travel_check = false;
+  int threads = 0;
+  auto* eval = app.add_subcommand("eval", "Volumetric error (dx dy dz in mm, rx ry rz in rad) of the tool "
+                                          "relative to the workpiece at joint configurations");
+  add_model_options(eval, eval_model);
+  eval->add_option("--at", at, "One configuration, e.g. \"X=100,Y=50,Z=-20,B=30,C=90\" (mm, deg; "
+                               "axes not named are 0)");
+  eval->add_option("--points", points, "CSV of configurations: columns named by axis letters (mm, deg), "
+                                       "optional dirX ... = +1/-1 directions of motion");
+  eval->add_option("--grid", grid, "Full grid, e.g. \"X=-300:300:7,B=-90:90:5\" (lo:hi:count per axis)");
+  eval->add_option("--out", out, "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV");
+  eval->add_flag("--json", eval_json, "Machine-readable output (keys dx dy dz rx ry rz for --at)");
+  eval->add_flag("--no-travel-check", no_travel_check, "Evaluate outside the axes' travel too");
+  eval->add_option("--threads", threads, "Threads for batches (0: all cores)")->check(CLI::NonNegativeNumber);
+
+  ModelOptions err_model;
+  bool err_json = false, nonzero = false;
+  auto* errors = app.add_subcommand("errors", "List every error parameter of a machine: name, kind, "
+                                              "internal unit, value");
+  add_model_options(errors, err_model);
+  errors->add_flag("--json", err_json, "Machine-readable output");
+  errors->add_flag("--nonzero", nonzero, "Only parameters whose value is not zero");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (eval->parsed()) return run_eval(eval_model, at, points, grid, out, eval_json, no_travel_check, threads);
+    if (errors->parsed()) return run_errors(err_model, err_json, nonzero);
+  } catch (const std::exception& e) {
+    std::string msg = e.what();
+    for (auto& c : msg)
+      if (c == '\n') c = ' ';
+    std::cerr << "mtcal: error: " << msg << "\n";
+    return 1;
+  }
+  return 0;
+}

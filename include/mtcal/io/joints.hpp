@@ -1,0 +1,27 @@
+// Joint values as users write them: "X=100,Y=50,B=30" (mm, deg) and grids "X=-300:300:7".
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mtcal/model/machine.hpp"
+
+namespace mtcal {
+
+// Factor from the user's joint unit (mm for linear, deg for rotary) to internal units.
+double joint_unit_factor(const Axis& ax);
+std::string_view joint_unit_name(const Axis& ax);
+
+// "X=100,Y=50,Z=-20,B=30,C=90" -> internal joint values in chain order; axes not named are 0.
+// Throws InputError (field = the offending item) for unknown letters, repeats or non-numbers.
+std::vector<double> parse_joint_values(const Machine& m, std::string_view spec);
+
+// Per-axis sample values of a grid "X=-300:300:7,B=-90:90:5" (lo:hi:count, or a single value);
+// axes not named are held at 0. Internal units, chain order.
+std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view spec);
+
+// Throws InputError if a joint value lies outside its axis's travel.
+void check_travel(const Machine& m, const std::vector<double>& q, const std::string& where);
+
+}  // namespace mtcal

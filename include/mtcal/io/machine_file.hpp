@@ -1,0 +1,18 @@
+// Reading and writing machine files (YAML, specified in docs/machine-file.md).
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "mtcal/model/machine.hpp"
+
+namespace mtcal {
+
+// Loads a machine completely or throws InputError naming file, line and key.
+Machine load_machine(const std::string& path);
+// Same from text; source names the text in messages.
+Machine parse_machine(std::string_view yaml_text, const std::string& source);
+// YAML text that parse_machine reads back to the same machine (internal units, full precision).
+std::string to_yaml(const Machine& m);
+
+}  // namespace mtcal

@@ -1,0 +1,81 @@
+// Exact volumetric error of a machine: actual vs nominal tool pose, batched, with its Jacobian.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mtcal/kinematics/transform.hpp"
+#include "mtcal/model/machine.hpp"
+
+namespace mtcal {
+
+// Volumetric error at one configuration, in the workpiece frame: actual minus nominal tool
+// point (mm) and the rotation vector of R_actual * R_nominal^T (rad). Output order dx dy dz rx ry rz.
+struct VolumetricError {
+  Vec3 translation = Vec3::Zero();
+  Vec3 rotation = Vec3::Zero();
+};
+
+struct BatchOptions {
+  int threads = 0;  // 0: all hardware threads
+};
+
+// Reusable storage of ErrorModel::jacobian: sized once per model, no allocation per call.
+class JacobianWorkspace {
+ public:
+  JacobianWorkspace() = default;
+
+ private:
+  friend class ErrorModel;
+  std::vector<Affine> values, prefix, suffix;
+  std::vector<double> basis;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> slot_jacobian;
+};
+
+// The machine compiled for evaluation. Joint values q are in internal units (mm, rad), one per
+// axis in the machine's chain order; dir holds the direction of motion per axis (-1, 0, +1;
+// empty means 0: no reversal term).
+class ErrorModel {
+ public:
+  explicit ErrorModel(const Machine& machine);
+  ~ErrorModel();
+  ErrorModel(const ErrorModel&);
+  ErrorModel& operator=(const ErrorModel&);
+  ErrorModel(ErrorModel&&) noexcept;
+  ErrorModel& operator=(ErrorModel&&) noexcept;
+
+  const Machine& machine() const { return machine_; }
+  std::size_t axis_count() const { return machine_.axes.size(); }
+
+  VolumetricError evaluate(std::span<const double> q, std::span<const std::int8_t> dir = {}) const;
+  // Tool pose in the workpiece frame, with errors (actual) or without (nominal).
+  Affine actual_pose(std::span<const double> q, std::span<const std::int8_t> dir = {}) const;
+  Affine nominal_pose(std::span<const double> q) const;
+
+  // N configurations: q row-major N x axis_count, dir empty or N x axis_count, out N x 6
+  // (dx dy dz rx ry rz). Splits the work over threads; no allocation per configuration.
+  void evaluate_batch(std::span<const double> q, std::span<const std::int8_t> dir,
+                      std::span<double> out, const BatchOptions& options = {}) const;
+
+  // Sensitivity Jacobian d(dx dy dz rx ry rz) / d(parameter) at one configuration, columns in
+  // the order of Machine::parameters(). Exact (analytic through the exact transforms).
+  void jacobian(std::span<const double> q, std::span<const std::int8_t> dir,
+                Eigen::Ref<Eigen::Matrix<double, 6, Eigen::Dynamic>> J, JacobianWorkspace& ws) const;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian(std::span<const double> q,
+                                                    std::span<const std::int8_t> dir = {}) const;
+
+  struct Program;  // compiled factor chains of the batched kernel
+
+ private:
+  Machine machine_;
+  std::unique_ptr<Program> program_;
+};
+
+// Volumetric error of a pose pair: translation difference and rotation vector of Ra * Rn^T.
+VolumetricError volumetric_error(const Affine& actual, const Affine& nominal);
+
+}  // namespace mtcal

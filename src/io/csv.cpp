@@ -1,0 +1,116 @@
+#include "mtcal/io/csv.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal {
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) out.push_back(trim(cell));
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+}  // namespace
+
+int CsvTable::column(const std::string& name) const {
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+CsvTable parse_csv(const std::string& text, const std::string& source) {
+  CsvTable t;
+  std::istringstream in(text);
+  std::string line;
+  int lineno = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    ++lineno;
+    const std::string s = trim(line);
+    if (s.empty() || s[0] == '#') continue;
+    auto cells = split(s);
+    if (!header) {
+      for (const auto& c : cells) {
+        if (c.empty()) throw InputError({source, lineno, ""}, "empty column name in the header");
+        if (t.column(c) >= 0) throw InputError({source, lineno, c}, "duplicated column '" + c + "'");
+        t.columns.push_back(c);
+      }
+      header = true;
+      continue;
+    }
+    if (cells.size() != t.columns.size())
+      throw InputError({source, lineno, ""}, "expected " + std::to_string(t.columns.size()) +
+                                                 " values (one per header column), found " +
+                                                 std::to_string(cells.size()));
+    std::vector<double> row;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      double v = 0;
+      std::size_t used = 0;
+      try {
+        v = std::stod(cells[i], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != cells[i].size() || !std::isfinite(v))
+        throw InputError({source, lineno, t.columns[i]},
+                         "expected a finite number, found '" + cells[i] + "'");
+      row.push_back(v);
+    }
+    t.rows.push_back(std::move(row));
+    t.lines.push_back(lineno);
+  }
+  if (!header) throw InputError({source, 0, ""}, "no header line naming the columns");
+  return t;
+}
+
+CsvTable read_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path, 0, ""}, "cannot open file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_csv(ss.str(), path);
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string tmp = (dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error("cannot write '" + path + "': cannot create a file in " + dir.string());
+    out << text;
+    out.flush();
+    if (!out) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw Error("cannot write '" + path + "': write failed");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw Error("cannot write '" + path + "': " + ec.message());
+  }
+}
+
+}  // namespace mtcal

@@ -1,0 +1,116 @@
+#include "mtcal/io/joints.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal {
+namespace {
+
+std::vector<std::pair<std::string, std::string>> items(std::string_view spec, const char* what) {
+  std::vector<std::pair<std::string, std::string>> out;
+  std::size_t start = 0;
+  while (start <= spec.size()) {
+    std::size_t end = spec.find(',', start);
+    if (end == std::string_view::npos) end = spec.size();
+    std::string item(spec.substr(start, end - start));
+    auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError({what, 0, item}, "expected AXIS=VALUE items separated by commas, found '" + item + "'");
+    out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+    start = end + 1;
+  }
+  return out;
+}
+
+double to_number(const std::string& s, const std::string& field, const char* what) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size() || !std::isfinite(v))
+    throw InputError({what, 0, field}, "expected a number, found '" + s + "'");
+  return v;
+}
+
+std::size_t axis_of(const Machine& m, const std::string& name, std::vector<bool>& seen, const char* what) {
+  auto idx = name.size() == 1 ? m.axis_index(name[0]) : std::nullopt;
+  if (!idx)
+    throw InputError({what, 0, name}, "axis '" + name + "' is not in topology " + m.topology.chain);
+  if (seen[*idx]) throw InputError({what, 0, name}, "axis '" + name + "' given twice");
+  seen[*idx] = true;
+  return *idx;
+}
+
+}  // namespace
+
+double joint_unit_factor(const Axis& ax) {
+  return ax.kind == AxisKind::Linear ? 1.0 : std::numbers::pi / 180.0;
+}
+std::string_view joint_unit_name(const Axis& ax) { return ax.kind == AxisKind::Linear ? "mm" : "deg"; }
+
+std::vector<double> parse_joint_values(const Machine& m, std::string_view spec) {
+  std::vector<double> q(m.axes.size(), 0.0);
+  std::vector<bool> seen(m.axes.size(), false);
+  for (const auto& [name, value] : items(spec, "--at")) {
+    const std::size_t k = axis_of(m, name, seen, "--at");
+    q[k] = to_number(value, name, "--at") * joint_unit_factor(m.axes[k]);
+  }
+  return q;
+}
+
+std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view spec) {
+  std::vector<std::vector<double>> g(m.axes.size(), std::vector<double>{0.0});
+  std::vector<bool> seen(m.axes.size(), false);
+  for (const auto& [name, value] : items(spec, "--grid")) {
+    const std::size_t k = axis_of(m, name, seen, "--grid");
+    const double f = joint_unit_factor(m.axes[k]);
+    std::vector<std::string> parts;
+    std::size_t s = 0;
+    while (true) {
+      auto c = value.find(':', s);
+      parts.push_back(value.substr(s, c == std::string::npos ? std::string::npos : c - s));
+      if (c == std::string::npos) break;
+      s = c + 1;
+    }
+    if (parts.size() == 1) {
+      g[k] = {to_number(parts[0], name, "--grid") * f};
+      continue;
+    }
+    if (parts.size() != 3)
+      throw InputError({"--grid", 0, name}, "expected lo:hi:count or a single value, found '" + value + "'");
+    const double lo = to_number(parts[0], name, "--grid"), hi = to_number(parts[1], name, "--grid");
+    const double cnt = to_number(parts[2], name, "--grid");
+    if (cnt < 1 || cnt != std::floor(cnt) || cnt > 1e7)
+      throw InputError({"--grid", 0, name}, "expected a whole count from 1 to 1e7, found '" + parts[2] + "'");
+    const auto count = static_cast<std::size_t>(cnt);
+    g[k].assign(count, lo * f);
+    for (std::size_t i = 0; i < count; ++i)
+      g[k][i] = (count == 1 ? lo : lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(count - 1)) * f;
+  }
+  return g;
+}
+
+void check_travel(const Machine& m, const std::vector<double>& q, const std::string& where) {
+  for (std::size_t k = 0; k < m.axes.size(); ++k) {
+    const Axis& ax = m.axes[k];
+    if (!ax.travel) continue;
+    const double tol = 1e-9 * std::max(1.0, std::abs(ax.travel->max - ax.travel->min));
+    if (q[k] < ax.travel->min - tol || q[k] > ax.travel->max + tol) {
+      const double f = joint_unit_factor(ax);
+      throw InputError({where, 0, std::string(1, ax.letter)},
+                       fmt::format("{}={:g} {} is outside the travel [{:g}, {:g}] of axis {} "
+                                   "(use --no-travel-check to evaluate anyway)",
+                                   ax.letter, q[k] / f, joint_unit_name(ax), ax.travel->min / f,
+                                   ax.travel->max / f, ax.letter));
+    }
+  }
+}
+
+}  // namespace mtcal

@@ -1,0 +1,445 @@
+#include "mtcal/io/machine_file.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include "mtcal/util/errors.hpp"
+#include "mtcal/util/units.hpp"
+
+namespace mtcal {
+namespace {
+
+constexpr int kFormatVersion = 1;
+
+// Context for messages: the file and the dotted path of the key being read.
+struct Ctx {
+  const std::string& file;
+  std::string path;
+
+  Ctx child(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
+    int line = n.IsDefined() ? n.Mark().line + 1 : 0;
+    if (line <= 0 && n.IsDefined()) line = 0;
+    throw InputError({file, line, path}, what);
+  }
+};
+
+std::string describe(const YAML::Node& n) {
+  if (!n.IsDefined() || n.IsNull()) return "nothing";
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsSequence()) return "a list";
+  return "a map";
+}
+
+// Checks that a map has only known keys, each once; returns the map's entries by key.
+std::map<std::string, YAML::Node> entries(const YAML::Node& n, const Ctx& ctx,
+                                          std::initializer_list<std::string_view> known) {
+  if (!n.IsMap()) ctx.fail(n, "expected a map, found " + describe(n));
+  std::map<std::string, YAML::Node> out;
+  for (auto it = n.begin(); it != n.end(); ++it) {
+    const std::string key = it->first.as<std::string>();
+    Ctx kc = ctx.child(key);
+    if (known.size() != 0 &&
+        std::find(known.begin(), known.end(), std::string_view(key)) == known.end()) {
+      std::string list;
+      for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+      kc.fail(it->first, "unknown key '" + key + "' (expected one of: " + list + ")");
+    }
+    if (out.count(key)) kc.fail(it->first, "duplicated key '" + key + "'");
+    out.emplace(key, it->second);
+  }
+  return out;
+}
+
+double number(const YAML::Node& n, const Ctx& ctx) {
+  if (!n.IsScalar()) ctx.fail(n, "expected a number, found " + describe(n));
+  const std::string& s = n.Scalar();
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size() || !std::isfinite(v))
+    ctx.fail(n, "expected a finite number, found '" + s + "'");
+  return v;
+}
+
+std::string text(const YAML::Node& n, const Ctx& ctx) {
+  if (!n.IsScalar()) ctx.fail(n, "expected text, found " + describe(n));
+  return n.Scalar();
+}
+
+std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) {
+  if (!n.IsSequence()) ctx.fail(n, "expected a list of numbers, found " + describe(n));
+  std::vector<double> v;
+  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], ctx.child(std::to_string(i))));
+  return v;
+}
+
+Vec3 vec3(const YAML::Node& n, const Ctx& ctx, double scale) {
+  auto v = numbers(n, ctx);
+  if (v.size() != 3) ctx.fail(n, fmt::format("expected 3 numbers [x, y, z], found {}", v.size()));
+  return Vec3(v[0], v[1], v[2]) * scale;
+}
+
+Unit unit(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
+  const std::string s = text(n, ctx);
+  auto u = find_unit(s);
+  const char* dim = expected == Dimension::Length ? "length" : "angle";
+  if (!u) ctx.fail(n, fmt::format("unknown unit '{}' (expected a {} unit: {})", s, dim,
+                                  accepted_units(expected)));
+  if (u->dimension != expected)
+    ctx.fail(n, fmt::format("unit '{}' is not a {} unit (expected one of: {})", s, dim,
+                            accepted_units(expected)));
+  return *u;
+}
+
+// "12.5 um" or {value: 12.5, unit: um}.
+double quantity(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
+  const char* dim = expected == Dimension::Length ? "length" : "angle";
+  if (n.IsMap()) {
+    auto e = entries(n, ctx, {"value", "unit", "description"});
+    if (!e.count("value")) ctx.fail(n, "missing key 'value'");
+    if (!e.count("unit")) ctx.fail(n, fmt::format("missing key 'unit' (a {} unit)", dim));
+    return number(e["value"], ctx.child("value")) *
+           unit(e["unit"], ctx.child("unit"), expected).to_internal;
+  }
+  if (!n.IsScalar())
+    ctx.fail(n, fmt::format("expected '<number> <{} unit>', found {}", dim, describe(n)));
+  std::istringstream in(n.Scalar());
+  std::string num, u, extra;
+  in >> num >> u >> extra;
+  if (u.empty() || !extra.empty())
+    ctx.fail(n, fmt::format("expected '<number> <{} unit>' such as '{}', found '{}'", dim,
+                            expected == Dimension::Length ? "12 um" : "25 urad", n.Scalar()));
+  YAML::Node num_node(num);
+  double v = 0;
+  try {
+    std::size_t used = 0;
+    v = std::stod(num, &used);
+    if (used != num.size() || !std::isfinite(v)) throw std::invalid_argument(num);
+  } catch (const std::exception&) {
+    ctx.fail(n, "expected a number before the unit, found '" + num + "'");
+  }
+  auto found = find_unit(u);
+  if (!found || found->dimension != expected)
+    ctx.fail(n, fmt::format("unknown {} unit '{}' (expected one of: {})", dim, u,
+                            accepted_units(expected)));
+  return v * found->to_internal;
+}
+
+void parse_direction(const YAML::Node& n, const Ctx& ctx, Axis& ax) {
+  std::string s = text(n, ctx);
+  if (s.size() == 2 && (s[0] == '+' || s[0] == '-')) {
+    char c = static_cast<char>(std::tolower(static_cast<unsigned char>(s[1])));
+    if (c >= 'x' && c <= 'z') {
+      ax.direction_axis = c - 'x';
+      ax.direction_sign = s[0] == '+' ? 1.0 : -1.0;
+      return;
+    }
+  }
+  ctx.fail(n, "expected a direction '+x', '-x', '+y', '-y', '+z' or '-z', found '" + s + "'");
+}
+
+MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax, Component comp,
+                            double length_scale, double angle_scale) {
+  auto e = entries(n, ctx,
+                   {"unit", "argument_unit", "polynomial", "reversal", "table", "fourier",
+                    "description"});
+  const Dimension value_dim = is_rotation(comp) ? Dimension::Angle : Dimension::Length;
+  if (!e.count("unit"))
+    ctx.fail(n, std::string("missing key 'unit' (the unit of the error values, a ") +
+                    (value_dim == Dimension::Length ? "length" : "angle") + " unit)");
+  const double vs = unit(e["unit"], ctx.child("unit"), value_dim).to_internal;
+  const Dimension arg_dim = ax.kind == AxisKind::Linear ? Dimension::Length : Dimension::Angle;
+  double as = ax.kind == AxisKind::Linear ? length_scale : angle_scale;
+  if (e.count("argument_unit")) as = unit(e["argument_unit"], ctx.child("argument_unit"), arg_dim).to_internal;
+
+  const int forms = static_cast<int>(e.count("polynomial") + e.count("table") + e.count("fourier"));
+  if (forms != 1)
+    ctx.fail(n, fmt::format("expected exactly one of 'polynomial', 'table', 'fourier', found {}", forms));
+  const double reversal = e.count("reversal") ? number(e["reversal"], ctx.child("reversal")) * vs : 0.0;
+
+  if (e.count("polynomial")) {
+    Ctx pc = ctx.child("polynomial");
+    auto c = numbers(e["polynomial"], pc);
+    if (c.empty() || c.size() > 4)
+      pc.fail(e["polynomial"], fmt::format("expected 1 to 4 coefficients [E0, E1, E2, E3], found {}", c.size()));
+    Polynomial p;
+    for (std::size_t i = 0; i < c.size(); ++i)
+      p.coefficients[i] = c[i] * vs / std::pow(as, static_cast<double>(i));
+    p.reversal = reversal;
+    return MotionFunction(p);
+  }
+  if (e.count("table")) {
+    if (e.count("reversal"))
+      ctx.child("reversal").fail(e["reversal"], "a table gives direction dependence by 'backward', not 'reversal'");
+    Ctx tc = ctx.child("table");
+    auto t = entries(e["table"], tc, {"positions", "forward", "backward"});
+    if (!t.count("positions")) tc.fail(e["table"], "missing key 'positions'");
+    if (!t.count("forward")) tc.fail(e["table"], "missing key 'forward'");
+    Table tab;
+    tab.positions = numbers(t["positions"], tc.child("positions"));
+    if (tab.positions.size() < 2)
+      tc.child("positions").fail(t["positions"], fmt::format("expected at least 2 positions, found {}", tab.positions.size()));
+    for (std::size_t i = 1; i < tab.positions.size(); ++i)
+      if (!(tab.positions[i] > tab.positions[i - 1]))
+        tc.child("positions").fail(t["positions"],
+                                   fmt::format("positions must increase strictly; position {} ({}) follows {}",
+                                               i, tab.positions[i], tab.positions[i - 1]));
+    for (auto& x : tab.positions) x *= as;
+    auto read_values = [&](const char* key, std::vector<double>& out) {
+      out = numbers(t[key], tc.child(key));
+      if (out.size() != tab.positions.size())
+        tc.child(key).fail(t[key], fmt::format("expected {} values (one per position), found {}",
+                                               tab.positions.size(), out.size()));
+      for (auto& v : out) v *= vs;
+    };
+    read_values("forward", tab.forward);
+    if (t.count("backward")) read_values("backward", tab.backward);
+    return MotionFunction(tab);
+  }
+  if (ax.kind != AxisKind::Rotary)
+    ctx.child("fourier").fail(e["fourier"], "a Fourier series is for rotary axes; axis " +
+                                                std::string(1, ax.letter) + " is linear");
+  Ctx fc = ctx.child("fourier");
+  auto f = entries(e["fourier"], fc, {"constant", "cos", "sin"});
+  Fourier four;
+  four.constant = f.count("constant") ? number(f["constant"], fc.child("constant")) * vs : 0.0;
+  if (f.count("cos")) four.cos_terms = numbers(f["cos"], fc.child("cos"));
+  if (f.count("sin")) four.sin_terms = numbers(f["sin"], fc.child("sin"));
+  for (auto& v : four.cos_terms) v *= vs;
+  for (auto& v : four.sin_terms) v *= vs;
+  four.reversal = reversal;
+  return MotionFunction(four);
+}
+
+Machine build(const YAML::Node& root, const std::string& file) {
+  Ctx ctx{file, ""};
+  auto top = entries(root, ctx,
+                     {"mtcal_machine", "name", "description", "topology", "units", "axes", "tool",
+                      "workpiece", "errors"});
+  if (!top.count("mtcal_machine"))
+    ctx.fail(root, fmt::format("missing key 'mtcal_machine' (the format version, {})", kFormatVersion));
+  {
+    Ctx vc = ctx.child("mtcal_machine");
+    double v = number(top["mtcal_machine"], vc);
+    if (v != kFormatVersion)
+      vc.fail(top["mtcal_machine"], fmt::format("unsupported format version {} (this mtcal reads {})", v, kFormatVersion));
+  }
+  Machine m;
+  m.source = file;
+  if (top.count("name")) m.name = text(top["name"], ctx.child("name"));
+  if (!top.count("topology")) ctx.fail(root, "missing key 'topology' (e.g. wCBXfYZt)");
+  try {
+    m.topology = Topology::parse(text(top["topology"], ctx.child("topology")));
+  } catch (const ModelError& e) {
+    ctx.child("topology").fail(top["topology"], e.what());
+  }
+
+  double ls = 1.0, as = std::numbers::pi / 180.0;  // defaults: mm and deg
+  if (top.count("units")) {
+    Ctx uc = ctx.child("units");
+    auto u = entries(top["units"], uc, {"length", "angle"});
+    if (u.count("length")) ls = unit(u["length"], uc.child("length"), Dimension::Length).to_internal;
+    if (u.count("angle")) as = unit(u["angle"], uc.child("angle"), Dimension::Angle).to_internal;
+  }
+
+  if (!top.count("axes")) ctx.fail(root, "missing key 'axes'");
+  Ctx ac = ctx.child("axes");
+  auto axes = entries(top["axes"], ac, {});
+  for (std::size_t i = 0; i < m.topology.axes.size(); ++i) {
+    Axis ax;
+    ax.letter = m.topology.axes[i];
+    ax.kind = std::string_view("XYZ").find(ax.letter) != std::string_view::npos ? AxisKind::Linear
+                                                                                 : AxisKind::Rotary;
+    ax.direction_axis = ax.kind == AxisKind::Linear ? ax.letter - 'X' : ax.letter - 'A';
+    ax.moves_workpiece = i < m.topology.frame_index;
+    m.axes.push_back(std::move(ax));
+  }
+  for (auto& [key, node] : axes) {
+    Ctx kc = ac.child(key);
+    auto idx = key.size() == 1 ? m.axis_index(key[0]) : std::nullopt;
+    if (!idx) kc.fail(node, "axis '" + key + "' is not in topology " + m.topology.chain);
+    Axis& ax = m.axes[*idx];
+    if (node.IsNull()) continue;
+    auto e = entries(node, kc, {"travel", "direction", "point", "description"});
+    const double s = ax.kind == AxisKind::Linear ? ls : as;
+    if (e.count("travel") && !e["travel"].IsNull()) {
+      auto t = numbers(e["travel"], kc.child("travel"));
+      if (t.size() != 2 || !(t[0] < t[1]))
+        kc.child("travel").fail(e["travel"], "expected [min, max] with min < max");
+      ax.travel = Travel{t[0] * s, t[1] * s};
+    }
+    if (e.count("direction")) parse_direction(e["direction"], kc.child("direction"), ax);
+    if (e.count("point")) ax.point = vec3(e["point"], kc.child("point"), ls);
+  }
+  for (const auto& ax : m.axes)
+    if (!axes.count(std::string(1, ax.letter)))
+      ac.fail(top["axes"], std::string("axis '") + ax.letter + "' of topology " + m.topology.chain +
+                               " is missing (list it, even as '" + ax.letter + ": {}')");
+
+  if (top.count("tool")) {
+    Ctx tc = ctx.child("tool");
+    auto t = entries(top["tool"], tc, {"length", "spindle_point", "axis"});
+    if (t.count("length")) m.tool.length = number(t["length"], tc.child("length")) * ls;
+    if (t.count("spindle_point")) m.tool.spindle_point = vec3(t["spindle_point"], tc.child("spindle_point"), ls);
+    if (t.count("axis")) {
+      Axis tmp;
+      parse_direction(t["axis"], tc.child("axis"), tmp);
+      if (tmp.direction_sign < 0) tc.child("axis").fail(t["axis"], "the tool axis is given as +x, +y or +z");
+      m.tool.tool_axis = tmp.direction_axis;
+    }
+  }
+  if (top.count("workpiece")) {
+    Ctx wc = ctx.child("workpiece");
+    auto w = entries(top["workpiece"], wc, {"origin"});
+    if (w.count("origin")) m.workpiece.origin = vec3(w["origin"], wc.child("origin"), ls);
+  }
+
+  // Every motion error starts as a zero cubic with reversal, so that every coefficient is a
+  // parameter (identification, --set) whether or not the file gives it.
+  for (auto& ax : m.axes)
+    for (auto& f : ax.motion) f = MotionFunction(Polynomial{});
+
+  if (top.count("errors")) {
+    Ctx ec = ctx.child("errors");
+    auto errs = entries(top["errors"], ec, {});
+    for (auto& [key, node] : errs) {
+      Ctx kc = ec.child(key);
+      auto en = ErrorName::parse(key);
+      if (!en)
+        kc.fail(node, "unknown error name '" + key +
+                          "' (expected ISO 230 names such as EXX, EYX, EC0Y, EX0C, or EXt / EXw for "
+                          "tool / workpiece mounting)");
+      if (!m.has_error(*en)) {
+        if (en->kind == ErrorKind::Location && m.axis_index(en->body))
+          kc.fail(node, "'" + key + "' is not a location error of axis " + std::string(1, en->body) +
+                            " (a linear axis has its zero position and two orientation errors, a rotary axis "
+                            "two position, two orientation errors and its zero position)");
+        kc.fail(node, "error '" + key + "' names axis '" + std::string(1, en->body) +
+                          "', which is not in topology " + m.topology.chain);
+      }
+      const Dimension dim = is_rotation(en->component) ? Dimension::Angle : Dimension::Length;
+      const int c = index_of(en->component);
+      if (en->kind == ErrorKind::Motion) {
+        Axis& ax = m.axes[*m.axis_index(en->body)];
+        ax.motion[c] = parse_motion(node, kc, ax, en->component, ls, as);
+        ax.motion_given[c] = true;
+      } else if (en->kind == ErrorKind::Location) {
+        m.axes[*m.axis_index(en->body)].location[c] = quantity(node, kc, dim);
+      } else {
+        (en->body == 't' ? m.tool_mounting : m.workpiece_mounting)[c] = quantity(node, kc, dim);
+      }
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+Machine parse_machine(std::string_view yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(yaml_text));
+  } catch (const YAML::Exception& e) {
+    throw InputError({source, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
+  }
+  try {
+    return build(root, source);
+  } catch (const YAML::Exception& e) {
+    throw InputError({source, e.mark.line + 1, ""}, e.msg);
+  }
+}
+
+Machine load_machine(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path, 0, ""}, "cannot open machine file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_machine(ss.str(), path);
+}
+
+namespace {
+std::string num(double v) { return fmt::format("{:.17g}", v); }
+std::string list(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
+  return s + "]";
+}
+std::string vec(const Vec3& v) { return list({v.x(), v.y(), v.z()}); }
+std::string quote(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+}  // namespace
+
+std::string to_yaml(const Machine& m) {
+  std::string y;
+  y += fmt::format("mtcal_machine: {}\n", kFormatVersion);
+  y += "name: " + quote(m.name) + "\n";
+  y += "topology: " + m.topology.chain + "\n";
+  y += "units: {length: mm, angle: rad}\n";
+  y += "axes:\n";
+  for (const auto& ax : m.axes) {
+    y += fmt::format("  {}: {{direction: {}{}, point: {}", ax.letter, ax.direction_sign > 0 ? '+' : '-',
+                     static_cast<char>('x' + ax.direction_axis), vec(ax.point));
+    if (ax.travel) y += ", travel: " + list({ax.travel->min, ax.travel->max});
+    y += "}\n";
+  }
+  y += fmt::format("tool: {{length: {}, spindle_point: {}, axis: +{}}}\n", num(m.tool.length),
+                   vec(m.tool.spindle_point), static_cast<char>('x' + m.tool.tool_axis));
+  y += "workpiece: {origin: " + vec(m.workpiece.origin) + "}\n";
+  y += "errors:\n";
+  for (const auto& ax : m.axes) {
+    for (int c = 0; c < 6; ++c) {
+      const auto& f = ax.motion[c];
+      if (!ax.motion_given[c] && f.is_zero()) continue;
+      ErrorName en{ErrorKind::Motion, static_cast<Component>(c), ax.letter};
+      const char* u = c >= 3 ? "rad" : "mm";
+      const char* au = ax.kind == AxisKind::Linear ? "mm" : "rad";
+      y += fmt::format("  {}: {{unit: {}, argument_unit: {}, ", en.str(), u, au);
+      if (const auto* p = std::get_if<Polynomial>(&f.form())) {
+        y += fmt::format("polynomial: {}, reversal: {}}}\n",
+                         list({p->coefficients.begin(), p->coefficients.end()}), num(p->reversal));
+      } else if (const auto* t = std::get_if<Table>(&f.form())) {
+        y += "table: {positions: " + list(t->positions) + ", forward: " + list(t->forward);
+        if (!t->backward.empty()) y += ", backward: " + list(t->backward);
+        y += "}}\n";
+      } else {
+        const auto& fo = std::get<Fourier>(f.form());
+        y += fmt::format("fourier: {{constant: {}, cos: {}, sin: {}}}, reversal: {}}}\n", num(fo.constant),
+                         list(fo.cos_terms), list(fo.sin_terms), num(fo.reversal));
+      }
+    }
+    for (int c = 0; c < 6; ++c) {
+      if (!ax.allows_location(static_cast<Component>(c)) || ax.location[c] == 0.0) continue;
+      ErrorName en{ErrorKind::Location, static_cast<Component>(c), ax.letter};
+      y += fmt::format("  {}: {{value: {}, unit: {}}}\n", en.str(), num(ax.location[c]), c >= 3 ? "rad" : "mm");
+    }
+  }
+  for (char body : {'t', 'w'}) {
+    const auto& arr = body == 't' ? m.tool_mounting : m.workpiece_mounting;
+    for (int c = 0; c < 6; ++c) {
+      if (arr[c] == 0.0) continue;
+      ErrorName en{ErrorKind::Mounting, static_cast<Component>(c), body};
+      y += fmt::format("  {}: {{value: {}, unit: {}}}\n", en.str(), num(arr[c]), c >= 3 ? "rad" : "mm");
+    }
+  }
+  return y;
+}
+
+}  // namespace mtcal

@@ -1,0 +1,374 @@
+// The batched kernel: blocks of configurations in structure-of-arrays form so that every step is
+// a loop over lanes the compiler vectorises; the same chain as detail::build_chain.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <thread>
+
+#include "mtcal/util/errors.hpp"
+#include "program.hpp"
+
+namespace mtcal {
+
+using detail::Factor;
+using Op = ErrorModel::Program::Op;
+
+ErrorModel::Program::Program(const Machine& m)
+    : chain(detail::build_chain(m, true)), nominal_chain(detail::build_chain(m, false)) {
+  auto compile = [&](const std::vector<Factor>& ch, bool errors, std::vector<Op>& ops) {
+    Affine acc;
+    bool pending = false;
+    std::vector<Affine> values(ch.size());
+    const std::vector<double> q0(m.axes.size(), 0.0);
+    detail::bind_chain(m, ch, errors, q0, {}, values);  // constant slots' values
+    auto flush = [&] {
+      if (pending) ops.push_back({Op::Kind::Const, acc, -1});
+      acc = Affine{};
+      pending = false;
+    };
+    for (std::size_t i = 0; i < ch.size(); ++i) {
+      const Factor& f = ch[i];
+      const bool motion = f.kind == Factor::Kind::Slot && f.slot >= 2 && f.slot % 2 == 0 &&
+                          f.slot != detail::tool_slot(m.axes.size());
+      if (f.kind == Factor::Kind::Joint) {
+        flush();
+        ops.push_back({Op::Kind::Joint, Affine{}, f.axis});
+      } else if (motion) {
+        flush();
+        ops.push_back({Op::Kind::Motion, Affine{}, (f.slot - 2) / 2});
+      } else {
+        acc = acc * values[i];
+        pending = true;
+      }
+    }
+    flush();
+  };
+  compile(chain, true, actual_ops);
+  compile(nominal_chain, false, nominal_ops);
+
+  for (const Axis& ax : m.axes) {
+    AxisInfo a;
+    a.rotary = ax.kind == AxisKind::Rotary;
+    a.coord = ax.direction_axis;
+    a.sign = ax.direction_sign;
+    a.zero = detail::zero_position(ax);
+    a.cos_zero = std::cos(a.sign * a.zero);
+    a.sin_zero = std::sin(a.sign * a.zero);
+    for (int c = 0; c < 6; ++c) {
+      const auto* p = std::get_if<Polynomial>(&ax.motion[c].form());
+      if (!p) {
+        a.polynomial = false;
+        continue;
+      }
+      for (int i = 0; i < 4; ++i) a.poly[c][i] = p->coefficients[i];
+      a.poly[c][4] = p->reversal;
+    }
+    axes.push_back(a);
+  }
+}
+
+namespace {
+
+constexpr int kLanes = 8;
+using Lane = double[kLanes];
+
+// Rigid transforms of kLanes configurations, rotation row-major r[3*i+j].
+struct Block {
+  Lane r[9];
+  Lane t[3];
+};
+
+void set_identity(Block& b) {
+  for (int i = 0; i < 9; ++i)
+    for (int l = 0; l < kLanes; ++l) b.r[i][l] = (i % 4 == 0) ? 1.0 : 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int l = 0; l < kLanes; ++l) b.t[i][l] = 0.0;
+}
+
+// P = P * C for a constant transform C.
+void mul_const(Block& P, const Affine& C) {
+  Block o;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const double c0 = C.R(0, j), c1 = C.R(1, j), c2 = C.R(2, j);
+      for (int l = 0; l < kLanes; ++l)
+        o.r[3 * i + j][l] = P.r[3 * i][l] * c0 + P.r[3 * i + 1][l] * c1 + P.r[3 * i + 2][l] * c2;
+    }
+    const double t0 = C.t(0), t1 = C.t(1), t2 = C.t(2);
+    for (int l = 0; l < kLanes; ++l)
+      o.t[i][l] = P.r[3 * i][l] * t0 + P.r[3 * i + 1][l] * t1 + P.r[3 * i + 2][l] * t2 + P.t[i][l];
+  }
+  std::memcpy(&P, &o, sizeof(Block));
+}
+
+// P = P * X for per-lane transforms X.
+void mul_block(Block& P, const Block& X) {
+  Block o;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j)
+      for (int l = 0; l < kLanes; ++l)
+        o.r[3 * i + j][l] = P.r[3 * i][l] * X.r[j][l] + P.r[3 * i + 1][l] * X.r[3 + j][l] +
+                            P.r[3 * i + 2][l] * X.r[6 + j][l];
+    for (int l = 0; l < kLanes; ++l)
+      o.t[i][l] = P.r[3 * i][l] * X.t[0][l] + P.r[3 * i + 1][l] * X.t[1][l] +
+                  P.r[3 * i + 2][l] * X.t[2][l] + P.t[i][l];
+  }
+  std::memcpy(&P, &o, sizeof(Block));
+}
+
+// P = P * Rot(axis a, angle) given cos and sin per lane: only two columns change.
+void mul_rotation(Block& P, int a, const Lane& c, const Lane& s) {
+  const int i = (a + 1) % 3, j = (a + 2) % 3;
+  for (int row = 0; row < 3; ++row) {
+    double* ci = P.r[3 * row + i];
+    double* cj = P.r[3 * row + j];
+    for (int l = 0; l < kLanes; ++l) {
+      const double x = ci[l], y = cj[l];
+      ci[l] = x * c[l] + y * s[l];
+      cj[l] = -x * s[l] + y * c[l];
+    }
+  }
+}
+
+// P = P * Trans(d * e_a).
+void mul_translation(Block& P, int a, const Lane& d) {
+  for (int row = 0; row < 3; ++row)
+    for (int l = 0; l < kLanes; ++l) P.t[row][l] += P.r[3 * row + a][l] * d[l];
+}
+
+// sin and cos to about 1 ulp, written without branches or calls so that loops over lanes
+// vectorise: Cody-Waite reduction by pi/2 and the fdlibm kernel polynomials on [-pi/4, pi/4].
+inline void sincos_lane(double x, double& s_out, double& c_out) {
+  constexpr double kTwoOverPi = 6.36619772367581382433e-01;
+  constexpr double kShift = 6755399441055744.0;  // 1.5 * 2^52: rounds to an integer in the low bits
+  constexpr double kPio2_1 = 1.57079632673412561417e+00;
+  constexpr double kPio2_2 = 6.07710050630396597660e-11;
+  constexpr double kPio2_3 = 2.02226624871116645580e-21;
+  const double shifted = x * kTwoOverPi + kShift;
+  const double k = shifted - kShift;
+  std::uint64_t bits;
+  std::memcpy(&bits, &shifted, sizeof bits);
+  const double r = ((x - k * kPio2_1) - k * kPio2_2) - k * kPio2_3;
+  const double z = r * r;
+  const double sp = r + r * z * (-1.66666666666666324348e-01 +
+                                 z * (8.33333333332248946124e-03 +
+                                      z * (-1.98412698298579493134e-04 +
+                                           z * (2.75573137070700676789e-06 +
+                                                z * (-2.50507602534068634195e-08 +
+                                                     z * 1.58969099521155010221e-10)))));
+  const double cp = 1.0 - 0.5 * z +
+                    z * z * (4.16666666666666019037e-02 +
+                             z * (-1.38888888888741095749e-03 +
+                                  z * (2.48015872894767294178e-05 +
+                                       z * (-2.75573143513906633035e-07 +
+                                            z * (2.08757232129817482790e-09 +
+                                                 z * -1.13596475577881948265e-11)))));
+  const std::uint64_t quadrant = bits & 3u;
+  const double s1 = (quadrant & 1u) ? cp : sp;
+  const double c1 = (quadrant & 1u) ? sp : cp;
+  s_out = (quadrant & 2u) ? -s1 : s1;
+  c_out = ((quadrant + 1u) & 2u) ? -c1 : c1;
+}
+
+// Exact error transform Trans(d) Rz(c) Ry(b) Rx(a) per lane (see error_transform).
+void error_block(Block& E, const Lane (&e)[6]) {
+  Lane sa, ca, sb, cb, sc, cc;
+  for (int l = 0; l < kLanes; ++l) {
+    sincos_lane(e[3][l], sa[l], ca[l]);
+    sincos_lane(e[4][l], sb[l], cb[l]);
+    sincos_lane(e[5][l], sc[l], cc[l]);
+  }
+  for (int l = 0; l < kLanes; ++l) {
+    E.r[0][l] = cb[l] * cc[l];
+    E.r[1][l] = sa[l] * sb[l] * cc[l] - ca[l] * sc[l];
+    E.r[2][l] = ca[l] * sb[l] * cc[l] + sa[l] * sc[l];
+    E.r[3][l] = cb[l] * sc[l];
+    E.r[4][l] = sa[l] * sb[l] * sc[l] + ca[l] * cc[l];
+    E.r[5][l] = ca[l] * sb[l] * sc[l] - sa[l] * cc[l];
+    E.r[6][l] = -sb[l];
+    E.r[7][l] = sa[l] * cb[l];
+    E.r[8][l] = ca[l] * cb[l];
+    E.t[0][l] = e[0][l];
+    E.t[1][l] = e[1][l];
+    E.t[2][l] = e[2][l];
+  }
+}
+
+struct AxisLanes {
+  Lane q, dir;
+  Lane nom_c, nom_s, act_c, act_s;  // rotary
+  Lane nom_d, act_d;                // linear
+};
+
+void run_block(const ErrorModel::Program& prog, const Machine& m, const double* q,
+               const std::int8_t* dir, std::size_t count, double* out) {
+  const std::size_t n = prog.axes.size();
+  AxisLanes ax[6];
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto& a = prog.axes[k];
+    AxisLanes& L = ax[k];
+    for (int l = 0; l < kLanes; ++l) {
+      const std::size_t src = std::min<std::size_t>(static_cast<std::size_t>(l), count - 1);
+      L.q[l] = q[src * n + k];
+      L.dir[l] = dir ? static_cast<double>(dir[src * n + k]) : 0.0;
+    }
+    if (a.rotary) {
+      for (int l = 0; l < kLanes; ++l) sincos_lane(a.sign * L.q[l], L.nom_s[l], L.nom_c[l]);
+      for (int l = 0; l < kLanes; ++l) {
+        L.act_c[l] = L.nom_c[l] * a.cos_zero - L.nom_s[l] * a.sin_zero;
+        L.act_s[l] = L.nom_s[l] * a.cos_zero + L.nom_c[l] * a.sin_zero;
+      }
+    } else {
+      for (int l = 0; l < kLanes; ++l) {
+        L.nom_d[l] = a.sign * L.q[l];
+        L.act_d[l] = a.sign * (L.q[l] + a.zero);
+      }
+    }
+  }
+
+  Block P, N, E;
+  set_identity(P);
+  for (const Op& op : prog.actual_ops) {
+    if (op.kind == Op::Kind::Const) {
+      mul_const(P, op.value);
+    } else if (op.kind == Op::Kind::Joint) {
+      const auto& a = prog.axes[op.axis];
+      const AxisLanes& L = ax[op.axis];
+      if (a.rotary)
+        mul_rotation(P, a.coord, L.act_c, L.act_s);
+      else
+        mul_translation(P, a.coord, L.act_d);
+    } else {
+      const auto& a = prog.axes[op.axis];
+      const AxisLanes& L = ax[op.axis];
+      Lane e[6];
+      if (a.polynomial) {
+        for (int c = 0; c < 6; ++c) {
+          const auto& p = a.poly[c];
+          for (int l = 0; l < kLanes; ++l)
+            e[c][l] = ((p[3] * L.q[l] + p[2]) * L.q[l] + p[1]) * L.q[l] + p[0] + p[4] * L.dir[l];
+        }
+      } else {
+        const Axis& axis = m.axes[op.axis];
+        for (int c = 0; c < 6; ++c)
+          for (int l = 0; l < kLanes; ++l)
+            e[c][l] = axis.motion[c].value(L.q[l], static_cast<int>(L.dir[l]));
+      }
+      error_block(E, e);
+      mul_block(P, E);
+    }
+  }
+  set_identity(N);
+  for (const Op& op : prog.nominal_ops) {
+    if (op.kind == Op::Kind::Const) {
+      mul_const(N, op.value);
+    } else {
+      const auto& a = prog.axes[op.axis];
+      const AxisLanes& L = ax[op.axis];
+      if (a.rotary)
+        mul_rotation(N, a.coord, L.nom_c, L.nom_s);
+      else
+        mul_translation(N, a.coord, L.nom_d);
+    }
+  }
+
+  // Output: translation difference and rotation vector of dR = R_actual R_nominal^T.
+  Lane res[6], sin_t, cos_t;
+  bool small = true;
+  for (int l = 0; l < kLanes; ++l) {
+    double d[9];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        d[3 * i + j] = P.r[3 * i][l] * N.r[3 * j][l] + P.r[3 * i + 1][l] * N.r[3 * j + 1][l] +
+                       P.r[3 * i + 2][l] * N.r[3 * j + 2][l];
+    for (int i = 0; i < 3; ++i) res[i][l] = P.t[i][l] - N.t[i][l];
+    res[3][l] = 0.5 * (d[7] - d[5]);
+    res[4][l] = 0.5 * (d[2] - d[6]);
+    res[5][l] = 0.5 * (d[3] - d[1]);
+    sin_t[l] = std::sqrt(res[3][l] * res[3][l] + res[4][l] * res[4][l] + res[5][l] * res[5][l]);
+    cos_t[l] = 0.5 * (d[0] + d[4] + d[8] - 1.0);
+  }
+  for (int l = 0; l < kLanes; ++l) small = small && sin_t[l] < 1e-2 && cos_t[l] > 0.0;
+  if (small) {
+    // theta / sin(theta) = asin(s) / s = 1 + s^2/6 + 3 s^4/40 + 5 s^6/112 + 35 s^8/1152 + ...;
+    // for s < 1e-2 the omitted terms are below 1e-21 relative.
+    for (int l = 0; l < kLanes; ++l) {
+      const double s2 = sin_t[l] * sin_t[l];
+      const double f = 1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0 + s2 * (5.0 / 112.0 + s2 * (35.0 / 1152.0))));
+      res[3][l] *= f;
+      res[4][l] *= f;
+      res[5][l] *= f;
+    }
+  } else {
+    for (int l = 0; l < kLanes; ++l) {
+      Mat3 dR;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          dR(i, j) = P.r[3 * i][l] * N.r[3 * j][l] + P.r[3 * i + 1][l] * N.r[3 * j + 1][l] +
+                     P.r[3 * i + 2][l] * N.r[3 * j + 2][l];
+      const Vec3 rv = rotation_vector(dR);
+      for (int i = 0; i < 3; ++i) res[3 + i][l] = rv[i];
+    }
+  }
+  for (std::size_t l = 0; l < count; ++l)
+    for (int c = 0; c < 6; ++c) out[l * 6 + c] = res[c][l];
+}
+
+}  // namespace
+
+ErrorModel::ErrorModel(const Machine& machine)
+    : machine_(machine), program_(std::make_unique<Program>(machine_)) {
+  if (machine_.axes.size() > 6) throw ModelError("at most 6 axes are supported");
+}
+ErrorModel::~ErrorModel() = default;
+ErrorModel::ErrorModel(const ErrorModel& o) : machine_(o.machine_), program_(std::make_unique<Program>(*o.program_)) {}
+ErrorModel& ErrorModel::operator=(const ErrorModel& o) {
+  if (this != &o) {
+    machine_ = o.machine_;
+    program_ = std::make_unique<Program>(*o.program_);
+  }
+  return *this;
+}
+ErrorModel::ErrorModel(ErrorModel&&) noexcept = default;
+ErrorModel& ErrorModel::operator=(ErrorModel&&) noexcept = default;
+
+void ErrorModel::evaluate_batch(std::span<const double> q, std::span<const std::int8_t> dir,
+                                std::span<double> out, const BatchOptions& options) const {
+  const std::size_t n = axis_count();
+  if (q.size() % n != 0)
+    throw ModelError("joint array of " + std::to_string(q.size()) + " values is not a multiple of " +
+                     std::to_string(n) + " axes");
+  const std::size_t count = q.size() / n;
+  if (!dir.empty() && dir.size() != q.size())
+    throw ModelError("direction array has " + std::to_string(dir.size()) + " values, expected " +
+                     std::to_string(q.size()));
+  if (out.size() != count * 6)
+    throw ModelError("output array has " + std::to_string(out.size()) + " values, expected " +
+                     std::to_string(count * 6));
+  const std::size_t blocks = (count + kLanes - 1) / kLanes;
+  auto work = [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t b = b0; b < b1; ++b) {
+      const std::size_t first = b * kLanes;
+      const std::size_t len = std::min<std::size_t>(kLanes, count - first);
+      run_block(*program_, machine_, q.data() + first * n, dir.empty() ? nullptr : dir.data() + first * n,
+                len, out.data() + first * 6);
+    }
+  };
+  std::size_t threads = options.threads > 0 ? static_cast<std::size_t>(options.threads)
+                                            : std::max(1u, std::thread::hardware_concurrency());
+  // Below a few thousand configurations a thread costs more than it saves.
+  threads = std::min(threads, std::max<std::size_t>(1, blocks / 256));
+  if (threads <= 1) {
+    work(0, blocks);
+    return;
+  }
+  std::vector<std::jthread> pool;
+  const std::size_t per = (blocks + threads - 1) / threads;
+  for (std::size_t t = 0; t < threads; ++t) {
+    const std::size_t b0 = t * per, b1 = std::min(blocks, b0 + per);
+    if (b0 < b1) pool.emplace_back(work, b0, b1);
+  }
+}
+
+}  // namespace mtcal
