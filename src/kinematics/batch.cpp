@@ -35,9 +35,15 @@ ErrorModel::Program::Program(const Machine& m)
         flush();
         ops.push_back({Op::Kind::Joint, Affine{}, f.axis});
       } else if (motion) {
+        const auto& fns = m.axes[static_cast<std::size_t>((f.slot - 2) / 2)].motion;
+        if (std::all_of(fns.begin(), fns.end(), [](const MotionFunction& fn) { return fn.is_zero(); }))
+          continue;  // error-free axis: nothing to apply (and exact zeros for a zero machine)
         flush();
         ops.push_back({Op::Kind::Motion, Affine{}, (f.slot - 2) / 2});
-      } else {
+      } else if (f.kind == Factor::Kind::Const || values[i].R != Mat3::Identity() ||
+                 values[i].t != Vec3::Zero()) {
+        // Error-free slots are skipped so that a machine without errors runs exactly the nominal
+        // program and its error comes out as exact zeros rather than rounding residue.
         acc = acc * values[i];
         pending = true;
       }

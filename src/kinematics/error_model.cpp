@@ -28,7 +28,14 @@ Vec3 vee(const Mat3& A) {
 }  // namespace
 
 VolumetricError volumetric_error(const Affine& actual, const Affine& nominal) {
-  return {actual.t - nominal.t, rotation_vector(actual.R * nominal.R.transpose())};
+  // dR = Ra Rn^T summed in a fixed order, so that equal rotations give an exactly symmetric
+  // product and an exactly zero rotation vector (as the batched kernel does).
+  Mat3 dR;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      dR(i, j) = actual.R(i, 0) * nominal.R(j, 0) + actual.R(i, 1) * nominal.R(j, 1) +
+                 actual.R(i, 2) * nominal.R(j, 2);
+  return {actual.t - nominal.t, rotation_vector(dR)};
 }
 
 Affine ErrorModel::actual_pose(std::span<const double> q, std::span<const std::int8_t> dir) const {

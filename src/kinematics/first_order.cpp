@@ -1,5 +1,7 @@
 #include "mtcal/kinematics/first_order.hpp"
 
+#include <Eigen/Geometry>
+
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {

@@ -58,20 +58,17 @@ AffineDerivative error_transform_derivative(const Error6& e, int j) {
 }
 
 Vec3 rotation_vector(const Mat3& R) {
+  // R = cos(t) I + sin(t) [n]x + (1 - cos(t)) n n^T: the antisymmetric part gives sin(t) n.
   const Vec3 v(0.5 * (R(2, 1) - R(1, 2)), 0.5 * (R(0, 2) - R(2, 0)), 0.5 * (R(1, 0) - R(0, 1)));
-  const double s = v.norm();                        // sin(theta)
-  const double c = 0.5 * (R.trace() - 1.0);          // cos(theta)
+  const double s = v.norm();
+  const double c = 0.5 * (R.trace() - 1.0);
   const double theta = std::atan2(s, c);
-  if (s < 1e-300) {
-    if (c > 0) return Vec3::Zero();
-  }
-  if (c > -0.99) return v * (s > 0 ? theta / s : 1.0);
-  // Near pi the antisymmetric part vanishes; take the axis from the symmetric part.
-  const Mat3 B = 0.5 * (R + Mat3::Identity());
+  if (c > -0.99) return s > 0 ? Vec3(v * (theta / s)) : Vec3::Zero();
+  // Near pi sin(t) vanishes; the symmetric part (1 - cos t) n n^T gives the axis.
+  const Mat3 S = 0.5 * (R + R.transpose()) - c * Mat3::Identity();
   int k = 0;
-  B.diagonal().maxCoeff(&k);
-  Vec3 axis = B.col(k) / std::sqrt(std::max(B(k, k), 1e-300));
-  axis.normalize();
+  S.diagonal().maxCoeff(&k);
+  Vec3 axis = S.col(k).normalized();
   if (axis.dot(v) < 0) axis = -axis;
   return axis * theta;
 }

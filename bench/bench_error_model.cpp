@@ -1,0 +1,206 @@
+// Benchmarks of the exact error model: batched kernel (1 thread and all threads) on the shipped
+// 3-axis example and a full synthetic 5-axis machine, a naive 4x4-matrix baseline of the same
+// maths, and the scalar evaluate / Jacobian. Every benchmark reports items_per_second in
+// configurations per second.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <span>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <Eigen/Core>
+
+#include "mtcal/io/machine_file.hpp"
+#include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/model/machine.hpp"
+#include "naive_chain.hpp"
+#include "synthetic.hpp"
+
+namespace {
+
+using mtcal::ErrorModel;
+using mtcal::Machine;
+
+constexpr std::size_t kBatch = 65536;
+constexpr std::size_t kChecked = 100;       // configurations checked against ErrorModel::evaluate
+constexpr double kTolerance = 1e-12;        // mm / rad
+constexpr std::uint64_t kConfigSeed = 20240601;
+constexpr std::uint64_t kErrorSeed = 7;
+
+// A machine compiled for evaluation and a batch of random configurations with directions.
+struct Case {
+  explicit Case(Machine m) : model(m), machine(std::move(m)) {
+    q = mtcal::testing::random_configurations(machine, kBatch, kConfigSeed, &dir);
+  }
+  ErrorModel model;
+  Machine machine;
+  std::vector<double> q;
+  std::vector<std::int8_t> dir;
+  std::size_t axes() const { return machine.axes.size(); }
+};
+
+Machine three_axis_machine() { return mtcal::load_machine(MTCAL_EXAMPLES_DIR "/vmc-3axis.yaml"); }
+
+Machine five_axis_machine() {
+  // Every parameter non-zero: 30 motion errors as cubics with reversal, all location errors,
+  // tool and workpiece mounting.
+  Machine m = mtcal::testing::nominal_machine("wCBXfYZt");
+  mtcal::testing::randomize_errors(m, kErrorSeed);
+  return m;
+}
+
+enum class Which { ThreeAxis, FiveAxis };
+
+// Built once per process; on failure returns null and sets error.
+const Case* get_case(Which which, std::string& error) {
+  static std::unique_ptr<Case> cases[2];
+  static std::string errors[2];
+  static bool built[2] = {false, false};
+  const int i = which == Which::ThreeAxis ? 0 : 1;
+  if (!built[i]) {
+    built[i] = true;
+    try {
+      cases[i] = std::make_unique<Case>(which == Which::ThreeAxis ? three_axis_machine()
+                                                                  : five_axis_machine());
+    } catch (const std::exception& e) {
+      errors[i] = e.what();
+    }
+  }
+  error = errors[i];
+  return cases[i].get();
+}
+
+std::span<const double> config(const Case& c, std::size_t i) {
+  return std::span<const double>(c.q).subspan(i * c.axes(), c.axes());
+}
+std::span<const std::int8_t> direction(const Case& c, std::size_t i) {
+  return std::span<const std::int8_t>(c.dir).subspan(i * c.axes(), c.axes());
+}
+
+// ---------------------------------------------------------------- batched kernel
+
+void batch(benchmark::State& state, Which which) {
+  std::string error;
+  const Case* c = get_case(which, error);
+  if (!c) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  const mtcal::BatchOptions options{static_cast<int>(state.range(0))};
+  std::vector<double> out(kBatch * 6);
+  for (auto _ : state) {
+    c->model.evaluate_batch(c->q, c->dir, out, options);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
+}
+
+void BM_Batch_3axis(benchmark::State& state) { batch(state, Which::ThreeAxis); }
+void BM_Batch_5axis(benchmark::State& state) { batch(state, Which::FiveAxis); }
+
+void thread_args(benchmark::internal::Benchmark* b) {
+  const int all = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  b->ArgName("threads")->Arg(1);
+  if (all > 1) b->Arg(all);
+  // Worker threads do the work: wall-clock time is the meaningful rate.
+  b->UseRealTime()->Unit(benchmark::kMillisecond);
+}
+
+BENCHMARK(BM_Batch_3axis)->Apply(thread_args);
+BENCHMARK(BM_Batch_5axis)->Apply(thread_args);
+
+// ---------------------------------------------------------------- naive baseline
+
+void naive(benchmark::State& state, Which which) {
+  std::string error;
+  const Case* c = get_case(which, error);
+  if (!c) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  // The baseline must compute the same thing as the model.
+  double max_diff = 0.0;
+  for (std::size_t i = 0; i < std::min(kChecked, kBatch); ++i) {
+    const auto ref = c->model.evaluate(config(*c, i), direction(*c, i));
+    const auto nv = mtcal::bench::naive_evaluate(c->machine, config(*c, i), direction(*c, i));
+    const double d = std::max((ref.translation - nv.translation).cwiseAbs().maxCoeff(),
+                              (ref.rotation - nv.rotation).cwiseAbs().maxCoeff());
+    if (!(d <= kTolerance)) {  // also catches NaN
+      const std::string msg = "naive baseline differs from ErrorModel::evaluate at configuration " +
+                              std::to_string(i) + " by " + std::to_string(d);
+      state.SkipWithError(msg.c_str());
+      return;
+    }
+    max_diff = std::max(max_diff, d);
+  }
+  std::vector<double> out(kBatch * 6);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      const auto v = mtcal::bench::naive_evaluate(c->machine, config(*c, i), direction(*c, i));
+      for (int j = 0; j < 3; ++j) {
+        out[6 * i + static_cast<std::size_t>(j)] = v.translation[j];
+        out[6 * i + 3 + static_cast<std::size_t>(j)] = v.rotation[j];
+      }
+    }
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
+  state.counters["check_max_diff"] = max_diff;
+}
+
+void BM_Naive_3axis(benchmark::State& state) { naive(state, Which::ThreeAxis); }
+void BM_Naive_5axis(benchmark::State& state) { naive(state, Which::FiveAxis); }
+
+BENCHMARK(BM_Naive_3axis)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Naive_5axis)->Unit(benchmark::kMillisecond);
+
+// ---------------------------------------------------------------- scalar paths (5-axis)
+
+void BM_Evaluate_5axis(benchmark::State& state) {
+  std::string error;
+  const Case* c = get_case(Which::FiveAxis, error);
+  if (!c) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  std::size_t i = 0;
+  for (auto _ : state) {
+    auto v = c->model.evaluate(config(*c, i), direction(*c, i));
+    benchmark::DoNotOptimize(v);
+    i = (i + 1) % kBatch;
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Evaluate_5axis);
+
+void BM_Jacobian_5axis(benchmark::State& state) {
+  std::string error;
+  const Case* c = get_case(Which::FiveAxis, error);
+  if (!c) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J(6, static_cast<Eigen::Index>(c->machine.parameter_count()));
+  mtcal::JacobianWorkspace ws;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    c->model.jacobian(config(*c, i), direction(*c, i), J, ws);
+    benchmark::DoNotOptimize(J.data());
+    benchmark::ClobberMemory();
+    i = (i + 1) % kBatch;
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["parameters"] = static_cast<double>(c->machine.parameter_count());
+}
+BENCHMARK(BM_Jacobian_5axis);
+
+}  // namespace
+
+BENCHMARK_MAIN();

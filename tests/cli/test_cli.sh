@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# Command-line tests: exit codes, one-line errors, JSON keys, CSV in/out, no partial outputs.
+# Needs MTCAL (the binary) and EXAMPLES (examples/machines). Prints "N passed, N failed".
+set -u
+pass=0
+fail=0
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
+M3="$EXAMPLES/vmc-3axis.yaml"
+
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+# expect_exit CODE DESCRIPTION -- command...
+expect_exit() {
+  local code=$1 what=$2
+  shift 3
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local got=$?
+  if [ "$got" -eq "$code" ]; then ok; else bad "$what: exit $got, expected $code; stderr: $(cat "$tmp/err")"; fi
+}
+expect_error() {  # expect_error DESCRIPTION SUBSTRING -- command...: non-zero exit, one stderr line
+  local what=$1 sub=$2
+  shift 3
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local got=$?
+  if [ "$got" -eq 0 ]; then bad "$what: exit 0"; return; fi
+  if [ "$(wc -l <"$tmp/err")" -ne 1 ]; then bad "$what: stderr is not one line: $(cat "$tmp/err")"; return; fi
+  if ! grep -qF -- "$sub" "$tmp/err"; then bad "$what: stderr lacks '$sub': $(cat "$tmp/err")"; return; fi
+  ok
+}
+json_get() { python3 -c "import json,sys; d=json.load(open('$tmp/out')); print($1)"; }
+
+expect_exit 0 "--version" -- "$MTCAL" --version
+grep -q '^mtcal [0-9]' "$tmp/out" && ok || bad "--version prints mtcal VERSION"
+expect_exit 0 "--help" -- "$MTCAL" --help
+grep -q 'eval' "$tmp/out" && grep -q 'errors' "$tmp/out" && ok || bad "--help lists commands"
+expect_exit 0 "eval --help" -- "$MTCAL" eval --help
+grep -q -- '--points' "$tmp/out" && ok || bad "eval --help lists --points"
+expect_exit 0 "errors --help" -- "$MTCAL" errors --help
+expect_exit 106 "no command" -- "$MTCAL"
+
+# eval --at, text and JSON.
+expect_exit 0 "eval --at" -- "$MTCAL" eval -m "$M5" --at "X=100,Y=50,Z=-20,B=30,C=90"
+[ "$(grep -cE '^(dx|dy|dz|rx|ry|rz) ' "$tmp/out")" -eq 6 ] && ok || bad "eval prints 6 components"
+expect_exit 0 "eval --at --json" -- "$MTCAL" eval -m "$M5" --at "X=100,Y=50,Z=-20,B=30,C=90" --json
+[ "$(json_get "sorted(d.keys())")" = "['dx', 'dy', 'dz', 'rx', 'ry', 'rz']" ] && ok || bad "eval JSON keys: $(cat "$tmp/out")"
+
+# --only: with only the X positioning error, only dx is non-zero and equals the polynomial.
+expect_exit 0 "eval --only" -- "$MTCAL" eval -m "$M3" --at "X=100,Y=50,Z=-20" --only EXX --json
+[ "$(json_get "(d['dy'], d['dz'], d['rx'], d['ry'], d['rz'])")" = "(0.0, 0.0, 0.0, 0.0, 0.0)" ] && ok || bad "--only EXX leaves other components zero: $(cat "$tmp/out")"
+# --set on a zeroed machine: EC0Y = 1e-5 at Y=200 gives dx = -200 sin(1e-5).
+expect_exit 0 "eval --set" -- "$MTCAL" eval -m "$M3" --at "Y=200" --only EC0Y --set EC0Y=1e-5 --json
+python3 -c "import json,math; d=json.load(open('$tmp/out')); assert abs(d['dx'] + 200*math.sin(1e-5)) < 1e-15, d" && ok || bad "--set EC0Y value"
+# --tool-length changes the effect of a tool tilt: EAt=1e-4 with L=200 gives dy = 200 sin(1e-4).
+expect_exit 0 "eval --tool-length" -- "$MTCAL" eval -m "$M3" --at "X=0" --only EAt --set EAt=1e-4 --tool-length 200 --json
+python3 -c "import json,math; d=json.load(open('$tmp/out')); assert abs(d['dy'] - 200*math.sin(1e-4)) < 1e-15, d" && ok || bad "--tool-length"
+
+# errors.
+expect_exit 0 "errors" -- "$MTCAL" errors -m "$M5"
+grep -q '^EX0C ' "$tmp/out" && grep -q '^EXX.1 ' "$tmp/out" && ok || bad "errors lists EX0C and EXX.1"
+expect_exit 0 "errors --json" -- "$MTCAL" errors -m "$M5" --json
+[ "$(json_get "sorted(d['parameters'][0].keys())")" = "['error', 'kind', 'name', 'unit', 'value']" ] && ok || bad "errors JSON keys"
+[ "$(json_get "d['topology']")" = "wCBXfYZt" ] && ok || bad "errors JSON topology"
+
+# CSV points in, CSV out.
+printf 'X,Y,Z,B,C,dirX\n0,0,0,0,0,1\n100,50,-20,30,90,-1\n' >"$tmp/p.csv"
+expect_exit 0 "eval --points" -- "$MTCAL" eval -m "$M5" --points "$tmp/p.csv" --out "$tmp/o.csv" --json
+[ "$(head -1 "$tmp/o.csv")" = "C,B,X,Y,Z,dirC,dirB,dirX,dirY,dirZ,dx,dy,dz,rx,ry,rz" ] && ok || bad "output header: $(head -1 "$tmp/o.csv")"
+[ "$(wc -l <"$tmp/o.csv")" -eq 3 ] && ok || bad "output rows"
+[ "$(json_get "d['configurations']")" = "2" ] && ok || bad "batch JSON configurations"
+# A batch row without directions agrees with --at to the printed precision.
+printf 'X,Y,Z,B,C\n100,50,-20,30,90\n' >"$tmp/p2.csv"
+"$MTCAL" eval -m "$M5" --points "$tmp/p2.csv" --out "$tmp/o2.csv" >/dev/null
+"$MTCAL" eval -m "$M5" --at "X=100,Y=50,Z=-20,B=30,C=90" --json >"$tmp/at.json"
+python3 - "$tmp/o2.csv" "$tmp/at.json" <<'PY' && ok || bad "batch row equals --at"
+import csv, json, sys
+row = list(csv.DictReader(open(sys.argv[1])))[0]
+at = json.load(open(sys.argv[2]))
+for k in ("dx", "dy", "dz", "rx", "ry", "rz"):
+    assert abs(float(row[k]) - at[k]) <= 1e-9 * abs(at[k]) + 1e-15, (k, row[k], at[k])
+PY
+
+# Grid summary.
+expect_exit 0 "eval --grid" -- "$MTCAL" eval -m "$M5" --grid "X=-100:100:3,B=-90:90:5,C=0:270:4" --json
+[ "$(json_get "d['configurations']")" = "60" ] && ok || bad "grid count"
+[ "$(json_get "sorted(d['max_translation']['at'].keys())")" = "['B', 'C', 'X', 'Y', 'Z']" ] && ok || bad "grid JSON 'at' keys"
+
+# Errors: one line on stderr, non-zero exit, no partial output file.
+expect_error "missing machine file" "nope.yaml" -- "$MTCAL" eval -m "$tmp/nope.yaml" --at X=0
+printf 'mtcal_machine: 1\ntopology: wXfYZt\naxes: {X: {}, Y: {}, Z: {}}\nerrors:\n  EXX: {unit: furlong, polynomial: [1]}\n' >"$tmp/badunit.yaml"
+expect_error "bad unit" "badunit.yaml:5" -- "$MTCAL" errors -m "$tmp/badunit.yaml"
+expect_error "unknown axis in --at" "axis 'Q'" -- "$MTCAL" eval -m "$M5" --at "Q=1"
+expect_error "non-numeric --at" "expected a number" -- "$MTCAL" eval -m "$M5" --at "X=abc"
+expect_error "outside travel" "outside the travel" -- "$MTCAL" eval -m "$M3" --at "X=5000"
+expect_exit 0 "--no-travel-check" -- "$MTCAL" eval -m "$M3" --at "X=5000" --no-travel-check
+expect_error "unknown --set" "unknown parameter 'EQQ.1'" -- "$MTCAL" eval -m "$M5" --at X=0 --set EQQ.1=1
+expect_error "bad --set value" "expected a number" -- "$MTCAL" eval -m "$M5" --at X=0 --set EXX.1=x
+expect_error "unknown --only" "unknown error name 'EXQ'" -- "$MTCAL" eval -m "$M5" --at X=0 --only EXQ
+expect_error "two modes" "exactly one" -- "$MTCAL" eval -m "$M5" --at X=0 --grid X=0
+printf 'X,Y,Z,B,C\n0,0,0,0,0\n1,2,zz,4,5\n' >"$tmp/badpoints.csv"
+expect_error "bad CSV value" "badpoints.csv:3" -- "$MTCAL" eval -m "$M5" --points "$tmp/badpoints.csv" --out "$tmp/partial.csv"
+[ ! -e "$tmp/partial.csv" ] && ok || bad "no partial output file after a failure"
+printf 'X,Y,Q\n0,0,0\n' >"$tmp/badcol.csv"
+expect_error "unknown CSV column" "unknown column 'Q'" -- "$MTCAL" eval -m "$M5" --points "$tmp/badcol.csv"
+printf 'X,dirX\n0,2\n' >"$tmp/baddir.csv"
+expect_error "bad direction" "expected +1, -1 or 0" -- "$MTCAL" eval -m "$M5" --points "$tmp/baddir.csv"
+expect_error "unwritable output" "cannot write" -- "$MTCAL" eval -m "$M5" --points "$tmp/p.csv" --out "/nonexistent-dir/o.csv"
+[ -z "$(ls -A "$tmp" | grep '\.tmp')" ] && ok || bad "temporary files left behind"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

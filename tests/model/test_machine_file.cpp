@@ -1,0 +1,175 @@
+// Machine files: every shipped example loads and round-trips; every bad input is rejected with
+// file, line and key.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <string>
+
+#include "mtcal/io/machine_file.hpp"
+#include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/util/errors.hpp"
+#include "synthetic.hpp"
+
+using namespace mtcal;
+
+namespace {
+
+const char* kExamples[] = {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml",
+                           "head-head-5axis.yaml"};
+
+std::string example(const char* name) { return std::string(MTCAL_EXAMPLES_DIR) + "/" + name; }
+
+const char* kGood = R"(mtcal_machine: 1
+name: test
+topology: wCBXfYZt
+axes:
+  X: {travel: [-300, 300]}
+  Y: {travel: [-250, 250]}
+  Z: {travel: [-300, 300]}
+  B: {travel: [-180, 180], point: [0, 0, 100]}
+  C: {point: [0, 0, 100]}
+errors:
+  EXX: {unit: um, argument_unit: m, polynomial: [0, 5], reversal: 1}
+  EC0Y: 12 um/m
+  EX0C: {value: 3, unit: um}
+)";
+
+// Replaces the first occurrence of `from` in kGood.
+std::string with(const std::string& from, const std::string& to) {
+  std::string s = kGood;
+  auto p = s.find(from);
+  EXPECT_NE(p, std::string::npos) << from;
+  return s.replace(p, from.size(), to);
+}
+
+// Parses text expected to fail; returns the error.
+InputError bad(const std::string& text) {
+  try {
+    parse_machine(text, "bad.yaml");
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError for:\n" << text;
+  return InputError({}, "");
+}
+
+}  // namespace
+
+TEST(MachineFile, GoodFileLoadsWithUnitsConverted) {
+  Machine m = parse_machine(kGood, "good.yaml");
+  EXPECT_EQ(m.topology.chain, "wCBXfYZt");
+  ASSERT_EQ(m.axes.size(), 5u);
+  EXPECT_TRUE(m.axes[0].moves_workpiece);   // C
+  EXPECT_FALSE(m.axes[3].moves_workpiece);  // Y
+  EXPECT_NEAR(m.axes[1].travel->max, 3.14159265358979, 1e-12);  // deg -> rad
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.1")), 5e-6);  // 5 um/m -> mm/mm
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.b")), 1e-3);
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EC0Y")), 12e-6);
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EX0C")), 3e-3);
+  EXPECT_FALSE(m.parameter_index("EZ0C"));  // along the C axis line: not a parameter
+}
+
+TEST(MachineFile, ExamplesLoadAndRoundTrip) {
+  for (const char* name : kExamples) {
+    SCOPED_TRACE(name);
+    const Machine m = load_machine(example(name));
+    EXPECT_FALSE(m.name.empty());
+    const Machine back = parse_machine(to_yaml(m), "roundtrip");
+    const auto a = m.parameters(), b = back.parameters();
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].name, b[i].name);
+      EXPECT_EQ(a[i].value, b[i].value) << a[i].name;
+    }
+    // Same evaluations everywhere (geometry and travel survive too).
+    const auto q = mtcal::testing::random_configurations(m, 50, 7);
+    const ErrorModel ma(m), mb(back);
+    const std::size_t n = m.axes.size();
+    for (std::size_t r = 0; r < 50; ++r) {
+      std::span<const double> qr(q.data() + r * n, n);
+      const auto ea = ma.evaluate(qr), eb = mb.evaluate(qr);
+      EXPECT_LE((ea.translation - eb.translation).norm(), 1e-15);
+      EXPECT_LE((ea.rotation - eb.rotation).norm(), 1e-18);
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      EXPECT_EQ(m.axes[k].travel.has_value(), back.axes[k].travel.has_value());
+      if (m.axes[k].travel) {
+        EXPECT_EQ(m.axes[k].travel->max, back.axes[k].travel->max);
+      }
+    }
+  }
+}
+
+TEST(MachineFile, ExampleMachinesHaveTheErrorsTheyPromise) {
+  // The 3-axis example has all 21 errors non-zero: 18 motion errors and 3 squareness errors.
+  const Machine m = load_machine(example("vmc-3axis.yaml"));
+  std::set<std::string> nonzero;
+  for (const auto& p : m.parameters())
+    if (p.value != 0.0) nonzero.insert(p.error.str());
+  EXPECT_EQ(nonzero.size(), 21u);
+  // The RRTTT example carries Viprey's 61 parameters: 30 motion, 19 location, 12 mounting.
+  const Machine v = load_machine(example("rrttt-table-table.yaml"));
+  std::map<ErrorKind, std::set<std::string>> by_kind;
+  for (const auto& p : v.parameters())
+    if (p.value != 0.0) by_kind[p.error.kind].insert(p.error.str());
+  EXPECT_EQ(by_kind[ErrorKind::Motion].size(), 30u);
+  EXPECT_EQ(by_kind[ErrorKind::Location].size(), 19u);
+  EXPECT_EQ(by_kind[ErrorKind::Mounting].size(), 12u);
+}
+
+TEST(MachineFile, MissingFileIsAnInputError) {
+  EXPECT_THROW(load_machine("/nonexistent/machine.yaml"), InputError);
+}
+
+struct BadCase {
+  const char* name;
+  std::string text;
+  int line;               // expected 1-based line, 0: don't check
+  const char* field;      // expected field (dotted key path), "" : don't check
+  const char* message;    // substring of the message
+};
+
+TEST(MachineFile, BadInputsNameFileLineAndKey) {
+  const std::vector<BadCase> cases = {
+      {"unknown top-level key", with("name: test", "nmae: test"), 2, "nmae", "unknown key"},
+      {"unknown axis key", with("X: {travel", "X: {travle: [1, 2], travel"), 5, "axes.X.travle", "unknown key"},
+      {"unknown error name", with("EC0Y: 12 um/m", "EQY: 12 um/m"), 12, "errors.EQY", "unknown error name"},
+      {"duplicated error", with("EC0Y: 12 um/m", "EC0Y: 12 um/m\n  EC0Y: 13 um/m"), 13, "errors.EC0Y", "duplicated"},
+      {"bad unit", with("12 um/m", "12 furlongs"), 12, "errors.EC0Y", "unknown angle unit"},
+      {"length unit for an angle", with("12 um/m", "12 um"), 12, "errors.EC0Y", "unit"},
+      {"missing unit", with("12 um/m", "12"), 12, "errors.EC0Y", "number"},
+      {"non-numeric value", with("polynomial: [0, 5]", "polynomial: [0, five]"), 11, "errors.EXX.polynomial.1", "finite number"},
+      {"non-numeric travel", with("[-300, 300]}\n  Y", "[-300, lots]}\n  Y"), 5, "axes.X.travel.1", "finite number"},
+      {"axis not in topology (axes)", with("  Z: {travel: [-300, 300]}", "  Z: {travel: [-300, 300]}\n  A: {}"), 8, "axes.A", "not in topology"},
+      {"axis not in topology (error)", with("EC0Y: 12 um/m", "EAA: {unit: urad, polynomial: [1]}"), 12, "errors.EAA", "not in topology"},
+      {"location not allowed", with("EC0Y: 12 um/m", "EZ0C: 12 um"), 12, "errors.EZ0C", "not a location error"},
+      {"missing axis", with("  Y: {travel: [-250, 250]}\n", ""), 5, "axes", "missing"},
+      {"bad topology", with("wCBXfYZt", "wCBXYZt"), 3, "topology", "'f'"},
+      {"wrong version", with("mtcal_machine: 1", "mtcal_machine: 2"), 1, "mtcal_machine", "version"},
+      {"no version", with("mtcal_machine: 1\n", ""), 0, "", "mtcal_machine"},
+      {"invalid YAML", with("name: test", "name: [test"), 0, "", "YAML"},
+      {"two motion forms", with("polynomial: [0, 5]", "polynomial: [0, 5], table: {positions: [0, 1], forward: [0, 0]}"), 11, "errors.EXX", "exactly one"},
+      {"too many coefficients", with("[0, 5]", "[0, 5, 0, 0, 1]"), 11, "errors.EXX.polynomial", "1 to 4"},
+      {"table not increasing", with("EC0Y: 12 um/m", "EYY: {unit: um, table: {positions: [0, 5, 5], forward: [0, 1, 2]}}"), 12, "errors.EYY.table.positions", "increase"},
+      {"table length mismatch", with("EC0Y: 12 um/m", "EYY: {unit: um, table: {positions: [0, 5], forward: [0, 1, 2]}}"), 12, "errors.EYY.table.forward", "expected 2 values"},
+      {"fourier on linear", with("EC0Y: 12 um/m", "EYY: {unit: um, fourier: {cos: [1]}}"), 12, "errors.EYY.fourier", "rotary"},
+      {"bad direction", with("C: {point", "C: {direction: up, point"), 9, "axes.C.direction", "direction"},
+      {"travel reversed", with("[-300, 300]}\n  Y", "[300, -300]}\n  Y"), 5, "axes.X.travel", "min < max"},
+      {"point needs 3 numbers", with("point: [0, 0, 100]}\n  C", "point: [0, 100]}\n  C"), 8, "axes.B.point", "3 numbers"},
+      {"infinite value", with("polynomial: [0, 5]", "polynomial: [0, .inf]"), 11, "errors.EXX.polynomial.1", "finite"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    InputError e = bad(c.text);
+    EXPECT_EQ(e.where().file, "bad.yaml");
+    if (c.line) {
+      EXPECT_EQ(e.where().line, c.line) << e.what();
+    }
+    if (*c.field) {
+      EXPECT_EQ(e.where().field, c.field) << e.what();
+    }
+    EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+  }
+}

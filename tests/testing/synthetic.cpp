@@ -1,0 +1,71 @@
+#include "synthetic.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "mtcal/io/machine_file.hpp"
+
+namespace mtcal::testing {
+
+Machine nominal_machine(const std::string& topology) {
+  std::string y = "mtcal_machine: 1\nname: synthetic " + topology + "\ntopology: " + topology +
+                  "\nunits: {length: mm, angle: deg}\naxes:\n";
+  int rotary = 0;
+  for (char c : topology) {
+    if (c == 'w' || c == 'f' || c == 't') continue;
+    if (c == 'X' || c == 'Y' || c == 'Z') {
+      y += fmt::format("  {}: {{travel: [-400, 400], point: [{}, {}, {}]}}\n", c, 10 * (c - 'X'), -20, 30);
+    } else {
+      const double lim = c == 'C' ? 360 : 120;
+      y += fmt::format("  {}: {{travel: [{}, {}], point: [{}, {}, {}]}}\n", c, -lim, lim, 15 + 40 * rotary,
+                       -25 + 10 * rotary, 60 - 35 * rotary);
+      ++rotary;
+    }
+  }
+  y += "tool: {length: 120, spindle_point: [5, -3, 250]}\nworkpiece: {origin: [40, -30, 20]}\n";
+  return parse_machine(y, "synthetic:" + topology);
+}
+
+void randomize_errors(Machine& m, std::uint64_t seed, double scale) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // Size of an error value over the travel: 5 um for translations, 20 urad for rotations.
+  const auto params = m.parameters();
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const auto& p = params[i];
+    const bool rot = is_rotation(p.error.component);
+    double size = rot ? 20e-6 : 5e-3;
+    // Coefficient i of a polynomial is divided by (half travel)^i so every term stays of that size.
+    const auto slash = p.unit.find('/');
+    if (slash != std::string::npos) {
+      const bool per_rad = p.unit.find("/rad") != std::string::npos;
+      const auto caret = p.unit.find('^');
+      const int power = caret == std::string::npos ? 1 : p.unit[caret + 1] - '0';
+      size /= std::pow(per_rad ? 2.0 : 400.0, power);
+    }
+    m.set_parameter(i, size * scale * u(rng));
+  }
+}
+
+std::vector<double> random_configurations(const Machine& m, std::size_t n, std::uint64_t seed,
+                                          std::vector<std::int8_t>* dir) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const std::size_t k = m.axes.size();
+  std::vector<double> q(n * k);
+  if (dir) dir->resize(n * k);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < k; ++j) {
+      const auto& ax = m.axes[j];
+      const double lo = ax.travel ? ax.travel->min : -std::numbers::pi;
+      const double hi = ax.travel ? ax.travel->max : std::numbers::pi;
+      q[i * k + j] = lo + (hi - lo) * u(rng);
+      if (dir) (*dir)[i * k + j] = u(rng) < 0.5 ? -1 : 1;
+    }
+  return q;
+}
+
+}  // namespace mtcal::testing
