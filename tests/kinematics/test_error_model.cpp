@@ -226,22 +226,38 @@ TEST(ErrorModel, BatchedAgreesWithScalarForEveryExampleAndTopology) {
     const std::size_t N = 203;  // not a multiple of the block size
     auto q = mtcal::testing::random_configurations(m, N, 5, &dir);
     const std::size_t n = m.axes.size();
-    // Rotary angles far outside +-pi exercise the argument reduction of the kernel's sin/cos.
-    for (std::size_t k = 0; k < n; ++k)
-      if (m.axes[k].kind == AxisKind::Rotary) q[(N - 1) * n + k] = 1234.5678;
     const ErrorModel model(m);
     std::vector<double> out(N * 6);
     model.evaluate_batch(q, dir, out, BatchOptions{1});
     for (std::size_t r = 0; r < N; ++r) {
       const auto e = model.evaluate(std::span(q).subspan(r * n, n), std::span(dir).subspan(r * n, n));
-      // The last row's 1234.6 rad angles carry 1e-13 rad of rounding in q + zero position
-      // (the kernel adds the zero position by angle addition instead): 500 mm arms make 1e-10 mm.
-      // Cubic motion errors evaluated that far outside their travel are huge: relative there.
-      const bool last = r == N - 1;
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(out[r * 6 + c], e.translation[c], last ? 1e-10 + 1e-13 * std::abs(e.translation[c]) : 1e-12) << r;
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(out[r * 6 + 3 + c], e.rotation[c], last ? 1e-12 + 1e-13 * std::abs(e.rotation[c]) : 1e-14) << r;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[r * 6 + c], e.translation[c], 1e-12) << r;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[r * 6 + 3 + c], e.rotation[c], 1e-14) << r;
+    }
+  }
+}
+
+TEST(ErrorModel, LargeRotaryAnglesKeepPrecisionInTheBatchedKernel) {
+  // Continuous rotary axes turn many times: the kernel's own sin/cos must reduce the argument
+  // as well as the C library does. Location and mounting errors only, so that no polynomial is
+  // evaluated far outside its travel.
+  for (const char* topo : {"wCBXfYZt", "wXfYZCAt"}) {
+    SCOPED_TRACE(topo);
+    Machine m = mtcal::testing::nominal_machine(topo);
+    mtcal::testing::randomize_errors(m, 40);
+    for (auto& ax : m.axes)
+      for (auto& f : ax.motion) f = MotionFunction(Polynomial{});
+    const ErrorModel model(m);
+    for (double angle : {-9999.25, -1234.5678, 100.0, 1234.5678, 31415.9}) {
+      std::vector<double> q = {angle, -0.7 * angle, 10.0, 20.0, 30.0};
+      if (std::string(topo) == "wXfYZCAt") q = {10.0, 20.0, 30.0, angle, 0.5};
+      std::vector<double> out(6);
+      model.evaluate_batch(q, {}, out);
+      const auto e = model.evaluate(q);
+      // 1e-12 relative rounding of q + zero position at these angles, on arms of ~500 mm.
+      const double tol = 1e-10 * std::max(1.0, std::abs(angle) / 100.0);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], e.translation[c], tol) << angle;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[3 + c], e.rotation[c], tol * 1e-2) << angle;
     }
   }
 }
