@@ -2,7 +2,6 @@
 // a loop over lanes the compiler vectorises; the same chain as detail::build_chain.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <thread>
 
@@ -85,46 +84,50 @@ struct Block {
   Lane t[3];
 };
 
-void set_identity(Block& b) {
+[[gnu::always_inline]] inline void set_identity(Block& b) {
   for (int i = 0; i < 9; ++i)
     for (int l = 0; l < kLanes; ++l) b.r[i][l] = (i % 4 == 0) ? 1.0 : 0.0;
   for (int i = 0; i < 3; ++i)
     for (int l = 0; l < kLanes; ++l) b.t[i][l] = 0.0;
 }
 
-// P = P * C for a constant transform C.
-void mul_const(Block& P, const Affine& C) {
-  Block o;
+// P = P * C for a constant transform C. Row i of the product needs only row i of P, so each
+// row is read into registers and overwritten in place.
+[[gnu::always_inline]] inline void mul_const(Block& P, const Affine& C) {
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      const double c0 = C.R(0, j), c1 = C.R(1, j), c2 = C.R(2, j);
-      for (int l = 0; l < kLanes; ++l)
-        o.r[3 * i + j][l] = P.r[3 * i][l] * c0 + P.r[3 * i + 1][l] * c1 + P.r[3 * i + 2][l] * c2;
+    double* p0 = P.r[3 * i];
+    double* p1 = P.r[3 * i + 1];
+    double* p2 = P.r[3 * i + 2];
+    double* pt = P.t[i];
+    for (int l = 0; l < kLanes; ++l) {
+      const double a = p0[l], b = p1[l], c = p2[l];
+      p0[l] = a * C.R(0, 0) + b * C.R(1, 0) + c * C.R(2, 0);
+      p1[l] = a * C.R(0, 1) + b * C.R(1, 1) + c * C.R(2, 1);
+      p2[l] = a * C.R(0, 2) + b * C.R(1, 2) + c * C.R(2, 2);
+      pt[l] += a * C.t(0) + b * C.t(1) + c * C.t(2);
     }
-    const double t0 = C.t(0), t1 = C.t(1), t2 = C.t(2);
-    for (int l = 0; l < kLanes; ++l)
-      o.t[i][l] = P.r[3 * i][l] * t0 + P.r[3 * i + 1][l] * t1 + P.r[3 * i + 2][l] * t2 + P.t[i][l];
   }
-  std::memcpy(&P, &o, sizeof(Block));
 }
 
-// P = P * X for per-lane transforms X.
-void mul_block(Block& P, const Block& X) {
-  Block o;
+// P = P * X for per-lane transforms X, in place row by row as above.
+[[gnu::always_inline]] inline void mul_block(Block& P, const Block& X) {
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j)
-      for (int l = 0; l < kLanes; ++l)
-        o.r[3 * i + j][l] = P.r[3 * i][l] * X.r[j][l] + P.r[3 * i + 1][l] * X.r[3 + j][l] +
-                            P.r[3 * i + 2][l] * X.r[6 + j][l];
-    for (int l = 0; l < kLanes; ++l)
-      o.t[i][l] = P.r[3 * i][l] * X.t[0][l] + P.r[3 * i + 1][l] * X.t[1][l] +
-                  P.r[3 * i + 2][l] * X.t[2][l] + P.t[i][l];
+    double* p0 = P.r[3 * i];
+    double* p1 = P.r[3 * i + 1];
+    double* p2 = P.r[3 * i + 2];
+    double* pt = P.t[i];
+    for (int l = 0; l < kLanes; ++l) {
+      const double a = p0[l], b = p1[l], c = p2[l];
+      p0[l] = a * X.r[0][l] + b * X.r[3][l] + c * X.r[6][l];
+      p1[l] = a * X.r[1][l] + b * X.r[4][l] + c * X.r[7][l];
+      p2[l] = a * X.r[2][l] + b * X.r[5][l] + c * X.r[8][l];
+      pt[l] += a * X.t[0][l] + b * X.t[1][l] + c * X.t[2][l];
+    }
   }
-  std::memcpy(&P, &o, sizeof(Block));
 }
 
 // P = P * Rot(axis a, angle) given cos and sin per lane: only two columns change.
-void mul_rotation(Block& P, int a, const Lane& c, const Lane& s) {
+[[gnu::always_inline]] inline void mul_rotation(Block& P, int a, const Lane& c, const Lane& s) {
   const int i = (a + 1) % 3, j = (a + 2) % 3;
   for (int row = 0; row < 3; ++row) {
     double* ci = P.r[3 * row + i];
@@ -138,23 +141,21 @@ void mul_rotation(Block& P, int a, const Lane& c, const Lane& s) {
 }
 
 // P = P * Trans(d * e_a).
-void mul_translation(Block& P, int a, const Lane& d) {
+[[gnu::always_inline]] inline void mul_translation(Block& P, int a, const Lane& d) {
   for (int row = 0; row < 3; ++row)
     for (int l = 0; l < kLanes; ++l) P.t[row][l] += P.r[3 * row + a][l] * d[l];
 }
 
-// sin and cos to about 1 ulp, written without branches or calls so that loops over lanes
-// vectorise: Cody-Waite reduction by pi/2 and the fdlibm kernel polynomials on [-pi/4, pi/4].
-inline void sincos_lane(double x, double& s_out, double& c_out) {
+// sin and cos to about 1 ulp, written in double arithmetic and selects only, without branches,
+// calls or integer work, so that loops over lanes vectorise: Cody-Waite reduction by pi/2 and
+// the fdlibm kernel polynomials on [-pi/4, pi/4] (fdlibm k_sin.c, k_cos.c).
+[[gnu::always_inline]] inline void sincos_lane(double x, double& s_out, double& c_out) {
   constexpr double kTwoOverPi = 6.36619772367581382433e-01;
-  constexpr double kShift = 6755399441055744.0;  // 1.5 * 2^52: rounds to an integer in the low bits
+  constexpr double kShift = 6755399441055744.0;  // 1.5 * 2^52: x + kShift - kShift rounds x
   constexpr double kPio2_1 = 1.57079632673412561417e+00;
   constexpr double kPio2_2 = 6.07710050630396597660e-11;
   constexpr double kPio2_3 = 2.02226624871116645580e-21;
-  const double shifted = x * kTwoOverPi + kShift;
-  const double k = shifted - kShift;
-  std::uint64_t bits;
-  std::memcpy(&bits, &shifted, sizeof bits);
+  const double k = (x * kTwoOverPi + kShift) - kShift;
   const double r = ((x - k * kPio2_1) - k * kPio2_2) - k * kPio2_3;
   const double z = r * r;
   const double sp = r + r * z * (-1.66666666666666324348e-01 +
@@ -170,15 +171,17 @@ inline void sincos_lane(double x, double& s_out, double& c_out) {
                                        z * (-2.75573143513906633035e-07 +
                                             z * (2.08757232129817482790e-09 +
                                                  z * -1.13596475577881948265e-11)))));
-  const std::uint64_t quadrant = bits & 3u;
-  const double s1 = (quadrant & 1u) ? cp : sp;
-  const double c1 = (quadrant & 1u) ? sp : cp;
-  s_out = (quadrant & 2u) ? -s1 : s1;
-  c_out = ((quadrant + 1u) & 2u) ? -c1 : c1;
+  // Quadrant m = k mod 4 in {-2, -1, 0, 1, 2} (-2 and 2 are the same quadrant).
+  const double m = k - 4.0 * ((k * 0.25 + kShift) - kShift);
+  const bool odd = m == 1.0 || m == -1.0;
+  const double s1 = odd ? cp : sp;
+  const double c1 = odd ? sp : cp;
+  s_out = (m <= -1.0 || m >= 2.0) ? -s1 : s1;  // quadrants 2 and 3
+  c_out = (m >= 1.0 || m <= -2.0) ? -c1 : c1;  // quadrants 1 and 2
 }
 
 // Exact error transform Trans(d) Rz(c) Ry(b) Rx(a) per lane (see error_transform).
-void error_block(Block& E, const Lane (&e)[6]) {
+[[gnu::always_inline]] inline void error_block(Block& E, const Lane (&e)[6]) {
   Lane sa, ca, sb, cb, sc, cc;
   for (int l = 0; l < kLanes; ++l) {
     sincos_lane(e[3][l], sa[l], ca[l]);
@@ -207,6 +210,15 @@ struct AxisLanes {
   Lane nom_d, act_d;                // linear
 };
 
+// On x86-64 the block kernel is also compiled for AVX2 + FMA and picked at run time, so a
+// portable build still uses the wider vectors where the processor has them.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define MTCAL_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define MTCAL_KERNEL_CLONES
+#endif
+
+MTCAL_KERNEL_CLONES
 void run_block(const ErrorModel::Program& prog, const Machine& m, const double* q,
                const std::int8_t* dir, std::size_t count, double* out) {
   const std::size_t n = prog.axes.size();
