@@ -15,6 +15,7 @@
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parse.hpp"
 #include "mtcal/version.hpp"
 
 using namespace mtcal;
@@ -51,16 +52,9 @@ Machine load(const ModelOptions& o) {
     if (eq == std::string::npos || eq == 0)
       throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
     const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(value, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != value.size() || !std::isfinite(v))
-      throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");
-    m.set_parameter(name, v);
+    const auto v = parse_number(value);
+    if (!v) throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");
+    m.set_parameter(name, *v);
   }
   if (!o.only.empty()) {
     std::vector<std::string> names;

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parse.hpp"
 
 namespace mtcal {
 namespace {
@@ -62,17 +63,11 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
                                                  std::to_string(cells.size()));
     std::vector<double> row;
     for (std::size_t i = 0; i < cells.size(); ++i) {
-      double v = 0;
-      std::size_t used = 0;
-      try {
-        v = std::stod(cells[i], &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || used != cells[i].size() || !std::isfinite(v))
+      const auto v = parse_number(cells[i]);
+      if (!v)
         throw InputError({source, lineno, t.columns[i]},
                          "expected a finite number, found '" + cells[i] + "'");
-      row.push_back(v);
+      row.push_back(*v);
     }
     t.rows.push_back(std::move(row));
     t.lines.push_back(lineno);

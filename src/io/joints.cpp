@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parse.hpp"
 
 namespace mtcal {
 namespace {
@@ -27,16 +28,9 @@ std::vector<std::pair<std::string, std::string>> items(std::string_view spec, co
 }
 
 double to_number(const std::string& s, const std::string& field, const char* what) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != s.size() || !std::isfinite(v))
-    throw InputError({what, 0, field}, "expected a number, found '" + s + "'");
-  return v;
+  const auto v = parse_number(s);
+  if (!v) throw InputError({what, 0, field}, "expected a number, found '" + s + "'");
+  return *v;
 }
 
 std::size_t axis_of(const Machine& m, const std::string& name, std::vector<bool>& seen, const char* what) {

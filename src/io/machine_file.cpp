@@ -11,6 +11,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parse.hpp"
 #include "mtcal/util/units.hpp"
 
 namespace mtcal {
@@ -25,8 +26,7 @@ struct Ctx {
 
   Ctx child(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
   [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    int line = n.IsDefined() ? n.Mark().line + 1 : 0;
-    if (line <= 0 && n.IsDefined()) line = 0;
+    const int line = n.IsDefined() ? n.Mark().line + 1 : 0;
     throw InputError({file, line, path}, what);
   }
 };
@@ -38,13 +38,36 @@ std::string describe(const YAML::Node& n) {
   return "a map";
 }
 
-// Checks that a map has only known keys, each once; returns the map's entries by key.
-std::map<std::string, YAML::Node> entries(const YAML::Node& n, const Ctx& ctx,
-                                          std::initializer_list<std::string_view> known) {
+// The entries of a map in file order, each key once.
+class Entries {
+ public:
+  std::size_t count(const std::string& key) const {
+    for (const auto& kv : items_)
+      if (kv.first == key) return 1;
+    return 0;
+  }
+  YAML::Node operator[](const std::string& key) const {
+    for (const auto& kv : items_)
+      if (kv.first == key) return kv.second;
+    return YAML::Node(YAML::NodeType::Undefined);
+  }
+  auto begin() const { return items_.begin(); }
+  auto end() const { return items_.end(); }
+  void add(std::string key, YAML::Node value) { items_.emplace_back(std::move(key), std::move(value)); }
+
+ private:
+  std::vector<std::pair<std::string, YAML::Node>> items_;
+};
+
+// Checks that a map has only known keys (any key if known is empty), each once. An empty
+// section (a key with nothing after it) reads as an empty map.
+Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_list<std::string_view> known) {
+  Entries out;
+  if (n.IsDefined() && n.IsNull()) return out;
   if (!n.IsMap()) ctx.fail(n, "expected a map, found " + describe(n));
-  std::map<std::string, YAML::Node> out;
   for (auto it = n.begin(); it != n.end(); ++it) {
-    const std::string key = it->first.as<std::string>();
+    if (!it->first.IsScalar()) ctx.fail(it->first, "expected a plain key, found " + describe(it->first));
+    const std::string key = it->first.Scalar();
     Ctx kc = ctx.child(key);
     if (known.size() != 0 &&
         std::find(known.begin(), known.end(), std::string_view(key)) == known.end()) {
@@ -53,24 +76,16 @@ std::map<std::string, YAML::Node> entries(const YAML::Node& n, const Ctx& ctx,
       kc.fail(it->first, "unknown key '" + key + "' (expected one of: " + list + ")");
     }
     if (out.count(key)) kc.fail(it->first, "duplicated key '" + key + "'");
-    out.emplace(key, it->second);
+    out.add(key, it->second);
   }
   return out;
 }
 
 double number(const YAML::Node& n, const Ctx& ctx) {
   if (!n.IsScalar()) ctx.fail(n, "expected a number, found " + describe(n));
-  const std::string& s = n.Scalar();
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != s.size() || !std::isfinite(v))
-    ctx.fail(n, "expected a finite number, found '" + s + "'");
-  return v;
+  const auto v = parse_number(n.Scalar());
+  if (!v) ctx.fail(n, "expected a finite number, found '" + n.Scalar() + "'");
+  return *v;
 }
 
 std::string text(const YAML::Node& n, const Ctx& ctx) {
@@ -91,50 +106,46 @@ Vec3 vec3(const YAML::Node& n, const Ctx& ctx, double scale) {
   return Vec3(v[0], v[1], v[2]) * scale;
 }
 
-Unit unit(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
-  const std::string s = text(n, ctx);
-  auto u = find_unit(s);
-  const char* dim = expected == Dimension::Length ? "length" : "angle";
-  if (!u) ctx.fail(n, fmt::format("unknown unit '{}' (expected a {} unit: {})", s, dim,
-                                  accepted_units(expected)));
-  if (u->dimension != expected)
-    ctx.fail(n, fmt::format("unit '{}' is not a {} unit (expected one of: {})", s, dim,
-                            accepted_units(expected)));
+const char* an(Dimension d) { return d == Dimension::Length ? "a length" : "an angle"; }
+
+// A unit of the expected dimension; ratios (um/m ...) only where with_ratios (error values).
+Unit checked_unit(const std::string& name, const YAML::Node& n, const Ctx& ctx, Dimension expected,
+                  bool with_ratios) {
+  auto u = find_unit(name);
+  if (!u)
+    ctx.fail(n, fmt::format("unknown unit '{}' (expected {} unit: {})", name, an(expected),
+                            accepted_units(expected, with_ratios)));
+  if (u->dimension != expected || (u->ratio && !with_ratios))
+    ctx.fail(n, fmt::format("'{}' is {} unit here; expected {} unit: {}", name,
+                            u->ratio && u->dimension == expected ? "a slope, not a position" : an(u->dimension),
+                            an(expected), accepted_units(expected, with_ratios)));
   return *u;
+}
+
+Unit unit(const YAML::Node& n, const Ctx& ctx, Dimension expected, bool with_ratios) {
+  return checked_unit(text(n, ctx), n, ctx, expected, with_ratios);
 }
 
 // "12.5 um" or {value: 12.5, unit: um}.
 double quantity(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
-  const char* dim = expected == Dimension::Length ? "length" : "angle";
   if (n.IsMap()) {
     auto e = entries(n, ctx, {"value", "unit", "description"});
     if (!e.count("value")) ctx.fail(n, "missing key 'value'");
-    if (!e.count("unit")) ctx.fail(n, fmt::format("missing key 'unit' (a {} unit)", dim));
+    if (!e.count("unit")) ctx.fail(n, fmt::format("missing key 'unit' ({} unit)", an(expected)));
     return number(e["value"], ctx.child("value")) *
-           unit(e["unit"], ctx.child("unit"), expected).to_internal;
+           unit(e["unit"], ctx.child("unit"), expected, true).to_internal;
   }
+  const char* example = expected == Dimension::Length ? "12 um" : "25 urad";
   if (!n.IsScalar())
-    ctx.fail(n, fmt::format("expected '<number> <{} unit>', found {}", dim, describe(n)));
+    ctx.fail(n, fmt::format("expected '<number> <unit>' such as '{}', found {}", example, describe(n)));
   std::istringstream in(n.Scalar());
   std::string num, u, extra;
   in >> num >> u >> extra;
   if (u.empty() || !extra.empty())
-    ctx.fail(n, fmt::format("expected '<number> <{} unit>' such as '{}', found '{}'", dim,
-                            expected == Dimension::Length ? "12 um" : "25 urad", n.Scalar()));
-  YAML::Node num_node(num);
-  double v = 0;
-  try {
-    std::size_t used = 0;
-    v = std::stod(num, &used);
-    if (used != num.size() || !std::isfinite(v)) throw std::invalid_argument(num);
-  } catch (const std::exception&) {
-    ctx.fail(n, "expected a number before the unit, found '" + num + "'");
-  }
-  auto found = find_unit(u);
-  if (!found || found->dimension != expected)
-    ctx.fail(n, fmt::format("unknown {} unit '{}' (expected one of: {})", dim, u,
-                            accepted_units(expected)));
-  return v * found->to_internal;
+    ctx.fail(n, fmt::format("expected '<number> <unit>' such as '{}', found '{}'", example, n.Scalar()));
+  const auto v = parse_number(num);
+  if (!v) ctx.fail(n, "expected a number before the unit, found '" + num + "'");
+  return *v * checked_unit(u, n, ctx, expected, true).to_internal;
 }
 
 void parse_direction(const YAML::Node& n, const Ctx& ctx, Axis& ax) {
@@ -159,10 +170,14 @@ MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax,
   if (!e.count("unit"))
     ctx.fail(n, std::string("missing key 'unit' (the unit of the error values, a ") +
                     (value_dim == Dimension::Length ? "length" : "angle") + " unit)");
-  const double vs = unit(e["unit"], ctx.child("unit"), value_dim).to_internal;
+  const double vs = unit(e["unit"], ctx.child("unit"), value_dim, true).to_internal;
   const Dimension arg_dim = ax.kind == AxisKind::Linear ? Dimension::Length : Dimension::Angle;
   double as = ax.kind == AxisKind::Linear ? length_scale : angle_scale;
-  if (e.count("argument_unit")) as = unit(e["argument_unit"], ctx.child("argument_unit"), arg_dim).to_internal;
+  if (e.count("argument_unit")) {
+    if (e.count("fourier"))
+      ctx.child("argument_unit").fail(e["argument_unit"], "a Fourier series takes the angle itself; 'argument_unit' has no meaning there");
+    as = unit(e["argument_unit"], ctx.child("argument_unit"), arg_dim, false).to_internal;
+  }
 
   const int forms = static_cast<int>(e.count("polynomial") + e.count("table") + e.count("fourier"));
   if (forms != 1)
@@ -239,6 +254,7 @@ Machine build(const YAML::Node& root, const std::string& file) {
   Machine m;
   m.source = file;
   if (top.count("name")) m.name = text(top["name"], ctx.child("name"));
+  if (top.count("description")) m.description = text(top["description"], ctx.child("description"));
   if (!top.count("topology")) ctx.fail(root, "missing key 'topology' (e.g. wCBXfYZt)");
   try {
     m.topology = Topology::parse(text(top["topology"], ctx.child("topology")));
@@ -250,8 +266,8 @@ Machine build(const YAML::Node& root, const std::string& file) {
   if (top.count("units")) {
     Ctx uc = ctx.child("units");
     auto u = entries(top["units"], uc, {"length", "angle"});
-    if (u.count("length")) ls = unit(u["length"], uc.child("length"), Dimension::Length).to_internal;
-    if (u.count("angle")) as = unit(u["angle"], uc.child("angle"), Dimension::Angle).to_internal;
+    if (u.count("length")) ls = unit(u["length"], uc.child("length"), Dimension::Length, false).to_internal;
+    if (u.count("angle")) as = unit(u["angle"], uc.child("angle"), Dimension::Angle, false).to_internal;
   }
 
   if (!top.count("axes")) ctx.fail(root, "missing key 'axes'");
@@ -280,7 +296,16 @@ Machine build(const YAML::Node& root, const std::string& file) {
         kc.child("travel").fail(e["travel"], "expected [min, max] with min < max");
       ax.travel = Travel{t[0] * s, t[1] * s};
     }
-    if (e.count("direction")) parse_direction(e["direction"], kc.child("direction"), ax);
+    if (e.count("direction")) {
+      const int own = ax.direction_axis;
+      parse_direction(e["direction"], kc.child("direction"), ax);
+      if (ax.direction_axis != own) {
+        const char c = static_cast<char>('x' + own);
+        kc.child("direction").fail(e["direction"],
+                                   fmt::format("axis {} {} machine {}: its direction is '+{}' or '-{}'", ax.letter,
+                                               ax.kind == AxisKind::Linear ? "moves along" : "turns about", c, c, c));
+      }
+    }
     if (e.count("point")) ax.point = vec3(e["point"], kc.child("point"), ls);
   }
   for (const auto& ax : m.axes)
@@ -350,7 +375,11 @@ Machine build(const YAML::Node& root, const std::string& file) {
 Machine parse_machine(std::string_view yaml_text, const std::string& source) {
   YAML::Node root;
   try {
-    root = YAML::Load(std::string(yaml_text));
+    const auto docs = YAML::LoadAll(std::string(yaml_text));
+    if (docs.size() > 1)
+      throw InputError({source, docs[1].Mark().line + 1, ""},
+                       fmt::format("expected one YAML document, found {} (one machine per file)", docs.size()));
+    if (!docs.empty()) root = docs[0];
   } catch (const YAML::Exception& e) {
     throw InputError({source, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
   }
@@ -391,6 +420,7 @@ std::string to_yaml(const Machine& m) {
   std::string y;
   y += fmt::format("mtcal_machine: {}\n", kFormatVersion);
   y += "name: " + quote(m.name) + "\n";
+  if (!m.description.empty()) y += "description: " + quote(m.description) + "\n";
   y += "topology: " + m.topology.chain + "\n";
   y += "units: {length: mm, angle: rad}\n";
   y += "axes:\n";
@@ -411,11 +441,12 @@ std::string to_yaml(const Machine& m) {
       ErrorName en{ErrorKind::Motion, static_cast<Component>(c), ax.letter};
       const char* u = c >= 3 ? "rad" : "mm";
       const char* au = ax.kind == AxisKind::Linear ? "mm" : "rad";
-      y += fmt::format("  {}: {{unit: {}, argument_unit: {}, ", en.str(), u, au);
+      y += fmt::format("  {}: {{unit: {}, ", en.str(), u);
       if (const auto* p = std::get_if<Polynomial>(&f.form())) {
-        y += fmt::format("polynomial: {}, reversal: {}}}\n",
+        y += fmt::format("argument_unit: {}, polynomial: {}, reversal: {}}}\n", au,
                          list({p->coefficients.begin(), p->coefficients.end()}), num(p->reversal));
       } else if (const auto* t = std::get_if<Table>(&f.form())) {
+        y += fmt::format("argument_unit: {}, ", au);
         y += "table: {positions: " + list(t->positions) + ", forward: " + list(t->forward);
         if (!t->backward.empty()) y += ", backward: " + list(t->backward);
         y += "}}\n";

@@ -56,16 +56,12 @@ VolumetricError ErrorModel::evaluate(std::span<const double> q, std::span<const 
   return volumetric_error(actual_pose(q, dir), nominal_pose(q));
 }
 
-void ErrorModel::jacobian(std::span<const double> q, std::span<const std::int8_t> dir,
-                          Eigen::Ref<Eigen::Matrix<double, 6, Eigen::Dynamic>> J,
-                          JacobianWorkspace& ws) const {
-  check_sizes(machine_, q, dir);
+void ErrorModel::slot_jacobian(std::span<const double> q, std::span<const std::int8_t> dir,
+                               JacobianWorkspace& ws) const {
+  // d(output)/d(each of the six values of every error slot), through the exact chain:
+  // for T = P F S, dT = P dF S (and -P' dE S' for a factor that is an inverse E^-1).
   const Machine& m = machine_;
   const std::size_t n = m.axes.size();
-  if (static_cast<std::size_t>(J.cols()) != m.parameter_count())
-    throw ModelError("Jacobian needs " + std::to_string(m.parameter_count()) + " columns, found " +
-                     std::to_string(J.cols()));
-
   const auto& chain = program_->chain;
   const std::size_t nf = chain.size();
   ws.values.resize(nf);
@@ -79,7 +75,9 @@ void ErrorModel::jacobian(std::span<const double> q, std::span<const std::int8_t
   for (std::size_t i = nf; i-- > 0;) ws.suffix[i] = ws.values[i] * ws.suffix[i + 1];
 
   const Affine& T = ws.prefix[nf];
-  const Affine T0 = nominal_pose(q);
+  ws.nominal.resize(program_->nominal_chain.size());
+  detail::bind_chain(m, program_->nominal_chain, false, q, {}, ws.nominal);
+  const Affine T0 = detail::multiply(ws.nominal);
   const Vec3 r = rotation_vector(T.R * T0.R.transpose());
   const Mat3 Jinv = left_jacobian_inverse(r);
   const Mat3 RtT = T.R.transpose();
@@ -122,6 +120,19 @@ void ErrorModel::jacobian(std::span<const double> q, std::span<const std::int8_t
     }
   }
 
+}
+
+void ErrorModel::jacobian(std::span<const double> q, std::span<const std::int8_t> dir,
+                          Eigen::Ref<Eigen::Matrix<double, 6, Eigen::Dynamic>> J,
+                          JacobianWorkspace& ws) const {
+  check_sizes(machine_, q, dir);
+  const Machine& m = machine_;
+  const std::size_t n = m.axes.size();
+  if (static_cast<std::size_t>(J.cols()) != m.parameter_count())
+    throw ModelError("Jacobian needs " + std::to_string(m.parameter_count()) + " columns, found " +
+                     std::to_string(J.cols()));
+  slot_jacobian(q, dir, ws);
+  const auto& G = ws.slot_jacobian;
   // Parameters: each is linear in its slot component (value = sum p_i basis_i).
   std::size_t col = 0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -140,6 +151,30 @@ void ErrorModel::jacobian(std::span<const double> q, std::span<const std::int8_t
   for (int s : {detail::tool_slot(n), detail::workpiece_slot()})
     for (int c = 0; c < 6; ++c) J.col(static_cast<Eigen::Index>(col++)) = G.col(6 * s + c);
   assert(col == m.parameter_count());
+}
+
+std::vector<ErrorSensitivity> ErrorModel::error_sensitivities(std::span<const double> q,
+                                                              std::span<const std::int8_t> dir) const {
+  check_sizes(machine_, q, dir);
+  JacobianWorkspace ws;
+  slot_jacobian(q, dir, ws);
+  const auto& G = ws.slot_jacobian;
+  const std::size_t n = machine_.axes.size();
+  std::vector<ErrorSensitivity> out;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Axis& ax = machine_.axes[k];
+    for (int c = 0; c < 6; ++c)
+      out.push_back({{ErrorKind::Motion, static_cast<Component>(c), ax.letter}, G.col(6 * detail::motion_slot(k) + c)});
+    for (int c = 0; c < 6; ++c)
+      if (ax.allows_location(static_cast<Component>(c)))
+        out.push_back({{ErrorKind::Location, static_cast<Component>(c), ax.letter},
+                       G.col(6 * detail::location_slot(k) + c)});
+  }
+  for (char body : {'t', 'w'}) {
+    const int s = body == 't' ? detail::tool_slot(n) : detail::workpiece_slot();
+    for (int c = 0; c < 6; ++c) out.push_back({{ErrorKind::Mounting, static_cast<Component>(c), body}, G.col(6 * s + c)});
+  }
+  return out;
 }
 
 Eigen::Matrix<double, 6, Eigen::Dynamic> ErrorModel::jacobian(std::span<const double> q,

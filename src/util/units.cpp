@@ -14,7 +14,7 @@ struct Entry {
 };
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr std::array<Entry, 17> kUnits{{
+constexpr std::array<Entry, 18> kUnits{{
     {"mm", "mm", Dimension::Length, 1.0},
     {"um", "um", Dimension::Length, 1e-3},
     {"\xC2\xB5m", "um", Dimension::Length, 1e-3},  // micro sign
@@ -32,6 +32,7 @@ constexpr std::array<Entry, 17> kUnits{{
     // A slope in length per length is an angle (small-angle reading of squareness and tilt).
     {"um/m", "um/m", Dimension::Angle, 1e-6},
     {"\xC2\xB5m/m", "um/m", Dimension::Angle, 1e-6},
+    {"\xCE\xBCm/m", "um/m", Dimension::Angle, 1e-6},
     {"mm/m", "mm/m", Dimension::Angle, 1e-3},
 }};
 
@@ -39,14 +40,16 @@ constexpr std::array<Entry, 17> kUnits{{
 
 std::optional<Unit> find_unit(std::string_view name) {
   for (const auto& e : kUnits)
-    if (e.name == name) return Unit{std::string(e.canonical), e.dimension, e.factor};
+    if (e.name == name)
+      return Unit{std::string(e.canonical), e.dimension, e.factor, e.canonical.find('/') != std::string_view::npos};
   return std::nullopt;
 }
 
-std::string accepted_units(Dimension d) {
+std::string accepted_units(Dimension d, bool with_ratios) {
   std::string out;
   for (const auto& e : kUnits) {
     if (e.dimension != d || e.name != e.canonical) continue;
+    if (!with_ratios && e.canonical.find('/') != std::string_view::npos) continue;
     if (!out.empty()) out += ", ";
     out += e.name;
   }

@@ -118,6 +118,23 @@ TEST(MachineFile, ExampleMachinesHaveTheErrorsTheyPromise) {
   EXPECT_EQ(by_kind[ErrorKind::Mounting].size(), 12u);
 }
 
+TEST(MachineFile, AcceptsGreekMuEmptySectionsAndKeepsTheDescription) {
+  const std::string text = with("EC0Y: 12 um/m", "EC0Y: 12 \xCE\xBCm/m") + "tool:\ndescription: a test machine\n";
+  const Machine m = parse_machine(text, "good.yaml");
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EC0Y")), 12e-6);
+  EXPECT_EQ(m.description, "a test machine");
+  EXPECT_EQ(parse_machine(to_yaml(m), "again").description, "a test machine");
+  const Machine empty =
+      parse_machine("mtcal_machine: 1\ntopology: wXfYZt\naxes: {X: , Y: , Z: }\nerrors:\n", "empty.yaml");
+  for (const auto& p : empty.parameters()) EXPECT_EQ(p.value, 0.0) << p.name;
+}
+
+TEST(MachineFile, ReportsTheFirstBadEntryInFileOrder) {
+  // Two bad errors: the one written first is reported, not the alphabetically first.
+  InputError e = bad(with("EC0Y: 12 um/m", "EZX: {unit: furlong, polynomial: [1]}\n  EAX: {unit: furlong, polynomial: [1]}"));
+  EXPECT_EQ(e.where().field, "errors.EZX.unit") << e.what();
+}
+
 TEST(MachineFile, MissingFileIsAnInputError) {
   EXPECT_THROW(load_machine("/nonexistent/machine.yaml"), InputError);
 }
@@ -136,7 +153,13 @@ TEST(MachineFile, BadInputsNameFileLineAndKey) {
       {"unknown axis key", with("X: {travel", "X: {travle: [1, 2], travel"), 5, "axes.X.travle", "unknown key"},
       {"unknown error name", with("EC0Y: 12 um/m", "EQY: 12 um/m"), 12, "errors.EQY", "unknown error name"},
       {"duplicated error", with("EC0Y: 12 um/m", "EC0Y: 12 um/m\n  EC0Y: 13 um/m"), 13, "errors.EC0Y", "duplicated"},
-      {"bad unit", with("12 um/m", "12 furlongs"), 12, "errors.EC0Y", "unknown angle unit"},
+      {"bad unit", with("12 um/m", "12 furlongs"), 12, "errors.EC0Y", "unknown unit 'furlongs'"},
+      {"hexadecimal number", with("polynomial: [0, 5]", "polynomial: [0, 0x10]"), 11, "errors.EXX.polynomial.1", "finite number"},
+      {"two documents", std::string(kGood) + "---\nname: other\n", 15, "", "one YAML document"},
+      {"direction of another axis", with("C: {point", "C: {direction: +x, point"), 9, "axes.C.direction", "'+z' or '-z'"},
+      {"slope as joint angle unit", with("axes:", "units: {angle: um/m}\naxes:"), 4, "units.angle", "slope"},
+      {"argument unit of a Fourier series", with("EC0Y: 12 um/m", "ECC: {unit: urad, argument_unit: deg, fourier: {cos: [1]}}"), 12, "errors.ECC.argument_unit", "Fourier"},
+      {"non-plain key", with("name: test", "? [a, b]\n: test"), 2, "", "plain key"},
       {"length unit for an angle", with("12 um/m", "12 um"), 12, "errors.EC0Y", "unit"},
       {"missing unit", with("12 um/m", "12"), 12, "errors.EC0Y", "number"},
       {"non-numeric value", with("polynomial: [0, 5]", "polynomial: [0, five]"), 11, "errors.EXX.polynomial.1", "finite number"},

@@ -25,13 +25,21 @@ struct BatchOptions {
 };
 
 // Reusable storage of ErrorModel::jacobian: sized once per model, no allocation per call.
+// Effect of one error's value on the volumetric error at a configuration:
+// d(dx dy dz rx ry rz) / d(error value), whatever form the error's function has. Per unit of
+// error: mm/mm and rad/mm for translational errors, mm/rad and rad/rad for rotational ones.
+struct ErrorSensitivity {
+  ErrorName error;
+  Eigen::Matrix<double, 6, 1> effect;
+};
+
 class JacobianWorkspace {
  public:
   JacobianWorkspace() = default;
 
  private:
   friend class ErrorModel;
-  std::vector<Affine> values, prefix, suffix;
+  std::vector<Affine> values, prefix, suffix, nominal;
   std::vector<double> basis;
   Eigen::Matrix<double, 6, Eigen::Dynamic> slot_jacobian;
 };
@@ -68,9 +76,17 @@ class ErrorModel {
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian(std::span<const double> q,
                                                     std::span<const std::int8_t> dir = {}) const;
 
+  // Sensitivity to every error of the machine (motion errors as values, location errors,
+  // mounting errors) in the order of Machine::parameters() (tool mounting before workpiece).
+  std::vector<ErrorSensitivity> error_sensitivities(std::span<const double> q,
+                                                    std::span<const std::int8_t> dir = {}) const;
+
   struct Program;  // compiled factor chains of the batched kernel
 
  private:
+  void slot_jacobian(std::span<const double> q, std::span<const std::int8_t> dir,
+                     JacobianWorkspace& ws) const;
+
   Machine machine_;
   std::unique_ptr<Program> program_;
 };

@@ -85,6 +85,7 @@ struct ErrorParameter {
 
 struct Machine {
   std::string name;
+  std::string description;
   std::string source;  // file it was loaded from, for messages
   Topology topology;
   std::vector<Axis> axes;  // chain order, workpiece to tool

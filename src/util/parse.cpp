@@ -1,0 +1,18 @@
+#include "mtcal/util/parse.hpp"
+
+#include <charconv>
+#include <cmath>
+
+namespace mtcal {
+
+std::optional<double> parse_number(std::string_view text) {
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  if (text.empty() || text.front() == '+') return std::nullopt;
+  double v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v,
+                                         std::chars_format::general);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+}  // namespace mtcal
