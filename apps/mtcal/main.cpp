@@ -1,4 +1,5 @@
 // mtcal command line: a thin layer that parses options, calls the library and prints results.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -178,7 +179,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
     text += "\n";
     for (std::size_t r = 0; r < count; ++r) {
       for (std::size_t k = 0; k < n; ++k)
-        text += (k ? "," : "") + fmt::format("{:.10g}", q[r * n + k] / joint_unit_factor(m.axes[k]));
+        text += (k ? "," : "") + fmt::format("{:.12g}", to_user_units(m.axes[k], q[r * n + k]));
       if (!dir.empty())
         for (std::size_t k = 0; k < n; ++k) text += fmt::format(",{}", dir[r * n + k]);
       for (int c = 0; c < 6; ++c) text += fmt::format(",{:.9e}", res[r * 6 + c]);
@@ -199,13 +200,13 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
   auto where = [&](std::size_t r) {
     json j;
     for (std::size_t k = 0; k < n; ++k)
-      j[std::string(1, m.axes[k].letter)] = q[r * n + k] / joint_unit_factor(m.axes[k]);
+      j[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], q[r * n + k]);
     return j;
   };
   auto where_text = [&](std::size_t r) {
     std::string s;
     for (std::size_t k = 0; k < n; ++k)
-      s += fmt::format("{}{}={:g}", k ? "," : "", m.axes[k].letter, q[r * n + k] / joint_unit_factor(m.axes[k]));
+      s += fmt::format("{}{}={:g}", k ? "," : "", m.axes[k].letter, to_user_units(m.axes[k], q[r * n + k]));
     return s;
   };
   if (as_json) {
@@ -258,6 +259,63 @@ int run_errors(const ModelOptions& mo, bool as_json, bool nonzero) {
   return 0;
 }
 
+int run_effects(const ModelOptions& mo, const std::string& at, const std::string& only_errors,
+                const std::string& around, bool as_json, bool no_travel_check) {
+  Machine m = load(mo);
+  // About the nominal machine the effects are the errors' definitions (exact zeros where an
+  // error has no effect); about the actual machine they include second-order cross terms.
+  if (around == "nominal") m.clear_errors();
+  const auto q = parse_joint_values(m, at);
+  if (!no_travel_check) check_travel(m, q, "--at");
+  std::vector<std::string> wanted;
+  for (std::size_t start = 0; start <= only_errors.size();) {
+    auto end = only_errors.find(',', start);
+    if (end == std::string::npos) end = only_errors.size();
+    if (end > start) wanted.push_back(only_errors.substr(start, end - start));
+    start = end + 1;
+  }
+  for (const auto& w : wanted) {
+    auto en = ErrorName::parse(w);
+    if (!en || !m.has_error(*en))
+      throw InputError({"--errors", 0, w}, "unknown error name '" + w + "' for topology " + m.topology.chain);
+  }
+  const auto effects = ErrorModel(m).error_sensitivities(q);
+  // Per 1 um of a translational error or 1 urad of a rotational one: dx dy dz in um, rx ry rz in urad.
+  json arr = json::array();
+  std::string text = fmt::format("{:<6} {:<9} {:<5} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "error", "kind",
+                                 "per", "dx um", "dy um", "dz um", "rx urad", "ry urad", "rz urad");
+  for (const auto& e : effects) {
+    const std::string name = e.error.str();
+    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), name) == wanted.end()) continue;
+    const bool rot = is_rotation(e.error.component);
+    // d(out)/d(error) in internal units; 1 um = 1e-3 mm, 1 urad = 1e-6 rad.
+    const double per = rot ? 1e-6 : 1e-3;
+    double v[6];
+    for (int c = 0; c < 6; ++c) v[c] = e.effect[c] * per / (c < 3 ? 1e-3 : 1e-6);
+    json j{{"error", name}, {"kind", std::string(to_string(e.error.kind))}, {"per", rot ? "urad" : "um"}};
+    for (int c = 0; c < 6; ++c) j[kOutputKeys[c]] = v[c];
+    arr.push_back(j);
+    text += fmt::format("{:<6} {:<9} {:<5} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", name,
+                        to_string(e.error.kind), rot ? "urad" : "um", v[0], v[1], v[2], v[3], v[4], v[5]);
+  }
+  if (as_json) {
+    json j;
+    j["machine"] = m.name;
+    j["topology"] = m.topology.chain;
+    json where;
+    for (std::size_t k = 0; k < m.axes.size(); ++k)
+      where[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], q[k]);
+    j["at"] = where;
+    j["tool_length"] = m.tool.length;
+    j["around"] = around;
+    j["effects"] = arr;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << text;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -291,6 +349,25 @@ int main(int argc, char** argv) {
   errors->add_flag("--json", err_json, "Machine-readable output");
   errors->add_flag("--nonzero", nonzero, "Only parameters whose value is not zero");
 
+  ModelOptions eff_model;
+  std::string eff_at, eff_errors;
+  bool eff_json = false, eff_no_travel = false;
+  auto* effects = app.add_subcommand(
+      "effects", "Effect of each single error on the tool at one configuration: dx dy dz (um) and rx ry rz "
+                 "(urad) per 1 um or 1 urad of the error (first-order sensitivity of the exact model)");
+  add_model_options(effects, eff_model);
+  effects->add_option("--at", eff_at, "The configuration, e.g. \"X=100,B=30\" (mm, deg; axes not named are 0)")
+      ->required();
+  effects->add_option("--errors", eff_errors, "Only these errors, comma-separated (e.g. EXX,EC0Y,EX0C)");
+  std::string eff_around = "nominal";
+  effects->add_option("--around", eff_around,
+                      "Linearise about the error-free machine (nominal, the errors' definitions) or about the "
+                      "machine with its errors (actual)")
+      ->check(CLI::IsMember({"nominal", "actual"}))
+      ->capture_default_str();
+  effects->add_flag("--json", eff_json, "Machine-readable output (keys error kind per dx dy dz rx ry rz)");
+  effects->add_flag("--no-travel-check", eff_no_travel, "Allow a configuration outside the travel");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -299,6 +376,7 @@ int main(int argc, char** argv) {
   try {
     if (eval->parsed()) return run_eval(eval_model, at, points, grid, out, eval_json, no_travel_check, threads);
     if (errors->parsed()) return run_errors(err_model, err_json, nonzero);
+    if (effects->parsed()) return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel);
   } catch (const std::exception& e) {
     std::string msg = e.what();
     for (auto& c : msg)

@@ -49,6 +49,10 @@ double joint_unit_factor(const Axis& ax) {
 }
 std::string_view joint_unit_name(const Axis& ax) { return ax.kind == AxisKind::Linear ? "mm" : "deg"; }
 
+double to_user_units(const Axis& ax, double q) {
+  return *parse_number(fmt::format("{:.12g}", q / joint_unit_factor(ax)));
+}
+
 std::vector<double> parse_joint_values(const Machine& m, std::string_view spec) {
   std::vector<double> q(m.axes.size(), 0.0);
   std::vector<bool> seen(m.axes.size(), false);

@@ -57,6 +57,20 @@ python3 -c "import json,math; d=json.load(open('$tmp/out')); assert abs(d['dx'] 
 expect_exit 0 "eval --tool-length" -- "$MTCAL" eval -m "$M3" --at "X=0" --only EAt --set EAt=1e-4 --tool-length 200 --json
 python3 -c "import json,math; d=json.load(open('$tmp/out')); assert abs(d['dy'] - 200*math.sin(1e-4)) < 1e-15, d" && ok || bad "--tool-length"
 
+# effects: per 1 um / 1 urad about the nominal machine; hand values for the mill at
+# X=300,Y=200,Z=-400 (tool 100 mm): EC0Y tilts Y, dx = -Y * 1 urad = -0.2 um.
+expect_exit 0 "effects" -- "$MTCAL" effects -m "$M3" --at "X=300,Y=200,Z=-400"
+grep -qE '^EC0Y +location +urad +-0.2 ' "$tmp/out" && ok || bad "effects EC0Y row: $(grep EC0Y "$tmp/out")"
+expect_exit 0 "effects --json" -- "$MTCAL" effects -m "$M5" --at "X=100,B=30,C=90" --errors EX0C,ECC --json
+[ "$(json_get "[e['error'] for e in d['effects']]")" = "['ECC', 'EX0C']" ] && ok || bad "effects --errors filter"
+[ "$(json_get "sorted(d['effects'][0].keys())")" = "['dx', 'dy', 'dz', 'error', 'kind', 'per', 'rx', 'ry', 'rz']" ] && ok || bad "effects JSON keys"
+[ "$(json_get "d['at']['B']")" = "30.0" ] && ok || bad "effects 'at' in user units: $(json_get "d['at']")"
+# EX0C at C=90 deg: (I - Rz(90)) e = (e, -e, 0).
+python3 -c "import json; d=json.load(open('$tmp/out')); e=[x for x in d['effects'] if x['error']=='EX0C'][0]; assert abs(e['dx']-1)<1e-12 and abs(e['dy']+1)<1e-12, e" && ok || bad "effects EX0C at C=90"
+expect_error "effects unknown error" "unknown error name 'EQQ'" -- "$MTCAL" effects -m "$M5" --at X=0 --errors EQQ
+expect_exit 0 "effects --around actual" -- "$MTCAL" effects -m "$M5" --at "X=100" --around actual --json
+[ "$(json_get "d['around']")" = "actual" ] && ok || bad "effects --around"
+
 # errors.
 expect_exit 0 "errors" -- "$MTCAL" errors -m "$M5"
 grep -q '^EX0C ' "$tmp/out" && grep -q '^EXX.1 ' "$tmp/out" && ok || bad "errors lists EX0C and EXX.1"

@@ -12,6 +12,9 @@ namespace mtcal {
 // Factor from the user's joint unit (mm for linear, deg for rotary) to internal units.
 double joint_unit_factor(const Axis& ax);
 std::string_view joint_unit_name(const Axis& ax);
+// An internal joint value back in the user's unit, rounded to 12 significant digits so that
+// 30 deg reads 30 again after its trip through radians.
+double to_user_units(const Axis& ax, double q);
 
 // "X=100,Y=50,Z=-20,B=30,C=90" -> internal joint values in chain order; axes not named are 0.
 // Throws InputError (field = the offending item) for unknown letters, repeats or non-numbers.
