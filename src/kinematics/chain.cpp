@@ -44,8 +44,11 @@ Factor joint(int k) { return {Factor::Kind::Joint, Affine{}, -1, false, k}; }
 }  // namespace
 
 std::vector<Factor> build_chain(const Machine& m, bool errors) {
-  // T_w->t = E_w^-1 W^-1 prod_k [Trans(c) L M(q+z) L^-1 Trans(-c) Trans(r) E_k Trans(-r)]
-  //          S E_t Trans(-l a)                       (docs/conventions.md, "The chain")
+  // T_w->t = E_w^-1 W^-1 prod_k J_k S E_t Trans(-l a), each joint
+  //   J_k = Trans(c) L M(q+z) L^-1 Trans(-c) . Trans(r) E_k Trans(-r)
+  // with the motion errors E_k in the frame of the axis's base: the tool side of the joint for
+  // an axis that carries the workpiece, the workpiece side (E_k first) for one that carries the
+  // tool. For a linear axis both orders are the same transform. (docs/conventions.md)
   std::vector<Factor> f;
   const std::size_t n = m.axes.size();
   if (errors) f.push_back(slot(workpiece_slot(), true));
@@ -53,13 +56,19 @@ std::vector<Factor> build_chain(const Machine& m, bool errors) {
   for (std::size_t k = 0; k < n; ++k) {
     const Axis& ax = m.axes[k];
     const Vec3 c = ax.kind == AxisKind::Rotary ? ax.point : Vec3::Zero();
+    const bool errors_first = ax.kind == AxisKind::Rotary && !ax.moves_workpiece;
+    auto motion_errors = [&] {
+      f.push_back(constant(Affine::translation(ax.point)));
+      if (errors) f.push_back(slot(motion_slot(k), false));
+      f.push_back(constant(Affine::translation(-ax.point)));
+    };
+    if (errors_first) motion_errors();
     f.push_back(constant(Affine::translation(c)));
     if (errors) f.push_back(slot(location_slot(k), false));
     f.push_back(joint(static_cast<int>(k)));
     if (errors) f.push_back(slot(location_slot(k), true));
-    f.push_back(constant(Affine::translation(ax.point - c)));
-    if (errors) f.push_back(slot(motion_slot(k), false));
-    f.push_back(constant(Affine::translation(-ax.point)));
+    f.push_back(constant(Affine::translation(-c)));
+    if (!errors_first) motion_errors();
   }
   f.push_back(constant(Affine::translation(m.tool.spindle_point)));
   if (errors) f.push_back(slot(tool_slot(n), false));

@@ -208,6 +208,28 @@ TEST(ErrorModel, RotaryAxisLocationErrorsMatchIso230_7) {
   }
 }
 
+TEST(ErrorModel, RotaryMotionErrorsAreInTheAxisBaseFrame) {
+  // A head C axis (carries the tool): its radial error EXC is along the ram's x whatever C is,
+  // as a fixed indicator on the ram would see it; the tool tip is at the axis point here.
+  const Machine head = parse_machine(R"(mtcal_machine: 1
+name: head
+topology: wfXYZCt
+axes: {X: {}, Y: {}, Z: {}, C: {point: [0, 0, 0]}}
+)",
+                                     "head");
+  for (double C : {0.0, 90.0, 200.0}) {
+    Machine m = head;
+    m.set_parameter("EXC.0", 0.002);
+    expect_near(eval(m, {10, 20, 30, C * kDeg}).translation, Vec3(0.002, 0, 0), 1e-12, "head EXC");
+    // Tilt EAC of the head about the ram's x, with the tool 100 mm below the axis point.
+    m = head;
+    m.tool.length = 100;
+    m.set_parameter("EAC.0", 5e-5);
+    expect_near(eval(m, {10, 20, 30, C * kDeg}).translation,
+                Vec3(0, 100 * std::sin(5e-5), 100 * (1 - std::cos(5e-5))), 1e-12, "head EAC");
+  }
+}
+
 TEST(ErrorModel, BatchedAgreesWithScalarForEveryExampleAndTopology) {
   std::vector<Machine> machines;
   for (const char* f : {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"})
