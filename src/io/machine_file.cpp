@@ -168,8 +168,7 @@ MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax,
                     "description"});
   const Dimension value_dim = is_rotation(comp) ? Dimension::Angle : Dimension::Length;
   if (!e.count("unit"))
-    ctx.fail(n, std::string("missing key 'unit' (the unit of the error values, a ") +
-                    (value_dim == Dimension::Length ? "length" : "angle") + " unit)");
+    ctx.fail(n, fmt::format("missing key 'unit' (the unit of the error values, {} unit)", an(value_dim)));
   const double vs = unit(e["unit"], ctx.child("unit"), value_dim, true).to_internal;
   const Dimension arg_dim = ax.kind == AxisKind::Linear ? Dimension::Length : Dimension::Angle;
   double as = ax.kind == AxisKind::Linear ? length_scale : angle_scale;

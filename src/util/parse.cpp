@@ -6,8 +6,11 @@
 namespace mtcal {
 
 std::optional<double> parse_number(std::string_view text) {
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  if (text.empty() || text.front() == '+') return std::nullopt;
+  if (!text.empty() && text.front() == '+') {
+    text.remove_prefix(1);
+    if (!text.empty() && (text.front() == '+' || text.front() == '-')) return std::nullopt;
+  }
+  if (text.empty()) return std::nullopt;
   double v = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v,
                                          std::chars_format::general);
