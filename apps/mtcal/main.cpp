@@ -3,6 +3,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <memory>
+#include <unistd.h>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -11,6 +14,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "mtcal/io/atomic_file.hpp"
 #include "mtcal/io/csv.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
@@ -100,16 +104,20 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
     return 0;
   }
 
-  // Batched modes: build the configurations.
-  std::vector<double> q;
-  std::vector<std::int8_t> dir;
+  // Batched modes: configurations come by index from the CSV rows or the grid, and are
+  // evaluated in chunks so that a grid of any size runs in bounded memory.
+  std::size_t count = 0;
+  bool with_dir = false;
+  std::function<void(std::size_t, double*, std::int8_t*)> fill;
   CsvTable table;
+  std::vector<std::vector<double>> grid_values;
   if (!points.empty()) {
     table = read_csv(points);
     std::vector<int> qcol(n, -1), dcol(n, -1);
     for (std::size_t k = 0; k < n; ++k) {
       qcol[k] = table.column(std::string(1, m.axes[k].letter));
       dcol[k] = table.column(std::string("dir") + m.axes[k].letter);
+      with_dir = with_dir || dcol[k] >= 0;
     }
     for (const auto& c : table.columns) {
       bool known = false;
@@ -120,10 +128,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
         throw InputError({points, 1, c}, "unknown column '" + c + "' (expected axis letters of " +
                                              m.topology.chain + " and optional dir<axis>)");
     }
-    bool any_dir = false;
-    for (int d : dcol) any_dir = any_dir || d >= 0;
-    q.resize(table.rows.size() * n);
-    if (any_dir) dir.assign(table.rows.size() * n, 0);
+    // Check every row before any work, so that a bad row fails the command at once.
     for (std::size_t r = 0; r < table.rows.size(); ++r) {
       std::vector<double> qr(n, 0.0);
       for (std::size_t k = 0; k < n; ++k) {
@@ -133,88 +138,112 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
           if (d != 1 && d != -1 && d != 0)
             throw InputError({points, table.lines[r], std::string("dir") + m.axes[k].letter},
                              fmt::format("expected +1, -1 or 0, found {:g}", d));
-          dir[r * n + k] = static_cast<std::int8_t>(d);
         }
       }
       if (!no_travel_check) check_travel(m, qr, fmt::format("{}:{}", points, table.lines[r]));
-      std::copy(qr.begin(), qr.end(), q.begin() + static_cast<std::ptrdiff_t>(r * n));
     }
-  } else {
-    const auto g = parse_grid(m, grid);
-    std::size_t total = 1;
-    for (const auto& v : g) total *= v.size();
-    if (total > 200'000'000) throw InputError({"--grid", 0, ""}, fmt::format("{} configurations is too many (at most 2e8)", total));
-    q.resize(total * n);
-    std::vector<std::size_t> idx(n, 0);
-    for (std::size_t i = 0; i < total; ++i) {
-      for (std::size_t k = 0; k < n; ++k) q[i * n + k] = g[k][idx[k]];
-      for (std::size_t k = n; k-- > 0;) {
-        if (++idx[k] < g[k].size()) break;
-        idx[k] = 0;
+    count = table.rows.size();
+    fill = [&, qcol, dcol](std::size_t r, double* qr, std::int8_t* dr) {
+      for (std::size_t k = 0; k < n; ++k) {
+        qr[k] = qcol[k] >= 0 ? table.rows[r][qcol[k]] * joint_unit_factor(m.axes[k]) : 0.0;
+        if (dr) dr[k] = dcol[k] >= 0 ? static_cast<std::int8_t>(table.rows[r][dcol[k]]) : 0;
       }
+    };
+  } else {
+    grid_values = parse_grid(m, grid);
+    count = 1;
+    for (const auto& v : grid_values) {
+      if (count > std::size_t{4'000'000'000} / v.size())
+        throw InputError({"--grid", 0, ""}, "more than 4e9 configurations; use a coarser grid");
+      count *= v.size();
     }
     if (!no_travel_check) {
       std::vector<double> lo(n), hi(n);
       for (std::size_t k = 0; k < n; ++k) {
-        lo[k] = *std::min_element(g[k].begin(), g[k].end());
-        hi[k] = *std::max_element(g[k].begin(), g[k].end());
+        lo[k] = *std::min_element(grid_values[k].begin(), grid_values[k].end());
+        hi[k] = *std::max_element(grid_values[k].begin(), grid_values[k].end());
       }
       check_travel(m, lo, "--grid");
       check_travel(m, hi, "--grid");
     }
+    // Mixed-radix index: the last axis of the chain varies fastest.
+    fill = [&](std::size_t i, double* qr, std::int8_t*) {
+      for (std::size_t k = n; k-- > 0;) {
+        const std::size_t len = grid_values[k].size();
+        qr[k] = grid_values[k][i % len];
+        i /= len;
+      }
+    };
   }
 
-  const std::size_t count = q.size() / n;
-  std::vector<double> res(count * 6);
-  const auto t0 = std::chrono::steady_clock::now();
-  model.evaluate_batch(q, dir, res, BatchOptions{threads});
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
+  std::unique_ptr<AtomicFile> file;
   if (!out.empty()) {
-    std::string text;
-    for (std::size_t k = 0; k < n; ++k) text += (k ? "," : "") + std::string(1, m.axes[k].letter);
-    if (!dir.empty())
-      for (std::size_t k = 0; k < n; ++k) text += std::string(",dir") + m.axes[k].letter;
-    for (const char* k : kOutputKeys) text += std::string(",") + k;
-    text += "\n";
-    for (std::size_t r = 0; r < count; ++r) {
-      for (std::size_t k = 0; k < n; ++k)
-        text += (k ? "," : "") + fmt::format("{:.12g}", to_user_units(m.axes[k], q[r * n + k]));
-      if (!dir.empty())
-        for (std::size_t k = 0; k < n; ++k) text += fmt::format(",{}", dir[r * n + k]);
-      for (int c = 0; c < 6; ++c) text += fmt::format(",{:.9e}", res[r * 6 + c]);
-      text += "\n";
-    }
-    write_file_atomically(out, text);
+    file = std::make_unique<AtomicFile>(out);
+    std::string header;
+    for (std::size_t k = 0; k < n; ++k) header += (k ? "," : "") + std::string(1, m.axes[k].letter);
+    if (with_dir)
+      for (std::size_t k = 0; k < n; ++k) header += std::string(",dir") + m.axes[k].letter;
+    for (const char* k : kOutputKeys) header += std::string(",") + k;
+    file->stream() << header << "\n";
   }
 
-  // Summary: largest translational and rotational error and where.
-  std::size_t it = 0, ir = 0;
-  double bt = -1, br = -1;
-  for (std::size_t r = 0; r < count; ++r) {
-    const double t = std::hypot(res[r * 6], res[r * 6 + 1], res[r * 6 + 2]);
-    const double a = std::hypot(res[r * 6 + 3], res[r * 6 + 4], res[r * 6 + 5]);
-    if (t > bt) bt = t, it = r;
-    if (a > br) br = a, ir = r;
+  const std::size_t chunk = std::size_t{1} << 20;
+  const bool progress = count > chunk && ::isatty(STDERR_FILENO);
+  std::vector<double> q(std::min(count, chunk) * n), res(std::min(count, chunk) * 6);
+  std::vector<std::int8_t> dir(with_dir ? std::min(count, chunk) * n : 0);
+  std::vector<double> q_t(n), q_r(n);  // configurations of the largest errors
+  double bt = -1, br = -1, seconds = 0;
+  fmt::memory_buffer buf;
+  for (std::size_t first = 0; first < count; first += chunk) {
+    const std::size_t len = std::min(chunk, count - first);
+    for (std::size_t r = 0; r < len; ++r) fill(first + r, &q[r * n], with_dir ? &dir[r * n] : nullptr);
+    const auto t0 = std::chrono::steady_clock::now();
+    model.evaluate_batch(std::span(q).first(len * n), std::span(dir).first(with_dir ? len * n : 0),
+                         std::span(res).first(len * 6), BatchOptions{threads});
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (std::size_t r = 0; r < len; ++r) {
+      const double* e = &res[r * 6];
+      const double t = std::hypot(e[0], e[1], e[2]), a = std::hypot(e[3], e[4], e[5]);
+      if (t > bt) bt = t, std::copy_n(&q[r * n], n, q_t.begin());
+      if (a > br) br = a, std::copy_n(&q[r * n], n, q_r.begin());
+    }
+    if (file) {
+      buf.clear();
+      for (std::size_t r = 0; r < len; ++r) {
+        for (std::size_t k = 0; k < n; ++k)
+          fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "", to_user_units(m.axes[k], q[r * n + k]));
+        if (with_dir)
+          for (std::size_t k = 0; k < n; ++k) fmt::format_to(std::back_inserter(buf), ",{}", dir[r * n + k]);
+        for (int c = 0; c < 6; ++c) fmt::format_to(std::back_inserter(buf), ",{:.9e}", res[r * 6 + c]);
+        buf.push_back('\n');
+      }
+      file->stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
+    }
+    if (progress)
+      std::cerr << fmt::format("\r  {} / {} configurations ({:.0f}%)", first + len, count,
+                               100.0 * static_cast<double>(first + len) / static_cast<double>(count))
+                << std::flush;
   }
-  auto where = [&](std::size_t r) {
+  if (progress) std::cerr << "\r" << std::string(60, ' ') << "\r" << std::flush;
+  if (file) file->commit();
+
+  auto where = [&](const std::vector<double>& qr) {
     json j;
-    for (std::size_t k = 0; k < n; ++k)
-      j[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], q[r * n + k]);
+    for (std::size_t k = 0; k < n; ++k) j[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], qr[k]);
     return j;
   };
-  auto where_text = [&](std::size_t r) {
+  auto where_text = [&](const std::vector<double>& qr) {
     std::string s;
     for (std::size_t k = 0; k < n; ++k)
-      s += fmt::format("{}{}={:g}", k ? "," : "", m.axes[k].letter, to_user_units(m.axes[k], q[r * n + k]));
+      s += fmt::format("{}{}={:g}", k ? "," : "", m.axes[k].letter, to_user_units(m.axes[k], qr[k]));
     return s;
   };
   if (as_json) {
     json j;
     j["configurations"] = count;
     j["seconds"] = seconds;
-    j["max_translation"] = {{"value", count ? bt : 0.0}, {"at", count ? where(it) : json::object()}};
-    j["max_rotation"] = {{"value", count ? br : 0.0}, {"at", count ? where(ir) : json::object()}};
+    j["max_translation"] = {{"value", count ? bt : 0.0}, {"at", count ? where(q_t) : json::object()}};
+    j["max_rotation"] = {{"value", count ? br : 0.0}, {"at", count ? where(q_r) : json::object()}};
     if (!out.empty()) j["out"] = out;
     std::cout << j.dump(2) << "\n";
   } else {
@@ -222,8 +251,8 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
     std::cout << fmt::format("evaluated    {} configurations in {:.3f} s ({:.3g} per second)\n", count,
                              seconds, seconds > 0 ? static_cast<double>(count) / seconds : 0.0);
     if (count) {
-      std::cout << fmt::format("largest translational error  {:.6f} mm  at {}\n", bt, where_text(it));
-      std::cout << fmt::format("largest rotational error     {:.3f} urad  at {}\n", br * 1e6, where_text(ir));
+      std::cout << fmt::format("largest translational error  {:.6f} mm  at {}\n", bt, where_text(q_t));
+      std::cout << fmt::format("largest rotational error     {:.3f} urad  at {}\n", br * 1e6, where_text(q_r));
     }
     if (!out.empty()) std::cout << "wrote        " << out << "\n";
   }

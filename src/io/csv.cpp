@@ -1,11 +1,8 @@
 #include "mtcal/io/csv.hpp"
 
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
@@ -82,30 +79,6 @@ CsvTable read_csv(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_csv(ss.str(), path);
-}
-
-void write_file_atomically(const std::string& path, const std::string& text) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  const std::string tmp = (dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write '" + path + "': cannot create a file in " + dir.string());
-    out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw Error("cannot write '" + path + "': write failed");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw Error("cannot write '" + path + "': " + ec.message());
-  }
 }
 
 }  // namespace mtcal

@@ -1,4 +1,4 @@
-// Numeric CSV tables with a header row: reading with located errors, atomic writing.
+// Numeric CSV tables with a header row, read with located errors.
 #pragma once
 
 #include <string>
@@ -20,9 +20,5 @@ struct CsvTable {
 // naming file, line and column.
 CsvTable read_csv(const std::string& path);
 CsvTable parse_csv(const std::string& text, const std::string& source);
-
-// Writes text to path through a temporary file in the same folder and a rename, so that a failure
-// never leaves a partial file. Throws Error if it cannot.
-void write_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace mtcal

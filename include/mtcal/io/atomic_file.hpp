@@ -1,0 +1,31 @@
+// Output files that appear complete or not at all: written to a temporary file, then renamed.
+#pragma once
+
+#include <fstream>
+#include <string>
+
+namespace mtcal {
+
+class AtomicFile {
+ public:
+  // Opens a temporary file beside path; throws Error if it cannot.
+  explicit AtomicFile(std::string path);
+  // Removes the temporary file unless commit() succeeded.
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ostream& stream() { return out_; }
+  // Flushes and renames the temporary file to path; throws Error if either fails.
+  void commit();
+
+ private:
+  std::string path_, tmp_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+// Writes text to path through an AtomicFile.
+void write_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace mtcal
