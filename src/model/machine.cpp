@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <set>
+#include <type_traits>
 
 #include "mtcal/util/errors.hpp"
 
@@ -83,9 +84,11 @@ std::string unit_for(bool rotation, bool argument_rotary, int power) {
   return u;
 }
 
-// Calls fn(ErrorParameter description, double& storage) for every parameter in canonical order.
+// Calls fn(parameter, setter) for every parameter in canonical order until fn returns false.
+// The setter writes the parameter; for a const machine it does nothing.
 template <class M, class Fn>
 void walk(M& m, Fn&& fn) {
+  constexpr bool writable = !std::is_const_v<M>;
   for (auto& ax : m.axes) {
     for (int c = 0; c < 6; ++c) {
       auto comp = static_cast<Component>(c);
@@ -96,7 +99,10 @@ void walk(M& m, Fn&& fn) {
                          unit_for(is_rotation(comp), ax.kind == AxisKind::Rotary,
                                   f.argument_power(i)),
                          f.parameter(i)};
-        if (!fn(p, [&f, i](double v) { f.set_parameter(i, v); })) return;
+        if (!fn(p, [&f, i](double v) {
+              if constexpr (writable) f.set_parameter(i, v);
+            }))
+          return;
       }
     }
     for (int c = 0; c < 6; ++c) {
@@ -105,7 +111,10 @@ void walk(M& m, Fn&& fn) {
       ErrorName en{ErrorKind::Location, comp, ax.letter};
       ErrorParameter p{en.str(), en, unit_for(is_rotation(comp), false, 0), ax.location[c]};
       auto* slot = &ax.location[c];
-      if (!fn(p, [slot](double v) { *slot = v; })) return;
+      if (!fn(p, [slot](double v) {
+            if constexpr (writable) *slot = v;
+          }))
+        return;
     }
   }
   for (char body : {'t', 'w'}) {
@@ -115,7 +124,10 @@ void walk(M& m, Fn&& fn) {
       ErrorName en{ErrorKind::Mounting, comp, body};
       ErrorParameter p{en.str(), en, unit_for(is_rotation(comp), false, 0), arr[c]};
       auto* slot = &arr[c];
-      if (!fn(p, [slot](double v) { *slot = v; })) return;
+      if (!fn(p, [slot](double v) {
+            if constexpr (writable) *slot = v;
+          }))
+        return;
     }
   }
 }
@@ -124,8 +136,7 @@ void walk(M& m, Fn&& fn) {
 
 std::vector<ErrorParameter> Machine::parameters() const {
   std::vector<ErrorParameter> out;
-  auto& self = const_cast<Machine&>(*this);  // walk only reads through the const overload path
-  walk(self, [&](const ErrorParameter& p, auto&&) {
+  walk(*this, [&](const ErrorParameter& p, auto&&) {
     out.push_back(p);
     return true;
   });
@@ -144,8 +155,7 @@ std::size_t Machine::parameter_count() const {
 std::optional<std::size_t> Machine::parameter_index(std::string_view param) const {
   std::optional<std::size_t> found;
   std::size_t i = 0;
-  auto& self = const_cast<Machine&>(*this);
-  walk(self, [&](const ErrorParameter& p, auto&&) {
+  walk(*this, [&](const ErrorParameter& p, auto&&) {
     if (p.name == param) {
       found = i;
       return false;
@@ -159,8 +169,7 @@ std::optional<std::size_t> Machine::parameter_index(std::string_view param) cons
 double Machine::parameter(std::size_t index) const {
   double v = 0.0;
   std::size_t i = 0;
-  auto& self = const_cast<Machine&>(*this);
-  walk(self, [&](const ErrorParameter& p, auto&&) {
+  walk(*this, [&](const ErrorParameter& p, auto&&) {
     if (i++ != index) return true;
     v = p.value;
     return false;
