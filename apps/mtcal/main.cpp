@@ -14,8 +14,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "mtcal/io/atomic_file.hpp"
 #include "mtcal/io/csv.hpp"
+#include "mtcal/io/files.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"

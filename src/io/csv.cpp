@@ -1,7 +1,7 @@
 #include "mtcal/io/csv.hpp"
+#include "mtcal/io/files.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "mtcal/util/errors.hpp"
@@ -73,12 +73,6 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
   return t;
 }
 
-CsvTable read_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, 0, ""}, "cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_csv(ss.str(), path);
-}
+CsvTable read_csv(const std::string& path) { return parse_csv(read_text_file(path, "CSV file"), path); }
 
 }  // namespace mtcal

@@ -1,7 +1,7 @@
 #include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/files.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <numbers>
 #include <set>
@@ -390,11 +390,7 @@ Machine parse_machine(std::string_view yaml_text, const std::string& source) {
 }
 
 Machine load_machine(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, 0, ""}, "cannot open machine file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_machine(ss.str(), path);
+  return parse_machine(read_text_file(path, "machine file"), path);
 }
 
 namespace {

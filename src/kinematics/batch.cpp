@@ -91,9 +91,11 @@ struct Block {
     for (int l = 0; l < kLanes; ++l) b.t[i][l] = 0.0;
 }
 
-// P = P * C for a constant transform C. Row i of the product needs only row i of P, so each
-// row is read into registers and overwritten in place.
-[[gnu::always_inline]] inline void mul_const(Block& P, const Affine& C) {
+// P = P * X, where x(row, col, lane) gives X's rotation (col < 3) and translation (col == 3).
+// Row i of the product needs only row i of P, so each row is read into registers and
+// overwritten in place.
+template <class Get>
+[[gnu::always_inline]] inline void mul(Block& P, Get x) {
   for (int i = 0; i < 3; ++i) {
     double* p0 = P.r[3 * i];
     double* p1 = P.r[3 * i + 1];
@@ -101,29 +103,22 @@ struct Block {
     double* pt = P.t[i];
     for (int l = 0; l < kLanes; ++l) {
       const double a = p0[l], b = p1[l], c = p2[l];
-      p0[l] = a * C.R(0, 0) + b * C.R(1, 0) + c * C.R(2, 0);
-      p1[l] = a * C.R(0, 1) + b * C.R(1, 1) + c * C.R(2, 1);
-      p2[l] = a * C.R(0, 2) + b * C.R(1, 2) + c * C.R(2, 2);
-      pt[l] += a * C.t(0) + b * C.t(1) + c * C.t(2);
+      p0[l] = a * x(0, 0, l) + b * x(1, 0, l) + c * x(2, 0, l);
+      p1[l] = a * x(0, 1, l) + b * x(1, 1, l) + c * x(2, 1, l);
+      p2[l] = a * x(0, 2, l) + b * x(1, 2, l) + c * x(2, 2, l);
+      pt[l] += a * x(0, 3, l) + b * x(1, 3, l) + c * x(2, 3, l);
     }
   }
 }
 
-// P = P * X for per-lane transforms X, in place row by row as above.
+// P = P * C for a constant transform C.
+[[gnu::always_inline]] inline void mul_const(Block& P, const Affine& C) {
+  mul(P, [&C](int i, int j, int) { return j < 3 ? C.R(i, j) : C.t(i); });
+}
+
+// P = P * X for per-lane transforms X.
 [[gnu::always_inline]] inline void mul_block(Block& P, const Block& X) {
-  for (int i = 0; i < 3; ++i) {
-    double* p0 = P.r[3 * i];
-    double* p1 = P.r[3 * i + 1];
-    double* p2 = P.r[3 * i + 2];
-    double* pt = P.t[i];
-    for (int l = 0; l < kLanes; ++l) {
-      const double a = p0[l], b = p1[l], c = p2[l];
-      p0[l] = a * X.r[0][l] + b * X.r[3][l] + c * X.r[6][l];
-      p1[l] = a * X.r[1][l] + b * X.r[4][l] + c * X.r[7][l];
-      p2[l] = a * X.r[2][l] + b * X.r[5][l] + c * X.r[8][l];
-      pt[l] += a * X.t[0][l] + b * X.t[1][l] + c * X.t[2][l];
-    }
-  }
+  mul(P, [&X](int i, int j, int l) { return j < 3 ? X.r[3 * i + j][l] : X.t[i][l]; });
 }
 
 // P = P * Rot(axis a, angle) given cos and sin per lane: only two columns change.

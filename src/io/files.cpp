@@ -1,12 +1,22 @@
-#include "mtcal/io/atomic_file.hpp"
+#include "mtcal/io/files.hpp"
 
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <unistd.h>
 
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
+
+std::string read_text_file(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path, 0, ""}, "cannot open " + what);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError({path, 0, ""}, "cannot read " + what);
+  return ss.str();
+}
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   namespace fs = std::filesystem;

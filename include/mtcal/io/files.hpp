@@ -1,10 +1,13 @@
-// Output files that appear complete or not at all: written to a temporary file, then renamed.
+// Whole-file input, and output files that appear complete or not at all (temporary + rename).
 #pragma once
 
 #include <fstream>
 #include <string>
 
 namespace mtcal {
+
+// The whole content of a file; throws InputError ("cannot open <what>") naming the path.
+std::string read_text_file(const std::string& path, const std::string& what = "file");
 
 class AtomicFile {
  public:
