@@ -205,6 +205,45 @@ struct AxisLanes {
   Lane nom_d, act_d;                // linear
 };
 
+// Runs a program (actual or nominal) on a block; only the actual one has motion-error ops and
+// applies the zero positions. A function, not a lambda: lambdas do not inherit the kernel's
+// target_clones, always-inlined functions do.
+[[gnu::always_inline]] inline void run_program(const ErrorModel::Program& prog, const Machine& m,
+                                             const AxisLanes* ax, const std::vector<Op>& ops, Block& B,
+                                             bool actual) {
+  set_identity(B);
+  for (const Op& op : ops) {
+    if (op.kind == Op::Kind::Const) {
+      mul_const(B, op.value);
+      continue;
+    }
+    const auto& a = prog.axes[op.axis];
+    const AxisLanes& L = ax[op.axis];
+    if (op.kind == Op::Kind::Joint) {
+      if (a.rotary)
+        mul_rotation(B, a.coord, actual ? L.act_c : L.nom_c, actual ? L.act_s : L.nom_s);
+      else
+        mul_translation(B, a.coord, actual ? L.act_d : L.nom_d);
+      continue;
+    }
+    Lane e[6];
+    if (a.polynomial) {
+      for (int c = 0; c < 6; ++c) {
+        const auto& p = a.poly[c];
+        for (int l = 0; l < kLanes; ++l)
+          e[c][l] = ((p[3] * L.q[l] + p[2]) * L.q[l] + p[1]) * L.q[l] + p[0] + p[4] * L.dir[l];
+      }
+    } else {
+      const Axis& axis = m.axes[op.axis];
+      for (int c = 0; c < 6; ++c)
+        for (int l = 0; l < kLanes; ++l) e[c][l] = axis.motion[c].value(L.q[l], static_cast<int>(L.dir[l]));
+    }
+    Block E;
+    error_block(E, e);
+    mul_block(B, E);
+  }
+}
+
 // On x86-64 the block kernel is also compiled for AVX2 + FMA and picked at run time, so a
 // portable build still uses the wider vectors where the processor has them.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
@@ -240,51 +279,9 @@ void run_block(const ErrorModel::Program& prog, const Machine& m, const double* 
     }
   }
 
-  Block P, N, E;
-  set_identity(P);
-  for (const Op& op : prog.actual_ops) {
-    if (op.kind == Op::Kind::Const) {
-      mul_const(P, op.value);
-    } else if (op.kind == Op::Kind::Joint) {
-      const auto& a = prog.axes[op.axis];
-      const AxisLanes& L = ax[op.axis];
-      if (a.rotary)
-        mul_rotation(P, a.coord, L.act_c, L.act_s);
-      else
-        mul_translation(P, a.coord, L.act_d);
-    } else {
-      const auto& a = prog.axes[op.axis];
-      const AxisLanes& L = ax[op.axis];
-      Lane e[6];
-      if (a.polynomial) {
-        for (int c = 0; c < 6; ++c) {
-          const auto& p = a.poly[c];
-          for (int l = 0; l < kLanes; ++l)
-            e[c][l] = ((p[3] * L.q[l] + p[2]) * L.q[l] + p[1]) * L.q[l] + p[0] + p[4] * L.dir[l];
-        }
-      } else {
-        const Axis& axis = m.axes[op.axis];
-        for (int c = 0; c < 6; ++c)
-          for (int l = 0; l < kLanes; ++l)
-            e[c][l] = axis.motion[c].value(L.q[l], static_cast<int>(L.dir[l]));
-      }
-      error_block(E, e);
-      mul_block(P, E);
-    }
-  }
-  set_identity(N);
-  for (const Op& op : prog.nominal_ops) {
-    if (op.kind == Op::Kind::Const) {
-      mul_const(N, op.value);
-    } else {
-      const auto& a = prog.axes[op.axis];
-      const AxisLanes& L = ax[op.axis];
-      if (a.rotary)
-        mul_rotation(N, a.coord, L.nom_c, L.nom_s);
-      else
-        mul_translation(N, a.coord, L.nom_d);
-    }
-  }
+  Block P, N;
+  run_program(prog, m, ax, prog.actual_ops, P, true);
+  run_program(prog, m, ax, prog.nominal_ops, N, false);
 
   // Output: translation difference and rotation vector of dR = R_actual R_nominal^T.
   Lane res[6], sin_t, cos_t;
