@@ -61,6 +61,20 @@ std::vector<Mat4> naive_chain(const Machine& m, std::span<const double> q,
     const Axis& ax = m.axes[k];
     const Vec3 c = ax.kind == AxisKind::Rotary ? ax.point : Vec3::Zero();
     const Vec3 r = ax.point;
+    // Motion errors sit in the axis's base frame: after the joint for an axis carrying the
+    // workpiece, before it for a rotary axis carrying the tool (docs/conventions.md).
+    const bool errors_first = ax.kind == AxisKind::Rotary && !ax.moves_workpiece;
+    auto motion_errors = [&] {
+      f.push_back(trans(r));
+      if (errors) {
+        const int d = dir.empty() ? 0 : dir[k];
+        std::array<double, 6> e{};
+        for (std::size_t i = 0; i < 6; ++i) e[i] = ax.motion[i].value(q[k], d);
+        f.push_back(error_matrix(e));
+      }
+      f.push_back(trans(-r));
+    };
+    if (errors_first) motion_errors();
     f.push_back(trans(c));
     if (errors) {
       const int zc = zero_component(ax);
@@ -75,14 +89,7 @@ std::vector<Mat4> naive_chain(const Machine& m, std::span<const double> q,
       f.push_back(motion(ax, q[k]));
     }
     f.push_back(trans(-c));
-    f.push_back(trans(r));
-    if (errors) {
-      const int d = dir.empty() ? 0 : dir[k];
-      std::array<double, 6> e{};
-      for (std::size_t i = 0; i < 6; ++i) e[i] = ax.motion[i].value(q[k], d);
-      f.push_back(error_matrix(e));
-    }
-    f.push_back(trans(-r));
+    if (!errors_first) motion_errors();
   }
   f.push_back(trans(m.tool.spindle_point));
   if (errors) f.push_back(error_matrix(m.tool_mounting));
