@@ -36,7 +36,9 @@ int CsvTable::column(const std::string& name) const {
 
 CsvTable parse_csv(const std::string& text, const std::string& source) {
   CsvTable t;
-  std::istringstream in(text);
+  // Spreadsheets often start their CSV exports with a UTF-8 byte order mark.
+  const bool bom = text.rfind("\xEF\xBB\xBF", 0) == 0;
+  std::istringstream in(bom ? text.substr(3) : text);
   std::string line;
   int lineno = 0;
   bool header = false;
