@@ -1,0 +1,50 @@
+// Joint values and grids as users write them on the command line (mm and deg).
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "mtcal/io/joints.hpp"
+#include "mtcal/util/errors.hpp"
+#include "synthetic.hpp"
+
+using namespace mtcal;
+
+TEST(Joints, ParsesValuesInUserUnitsAndDefaultsToZero) {
+  const Machine m = mtcal::testing::nominal_machine("wCBXfYZt");
+  const auto q = parse_joint_values(m, "X=100,B=30,Z=-2.5");
+  ASSERT_EQ(q.size(), 5u);
+  EXPECT_EQ(q[0], 0.0);                                  // C not named
+  EXPECT_DOUBLE_EQ(q[1], 30 * std::numbers::pi / 180);   // B in deg
+  EXPECT_EQ(q[2], 100.0);
+  EXPECT_EQ(q[4], -2.5);
+  EXPECT_EQ(to_user_units(m.axes[1], q[1]), 30.0);
+}
+
+TEST(Joints, GridsSpanTheirRangeInclusive) {
+  const Machine m = mtcal::testing::nominal_machine("wXYfZt");
+  const auto g = parse_grid(m, "X=-100:100:5,Z=7");
+  EXPECT_EQ(g[0], (std::vector<double>{-100, -50, 0, 50, 100}));
+  EXPECT_EQ(g[1], (std::vector<double>{0}));
+  EXPECT_EQ(g[2], (std::vector<double>{7}));
+  EXPECT_EQ(parse_grid(m, "Y=3:9:1")[1], (std::vector<double>{3}));
+}
+
+TEST(Joints, RejectsBadSpecifications) {
+  const Machine m = mtcal::testing::nominal_machine("wXYfZt");
+  for (const char* s : {"", "X", "X=", "=1", "Q=1", "X=1,X=2", "X=abc", "XY=1", "X=1,,Y=2"})
+    EXPECT_THROW(parse_joint_values(m, s), InputError) << s;
+  for (const char* s : {"X=1:2", "X=1:2:0", "X=1:2:2.5", "X=1:2:-3", "X=a:2:3", "X=1:2:3:4", "X=1:2:1e9"})
+    EXPECT_THROW(parse_grid(m, s), InputError) << s;
+}
+
+TEST(Joints, TravelCheckNamesTheAxisAndItsLimits) {
+  const Machine m = mtcal::testing::nominal_machine("wXYfZt");  // travels [-400, 400]
+  EXPECT_NO_THROW(check_travel(m, {400, -400, 0}, "--at"));
+  try {
+    check_travel(m, {0, 401, 0}, "--at");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().field, "Y");
+    EXPECT_NE(std::string(e.what()).find("[-400, 400]"), std::string::npos) << e.what();
+  }
+}
