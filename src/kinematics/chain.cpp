@@ -8,7 +8,11 @@ int zero_position_component(const Axis& ax) {
   return ax.kind == AxisKind::Linear ? ax.direction_axis : 3 + ax.direction_axis;
 }
 
-double zero_position(const Axis& ax) { return ax.location[zero_position_component(ax)]; }
+double zero_position(const Axis& ax) {
+  // The location error is along/about +machine axis like every error; the joint runs in the
+  // axis's command sense, which a reversed axis (direction -x ...) turns the other way.
+  return ax.direction_sign * ax.location[zero_position_component(ax)];
+}
 
 Error6 location_without_zero(const Axis& ax) {
   Error6 e{};
@@ -48,7 +52,7 @@ std::vector<Factor> build_chain(const Machine& m, bool errors) {
   //   J_k = Trans(c) L M(q+z) L^-1 Trans(-c) . Trans(r) E_k Trans(-r)
   // with the motion errors E_k in the frame of the axis's base: the tool side of the joint for
   // an axis that carries the workpiece, the workpiece side (E_k first) for one that carries the
-  // tool. For a linear axis both orders are the same transform. (docs/conventions.md)
+  // tool. Linear axes always take the first order. (docs/conventions.md)
   std::vector<Factor> f;
   const std::size_t n = m.axes.size();
   if (errors) f.push_back(slot(workpiece_slot(), true));

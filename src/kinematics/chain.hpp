@@ -31,6 +31,7 @@ inline int slot_count(std::size_t n) { return 3 + 2 * static_cast<int>(n); }
 
 // Component of the location slot that is the axis's zero position (applied through the joint).
 int zero_position_component(const Axis& ax);
+// Zero position in the axis's command sense: added to the commanded position q.
 double zero_position(const Axis& ax);
 // The location transform of the axis line without the zero position.
 Error6 location_without_zero(const Axis& ax);

@@ -97,9 +97,10 @@ void ErrorModel::slot_jacobian(std::span<const double> q, std::span<const std::i
     if (fa.kind == Factor::Kind::Joint) {
       const Axis& ax = m.axes[fa.axis];
       const int col = 6 * detail::location_slot(fa.axis) + detail::zero_position_component(ax);
+      // The joint runs at q + sign * E_0 (zero position E_0 in the machine axis's sense).
       add(col, ws.prefix[i],
           detail::joint_motion_derivative(ax, q[fa.axis] + detail::zero_position(ax)),
-          ws.suffix[i + 1], 1.0);
+          ws.suffix[i + 1], ax.direction_sign);
       continue;
     }
     if (fa.kind != Factor::Kind::Slot) continue;

@@ -41,7 +41,7 @@ VolumetricError first_order_error(const Machine& m, std::span<const double> q,
     std::array<double, 6> me{};
     for (int c = 0; c < 6; ++c) me[c] = ax.motion[c].value(q[k], dk);
     split(me, d, eps);
-    e.translation += z * u + q[k] * o.cross(u) + d + eps.cross(pk - ax.point);
+    e.translation += z * Vec3::Unit(ax.direction_axis) + q[k] * o.cross(u) + d + eps.cross(pk - ax.point);
     e.rotation += eps;
   }
   split(m.tool_mounting, d, eps);

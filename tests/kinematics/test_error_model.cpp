@@ -230,6 +230,36 @@ axes: {X: {}, Y: {}, Z: {}, C: {point: [0, 0, 0]}}
   }
 }
 
+TEST(ErrorModel, ReversedAxesKeepTheSenseOfEveryError) {
+  // A positive error moves the tool along + machine axis whatever the axis's direction:
+  // the zero position of a reversed axis equals a constant positioning error, as for others.
+  for (const char* topo : {"wCfXYZt", "wXfYZCt"}) {
+    SCOPED_TRACE(topo);
+    const Machine rev = mtcal::testing::nominal_machine(topo, true);
+    const std::vector<double> q = std::string(topo) == "wCfXYZt" ? std::vector<double>{0.7, 100, -50, 30}
+                                                                  : std::vector<double>{100, -50, 30, 0.7};
+    Machine a = rev, b = rev;
+    a.set_parameter("EC0C", 3e-5);
+    b.set_parameter("ECC.0", 3e-5);
+    const auto ea = eval(a, q), eb = eval(b, q);
+    expect_near(ea.translation, eb.translation, 1e-12, "EC0C = ECC.0");
+    expect_near(ea.rotation, Vec3(0, 0, 3e-5), 1e-15, "EC0C turns the tool about +z");
+    a = rev;
+    b = rev;
+    a.set_parameter("EX0X", 2e-3);
+    b.set_parameter("EXX.0", 2e-3);
+    expect_near(eval(a, q).translation, eval(b, q).translation, 1e-12, "EX0X = EXX.0");
+    if (std::string(topo) == "wXfYZCt")  // no rotary axis between workpiece and X
+      expect_near(eval(a, q).translation, Vec3(2e-3, 0, 0), 1e-12, "EX0X along +x");
+  }
+  // The nominal motion of a reversed linear axis runs along -x.
+  const Machine rev = mtcal::testing::nominal_machine("wfXYZt", true);
+  const Machine fwd = mtcal::testing::nominal_machine("wfXYZt", false);
+  const std::vector<double> q{10, 20, 30};
+  expect_near(ErrorModel(rev).nominal_pose(q).t - ErrorModel(fwd).nominal_pose(q).t, Vec3(-20, -40, -60), 1e-12,
+              "reversed nominal motion");
+}
+
 TEST(ErrorModel, BatchedAgreesWithScalarForEveryExampleAndTopology) {
   std::vector<Machine> machines;
   for (const char* f : {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"})
@@ -238,6 +268,9 @@ TEST(ErrorModel, BatchedAgreesWithScalarForEveryExampleAndTopology) {
     Machine m = mtcal::testing::nominal_machine(topo);
     mtcal::testing::randomize_errors(m, 11, 1.0);
     machines.push_back(m);
+    Machine rev = mtcal::testing::nominal_machine(topo, true);
+    mtcal::testing::randomize_errors(rev, 13, 1.0);
+    machines.push_back(rev);
     Machine big = m;  // large errors: exercises the exact (non-series) rotation vector path
     mtcal::testing::randomize_errors(big, 12, 3000.0);
     machines.push_back(big);

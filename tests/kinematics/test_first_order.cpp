@@ -60,10 +60,12 @@ TEST(FirstOrder, ExactModelAgreesToSecondOrderOnTheExample) {
 
 TEST(FirstOrder, ExactModelAgreesToSecondOrderForEveryThreeAxisTopology) {
   for (const char* topo : {"wXYfZt", "wfXYZt", "wYXfZt", "wXfYZt", "wZfXYt", "wXYZft"}) {
-    SCOPED_TRACE(topo);
-    Machine m = mtcal::testing::nominal_machine(topo);
-    mtcal::testing::randomize_errors(m, 77, 50.0);
-    expect_second_order(m);
+    for (bool reversed : {false, true}) {
+      SCOPED_TRACE(std::string(topo) + (reversed ? " reversed" : ""));
+      Machine m = mtcal::testing::nominal_machine(topo, reversed);
+      mtcal::testing::randomize_errors(m, 77, 50.0);
+      expect_second_order(m);
+    }
   }
 }
 

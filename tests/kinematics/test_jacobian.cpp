@@ -57,6 +57,15 @@ TEST(Jacobian, MatchesCentralDifferencesAtZeroTinyAndRandomErrors) {
   }
 }
 
+TEST(Jacobian, MatchesCentralDifferencesOnReversedAxes) {
+  for (const char* topo : {"wXYfZt", "wCBXfYZt", "wXfYZCAt"}) {
+    SCOPED_TRACE(topo);
+    Machine m = mtcal::testing::nominal_machine(topo, true);
+    mtcal::testing::randomize_errors(m, 9, 1.0);
+    check(m, 2, 5);
+  }
+}
+
 TEST(Jacobian, PredictsTheChangeOfErrorToFirstOrder) {
   Machine m = mtcal::testing::nominal_machine("wCBXfYZt");
   mtcal::testing::randomize_errors(m, 31);

@@ -10,23 +10,27 @@
 
 namespace mtcal::testing {
 
-Machine nominal_machine(const std::string& topology) {
+Machine nominal_machine(const std::string& topology, bool reversed) {
   std::string y = "mtcal_machine: 1\nname: synthetic " + topology + "\ntopology: " + topology +
                   "\nunits: {length: mm, angle: deg}\naxes:\n";
   int rotary = 0;
   for (char c : topology) {
     if (c == 'w' || c == 'f' || c == 't') continue;
-    if (c == 'X' || c == 'Y' || c == 'Z') {
-      y += fmt::format("  {}: {{travel: [-400, 400], point: [{}, {}, {}]}}\n", c, 10 * (c - 'X'), -20, 30);
+    const bool linear = c == 'X' || c == 'Y' || c == 'Z';
+    const std::string dir = fmt::format("{}{}", reversed ? '-' : '+',
+                                        static_cast<char>('x' + (linear ? c - 'X' : c - 'A')));
+    if (linear) {
+      y += fmt::format("  {}: {{direction: {}, travel: [-400, 400], point: [{}, {}, {}]}}\n", c, dir,
+                       10 * (c - 'X'), -20, 30);
     } else {
       const double lim = c == 'C' ? 360 : 120;
-      y += fmt::format("  {}: {{travel: [{}, {}], point: [{}, {}, {}]}}\n", c, -lim, lim, 15 + 40 * rotary,
-                       -25 + 10 * rotary, 60 - 35 * rotary);
+      y += fmt::format("  {}: {{direction: {}, travel: [{}, {}], point: [{}, {}, {}]}}\n", c, dir, -lim, lim,
+                       15 + 40 * rotary, -25 + 10 * rotary, 60 - 35 * rotary);
       ++rotary;
     }
   }
   y += "tool: {length: 120, spindle_point: [5, -3, 250]}\nworkpiece: {origin: [40, -30, 20]}\n";
-  return parse_machine(y, "synthetic:" + topology);
+  return parse_machine(y, std::string("synthetic:") + topology + (reversed ? " reversed" : ""));
 }
 
 void randomize_errors(Machine& m, std::uint64_t seed, double scale) {

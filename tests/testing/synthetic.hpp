@@ -11,8 +11,9 @@ namespace mtcal::testing {
 
 // A nominal machine of any topology (no errors), axes along their letters' directions, linear
 // travels [-400, 400] mm, rotary [-120, 120] deg (C: [-360, 360]), rotary axis points off the
-// origin, tool length 120 mm, workpiece origin off the origin.
-Machine nominal_machine(const std::string& topology);
+// origin, tool length 120 mm, workpiece origin off the origin. reversed: every axis runs the
+// other way (direction -x, -y, -z).
+Machine nominal_machine(const std::string& topology, bool reversed = false);
 
 // Gives every parameter (each motion error as a cubic with reversal, every location and mounting
 // error) a random value of realistic size times scale: about 5 um and 20 urad over the travel.
