@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <functional>
 #include <memory>
 #include <unistd.h>
@@ -34,7 +35,7 @@ struct ModelOptions {
   std::string machine;
   std::vector<std::string> set;
   std::string only;
-  double tool_length = std::nan("");
+  std::optional<double> tool_length;
 };
 
 void add_model_options(CLI::App* cmd, ModelOptions& o) {
@@ -45,22 +46,18 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
                   "EXX.1=5e-6; repeatable");
   cmd->add_option("--only", o.only,
                   "Keep only these errors or parameters (comma-separated, e.g. EXX,EC0Y); all "
-                  "others are set to zero");
+                  "others are set to zero before --set applies");
   cmd->add_option("--tool-length", o.tool_length, "Tool length in mm (overrides the machine file)");
 }
 
 Machine load(const ModelOptions& o) {
   Machine m = load_machine(o.machine);
-  if (!std::isnan(o.tool_length)) m.tool.length = o.tool_length;
-  for (const auto& s : o.set) {
-    auto eq = s.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
-    const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
-    const auto v = parse_number(value);
-    if (!v) throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");
-    m.set_parameter(name, *v);
+  if (o.tool_length) {
+    if (!std::isfinite(*o.tool_length) || *o.tool_length < 0)
+      throw InputError({"--tool-length", 0, ""}, fmt::format("expected a length >= 0 in mm, found {}", *o.tool_length));
+    m.tool.length = *o.tool_length;
   }
+  // --only first, so that --set can give a value to an error that --only did not keep.
   if (!o.only.empty()) {
     std::vector<std::string> names;
     std::size_t start = 0;
@@ -70,7 +67,17 @@ Machine load(const ModelOptions& o) {
       if (end > start) names.push_back(o.only.substr(start, end - start));
       start = end + 1;
     }
+    if (names.empty()) throw InputError({"--only", 0, ""}, "expected error or parameter names, found none");
     m.keep_only(names);
+  }
+  for (const auto& s : o.set) {
+    auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
+    const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
+    const auto v = parse_number(value);
+    if (!v) throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");
+    m.set_parameter(name, *v);
   }
   return m;
 }
@@ -89,8 +96,10 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
   if (!at.empty()) {
     if (!out.empty()) throw InputError({"--out", 0, ""}, "--out goes with --points or --grid, not --at");
     const auto q = parse_joint_values(m, at);
-    if (!no_travel_check) check_travel(m, q, "--at");
+    check_joints(m, q, "--at", !no_travel_check);
     const VolumetricError e = model.evaluate(q);
+    if (!e.translation.allFinite() || !e.rotation.allFinite())
+      throw Error("the model gives a non-finite error at --at " + at + " (check the machine's error values)");
     const double v[6] = {e.translation.x(), e.translation.y(), e.translation.z(),
                          e.rotation.x(),    e.rotation.y(),    e.rotation.z()};
     if (as_json) {
@@ -128,6 +137,9 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
         throw InputError({points, 1, c}, "unknown column '" + c + "' (expected axis letters of " +
                                              m.topology.chain + " and optional dir<axis>)");
     }
+    if (std::all_of(qcol.begin(), qcol.end(), [](int c) { return c < 0; }))
+      throw InputError({points, 1, ""}, "no axis column (expected columns named by the axis letters of " +
+                                            m.topology.chain + "; axes without a column are at 0)");
     // Check every row before any work, so that a bad row fails the command at once.
     for (std::size_t r = 0; r < table.rows.size(); ++r) {
       std::vector<double> qr(n, 0.0);
@@ -140,7 +152,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
                              fmt::format("expected +1, -1 or 0, found {:g}", d));
         }
       }
-      if (!no_travel_check) check_travel(m, qr, fmt::format("{}:{}", points, table.lines[r]));
+      check_joints(m, qr, fmt::format("{}:{}", points, table.lines[r]), !no_travel_check);
     }
     count = table.rows.size();
     fill = [&, qcol, dcol](std::size_t r, double* qr, std::int8_t* dr) {
@@ -157,14 +169,14 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
         throw InputError({"--grid", 0, ""}, "more than 4e9 configurations; use a coarser grid");
       count *= v.size();
     }
-    if (!no_travel_check) {
+    {
       std::vector<double> lo(n), hi(n);
       for (std::size_t k = 0; k < n; ++k) {
         lo[k] = *std::min_element(grid_values[k].begin(), grid_values[k].end());
         hi[k] = *std::max_element(grid_values[k].begin(), grid_values[k].end());
       }
-      check_travel(m, lo, "--grid");
-      check_travel(m, hi, "--grid");
+      check_joints(m, lo, "--grid", !no_travel_check);
+      check_joints(m, hi, "--grid", !no_travel_check);
     }
     // Mixed-radix index: the last axis of the chain varies fastest.
     fill = [&](std::size_t i, double* qr, std::int8_t*) {
@@ -203,6 +215,10 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (std::size_t r = 0; r < len; ++r) {
       const double* e = &res[r * 6];
+      if (!std::all_of(e, e + 6, [](double v) { return std::isfinite(v); }))
+        throw Error(fmt::format("the model gives a non-finite error at configuration {} of {} (check the "
+                                "machine's error values)",
+                                first + r + 1, count));
       const double t = std::hypot(e[0], e[1], e[2]), a = std::hypot(e[3], e[4], e[5]);
       if (t > bt) bt = t, std::copy_n(&q[r * n], n, q_t.begin());
       if (a > br) br = a, std::copy_n(&q[r * n], n, q_r.begin());
@@ -295,7 +311,7 @@ int run_effects(const ModelOptions& mo, const std::string& at, const std::string
   // error has no effect); about the actual machine they include second-order cross terms.
   if (around == "nominal") m.clear_errors();
   const auto q = parse_joint_values(m, at);
-  if (!no_travel_check) check_travel(m, q, "--at");
+  check_joints(m, q, "--at", !no_travel_check);
   std::vector<std::string> wanted;
   for (std::size_t start = 0; start <= only_errors.size();) {
     auto end = only_errors.find(',', start);
@@ -368,7 +384,7 @@ int main(int argc, char** argv) {
   eval->add_option("--out", out, "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV");
   eval->add_flag("--json", eval_json, "Machine-readable output (keys dx dy dz rx ry rz for --at)");
   eval->add_flag("--no-travel-check", no_travel_check, "Evaluate outside the axes' travel too");
-  eval->add_option("--threads", threads, "Threads for batches (0: all cores)")->check(CLI::NonNegativeNumber);
+  eval->add_option("--threads", threads, "Threads for batches (0: all cores)")->check(CLI::Range(0, 4096));
 
   ModelOptions err_model;
   bool err_json = false, nonzero = false;
@@ -397,15 +413,37 @@ int main(int argc, char** argv) {
   effects->add_flag("--json", eff_json, "Machine-readable output (keys error kind per dx dy dz rx ry rz)");
   effects->add_flag("--no-travel-check", eff_no_travel, "Allow a configuration outside the travel");
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string cmd = argv[1];
+    bool known = false;
+    for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == cmd;
+    if (!known) {
+      std::cerr << "mtcal: error: unknown command '" << cmd << "' (expected eval, errors or effects; see 'mtcal --help')\n";
+      return 2;
+    }
   }
   try {
-    if (eval->parsed()) return run_eval(eval_model, at, points, grid, out, eval_json, no_travel_check, threads);
-    if (errors->parsed()) return run_errors(err_model, err_json, nonzero);
-    if (effects->parsed()) return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel);
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // Usage errors: one line, exit 2 (help goes to stdout only when asked for).
+    std::cerr << "mtcal: error: " << e.what() << " (see 'mtcal --help')\n";
+    return 2;
+  }
+  try {
+    const int rc = [&] {
+      if (eval->parsed()) return run_eval(eval_model, at, points, grid, out, eval_json, no_travel_check, threads);
+      if (errors->parsed()) return run_errors(err_model, err_json, nonzero);
+      return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel);
+    }();
+    std::cout.flush();
+    if (!std::cout) throw Error("cannot write the results to standard output");
+    return rc;
   } catch (const std::exception& e) {
     std::string msg = e.what();
     for (auto& c : msg)

@@ -50,7 +50,8 @@ double joint_unit_factor(const Axis& ax) {
 std::string_view joint_unit_name(const Axis& ax) { return ax.kind == AxisKind::Linear ? "mm" : "deg"; }
 
 double to_user_units(const Axis& ax, double q) {
-  return *parse_number(fmt::format("{:.12g}", q / joint_unit_factor(ax)));
+  const double v = q / joint_unit_factor(ax);
+  return parse_number(fmt::format("{:.12g}", v)).value_or(v);
 }
 
 std::vector<double> parse_joint_values(const Machine& m, std::string_view spec) {
@@ -89,19 +90,26 @@ std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view s
       throw InputError({"--grid", 0, name}, "expected a whole count from 1 to 1e7, found '" + parts[2] + "'");
     const auto count = static_cast<std::size_t>(cnt);
     g[k].assign(count, lo * f);
-    for (std::size_t i = 0; i < count; ++i)
-      g[k][i] = (count == 1 ? lo : lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(count - 1)) * f;
+    for (std::size_t i = 1; i < count; ++i) {
+      // Weighted mean rather than lo + (hi - lo) t: no overflow, and the end lands on hi exactly.
+      const double t = static_cast<double>(i) / static_cast<double>(count - 1);
+      g[k][i] = (lo * (1.0 - t) + hi * t) * f;
+    }
   }
   return g;
 }
 
-void check_travel(const Machine& m, const std::vector<double>& q, const std::string& where) {
+void check_joints(const Machine& m, const std::vector<double>& q, const std::string& where, bool travel) {
   for (std::size_t k = 0; k < m.axes.size(); ++k) {
     const Axis& ax = m.axes[k];
-    if (!ax.travel) continue;
+    const double f = joint_unit_factor(ax);
+    if (!(std::abs(q[k]) <= kMaxJointValue * f))
+      throw InputError({where, 0, std::string(1, ax.letter)},
+                       fmt::format("{}={:g} {} is not a joint position (expected a finite value within +-{:g})",
+                                   ax.letter, q[k] / f, joint_unit_name(ax), kMaxJointValue));
+    if (!travel || !ax.travel) continue;
     const double tol = 1e-9 * std::max(1.0, std::abs(ax.travel->max - ax.travel->min));
-    if (q[k] < ax.travel->min - tol || q[k] > ax.travel->max + tol) {
-      const double f = joint_unit_factor(ax);
+    if (!(q[k] >= ax.travel->min - tol && q[k] <= ax.travel->max + tol)) {
       throw InputError({where, 0, std::string(1, ax.letter)},
                        fmt::format("{}={:g} {} is outside the travel [{:g}, {:g}] of axis {} "
                                    "(use --no-travel-check to evaluate anyway)",

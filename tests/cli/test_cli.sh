@@ -39,7 +39,13 @@ grep -q 'eval' "$tmp/out" && grep -q 'errors' "$tmp/out" && ok || bad "--help li
 expect_exit 0 "eval --help" -- "$MTCAL" eval --help
 grep -q -- '--points' "$tmp/out" && ok || bad "eval --help lists --points"
 expect_exit 0 "errors --help" -- "$MTCAL" errors --help
-expect_exit 106 "no command" -- "$MTCAL"
+expect_error "no command" "subcommand is required" -- "$MTCAL"
+expect_error "unknown command" "frob" -- "$MTCAL" frob
+expect_error "unknown option" "--bogus" -- "$MTCAL" eval -m "$M5" --at X=0 --bogus
+expect_error "non-numeric option" "tool-length" -- "$MTCAL" eval -m "$M5" --at X=0 --tool-length abc
+expect_error "infinite tool length" "expected a length" -- "$MTCAL" eval -m "$M5" --at X=0 --tool-length inf
+expect_error "negative tool length" "expected a length" -- "$MTCAL" eval -m "$M5" --at X=0 --tool-length -5
+expect_error "threads out of range" "threads" -- "$MTCAL" eval -m "$M5" --grid X=0 --threads -1
 
 # eval --at, text and JSON.
 expect_exit 0 "eval --at" -- "$MTCAL" eval -m "$M5" --at "X=100,Y=50,Z=-20,B=30,C=90"
@@ -64,7 +70,7 @@ grep -qE '^EC0Y +location +urad +-0.2 ' "$tmp/out" && ok || bad "effects EC0Y ro
 expect_exit 0 "effects --json" -- "$MTCAL" effects -m "$M5" --at "X=100,B=30,C=90" --errors EX0C,ECC --json
 [ "$(json_get "[e['error'] for e in d['effects']]")" = "['ECC', 'EX0C']" ] && ok || bad "effects --errors filter"
 [ "$(json_get "sorted(d['effects'][0].keys())")" = "['dx', 'dy', 'dz', 'error', 'kind', 'per', 'rx', 'ry', 'rz']" ] && ok || bad "effects JSON keys"
-[ "$(json_get "d['at']['B']")" = "30.0" ] && ok || bad "effects 'at' in user units: $(json_get "d['at']")"
+[ "$(json_get "d['at']['B']")" = "30.0" ] && ok || bad "effects 'at' in user units"
 # EX0C at C=90 deg: (I - Rz(90)) e = (e, -e, 0).
 python3 -c "import json; d=json.load(open('$tmp/out')); e=[x for x in d['effects'] if x['error']=='EX0C'][0]; assert abs(e['dx']-1)<1e-12 and abs(e['dy']+1)<1e-12, e" && ok || bad "effects EX0C at C=90"
 expect_error "effects unknown error" "unknown error name 'EQQ'" -- "$MTCAL" effects -m "$M5" --at X=0 --errors EQQ
@@ -121,7 +127,25 @@ expect_error "unknown CSV column" "unknown column 'Q'" -- "$MTCAL" eval -m "$M5"
 printf 'X,dirX\n0,2\n' >"$tmp/baddir.csv"
 expect_error "bad direction" "expected +1, -1 or 0" -- "$MTCAL" eval -m "$M5" --points "$tmp/baddir.csv"
 expect_error "unwritable output" "cannot write" -- "$MTCAL" eval -m "$M5" --points "$tmp/p.csv" --out "/nonexistent-dir/o.csv"
-[ -z "$(ls -A "$tmp" | grep '\.tmp')" ] && ok || bad "temporary files left behind"
+expect_error "output is a directory" "is a directory" -- "$MTCAL" eval -m "$M5" --points "$tmp/p.csv" --out "$tmp"
+expect_error "machine is a directory" "is a directory" -- "$MTCAL" errors -m "$tmp"
+printf 'dx,dy\n0,0\n' >"$tmp/noaxis.csv"
+expect_error "CSV without axis columns" "no axis column" -- "$MTCAL" eval -m "$M5" --points "$tmp/noaxis.csv"
+expect_error "overflowing grid" "not a joint position" -- "$MTCAL" eval -m "$M5" --grid "X=-1e308:1e308:3" --no-travel-check
+expect_error "huge angle" "not a joint position" -- "$MTCAL" eval -m "$M5" --at "C=1e20" --no-travel-check
+expect_error "empty --only" "found none" -- "$MTCAL" eval -m "$M5" --at X=0 --only ,
+if [ -w /dev/full ]; then
+  "$MTCAL" eval -m "$M5" --at X=0 >/dev/full 2>"$tmp/err"; rc=$?
+  [ "$rc" -ne 0 ] && grep -q "standard output" "$tmp/err" && ok || bad "full stdout: exit $rc"
+fi
+# --set applies after --only: an error --only dropped can still be given a value.
+"$MTCAL" eval -m "$M3" --at "X=100,Y=200" --only EXX --json >"$tmp/only.json"
+expect_exit 0 "--only then --set" -- "$MTCAL" eval -m "$M3" --at "X=100,Y=200" --only EXX --set EC0Y=1e-5 --json
+python3 -c "
+import json, math
+a = json.load(open('$tmp/only.json')); b = json.load(open('$tmp/out'))
+assert abs(b['dx'] - (a['dx'] - 200 * math.sin(1e-5))) < 1e-12, (a, b)
+" && ok || bad "--set after --only"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -1,6 +1,7 @@
 // Joint values and grids as users write them on the command line (mm and deg).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numbers>
 
 #include "mtcal/io/joints.hpp"
@@ -35,13 +36,21 @@ TEST(Joints, RejectsBadSpecifications) {
     EXPECT_THROW(parse_joint_values(m, s), InputError) << s;
   for (const char* s : {"X=1:2", "X=1:2:0", "X=1:2:2.5", "X=1:2:-3", "X=a:2:3", "X=1:2:3:4", "X=1:2:1e9"})
     EXPECT_THROW(parse_grid(m, s), InputError) << s;
+  // Extreme ends do not overflow into NaN, and the last value is exactly the upper end.
+  const auto g = parse_grid(m, "X=-1e308:1e308:3")[0];
+  EXPECT_EQ(g, (std::vector<double>{-1e308, 0.0, 1e308}));
+  EXPECT_EQ(parse_grid(m, "X=0.1:0.7:7")[0].back(), 0.7);
 }
 
 TEST(Joints, TravelCheckNamesTheAxisAndItsLimits) {
   const Machine m = mtcal::testing::nominal_machine("wXYfZt");  // travels [-400, 400]
-  EXPECT_NO_THROW(check_travel(m, {400, -400, 0}, "--at"));
+  EXPECT_NO_THROW(check_joints(m, {400, -400, 0}, "--at", true));
+  EXPECT_NO_THROW(check_joints(m, {0, 401, 0}, "--at", false));
+  EXPECT_THROW(check_joints(m, {std::nan(""), 0, 0}, "--at", false), InputError);
+  EXPECT_THROW(check_joints(m, {std::nan(""), 0, 0}, "--at", true), InputError);
+  EXPECT_THROW(check_joints(m, {0, 2e6, 0}, "--at", false), InputError);
   try {
-    check_travel(m, {0, 401, 0}, "--at");
+    check_joints(m, {0, 401, 0}, "--at", true);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().field, "Y");

@@ -13,7 +13,8 @@ class AtomicFile {
  public:
   // Opens a temporary file beside path; throws Error if it cannot.
   explicit AtomicFile(std::string path);
-  // Removes the temporary file unless commit() succeeded.
+  // Removes the temporary file unless commit() succeeded. The temporary file is also removed if
+  // the program is stopped by SIGINT, SIGTERM or SIGHUP while it is being written.
   ~AtomicFile();
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
@@ -26,6 +27,7 @@ class AtomicFile {
   std::string path_, tmp_;
   std::ofstream out_;
   bool committed_ = false;
+  int slot_ = -1;  // entry in the list the signal handler cleans up
 };
 
 // Writes text to path through an AtomicFile.

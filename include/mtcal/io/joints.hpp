@@ -24,7 +24,11 @@ std::vector<double> parse_joint_values(const Machine& m, std::string_view spec);
 // axes not named are held at 0. Internal units, chain order.
 std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view spec);
 
-// Throws InputError if a joint value lies outside its axis's travel.
-void check_travel(const Machine& m, const std::vector<double>& q, const std::string& where);
+// Largest joint value accepted, in the user's unit (mm or deg): a kilometre, or 2800 turns.
+constexpr double kMaxJointValue = 1e6;
+
+// Throws InputError if a joint value is not finite, beyond +-kMaxJointValue, or (with
+// travel == true) outside its axis's travel.
+void check_joints(const Machine& m, const std::vector<double>& q, const std::string& where, bool travel);
 
 }  // namespace mtcal
