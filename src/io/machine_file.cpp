@@ -315,7 +315,10 @@ Machine build(const YAML::Node& root, const std::string& file) {
   if (top.count("tool")) {
     Ctx tc = ctx.child("tool");
     auto t = entries(top["tool"], tc, {"length", "spindle_point", "axis"});
-    if (t.count("length")) m.tool.length = number(t["length"], tc.child("length")) * ls;
+    if (t.count("length")) {
+      m.tool.length = number(t["length"], tc.child("length")) * ls;
+      if (m.tool.length < 0) tc.child("length").fail(t["length"], "expected a tool length >= 0");
+    }
     if (t.count("spindle_point")) m.tool.spindle_point = vec3(t["spindle_point"], tc.child("spindle_point"), ls);
     if (t.count("axis")) {
       Axis tmp;

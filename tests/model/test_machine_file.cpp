@@ -160,6 +160,7 @@ TEST(MachineFile, BadInputsNameFileLineAndKey) {
       {"slope as joint angle unit", with("axes:", "units: {angle: um/m}\naxes:"), 4, "units.angle", "slope"},
       {"argument unit of a Fourier series", with("EC0Y: 12 um/m", "ECC: {unit: urad, argument_unit: deg, fourier: {cos: [1]}}"), 12, "errors.ECC.argument_unit", "Fourier"},
       {"non-plain key", with("name: test", "? [a, b]\n: test"), 2, "", "plain key"},
+      {"negative tool length", with("errors:", "tool: {length: -5}\nerrors:"), 10, "tool.length", ">= 0"},
       {"length unit for an angle", with("12 um/m", "12 um"), 12, "errors.EC0Y", "unit"},
       {"missing unit", with("12 um/m", "12"), 12, "errors.EC0Y", "number"},
       {"non-numeric value", with("polynomial: [0, 5]", "polynomial: [0, five]"), 11, "errors.EXX.polynomial.1", "finite number"},
