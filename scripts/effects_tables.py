@@ -6,6 +6,7 @@ nothing is written and the exit status says whether the document matches the pro
 Usage: effects_tables.py MTCAL EXAMPLES_DIR DOC [--check]
 """
 import json
+import os
 import re
 import subprocess
 import sys
@@ -40,6 +41,11 @@ def main():
     def repl(m):
         return m.group(1) + table(mtcal, f"{examples}/{m.group(2)}", m.group(3)) + "\n" + m.group(5)
 
+    machines = sorted(f for f in os.listdir(examples) if f.endswith(".yaml"))
+    tabled = sorted(set(m.group(2) for m in pattern.finditer(text)))
+    if tabled != machines:
+        print(f"{doc}: effect tables are for {tabled}, the examples are {machines}", file=sys.stderr)
+        return 1
     new = pattern.sub(repl, text)
     if check:
         if new != text:
