@@ -1,7 +1,6 @@
 # The two commands README promises: `make demo` and `make test`. Both install what is missing,
 # configure, build (Release, -j2) and run.
 BUILD ?= build
-ASAN_BUILD ?= build-asan
 JOBS ?= 2
 CMAKE_EXTRA_FLAGS ?=
 MTCAL = $(BUILD)/apps/mtcal/mtcal
@@ -28,11 +27,11 @@ test: build
 bench: build
 	$(BUILD)/bench/mtcal_bench --benchmark_min_time=0.5
 
+# The suite under AddressSanitizer + UndefinedBehaviorSanitizer (CMake preset "asan").
 test-sanitize: deps
-	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DMTCAL_SANITIZE=ON -DMTCAL_BUILD_BENCH=OFF $(CMAKE_EXTRA_FLAGS)
-	cmake --build $(ASAN_BUILD) -j $(JOBS)
-	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS)
+	cmake --preset asan $(CMAKE_EXTRA_FLAGS)
+	cmake --build --preset asan
+	ctest --preset asan
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD)
+	rm -rf $(BUILD) build-asan
