@@ -23,64 +23,13 @@
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 #include "mtcal/version.hpp"
+#include "common.hpp"
 
 using namespace mtcal;
+using namespace mtcal::cli;
 using json = nlohmann::ordered_json;
 
 namespace {
-
-const char* kOutputKeys[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
-
-struct ModelOptions {
-  std::string machine;
-  std::vector<std::string> set;
-  std::string only;
-  std::optional<double> tool_length;
-};
-
-void add_model_options(CLI::App* cmd, ModelOptions& o) {
-  cmd->add_option("--machine,-m", o.machine, "Machine file (YAML, see docs/machine-file.md)")
-      ->required();
-  cmd->add_option("--set", o.set,
-                  "Override a parameter in internal units (mm, rad): NAME=VALUE, e.g. EC0Y=2e-5 or "
-                  "EXX.1=5e-6; repeatable");
-  cmd->add_option("--only", o.only,
-                  "Keep only these errors or parameters (comma-separated, e.g. EXX,EC0Y); all "
-                  "others are set to zero before --set applies");
-  cmd->add_option("--tool-length", o.tool_length, "Tool length in mm (overrides the machine file)");
-}
-
-Machine load(const ModelOptions& o) {
-  Machine m = load_machine(o.machine);
-  if (o.tool_length) {
-    if (!std::isfinite(*o.tool_length) || *o.tool_length < 0)
-      throw InputError({"--tool-length", 0, ""}, fmt::format("expected a length >= 0 in mm, found {}", *o.tool_length));
-    m.tool.length = *o.tool_length;
-  }
-  // --only first, so that --set can give a value to an error that --only did not keep.
-  if (!o.only.empty()) {
-    std::vector<std::string> names;
-    std::size_t start = 0;
-    while (start <= o.only.size()) {
-      auto end = o.only.find(',', start);
-      if (end == std::string::npos) end = o.only.size();
-      if (end > start) names.push_back(o.only.substr(start, end - start));
-      start = end + 1;
-    }
-    if (names.empty()) throw InputError({"--only", 0, ""}, "expected error or parameter names, found none");
-    m.keep_only(names);
-  }
-  for (const auto& s : o.set) {
-    auto eq = s.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
-    const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
-    const auto v = parse_number(value);
-    if (!v) throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");
-    m.set_parameter(name, *v);
-  }
-  return m;
-}
 
 std::string fmt_num(double v) { return fmt::format("{:.9g}", v); }
 
@@ -312,13 +261,7 @@ int run_effects(const ModelOptions& mo, const std::string& at, const std::string
   if (around == "nominal") m.clear_errors();
   const auto q = parse_joint_values(m, at);
   check_joints(m, q, "--at", !no_travel_check);
-  std::vector<std::string> wanted;
-  for (std::size_t start = 0; start <= only_errors.size();) {
-    auto end = only_errors.find(',', start);
-    if (end == std::string::npos) end = only_errors.size();
-    if (end > start) wanted.push_back(only_errors.substr(start, end - start));
-    start = end + 1;
-  }
+  const std::vector<std::string> wanted = split_list(only_errors);
   for (const auto& w : wanted) {
     auto en = ErrorName::parse(w);
     if (!en || !m.has_error(*en))
@@ -413,12 +356,16 @@ int main(int argc, char** argv) {
   effects->add_flag("--json", eff_json, "Machine-readable output (keys error kind per dx dy dz rx ry rz)");
   effects->add_flag("--no-travel-check", eff_no_travel, "Allow a configuration outside the travel");
 
+  const std::vector<Command> more = add_probing_commands(app);
+
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];
     bool known = false;
     for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == cmd;
     if (!known) {
-      std::cerr << "mtcal: error: unknown command '" << cmd << "' (expected eval, errors or effects; see 'mtcal --help')\n";
+      std::string names;
+      for (const auto* sub : app.get_subcommands({})) names += (names.empty() ? "" : ", ") + sub->get_name();
+      std::cerr << "mtcal: error: unknown command '" << cmd << "' (expected one of " << names << "; see 'mtcal --help')\n";
       return 2;
     }
   }
@@ -439,7 +386,10 @@ int main(int argc, char** argv) {
     const int rc = [&] {
       if (eval->parsed()) return run_eval(eval_model, at, points, grid, out, eval_json, no_travel_check, threads);
       if (errors->parsed()) return run_errors(err_model, err_json, nonzero);
-      return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel);
+      if (effects->parsed()) return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel);
+      for (const auto& c : more)
+        if (c.app->parsed()) return c.run();
+      throw Error("no command");
     }();
     std::cout.flush();
     if (!std::cout) throw Error("cannot write the results to standard output");

@@ -237,6 +237,39 @@ MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax,
   return MotionFunction(four);
 }
 
+// The errors section (machine files and parameter files): each error replaces what m had.
+void read_errors(Machine& m, const YAML::Node& node, const Ctx& ec, double ls, double as) {
+  auto errs = entries(node, ec, {});
+  for (auto& [key, value] : errs) {
+    const YAML::Node& n = value;
+    Ctx kc = ec.child(key);
+    auto en = ErrorName::parse(key);
+    if (!en)
+      kc.fail(n, "unknown error name '" + key +
+                     "' (expected ISO 230 names such as EXX, EYX, EC0Y, EX0C, or EXt / EXw for "
+                     "tool / workpiece mounting)");
+    if (!m.has_error(*en)) {
+      if (en->kind == ErrorKind::Location && m.axis_index(en->body))
+        kc.fail(n, "'" + key + "' is not a location error of axis " + std::string(1, en->body) +
+                       " (a linear axis has its zero position and two orientation errors, a rotary axis "
+                       "two position, two orientation errors and its zero position)");
+      kc.fail(n, "error '" + key + "' names axis '" + std::string(1, en->body) +
+                     "', which is not in topology " + m.topology.chain);
+    }
+    const Dimension dim = is_rotation(en->component) ? Dimension::Angle : Dimension::Length;
+    const int c = index_of(en->component);
+    if (en->kind == ErrorKind::Motion) {
+      Axis& ax = m.axes[*m.axis_index(en->body)];
+      ax.motion[c] = parse_motion(n, kc, ax, en->component, ls, as);
+      ax.motion_given[c] = true;
+    } else if (en->kind == ErrorKind::Location) {
+      m.axes[*m.axis_index(en->body)].location[c] = quantity(n, kc, dim);
+    } else {
+      (en->body == 't' ? m.tool_mounting : m.workpiece_mounting)[c] = quantity(n, kc, dim);
+    }
+  }
+}
+
 Machine build(const YAML::Node& root, const std::string& file) {
   Ctx ctx{file, ""};
   auto top = entries(root, ctx,
@@ -338,58 +371,64 @@ Machine build(const YAML::Node& root, const std::string& file) {
   for (auto& ax : m.axes)
     for (auto& f : ax.motion) f = MotionFunction(Polynomial{});
 
-  if (top.count("errors")) {
-    Ctx ec = ctx.child("errors");
-    auto errs = entries(top["errors"], ec, {});
-    for (auto& [key, node] : errs) {
-      Ctx kc = ec.child(key);
-      auto en = ErrorName::parse(key);
-      if (!en)
-        kc.fail(node, "unknown error name '" + key +
-                          "' (expected ISO 230 names such as EXX, EYX, EC0Y, EX0C, or EXt / EXw for "
-                          "tool / workpiece mounting)");
-      if (!m.has_error(*en)) {
-        if (en->kind == ErrorKind::Location && m.axis_index(en->body))
-          kc.fail(node, "'" + key + "' is not a location error of axis " + std::string(1, en->body) +
-                            " (a linear axis has its zero position and two orientation errors, a rotary axis "
-                            "two position, two orientation errors and its zero position)");
-        kc.fail(node, "error '" + key + "' names axis '" + std::string(1, en->body) +
-                          "', which is not in topology " + m.topology.chain);
-      }
-      const Dimension dim = is_rotation(en->component) ? Dimension::Angle : Dimension::Length;
-      const int c = index_of(en->component);
-      if (en->kind == ErrorKind::Motion) {
-        Axis& ax = m.axes[*m.axis_index(en->body)];
-        ax.motion[c] = parse_motion(node, kc, ax, en->component, ls, as);
-        ax.motion_given[c] = true;
-      } else if (en->kind == ErrorKind::Location) {
-        m.axes[*m.axis_index(en->body)].location[c] = quantity(node, kc, dim);
-      } else {
-        (en->body == 't' ? m.tool_mounting : m.workpiece_mounting)[c] = quantity(node, kc, dim);
-      }
-    }
-  }
+  if (top.count("errors")) read_errors(m, top["errors"], ctx.child("errors"), ls, as);
   return m;
 }
 
 }  // namespace
 
-Machine parse_machine(std::string_view yaml_text, const std::string& source) {
+namespace {
+YAML::Node load_one_document(std::string_view yaml_text, const std::string& source) {
   YAML::Node root;
   try {
     const auto docs = YAML::LoadAll(std::string(yaml_text));
     if (docs.size() > 1)
       throw InputError({source, docs[1].Mark().line + 1, ""},
-                       fmt::format("expected one YAML document, found {} (one machine per file)", docs.size()));
+                       fmt::format("expected one YAML document, found {} (one per file)", docs.size()));
     if (!docs.empty()) root = docs[0];
   } catch (const YAML::Exception& e) {
     throw InputError({source, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
   }
+  return root;
+}
+}  // namespace
+
+Machine parse_machine(std::string_view yaml_text, const std::string& source) {
+  const YAML::Node root = load_one_document(yaml_text, source);
   try {
     return build(root, source);
   } catch (const YAML::Exception& e) {
     throw InputError({source, e.mark.line + 1, ""}, e.msg);
   }
+}
+
+void apply_parameters(Machine& m, std::string_view yaml_text, const std::string& source) {
+  const YAML::Node root = load_one_document(yaml_text, source);
+  Ctx ctx{source, ""};
+  try {
+    auto top = entries(root, ctx, {"mtcal_parameters", "description", "units", "errors"});
+    if (!top.count("mtcal_parameters"))
+      ctx.fail(root, fmt::format("missing key 'mtcal_parameters' (the format version, {})", kFormatVersion));
+    Ctx vc = ctx.child("mtcal_parameters");
+    if (number(top["mtcal_parameters"], vc) != kFormatVersion)
+      vc.fail(top["mtcal_parameters"], fmt::format("unsupported format version (this mtcal reads {})", kFormatVersion));
+    double ls = 1.0, as = std::numbers::pi / 180.0;
+    if (top.count("units")) {
+      Ctx uc = ctx.child("units");
+      auto u = entries(top["units"], uc, {"length", "angle"});
+      if (u.count("length")) ls = unit(u["length"], uc.child("length"), Dimension::Length, false).to_internal;
+      if (u.count("angle")) as = unit(u["angle"], uc.child("angle"), Dimension::Angle, false).to_internal;
+    }
+    Machine updated = m;  // all or nothing
+    if (top.count("errors")) read_errors(updated, top["errors"], ctx.child("errors"), ls, as);
+    m = std::move(updated);
+  } catch (const YAML::Exception& e) {
+    throw InputError({source, e.mark.line + 1, ""}, e.msg);
+  }
+}
+
+void load_parameters(Machine& m, const std::string& path) {
+  apply_parameters(m, read_text_file(path, "parameter file"), path);
 }
 
 Machine load_machine(const std::string& path) {

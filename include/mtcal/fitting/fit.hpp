@@ -67,7 +67,9 @@ std::optional<LineFit> fit_line(std::span<const Point3> points);
 // circumscribed circle. Normal sign: largest-magnitude component positive.
 // covariance: 6x6 of (cx, cy, cz, n_i, n_j, r), where k is the normal's largest component and
 // i = (k+1)%3, j = (k+2)%3 its other two (n_k follows from |n| = 1); zero when dof == 0.
-// The centre is constrained to the circle's plane, so the 3x3 centre block is rank 2.
+// The centre's variance along the normal is that of the plane's offset (full-rank block).
+// dof counts residual equations: 2n - 6 (radial and out-of-plane per point); rms is of the radial
+// residuals, sigma of both.
 struct CircleFit {
   Point3 centre = Point3::Zero();
   Point3 normal = Point3::UnitZ();

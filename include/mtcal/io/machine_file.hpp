@@ -12,6 +12,12 @@ namespace mtcal {
 Machine load_machine(const std::string& path);
 // Same from text; source names the text in messages.
 Machine parse_machine(std::string_view yaml_text, const std::string& source);
+// Parameter files: `mtcal_parameters: 1`, optional `units`, and an `errors` section written as
+// in a machine file; each error given replaces the machine's. All or nothing; InputError with
+// file, line and key otherwise.
+void load_parameters(Machine& m, const std::string& path);
+void apply_parameters(Machine& m, std::string_view yaml_text, const std::string& source);
+
 // YAML text that parse_machine reads back to the same machine (internal units, full precision).
 std::string to_yaml(const Machine& m);
 

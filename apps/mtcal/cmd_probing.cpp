@@ -1,0 +1,320 @@
+// mtcal rotary-axis and probe-sim: rotary-axis location errors from touch-probe sphere probing.
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "common.hpp"
+#include "mtcal/io/csv.hpp"
+#include "mtcal/io/files.hpp"
+#include "mtcal/io/joints.hpp"
+#include "mtcal/io/machine_file.hpp"
+#include "mtcal/probing/rotary_axis.hpp"
+#include "mtcal/probing/sphere_probing.hpp"
+#include "mtcal/util/errors.hpp"
+#include "mtcal/util/parse.hpp"
+
+namespace mtcal::cli {
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+struct RotaryOptions {
+  std::string axis = "C";
+  std::string contacts, centres, machine, method = "both", out;
+  double sphere_diameter = 0, stylus_diameter = 0, reject_sigma = 2.0, max_rms = 0.01;
+  int bins = 40, threads = 0;
+  bool json_out = false;
+};
+
+// The column index of name, or -1; refuses columns outside allowed.
+int column(const CsvTable& t, const std::string& name) { return t.column(name); }
+
+void refuse_unknown_columns(const CsvTable& t, const std::string& file, const std::vector<std::string>& allowed) {
+  for (const auto& c : t.columns)
+    if (std::find(allowed.begin(), allowed.end(), c) == allowed.end()) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      throw InputError({file, 1, c}, "unknown column '" + c + "' (expected " + list + ")");
+    }
+}
+
+int require(const CsvTable& t, const std::string& file, const std::string& name) {
+  const int c = column(t, name);
+  if (c < 0) throw InputError({file, 1, ""}, "missing column '" + name + "'");
+  return c;
+}
+
+std::vector<std::string> axis_columns() { return {"X", "Y", "Z", "A", "B", "C"}; }
+
+// Sphere centres per indexation from a contacts file, in order of first appearance.
+std::vector<MeasuredCentre> centres_from_contacts(const RotaryOptions& o, std::string& method) {
+  const CsvTable t = read_csv(o.contacts);
+  auto allowed = axis_columns();
+  for (const char* c : {"x", "y", "z", "approach_x", "approach_y", "approach_z"}) allowed.push_back(c);
+  refuse_unknown_columns(t, o.contacts, allowed);
+  const int ca = require(t, o.contacts, o.axis);
+  const int cx = require(t, o.contacts, "x"), cy = require(t, o.contacts, "y"), cz = require(t, o.contacts, "z");
+  const int ax = column(t, "approach_x"), ay = column(t, "approach_y"), az = column(t, "approach_z");
+  const bool approach = ax >= 0 && ay >= 0 && az >= 0;
+  if (!approach && (ax >= 0 || ay >= 0 || az >= 0))
+    throw InputError({o.contacts, 1, ""}, "give all three approach_x, approach_y, approach_z columns or none");
+  std::vector<double> angles;
+  std::map<double, std::vector<ProbeContact>> groups;
+  std::map<double, int> first_line;
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    const auto& row = t.rows[r];
+    const double angle = row[static_cast<std::size_t>(ca)];
+    ProbeContact c;
+    c.point = Point3(row[static_cast<std::size_t>(cx)], row[static_cast<std::size_t>(cy)], row[static_cast<std::size_t>(cz)]);
+    if (approach) {
+      c.approach = Point3(row[static_cast<std::size_t>(ax)], row[static_cast<std::size_t>(ay)], row[static_cast<std::size_t>(az)]);
+      if (!(c.approach.norm() > 0))
+        throw InputError({o.contacts, t.lines[r], "approach_x"}, "the approach direction is a zero vector");
+      c.approach.normalize();
+    }
+    if (!groups.count(angle)) {
+      angles.push_back(angle);
+      first_line[angle] = t.lines[r];
+    }
+    groups[angle].push_back(c);
+  }
+  const SphereProbing probing{o.sphere_diameter, o.stylus_diameter, o.max_rms};
+  std::vector<MeasuredCentre> out;
+  method.clear();
+  for (double a : angles) {
+    const auto sc = sphere_centre(groups[a], probing,
+                                  fmt::format("{}:{} ({}={:g})", o.contacts, first_line[a], o.axis, a));
+    if (method.empty()) method = sc.method;
+    if (method != sc.method) method = "mixed";
+    out.push_back({a * kDeg, sc.centre()});
+  }
+  return out;
+}
+
+std::vector<MeasuredCentre> centres_from_file(const RotaryOptions& o) {
+  const CsvTable t = read_csv(o.centres);
+  auto allowed = axis_columns();
+  for (const char* c : {"x", "y", "z"}) allowed.push_back(c);
+  refuse_unknown_columns(t, o.centres, allowed);
+  const int ca = require(t, o.centres, o.axis);
+  const int cx = require(t, o.centres, "x"), cy = require(t, o.centres, "y"), cz = require(t, o.centres, "z");
+  std::vector<MeasuredCentre> out;
+  for (const auto& row : t.rows)
+    out.push_back({row[static_cast<std::size_t>(ca)] * kDeg,
+                   Point3(row[static_cast<std::size_t>(cx)], row[static_cast<std::size_t>(cy)], row[static_cast<std::size_t>(cz)])});
+  return out;
+}
+
+json estimate_json(const RotaryEstimate& e, const std::array<std::string, kRotaryQuantities>& names) {
+  json j;
+  for (std::size_t q = 0; q < kRotaryQuantities; ++q) {
+    j[names[q]] = e.value[q];
+    j[names[q] + "_u"] = e.uncertainty[q];
+    j[names[q] + "_spread"] = e.spread[q];
+  }
+  j["axis_point"] = {e.axis_point.x(), e.axis_point.y(), e.axis_point.z()};
+  j["axis_direction"] = {e.axis_direction.x(), e.axis_direction.y(), e.axis_direction.z()};
+  return j;
+}
+
+// Display scale: positions and radius in um/mm, angles in urad.
+std::pair<double, const char*> display(std::size_t q) {
+  if (q == 4) return {1.0, "mm"};
+  if (q < 2) return {1e3, "um"};
+  return {1e6, "urad"};
+}
+
+int run_rotary(const RotaryOptions& o) {
+  if (o.axis.size() != 1 || o.axis[0] < 'A' || o.axis[0] > 'C')
+    throw InputError({"--axis", 0, ""}, "expected A, B or C, found '" + o.axis + "'");
+  if (o.contacts.empty() == o.centres.empty())
+    throw InputError({"rotary-axis", 0, ""}, "expected exactly one of --contacts and --centres");
+  if (!o.contacts.empty() && !(o.sphere_diameter > 0))
+    throw InputError({"--sphere-diameter", 0, ""}, "expected the sphere diameter (mm) with --contacts");
+  NominalRotaryAxis axis = NominalRotaryAxis::by_letter(o.axis[0]);
+  if (!o.machine.empty()) axis = NominalRotaryAxis::from(load_machine(o.machine).axis(o.axis[0]));
+
+  std::string centre_method = "given";
+  const auto centres = o.contacts.empty() ? centres_from_file(o) : centres_from_contacts(o, centre_method);
+  const auto names = rotary_quantity_names(axis.letter);
+  const bool do_triples = o.method != "lsq", do_lsq = o.method != "triples";
+
+  std::unique_ptr<AtomicFile> file;
+  if (!o.out.empty()) file = std::make_unique<AtomicFile>(o.out);  // refuse a bad path before the work
+
+  std::optional<TriplesEstimate> tri;
+  std::optional<LeastSquaresEstimate> lsq;
+  if (do_triples) tri = estimate_by_triples(axis, centres, TriplesOptions{o.reject_sigma, o.bins, o.threads});
+  if (do_lsq) lsq = estimate_by_least_squares(axis, centres);
+
+  if (file) {
+    const RotaryEstimate& use = lsq ? static_cast<const RotaryEstimate&>(*lsq) : *tri;
+    std::string y = fmt::format("# Location errors of axis {} from mtcal rotary-axis ({}), {} indexations of {}\n",
+                                axis.letter, lsq ? "least squares" : "triples", centres.size(),
+                                o.contacts.empty() ? o.centres : o.contacts);
+    y += "mtcal_parameters: 1\nerrors:\n";
+    for (std::size_t q = 0; q < 4; ++q)
+      y += fmt::format("  {}: {{value: {:.17g}, unit: {}}}  # +- {:.3g} (standard uncertainty)\n", names[q],
+                       use.value[q], q < 2 ? "mm" : "rad", use.uncertainty[q]);
+    file->stream() << y;
+    file->commit();
+  }
+
+  if (o.json_out) {
+    json j;
+    j["axis"] = std::string(1, axis.letter);
+    j["indexations"] = centres.size();
+    j["centre_method"] = centre_method;
+    j["units"] = "positions and radius in mm, angles in rad";
+    if (tri) {
+      json t = estimate_json(*tri, names);
+      t["triples"] = tri->triples;
+      t["degenerate"] = tri->degenerate;
+      t["reject_sigma"] = o.reject_sigma;
+      json kept, mean_all, hist;
+      for (std::size_t q = 0; q < kRotaryQuantities; ++q) {
+        kept[names[q]] = tri->kept[q];
+        mean_all[names[q]] = tri->mean_all[q];
+        hist[names[q]] = {{"low", tri->histograms[q].low}, {"high", tri->histograms[q].high},
+                          {"counts", tri->histograms[q].counts}};
+      }
+      t["kept"] = kept;
+      t["mean_before_rejection"] = mean_all;
+      t["histograms"] = hist;
+      j["triples"] = t;
+    }
+    if (lsq) {
+      json l = estimate_json(*lsq, names);
+      l["rms"] = lsq->circle.quality.rms;
+      j["least_squares"] = l;
+    }
+    json cs = json::array();
+    for (const auto& c : centres)
+      cs.push_back({{"angle", c.angle / kDeg}, {"x", c.centre.x()}, {"y", c.centre.y()}, {"z", c.centre.z()}});
+    j["centres"] = cs;
+    if (!o.out.empty()) j["out"] = o.out;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << fmt::format("rotary axis {}: {} indexations, sphere centres: {}\n", axis.letter, centres.size(),
+                           centre_method);
+  std::cout << fmt::format("{:<8} {:<5} {:>30} {:>30}\n", "", "", tri ? "triples (Cubas & Yeh)" : "",
+                           lsq ? "least squares" : "");
+  for (std::size_t q = 0; q < kRotaryQuantities; ++q) {
+    const auto [f, unit] = display(q);
+    auto cell = [&](const RotaryEstimate* e) {
+      return e ? fmt::format("{:.4f} +- {:.4f}", e->value[q] * f, e->uncertainty[q] * f) : std::string();
+    };
+    std::cout << fmt::format("{:<8} {:<5} {:>30} {:>30}\n", names[q], unit, cell(tri ? &*tri : nullptr),
+                             cell(lsq ? &*lsq : nullptr));
+  }
+  if (tri)
+    std::cout << fmt::format("triples: {} ({} degenerate); kept after the {:g}-sigma rule: {} of {}\n", tri->triples,
+                             tri->degenerate, o.reject_sigma, tri->kept[0], tri->triples - tri->degenerate);
+  if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
+  return 0;
+}
+
+struct SimOptions {
+  std::string machine, axis = "C", angles = "0:350:36", hold, sphere = "150,0,50", out;
+  double sphere_diameter = 30, stylus_diameter = 6, noise = 0, bias = 0;
+  std::uint64_t seed = 1;
+};
+
+int run_sim(const SimOptions& o) {
+  const Machine m = load_machine(o.machine);
+  if (o.axis.size() != 1) throw InputError({"--axis", 0, ""}, "expected one axis letter, found '" + o.axis + "'");
+  const auto k = m.axis_index(o.axis[0]);
+  if (!k) throw InputError({"--axis", 0, ""}, "axis '" + o.axis + "' is not in topology " + m.topology.chain);
+  ProbingSimulation sim;
+  sim.axis = o.axis[0];
+  // --angles lo:hi:count in deg, as a grid of that one axis.
+  const auto grid = parse_grid(m, o.axis + "=" + o.angles);
+  sim.angles = grid[*k];
+  sim.held = o.hold.empty() ? std::vector<double>(m.axes.size(), 0.0) : parse_joint_values(m, o.hold);
+  const auto parts = split_list(o.sphere);
+  if (parts.size() != 3) throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + o.sphere + "'");
+  for (int c = 0; c < 3; ++c) {
+    const auto v = parse_number(parts[static_cast<std::size_t>(c)]);
+    if (!v) throw InputError({"--sphere", 0, ""}, "expected a number, found '" + parts[static_cast<std::size_t>(c)] + "'");
+    sim.sphere[c] = *v;
+  }
+  if (!(o.sphere_diameter > 0) || !(o.stylus_diameter >= 0) || !(o.noise >= 0) || !std::isfinite(o.bias))
+    throw InputError({"probe-sim", 0, ""}, "expected a sphere diameter > 0, a stylus diameter >= 0 and a noise >= 0");
+  sim.probing = {o.sphere_diameter, o.stylus_diameter, 0.01};
+  sim.noise = o.noise;
+  sim.trigger_bias = o.bias;
+  sim.seed = o.seed;
+  AtomicFile file(o.out);
+  const auto probed = simulate_probing(m, sim);
+  file.stream() << o.axis << ",x,y,z,approach_x,approach_y,approach_z\n";
+  for (const auto& ix : probed)
+    for (const auto& c : ix.contacts)
+      file.stream() << fmt::format("{:.12g},{:.9f},{:.9f},{:.9f},{:g},{:g},{:g}\n", to_user_units(m.axes[*k], ix.angle),
+                                   c.point.x(), c.point.y(), c.point.z(), c.approach.x(), c.approach.y(), c.approach.z());
+  file.commit();
+  std::cout << fmt::format("simulated {} indexations of {} x 5 contacts on {} (noise {} mm, trigger bias {} mm): wrote {}\n",
+                           probed.size(), o.axis, m.name, o.noise, o.bias, o.out);
+  return 0;
+}
+
+}  // namespace
+
+std::vector<Command> add_probing_commands(CLI::App& app) {
+  auto ro = std::make_shared<RotaryOptions>();
+  auto* r = app.add_subcommand(
+      "rotary-axis",
+      "Location errors of a rotary axis (ISO 230-7: EX0C EY0C EA0C EB0C for C ...) from a sphere probed at many "
+      "indexations: all-triples estimator (Cubas & Yeh 2022) and global least-squares circle, with uncertainties");
+  r->add_option("--axis", ro->axis, "The rotary axis turned between indexations: A, B or C")->required();
+  r->add_option("--contacts", ro->contacts,
+                "CSV of probe contacts: the axis's angle (deg, column named by its letter), recorded stylus-tip "
+                "centre x,y,z (mm), approach_x,approach_y,approach_z (direction of probe motion)");
+  r->add_option("--centres", ro->centres, "CSV of sphere centres already known: the axis's angle (deg), x,y,z (mm)");
+  r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)");
+  r->add_option("--stylus-diameter", ro->stylus_diameter, "Stylus tip diameter, mm (with --contacts)");
+  r->add_option("--machine", ro->machine, "Machine file giving the axis's nominal point and direction (default: "
+                                          "through the origin along its letter's axis)");
+  r->add_option("--method", ro->method, "Estimator: triples, lsq or both")
+      ->check(CLI::IsMember({"triples", "lsq", "both"}))
+      ->capture_default_str();
+  r->add_option("--reject-sigma", ro->reject_sigma, "Triples farther than this many standard deviations are "
+                                                    "rejected (0: none)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  r->add_option("--max-rms", ro->max_rms, "Largest rms distance (mm) of contacts from their sphere")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  r->add_option("--bins", ro->bins, "Histogram bins of the triples' distributions")->check(CLI::Range(1, 10000));
+  r->add_option("--threads", ro->threads, "Threads for the triples (0: all cores)")->check(CLI::Range(0, 4096));
+  r->add_flag("--json", ro->json_out, "Machine-readable output: ISO names in mm and rad, '_u' uncertainty, "
+                                      "'_spread' spread, triples' histograms");
+  r->add_option("--out", ro->out, "Write the location errors as a parameter file (mtcal eval --params ...); with "
+                                  "--method both the least-squares values");
+
+  auto so = std::make_shared<SimOptions>();
+  auto* s = app.add_subcommand("probe-sim", "Simulated touch-probe contacts on a sphere at indexations of a rotary "
+                                            "axis of a machine model (5-point protocol), with noise and trigger bias");
+  s->add_option("--machine,-m", so->machine, "Machine file (its errors are what the probing sees)")->required();
+  s->add_option("--axis", so->axis, "Rotary axis that carries the workpiece, turned between indexations")->capture_default_str();
+  s->add_option("--angles", so->angles, "Indexations lo:hi:count in deg")->capture_default_str();
+  s->add_option("--hold", so->hold, "Other joints, e.g. \"A=0\" (mm, deg; not named: 0)");
+  s->add_option("--sphere", so->sphere, "Sphere centre at zero indexation, machine coordinates x,y,z in mm")
+      ->capture_default_str();
+  s->add_option("--sphere-diameter", so->sphere_diameter, "mm")->capture_default_str();
+  s->add_option("--stylus-diameter", so->stylus_diameter, "mm")->capture_default_str();
+  s->add_option("--noise", so->noise, "Standard deviation of each recorded coordinate, mm")->capture_default_str();
+  s->add_option("--trigger-bias", so->bias, "Probe pre-travel along the approach, mm")->capture_default_str();
+  s->add_option("--seed", so->seed, "Random seed of the noise")->capture_default_str();
+  s->add_option("--out", so->out, "Contacts CSV to write (input of mtcal rotary-axis --contacts)")->required();
+  return {{r, [ro] { return run_rotary(*ro); }}, {s, [so] { return run_sim(*so); }}};
+}
+
+}  // namespace mtcal::cli

@@ -1,0 +1,66 @@
+#include "common.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "mtcal/io/machine_file.hpp"
+#include "mtcal/util/errors.hpp"
+#include "mtcal/util/parse.hpp"
+
+namespace mtcal::cli {
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= s.size()) {
+    auto end = s.find(',', start);
+    if (end == std::string::npos) end = s.size();
+    if (end > start) out.push_back(s.substr(start, end - start));
+    start = end + 1;
+  }
+  return out;
+}
+
+void add_model_options(CLI::App* cmd, ModelOptions& o) {
+  cmd->add_option("--machine,-m", o.machine, "Machine file (YAML, see docs/machine-file.md)")
+      ->required();
+  cmd->add_option("--params", o.params,
+                  "Parameter file(s) whose errors replace the machine's (e.g. from mtcal rotary-axis --out); "
+                  "repeatable, applied in order before --only and --set");
+  cmd->add_option("--set", o.set,
+                  "Override a parameter in internal units (mm, rad): NAME=VALUE, e.g. EC0Y=2e-5 or "
+                  "EXX.1=5e-6; repeatable");
+  cmd->add_option("--only", o.only,
+                  "Keep only these errors or parameters (comma-separated, e.g. EXX,EC0Y); all "
+                  "others are set to zero before --set applies");
+  cmd->add_option("--tool-length", o.tool_length, "Tool length in mm (overrides the machine file)");
+}
+
+Machine load(const ModelOptions& o) {
+  Machine m = load_machine(o.machine);
+  for (const auto& p : o.params) load_parameters(m, p);
+  if (o.tool_length) {
+    if (!std::isfinite(*o.tool_length) || *o.tool_length < 0)
+      throw InputError({"--tool-length", 0, ""}, fmt::format("expected a length >= 0 in mm, found {}", *o.tool_length));
+    m.tool.length = *o.tool_length;
+  }
+  // --only first, so that --set can give a value to an error that --only did not keep.
+  if (!o.only.empty()) {
+    const auto names = split_list(o.only);
+    if (names.empty()) throw InputError({"--only", 0, ""}, "expected error or parameter names, found none");
+    m.keep_only(names);
+  }
+  for (const auto& s : o.set) {
+    auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
+    const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
+    const auto v = parse_number(value);
+    if (!v) throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");
+    m.set_parameter(name, *v);
+  }
+  return m;
+}
+
+}  // namespace mtcal::cli

@@ -1,0 +1,42 @@
+// Pieces shared by the mtcal commands: model options (--machine, --params, --set, --only ...).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "mtcal/model/machine.hpp"
+
+namespace mtcal::cli {
+
+// Stable JSON keys and CSV columns of a volumetric error.
+inline constexpr const char* kOutputKeys[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
+
+struct ModelOptions {
+  std::string machine;
+  std::vector<std::string> params;
+  std::vector<std::string> set;
+  std::string only;
+  std::optional<double> tool_length;
+};
+
+void add_model_options(CLI::App* cmd, ModelOptions& o);
+// The machine with --params, --tool-length, --only and --set applied, in that order.
+Machine load(const ModelOptions& o);
+
+// "a,b,,c" -> {"a", "b", "c"}.
+std::vector<std::string> split_list(const std::string& s);
+
+// A subcommand and what running it does (its options live in the closure).
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+// Probing commands: rotary-axis, probe-sim (cmd_probing.cpp).
+std::vector<Command> add_probing_commands(CLI::App& app);
+
+}  // namespace mtcal::cli

@@ -1,0 +1,184 @@
+// Rotary-axis location errors from probed sphere centres (Cubas & Yeh 2022): exact recovery from
+// simulated probing, the seed's triple counts, uncertainties that cover the truth, outlier
+// rejection, and clear errors for degenerate or inconsistent input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "mtcal/probing/rotary_axis.hpp"
+#include "mtcal/probing/sphere_probing.hpp"
+#include "mtcal/util/errors.hpp"
+#include "synthetic.hpp"
+
+using namespace mtcal;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::vector<double> steps(double from_deg, double to_deg, double step_deg) {
+  std::vector<double> a;
+  for (double d = from_deg; d <= to_deg + 1e-9; d += step_deg) a.push_back(d * kDeg);
+  return a;
+}
+
+// Simulated probing of one axis of a table-table machine that has only that axis's location
+// errors, and the sphere centres of the 5-point protocol.
+struct Case {
+  Machine machine;
+  std::vector<MeasuredCentre> centres;
+};
+
+Case probe(char axis, const std::vector<std::pair<const char*, double>>& errors, const std::vector<double>& angles,
+           double noise = 0.0, std::uint64_t seed = 1, double bias = 0.0) {
+  Machine m = mtcal::testing::nominal_machine("wCAYXfZt");
+  for (const auto& [name, v] : errors) m.set_parameter(name, v);
+  ProbingSimulation sim;
+  sim.axis = axis;
+  sim.angles = angles;
+  sim.sphere = Point3(150, -40, 80);
+  sim.noise = noise;
+  sim.trigger_bias = bias;
+  sim.seed = seed;
+  Case c{m, {}};
+  for (const auto& ix : simulate_probing(m, sim)) {
+    const auto sc = sphere_centre(ix.contacts, sim.probing, "sim");
+    EXPECT_TRUE(sc.five_point.has_value());
+    c.centres.push_back({ix.angle, sc.centre()});
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST(RotaryAxis, LineConversionRoundTripsForEveryAxis) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  for (char letter : {'A', 'B', 'C'}) {
+    NominalRotaryAxis axis = NominalRotaryAxis::by_letter(letter);
+    axis.point = Point3(10, -20, 30);
+    for (int i = 0; i < 20; ++i) {
+      std::array<double, kRotaryQuantities> v{u(rng) * 100, u(rng) * 100, u(rng), u(rng), 123.0, 0.0};
+      const auto [p, n] = line_from_location(axis, v);
+      // Any point of the line gives the same errors.
+      const auto back = location_from_line(axis, p + 37.0 * n, n, 123.0);
+      for (std::size_t q = 0; q < 4; ++q) EXPECT_NEAR(back[q], v[q], q < 2 ? 1e-13 : 1e-15) << letter << q;
+      const int k = axis.direction_axis;
+      EXPECT_NEAR(back[5], std::atan2(std::hypot(n[(k + 1) % 3], n[(k + 2) % 3]), n[k]), 1e-15);
+    }
+  }
+  EXPECT_EQ(rotary_quantity_names('A')[0], "EY0A");
+  EXPECT_EQ(rotary_quantity_names('B')[3], "EC0B");
+}
+
+TEST(RotaryAxis, NoiseFreeProbingRecoversTheCAxisLocationErrors) {
+  const std::vector<std::pair<const char*, double>> truth = {
+      {"EX0C", 0.012}, {"EY0C", -0.008}, {"EA0C", 25e-6}, {"EB0C", -40e-6}};
+  const Case c = probe('C', truth, steps(0, 350, 10));
+  ASSERT_EQ(c.centres.size(), 36u);
+  const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
+  const auto tri = estimate_by_triples(axis, c.centres);
+  const auto lsq = estimate_by_least_squares(axis, c.centres);
+  EXPECT_EQ(tri.triples, 7140u);  // C(36, 3), as the seed counts
+  for (std::size_t q = 0; q < 4; ++q) {
+    EXPECT_NEAR(tri.value[q], truth[q].second, 1e-9) << truth[q].first;
+    EXPECT_NEAR(lsq.value[q], truth[q].second, 1e-9) << truth[q].first;
+  }
+  EXPECT_NEAR(tri.value[5], std::acos(std::cos(25e-6) * std::cos(40e-6)), 1e-9);  // tilt
+}
+
+TEST(RotaryAxis, NoiseFreeProbingRecoversTheAAxisLocationErrors) {
+  const std::vector<std::pair<const char*, double>> truth = {
+      {"EY0A", -0.015}, {"EZ0A", 0.02}, {"EB0A", 30e-6}, {"EC0A", 15e-6}};
+  const Case c = probe('A', truth, steps(-90, 30, 10));
+  ASSERT_EQ(c.centres.size(), 13u);
+  const auto axis = NominalRotaryAxis::from(c.machine.axis('A'));
+  const auto tri = estimate_by_triples(axis, c.centres);
+  const auto lsq = estimate_by_least_squares(axis, c.centres);
+  EXPECT_EQ(tri.triples, 286u);  // C(13, 3), as the seed counts
+  for (std::size_t q = 0; q < 4; ++q) {
+    EXPECT_NEAR(tri.value[q], truth[q].second, 1e-9) << truth[q].first;
+    EXPECT_NEAR(lsq.value[q], truth[q].second, 1e-9) << truth[q].first;
+  }
+}
+
+TEST(RotaryAxis, UncertaintiesCoverTheTruthWithNoise) {
+  const std::vector<std::pair<const char*, double>> truth = {
+      {"EX0C", 0.012}, {"EY0C", -0.008}, {"EA0C", 25e-6}, {"EB0C", -40e-6}};
+  int inside_tri = 0, inside_lsq = 0, total = 0;
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const Case c = probe('C', truth, steps(0, 350, 10), 0.001, seed);
+    const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
+    const auto tri = estimate_by_triples(axis, c.centres);
+    const auto lsq = estimate_by_least_squares(axis, c.centres);
+    for (std::size_t q = 0; q < 4; ++q) {
+      ++total;
+      inside_tri += std::abs(tri.value[q] - truth[q].second) <= 3 * tri.uncertainty[q];
+      inside_lsq += std::abs(lsq.value[q] - truth[q].second) <= 3 * lsq.uncertainty[q];
+      // And the uncertainties are of the right size for 1 um noise, not inflated.
+      EXPECT_LT(lsq.uncertainty[q], q < 2 ? 2e-3 : 2e-5);
+      EXPECT_LT(tri.uncertainty[q], q < 2 ? 2e-3 : 2e-5);
+    }
+  }
+  EXPECT_GE(inside_tri, total * 95 / 100) << inside_tri << " of " << total;
+  EXPECT_GE(inside_lsq, total * 95 / 100) << inside_lsq << " of " << total;
+}
+
+TEST(RotaryAxis, AnOutlierIsRejectedByTheSigmaRule) {
+  const std::vector<std::pair<const char*, double>> truth = {{"EX0C", 0.01}, {"EY0C", 0.0}, {"EA0C", 0.0}, {"EB0C", 0.0}};
+  Case c = probe('C', truth, steps(0, 350, 10), 0.0005, 3);
+  c.centres[7].centre += Point3(0.08, -0.05, 0.03);  // one bad centre (a chip on the sphere)
+  const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
+  const auto with = estimate_by_triples(axis, c.centres, TriplesOptions{2.0, 40, 0});
+  const auto without = estimate_by_triples(axis, c.centres, TriplesOptions{0.0, 40, 0});
+  EXPECT_LT(with.kept[0], with.triples - with.degenerate);
+  EXPECT_EQ(without.kept[0], without.triples - without.degenerate);
+  EXPECT_LT(std::abs(with.value[0] - 0.01), std::abs(without.value[0] - 0.01));
+}
+
+TEST(RotaryAxis, DegenerateCentresAreRefused) {
+  const auto axis = NominalRotaryAxis::by_letter('C');
+  EXPECT_THROW(estimate_by_triples(axis, {{0, Point3(1, 0, 0)}, {1, Point3(0, 1, 0)}}), InputError);
+  const std::vector<MeasuredCentre> line = {{0, Point3(1, 0, 0)}, {1, Point3(2, 0, 0)}, {2, Point3(3, 0, 0)}, {3, Point3(4, 0, 0)}};
+  EXPECT_THROW(estimate_by_triples(axis, line), InputError);
+  EXPECT_THROW(estimate_by_least_squares(axis, line), InputError);
+  EXPECT_THROW(NominalRotaryAxis::by_letter('X'), ModelError);
+}
+
+TEST(SphereProbing, FivePointProtocolAndBias) {
+  const Point3 centre(12, -7, 3);
+  const double reach = 18.0;  // (30 + 6) / 2
+  std::vector<ProbeContact> contacts;
+  for (const Point3& a : five_point_approaches()) contacts.push_back({centre - reach * a, a});
+  const auto sc = sphere_centre(contacts, {30, 6, 0.01}, "t");
+  ASSERT_TRUE(sc.five_point.has_value());
+  EXPECT_LE((*sc.five_point - centre).norm(), 1e-10);
+  EXPECT_LE((sc.least_squares - centre).norm(), 1e-10);
+  EXPECT_EQ(sc.subset_centres.size(), 4u);
+  ASSERT_TRUE(sc.effective_radius.has_value());
+  EXPECT_NEAR(*sc.effective_radius, reach, 1e-9);
+  // Pre-travel of 2 um: the free fit sees the tip 2 um nearer the centre.
+  for (auto& c : contacts) c.point += 0.002 * c.approach;
+  EXPECT_NEAR(*sphere_centre(contacts, {30, 6, 0.01}, "t").effective_radius, reach - 0.002, 1e-9);
+}
+
+TEST(SphereProbing, ContactsNotOnTheSphereAreRefused) {
+  std::vector<ProbeContact> contacts;
+  for (const Point3& a : five_point_approaches()) contacts.push_back({Point3(0, 0, 0) - 18.0 * a, a});
+  EXPECT_NO_THROW(sphere_centre(contacts, {30, 6, 0.01}, "t"));
+  EXPECT_THROW(sphere_centre(contacts, {20, 6, 0.01}, "t"), InputError);  // wrong sphere
+  contacts[2].point += Point3(0.5, 0.5, 0);                               // a stray contact
+  EXPECT_THROW(sphere_centre(contacts, {30, 6, 0.01}, "t"), InputError);
+  EXPECT_THROW(sphere_centre({contacts[0], contacts[1]}, {30, 6, 0.01}, "t"), InputError);
+  EXPECT_THROW(sphere_centre(contacts, {0, 6, 0.01}, "t"), InputError);
+}
+
+TEST(SphereProbing, SimulationNeedsATableAxis) {
+  const Machine head = mtcal::testing::nominal_machine("wXfYZCAt");
+  ProbingSimulation sim;
+  sim.axis = 'C';
+  sim.angles = {0.0, 1.0};
+  EXPECT_THROW(simulate_probing(head, sim), ModelError);
+}
