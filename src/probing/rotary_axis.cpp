@@ -210,7 +210,7 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
   // Pass 1: mean and standard deviation of every quantity over all valid triples.
   std::vector<Sums> pass1(threads);
   parallel(threads, [&](std::size_t t) {
-    Sums& s = pass1[t];
+    Sums s;  // local: neighbouring threads' sums would share cache lines
     std::array<double, kRotaryQuantities> q;
     for_triples(n, t, threads, [&](std::size_t i, std::size_t j, std::size_t k) {
       if (!triple(i, j, k, q)) {
@@ -223,6 +223,7 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
         s.s2[m] += q[m] * q[m];
       }
     });
+    pass1[t] = s;
   });
   Sums all;
   for (const auto& s : pass1) {
@@ -257,7 +258,7 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
   const double k_sigma = options.reject_sigma;
   std::vector<KeptSums> pass2(threads);
   parallel(threads, [&](std::size_t t) {
-    KeptSums& s = pass2[t];
+    KeptSums s;
     s.point_sum.assign(n * kRotaryQuantities, 0.0);
     s.point_count.assign(n * kRotaryQuantities, 0);
     for (auto& h : s.hist) h.assign(static_cast<std::size_t>(bins), 0);
@@ -277,6 +278,7 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
         }
       }
     });
+    pass2[t] = std::move(s);
   });
   KeptSums total;
   total.point_sum.assign(n * kRotaryQuantities, 0.0);
