@@ -22,7 +22,13 @@ int main(int argc, char** argv) {
   const auto axis = NominalRotaryAxis::from(m.axis('C'));
   std::printf("| probe noise σ | estimator | RMS error EX0C µm | EY0C µm | EA0C µrad | EB0C µrad | mean reported u (EX0C) µm |\n");
   std::printf("|---:|---|---:|---:|---:|---:|---:|\n");
-  for (double noise_um : {0.0, 0.5, 1.0, 2.0, 5.0}) {
+  struct Level {
+    double noise_um;
+    bool outlier;
+  };
+  for (const Level level : {Level{0.0, false}, Level{0.5, false}, Level{1.0, false}, Level{2.0, false},
+                            Level{5.0, false}, Level{1.0, true}}) {
+    const double noise_um = level.noise_um;
     double se[2][4] = {}, u_sum[2] = {};
     for (int t = 0; t < trials; ++t) {
       ProbingSimulation sim;
@@ -34,6 +40,8 @@ int main(int argc, char** argv) {
       std::vector<MeasuredCentre> centres;
       for (const auto& ix : simulate_probing(m, sim))
         centres.push_back({ix.angle, sphere_centre(ix.contacts, sim.probing, "study").centre()});
+      // A chip or dirt on the sphere at one indexation: a centre 25 um off.
+      if (level.outlier) centres[7].centre += Point3(0.02, -0.012, 0.008);
       const auto tri = estimate_by_triples(axis, centres);
       const auto lsq = estimate_by_least_squares(axis, centres);
       const RotaryEstimate* est[2] = {&tri, &lsq};
@@ -44,7 +52,8 @@ int main(int argc, char** argv) {
     }
     for (int e = 0; e < 2; ++e) {
       const double n = trials;
-      std::printf("| %.1f µm | %s | %.4f | %.4f | %.4f | %.4f | %.4f |\n", noise_um,
+      std::printf("| %.1f µm%s | %s | %.4f | %.4f | %.4f | %.4f | %.4f |\n", noise_um,
+                  level.outlier ? " + one 25 µm outlier" : "",
                   e == 0 ? "triples, 2σ rule" : "least squares", std::sqrt(se[e][0] / n) * 1e3,
                   std::sqrt(se[e][1] / n) * 1e3, std::sqrt(se[e][2] / n) * 1e6, std::sqrt(se[e][3] / n) * 1e6,
                   u_sum[e] / n * 1e3);

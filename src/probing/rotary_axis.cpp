@@ -329,6 +329,13 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
   const auto [point, direction] = line_from_location(axis, e.value);
   e.axis_point = point;
   e.axis_direction = direction;
+  // The tilt is a magnitude: the mean of the triples' tilts is biased upwards by noise, so it is
+  // taken from the mean orientation errors instead, with first-order uncertainty.
+  const int k = axis.direction_axis;
+  const double ti = std::hypot(direction[(k + 1) % 3], direction[(k + 2) % 3]);
+  e.value[5] = std::atan2(ti, direction[k]);
+  e.uncertainty[5] = e.value[5] > 0 ? std::hypot(e.value[2] * e.uncertainty[2], e.value[3] * e.uncertainty[3]) / e.value[5]
+                                    : std::hypot(e.uncertainty[2], e.uncertainty[3]);
   return e;
 }
 

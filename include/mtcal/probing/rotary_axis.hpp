@@ -59,7 +59,8 @@ struct RotaryEstimate {
 
 // Seed estimator (Cubas & Yeh 2022): every triple of centres gives a circle (centre, normal,
 // radius) and so the six quantities; per quantity, triples farther than reject_sigma standard
-// deviations from the mean of all triples are rejected and the rest averaged.
+// deviations from the mean of all triples are rejected and the rest averaged. The tilt, a
+// magnitude that noise biases upwards, is computed from the averaged orientation errors.
 struct TriplesOptions {
   double reject_sigma = 2.0;  // 0: no rejection
   int histogram_bins = 40;
