@@ -223,13 +223,14 @@ int run_rotary(const RotaryOptions& o) {
 }
 
 struct SimOptions {
-  std::string machine, axis = "C", angles = "0:350:36", hold, sphere = "150,0,50", out;
+  ModelOptions model;
+  std::string axis = "C", angles = "0:350:36", hold, sphere = "150,0,50", out;
   double sphere_diameter = 30, stylus_diameter = 6, noise = 0, bias = 0;
   std::uint64_t seed = 1;
 };
 
 int run_sim(const SimOptions& o) {
-  const Machine m = load_machine(o.machine);
+  const Machine m = load(o.model);
   if (o.axis.size() != 1) throw InputError({"--axis", 0, ""}, "expected one axis letter, found '" + o.axis + "'");
   const auto k = m.axis_index(o.axis[0]);
   if (!k) throw InputError({"--axis", 0, ""}, "axis '" + o.axis + "' is not in topology " + m.topology.chain);
@@ -302,7 +303,7 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
   auto so = std::make_shared<SimOptions>();
   auto* s = app.add_subcommand("probe-sim", "Simulated touch-probe contacts on a sphere at indexations of a rotary "
                                             "axis of a machine model (5-point protocol), with noise and trigger bias");
-  s->add_option("--machine,-m", so->machine, "Machine file (its errors are what the probing sees)")->required();
+  add_model_options(s, so->model);  // the machine's errors (with --params, --only, --set) are what the probing sees
   s->add_option("--axis", so->axis, "Rotary axis that carries the workpiece, turned between indexations")->capture_default_str();
   s->add_option("--angles", so->angles, "Indexations lo:hi:count in deg")->capture_default_str();
   s->add_option("--hold", so->hold, "Other joints, e.g. \"A=0\" (mm, deg; not named: 0)");
