@@ -53,8 +53,10 @@ int require(const CsvTable& t, const std::string& file, const std::string& name)
 
 std::vector<std::string> axis_columns() { return {"X", "Y", "Z", "A", "B", "C"}; }
 
-// Sphere centres per indexation from a contacts file, in order of first appearance.
-std::vector<MeasuredCentre> centres_from_contacts(const RotaryOptions& o, std::string& method) {
+// Sphere centres per indexation from a contacts file, in order of first appearance; details
+// receives each indexation's fit (both centres, rms, effective radius).
+std::vector<MeasuredCentre> centres_from_contacts(const RotaryOptions& o, std::string& method,
+                                                  std::vector<SphereCentre>& details) {
   const CsvTable t = read_csv(o.contacts);
   auto allowed = axis_columns();
   for (const char* c : {"x", "y", "z", "approach_x", "approach_y", "approach_z"}) allowed.push_back(c);
@@ -94,6 +96,7 @@ std::vector<MeasuredCentre> centres_from_contacts(const RotaryOptions& o, std::s
     if (method.empty()) method = sc.method;
     if (method != sc.method) method = "mixed";
     out.push_back({a * kDeg, sc.centre()});
+    details.push_back(sc);
   }
   return out;
 }
@@ -142,7 +145,8 @@ int run_rotary(const RotaryOptions& o) {
   if (!o.machine.empty()) axis = NominalRotaryAxis::from(load_machine(o.machine).axis(o.axis[0]));
 
   std::string centre_method = "given";
-  const auto centres = o.contacts.empty() ? centres_from_file(o) : centres_from_contacts(o, centre_method);
+  std::vector<SphereCentre> details;
+  const auto centres = o.contacts.empty() ? centres_from_file(o) : centres_from_contacts(o, centre_method, details);
   const auto names = rotary_quantity_names(axis.letter);
   const bool do_triples = o.method != "lsq", do_lsq = o.method != "triples";
 
@@ -196,8 +200,19 @@ int run_rotary(const RotaryOptions& o) {
       j["least_squares"] = l;
     }
     json cs = json::array();
-    for (const auto& c : centres)
-      cs.push_back({{"angle", c.angle / kDeg}, {"x", c.centre.x()}, {"y", c.centre.y()}, {"z", c.centre.z()}});
+    for (std::size_t i = 0; i < centres.size(); ++i) {
+      const auto& c = centres[i];
+      json cj = {{"angle", c.angle / kDeg}, {"x", c.centre.x()}, {"y", c.centre.y()}, {"z", c.centre.z()}};
+      if (i < details.size()) {
+        // Beside the centre used (the 5-point protocol's when it applies), the least-squares fit
+        // of all contacts, its rms, and the free-radius fit's tip-centre distance.
+        const auto& d = details[i];
+        cj["least_squares"] = {d.least_squares.x(), d.least_squares.y(), d.least_squares.z()};
+        cj["rms"] = d.rms;
+        if (d.effective_radius) cj["effective_radius"] = *d.effective_radius;
+      }
+      cs.push_back(cj);
+    }
     j["centres"] = cs;
     if (!o.out.empty()) j["out"] = o.out;
     std::cout << j.dump(2) << "\n";
