@@ -32,8 +32,8 @@ struct Case {
 };
 
 Case probe(char axis, const std::vector<std::pair<const char*, double>>& errors, const std::vector<double>& angles,
-           double noise = 0.0, std::uint64_t seed = 1, double bias = 0.0) {
-  Machine m = mtcal::testing::nominal_machine("wCAYXfZt");
+           double noise = 0.0, std::uint64_t seed = 1, double bias = 0.0, const char* topology = "wCAYXfZt") {
+  Machine m = mtcal::testing::nominal_machine(topology);
   for (const auto& [name, v] : errors) m.set_parameter(name, v);
   ProbingSimulation sim;
   sim.axis = axis;
@@ -73,35 +73,41 @@ TEST(RotaryAxis, LineConversionRoundTripsForEveryAxis) {
   EXPECT_EQ(rotary_quantity_names('B')[3], "EC0B");
 }
 
-TEST(RotaryAxis, NoiseFreeProbingRecoversTheCAxisLocationErrors) {
-  const std::vector<std::pair<const char*, double>> truth = {
-      {"EX0C", 0.012}, {"EY0C", -0.008}, {"EA0C", 25e-6}, {"EB0C", -40e-6}};
-  const Case c = probe('C', truth, steps(0, 350, 10));
-  ASSERT_EQ(c.centres.size(), 36u);
-  const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
+namespace {
+// Noise-free probing of one axis recovers its location errors with both estimators.
+void expect_recovered(char letter, const std::vector<std::pair<const char*, double>>& truth,
+                      const std::vector<double>& angles, std::size_t expected_triples,
+                      const char* topology = "wCAYXfZt") {
+  const Case c = probe(letter, truth, angles, 0.0, 1, 0.0, topology);
+  ASSERT_EQ(c.centres.size(), angles.size());
+  const auto axis = NominalRotaryAxis::from(c.machine.axis(letter));
   const auto tri = estimate_by_triples(axis, c.centres);
   const auto lsq = estimate_by_least_squares(axis, c.centres);
-  EXPECT_EQ(tri.triples, 7140u);  // C(36, 3), as the seed counts
+  EXPECT_EQ(tri.triples, expected_triples);
   for (std::size_t q = 0; q < 4; ++q) {
     EXPECT_NEAR(tri.value[q], truth[q].second, 1e-9) << truth[q].first;
     EXPECT_NEAR(lsq.value[q], truth[q].second, 1e-9) << truth[q].first;
   }
-  EXPECT_NEAR(tri.value[5], std::acos(std::cos(25e-6) * std::cos(40e-6)), 1e-9);  // tilt
+  // The angle between actual and nominal axis, from the two orientation errors.
+  const double tilt = std::acos(std::cos(truth[2].second) * std::cos(truth[3].second));
+  EXPECT_NEAR(tri.value[5], tilt, 1e-9);
+  EXPECT_NEAR(lsq.value[5], tilt, 1e-9);
+}
+}  // namespace
+
+TEST(RotaryAxis, NoiseFreeProbingRecoversTheCAxisLocationErrors) {
+  // The seed's C protocol: 0..350 deg in 10 deg steps, C(36, 3) = 7,140 triples.
+  expect_recovered('C', {{"EX0C", 0.012}, {"EY0C", -0.008}, {"EA0C", 25e-6}, {"EB0C", -40e-6}}, steps(0, 350, 10), 7140);
 }
 
 TEST(RotaryAxis, NoiseFreeProbingRecoversTheAAxisLocationErrors) {
-  const std::vector<std::pair<const char*, double>> truth = {
-      {"EY0A", -0.015}, {"EZ0A", 0.02}, {"EB0A", 30e-6}, {"EC0A", 15e-6}};
-  const Case c = probe('A', truth, steps(-90, 30, 10));
-  ASSERT_EQ(c.centres.size(), 13u);
-  const auto axis = NominalRotaryAxis::from(c.machine.axis('A'));
-  const auto tri = estimate_by_triples(axis, c.centres);
-  const auto lsq = estimate_by_least_squares(axis, c.centres);
-  EXPECT_EQ(tri.triples, 286u);  // C(13, 3), as the seed counts
-  for (std::size_t q = 0; q < 4; ++q) {
-    EXPECT_NEAR(tri.value[q], truth[q].second, 1e-9) << truth[q].first;
-    EXPECT_NEAR(lsq.value[q], truth[q].second, 1e-9) << truth[q].first;
-  }
+  // The seed's A protocol: -90..30 deg in 10 deg steps, C(13, 3) = 286 triples.
+  expect_recovered('A', {{"EY0A", -0.015}, {"EZ0A", 0.02}, {"EB0A", 30e-6}, {"EC0A", 15e-6}}, steps(-90, 30, 10), 286);
+}
+
+TEST(RotaryAxis, NoiseFreeProbingRecoversTheBAxisLocationErrors) {
+  expect_recovered('B', {{"EX0B", 0.007}, {"EZ0B", -0.011}, {"EA0B", -20e-6}, {"EC0B", 35e-6}}, steps(-90, 90, 15), 286,
+                   "wBfXYZt");
 }
 
 TEST(RotaryAxis, UncertaintiesCoverTheTruthWithNoise) {
