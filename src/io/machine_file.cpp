@@ -410,8 +410,10 @@ void apply_parameters(Machine& m, std::string_view yaml_text, const std::string&
     if (!top.count("mtcal_parameters"))
       ctx.fail(root, fmt::format("missing key 'mtcal_parameters' (the format version, {})", kFormatVersion));
     Ctx vc = ctx.child("mtcal_parameters");
-    if (number(top["mtcal_parameters"], vc) != kFormatVersion)
-      vc.fail(top["mtcal_parameters"], fmt::format("unsupported format version (this mtcal reads {})", kFormatVersion));
+    const double version = number(top["mtcal_parameters"], vc);
+    if (version != kFormatVersion)
+      vc.fail(top["mtcal_parameters"], fmt::format("unsupported format version {} (this mtcal reads {})", version, kFormatVersion));
+    if (top.count("description")) text(top["description"], ctx.child("description"));
     double ls = 1.0, as = std::numbers::pi / 180.0;
     if (top.count("units")) {
       Ctx uc = ctx.child("units");

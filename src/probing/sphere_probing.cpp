@@ -33,8 +33,15 @@ SphereCentre sphere_centre(const std::vector<ProbeContact>& contacts, const Sphe
 
   SphereCentre out;
   const auto lsq = fit_sphere_known_radius(pts, reach, hint);
-  if (!lsq)
+  if (!lsq) {
+    // No sphere of that size through the contacts: say so when a free sphere shows their size.
+    if (const auto free = contacts.size() >= 4 ? fit_sphere(pts) : std::nullopt)
+      throw InputError({where, 0, ""},
+                       fmt::format("the contacts are not on a sphere of diameter {} mm probed with a {} mm stylus: "
+                                   "their tip centres are {:.4f} mm from a centre, {:.4f} mm expected",
+                                   probing.sphere_diameter, probing.stylus_diameter, free->radius, reach));
     throw InputError({where, 0, ""}, "the contacts do not determine a sphere (too few, coincident or on one line)");
+  }
   out.least_squares = lsq->centre;
   out.rms = lsq->quality.rms;
   if (out.rms > probing.max_rms)

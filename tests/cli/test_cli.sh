@@ -147,5 +147,145 @@ a = json.load(open('$tmp/only.json')); b = json.load(open('$tmp/out'))
 assert abs(b['dx'] - (a['dx'] - 200 * math.sin(1e-5))) < 1e-12, (a, b)
 " && ok || bad "--set after --only"
 
+# probe-sim and rotary-axis: simulated contacts on the RRTTT example's C table.
+MR="$EXAMPLES/rrttt-table-table.yaml"
+expect_exit 0 "probe-sim" -- "$MTCAL" probe-sim -m "$MR" --axis C --angles 0:350:36 --sphere 150,-40,80 --out "$tmp/contacts.csv"
+[ "$(head -1 "$tmp/contacts.csv")" = "C,x,y,z,approach_x,approach_y,approach_z" ] && ok || bad "contacts header: $(head -1 "$tmp/contacts.csv")"
+[ "$(tail -n +2 "$tmp/contacts.csv" | wc -l)" -eq 180 ] && ok || bad "contacts rows: $(wc -l <"$tmp/contacts.csv")"
+[ "$(cut -d, -f1 "$tmp/contacts.csv" | tail -n +2 | sort -u | wc -l)" -eq 36 ] && ok || bad "contacts: 36 distinct C angles"
+expect_exit 0 "rotary-axis --json" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/contacts.csv" --sphere-diameter 30 --stylus-diameter 6 --machine "$MR" --json
+[ "$(json_get "d['axis']")" = "C" ] && ok || bad "rotary-axis JSON axis"
+[ "$(json_get "d['indexations']")" = "36" ] && ok || bad "rotary-axis JSON indexations"
+[ "$(json_get "d['triples']['triples']")" = "7140" ] && ok || bad "rotary-axis JSON triples count"
+json_get "all(k in d['triples'] for k in ('EX0C', 'EX0C_u', 'EX0C_spread', 'histograms'))" | grep -qx True && ok || bad "rotary-axis JSON triples keys: $(json_get "list(d['triples'])")"
+json_get "all(k + s in d['least_squares'] for k in ('EX0C', 'EY0C', 'EA0C', 'EB0C') for s in ('', '_u'))" | grep -qx True && ok || bad "rotary-axis JSON least_squares keys: $(json_get "list(d['least_squares'])")"
+[ "$(json_get "len(d['centres'])")" = "36" ] && ok || bad "rotary-axis JSON centres"
+json_get "all(k in d['centres'][0] for k in ('angle', 'x', 'y', 'z', 'least_squares', 'rms', 'effective_radius'))" | grep -qx True && ok || bad "rotary-axis JSON centre keys: $(json_get "list(d['centres'][0])")"
+expect_exit 0 "rotary-axis text" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/contacts.csv" --sphere-diameter 30 --stylus-diameter 6
+grep -q '^EX0C ' "$tmp/out" && grep -q '^EB0C ' "$tmp/out" && ok || bad "rotary-axis text lists EX0C .. EB0C: $(cat "$tmp/out")"
+
+# Noise-free recovery: a machine whose only errors are C's location errors, given by a
+# parameter file on top of an error-free machine file.
+cat >"$tmp/clean.yaml" <<'YAML'
+mtcal_machine: 1
+name: "C location errors only"
+topology: wCAYXfZt
+axes:
+  C: {point: [0, 0, 0]}
+  A: {point: [0, 0, -50]}
+  Y: {}
+  X: {}
+  Z: {point: [0, 0, 300]}
+tool: {length: 100, spindle_point: [0, 0, 400]}
+YAML
+cat >"$tmp/truth.yaml" <<'YAML'
+mtcal_parameters: 1
+description: the truth of the simulation
+errors:
+  EX0C: 12 um
+  EY0C: -8 um
+  EA0C: 25 urad
+  EB0C: -40 urad
+YAML
+# The same errors written into a machine file, for comparison.
+{ cat "$tmp/clean.yaml"; echo "errors:"; sed -n '/^errors:/,$p' "$tmp/truth.yaml" | tail -n +2; } >"$tmp/cerr.yaml"
+expect_exit 0 "machine with C errors only" -- "$MTCAL" errors -m "$tmp/clean.yaml" --params "$tmp/truth.yaml" --nonzero --json
+"$MTCAL" errors -m "$tmp/cerr.yaml" --nonzero --json >"$tmp/cerr.json"
+cmp -s <(json_get "d['parameters']") <(python3 -c "import json; print(json.load(open('$tmp/cerr.json'))['parameters'])") && ok || bad "--params gives the machine-file errors"
+[ "$(json_get "sorted(p['name'] for p in d['parameters'])")" = "['EA0C', 'EB0C', 'EX0C', 'EY0C']" ] && ok || bad "only C location errors: $(cat "$tmp/out")"
+expect_exit 0 "probe-sim --noise 0 --params" -- "$MTCAL" probe-sim -m "$tmp/clean.yaml" --params "$tmp/truth.yaml" --axis C --angles 0:350:36 --sphere 150,-40,80 --noise 0 --out "$tmp/c0.csv"
+expect_exit 0 "probe-sim --noise 0" -- "$MTCAL" probe-sim -m "$tmp/cerr.yaml" --axis C --angles 0:350:36 --sphere 150,-40,80 --noise 0 --out "$tmp/c0m.csv"
+cmp -s "$tmp/c0.csv" "$tmp/c0m.csv" && ok || bad "probe-sim --params equals the errors in the machine file"
+expect_exit 0 "probe-sim without errors" -- "$MTCAL" probe-sim -m "$tmp/clean.yaml" --axis C --angles 0:350:36 --sphere 150,-40,80 --out "$tmp/cnone.csv"
+! cmp -s "$tmp/c0.csv" "$tmp/cnone.csv" && ok || bad "probe-sim sees the --params errors"
+expect_exit 0 "rotary-axis recovery" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/c0.csv" --sphere-diameter 30 --stylus-diameter 6 --machine "$tmp/clean.yaml" --json --out "$tmp/params.yaml"
+cp "$tmp/out" "$tmp/recovered.json"
+python3 - "$tmp/recovered.json" <<'PY' && ok || bad "noise-free recovery of EX0C EY0C EA0C EB0C"
+import json, sys
+d = json.load(open(sys.argv[1]))
+truth = {"EX0C": 12e-3, "EY0C": -8e-3, "EA0C": 25e-6, "EB0C": -40e-6}
+for est in ("least_squares", "triples"):
+    for k, v in truth.items():
+        tol = 1e-6 if k in ("EX0C", "EY0C") else 1e-8
+        assert abs(d[est][k] - v) <= tol, (est, k, d[est][k], v)
+PY
+[ "$(json_get "d['out']")" = "$tmp/params.yaml" ] && ok || bad "rotary-axis JSON out"
+grep -q '^mtcal_parameters: 1$' "$tmp/params.yaml" && ok || bad "--out writes a parameter file: $(cat "$tmp/params.yaml")"
+expect_exit 0 "eval --params" -- "$MTCAL" eval -m "$tmp/clean.yaml" --params "$tmp/params.yaml" --at "X=100,Y=20,C=90" --json
+cp "$tmp/out" "$tmp/eval-params.json"
+"$MTCAL" eval -m "$tmp/cerr.yaml" --at "X=100,Y=20,C=90" --json >"$tmp/eval-truth.json"
+python3 - "$tmp/eval-params.json" "$tmp/eval-truth.json" <<'PY' && ok || bad "eval with the identified parameters matches the truth"
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+assert abs(a["dx"]) > 1e-3, a  # the C errors do show
+for k in ("dx", "dy", "dz"):
+    assert abs(a[k] - b[k]) < 1e-6, (k, a[k], b[k])
+for k in ("rx", "ry", "rz"):
+    assert abs(a[k] - b[k]) < 1e-8, (k, a[k], b[k])
+PY
+expect_exit 0 "errors --params" -- "$MTCAL" errors -m "$tmp/clean.yaml" --params "$tmp/params.yaml" --json
+python3 -c "
+import json; d = json.load(open('$tmp/out')); r = json.load(open('$tmp/recovered.json'))
+p = {x['name']: x['value'] for x in d['parameters']}
+assert p['EX0C'] == r['least_squares']['EX0C'] and abs(p['EX0C'] - 0.012) < 1e-6, p
+" && ok || bad "errors --params shows the new EX0C"
+"$MTCAL" errors -m "$tmp/clean.yaml" --json >"$tmp/before.json"
+python3 -c "import json; d = json.load(open('$tmp/before.json')); assert [x['value'] for x in d['parameters'] if x['name'] == 'EX0C'] == [0.0]" && ok || bad "EX0C is 0 without --params"
+expect_exit 0 "effects --params" -- "$MTCAL" effects -m "$tmp/clean.yaml" --params "$tmp/params.yaml" --at "C=90" --errors EX0C --json
+# --centres from the JSON centres gives the same least-squares values.
+python3 -c "
+import json
+d = json.load(open('$tmp/recovered.json'))
+with open('$tmp/centres.csv', 'w') as f:
+    f.write('C,x,y,z\n')
+    for c in d['centres']:
+        f.write('%r,%r,%r,%r\n' % (c['angle'], c['x'], c['y'], c['z']))
+"
+expect_exit 0 "rotary-axis --centres" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/centres.csv" --machine "$tmp/clean.yaml" --json
+python3 - "$tmp/recovered.json" "$tmp/out" <<'PY' && ok || bad "--centres gives the same least-squares values"
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+assert b["indexations"] == 36 and b["centre_method"] == "given", b["centre_method"]
+for k in ("EX0C", "EY0C", "EA0C", "EB0C", "radius"):
+    assert abs(a["least_squares"][k] - b["least_squares"][k]) <= 1e-12 * max(1.0, abs(a["least_squares"][k])), (k, a["least_squares"][k], b["least_squares"][k])
+PY
+
+# rotary-axis / probe-sim / --params errors: one line, non-zero exit, no partial output.
+C0="$tmp/c0.csv"
+expect_error "rotary-axis without --sphere-diameter" "--sphere-diameter" -- "$MTCAL" rotary-axis --axis C --contacts "$C0" --stylus-diameter 6
+expect_error "rotary-axis --contacts and --centres" "exactly one of --contacts and --centres" -- "$MTCAL" rotary-axis --axis C --contacts "$C0" --centres "$tmp/centres.csv" --sphere-diameter 30
+expect_error "rotary-axis neither input" "exactly one of --contacts and --centres" -- "$MTCAL" rotary-axis --axis C
+expect_error "rotary-axis --axis X" "expected A, B or C" -- "$MTCAL" rotary-axis --axis X --contacts "$C0" --sphere-diameter 30 --stylus-diameter 6
+expect_error "contacts not on the sphere (too small)" "c0.csv:2 (C=0): the contacts are not on a sphere of diameter 20" -- "$MTCAL" rotary-axis --axis C --contacts "$C0" --sphere-diameter 20 --stylus-diameter 6 --out "$tmp/partial.yaml"
+[ ! -e "$tmp/partial.yaml" ] && ok || bad "no partial --out after contacts off the sphere"
+expect_error "contacts not on the sphere" "not on a sphere of diameter 28" -- "$MTCAL" rotary-axis --axis C --contacts "$C0" --sphere-diameter 28 --stylus-diameter 6
+sed '1s/approach_z/approach_q/' "$C0" >"$tmp/unkcol.csv"
+expect_error "contacts unknown column" "unknown column 'approach_q'" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/unkcol.csv" --sphere-diameter 30 --stylus-diameter 6
+expect_error "contacts without the axis column" "missing column 'A'" -- "$MTCAL" rotary-axis --axis A --contacts "$C0" --sphere-diameter 30 --stylus-diameter 6
+expect_exit 0 "probe-sim two indexations" -- "$MTCAL" probe-sim -m "$tmp/cerr.yaml" --axis C --angles 0:90:2 --out "$tmp/two.csv"
+echo "keep me" >"$tmp/existing.yaml"
+expect_error "fewer than 3 indexations" "at least 3" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/two.csv" --sphere-diameter 30 --stylus-diameter 6 --out "$tmp/partial.yaml"
+[ ! -e "$tmp/partial.yaml" ] && ok || bad "no partial --out after too few indexations"
+expect_error "fewer than 3 indexations, existing --out" "at least 3" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/two.csv" --sphere-diameter 30 --stylus-diameter 6 --out "$tmp/existing.yaml"
+[ "$(cat "$tmp/existing.yaml")" = "keep me" ] && ok || bad "a failed rotary-axis leaves an existing --out alone"
+head -3 "$tmp/centres.csv" >"$tmp/centres2.csv"
+expect_error "two centres" "at least 3" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/centres2.csv"
+expect_error "probe-sim on a head axis" "carries the workpiece" -- "$MTCAL" probe-sim -m "$EXAMPLES/head-head-5axis.yaml" --axis C --out "$tmp/partial.csv"
+[ ! -e "$tmp/partial.csv" ] && ok || bad "no partial probe-sim output after a failure"
+expect_error "probe-sim unknown axis" "not in topology" -- "$MTCAL" probe-sim -m "$MR" --axis B --out "$tmp/partial.csv"
+expect_error "probe-sim without --out" "--out" -- "$MTCAL" probe-sim -m "$MR"
+[ -z "$(ls -A "$tmp" | grep -v -E '\.(csv|yaml|json)$|^(out|err)$')" ] && ok || bad "temporary files left behind: $(ls -A "$tmp")"
+printf 'mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n  EQQ: 1 um\n' >"$tmp/badparams.yaml"
+expect_error "eval --params bad error name" "badparams.yaml:4: field 'errors.EQQ': unknown error name 'EQQ'" -- "$MTCAL" eval -m "$tmp/clean.yaml" --params "$tmp/badparams.yaml" --at X=0
+expect_error "errors --params bad error name" "unknown error name 'EQQ'" -- "$MTCAL" errors -m "$tmp/clean.yaml" --params "$tmp/badparams.yaml"
+expect_error "effects --params bad error name" "unknown error name 'EQQ'" -- "$MTCAL" effects -m "$tmp/clean.yaml" --params "$tmp/badparams.yaml" --at X=0
+printf 'mtcal_parameters: 1\nerrors:\n  EX0B: 1 um\n' >"$tmp/badaxis.yaml"
+expect_error "--params axis not in topology" "badaxis.yaml:3" -- "$MTCAL" errors -m "$tmp/clean.yaml" --params "$tmp/badaxis.yaml"
+expect_error "--params missing file" "nope-params.yaml" -- "$MTCAL" errors -m "$tmp/clean.yaml" --params "$tmp/nope-params.yaml"
+expect_error "--params given a machine file" "unknown key 'mtcal_machine'" -- "$MTCAL" errors -m "$tmp/clean.yaml" --params "$tmp/clean.yaml"
+printf 'X,Y,Z\n0,0,0\n' >"$tmp/pts.csv"
+expect_error "eval --params bad, batch output" "unknown error name" -- "$MTCAL" eval -m "$tmp/clean.yaml" --params "$tmp/badparams.yaml" --points "$tmp/pts.csv" --out "$tmp/partial-eval.csv"
+[ ! -e "$tmp/partial-eval.csv" ] && ok || bad "no partial eval output after a bad --params"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -2,7 +2,10 @@
 // file, line and key.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 
@@ -196,4 +199,215 @@ TEST(MachineFile, BadInputsNameFileLineAndKey) {
     EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
   }
+}
+
+// ---- Parameter files (load_parameters / apply_parameters) ----
+
+namespace {
+
+std::map<std::string, double> parameter_map(const Machine& m) {
+  std::map<std::string, double> out;
+  for (const auto& p : m.parameters()) out[p.name] = p.value;
+  return out;
+}
+
+// Applies text expected to fail to a machine loaded from kGood; returns the error.
+InputError bad_params(const std::string& text) {
+  Machine m = parse_machine(kGood, "good.yaml");
+  try {
+    apply_parameters(m, text, "params.yaml");
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError for:\n" << text;
+  return InputError({}, "");
+}
+
+}  // namespace
+
+TEST(ParameterFile, ReplacesExactlyTheNamedErrors) {
+  // Every one of the 61 errors of this example is non-zero, so an accidental change shows.
+  Machine m = load_machine(example("rrttt-table-table.yaml"));
+  const auto before = parameter_map(m);
+  const std::string name = m.name, chain = m.topology.chain;
+  apply_parameters(m,
+                   "mtcal_parameters: 1\n"
+                   "description: C axis from a probing run\n"
+                   "errors:\n"
+                   "  EX0C: 12 um\n"
+                   "  EA0C: {value: 25, unit: urad}  # a comment\n"
+                   "  EXX: {unit: um, argument_unit: m, polynomial: [0, 5]}\n"
+                   "  EXt: -3 um\n"
+                   "  ECw: 0 urad\n",
+                   "p.yaml");
+  const auto after = parameter_map(m);
+  ASSERT_EQ(before.size(), after.size());
+  EXPECT_DOUBLE_EQ(after.at("EX0C"), 12e-3);
+  EXPECT_DOUBLE_EQ(after.at("EA0C"), 25e-6);
+  EXPECT_DOUBLE_EQ(after.at("EXt"), -3e-3);
+  EXPECT_EQ(after.at("ECw"), 0.0);
+  // A motion error is replaced as a whole: the coefficients and reversal it does not give are 0.
+  EXPECT_EQ(after.at("EXX.0"), 0.0);
+  EXPECT_DOUBLE_EQ(after.at("EXX.1"), 5e-6);
+  EXPECT_EQ(after.at("EXX.2"), 0.0);
+  EXPECT_EQ(after.at("EXX.3"), 0.0);
+  EXPECT_EQ(after.at("EXX.b"), 0.0);
+  const std::set<std::string> replaced = {"EX0C", "EA0C", "EXt", "ECw", "EXX.0", "EXX.1", "EXX.2", "EXX.3", "EXX.b"};
+  for (const auto& [n, v] : before) {
+    if (replaced.count(n)) {
+      if (n != "EXX.0") {  // EXX.0 was 0 already
+        EXPECT_NE(after.at(n), v) << n << " should have changed";
+      }
+      continue;
+    }
+    EXPECT_EQ(after.at(n), v) << n << " changed";
+  }
+  EXPECT_EQ(m.name, name);
+  EXPECT_EQ(m.topology.chain, chain);
+  EXPECT_EQ(m.axis('C').location[index_of(Component::X)], 12e-3);
+}
+
+TEST(ParameterFile, LaterFilesWinAndEmptyFilesChangeNothing) {
+  Machine m = parse_machine(kGood, "good.yaml");
+  const std::string yaml = to_yaml(m);
+  apply_parameters(m, "mtcal_parameters: 1\n", "empty.yaml");
+  apply_parameters(m, "mtcal_parameters: 1\nerrors:\n", "empty-errors.yaml");
+  apply_parameters(m, "mtcal_parameters: 1\nerrors: {}\n", "empty-map.yaml");
+  EXPECT_EQ(to_yaml(m), yaml);
+  apply_parameters(m, "mtcal_parameters: 1\nerrors: {EX0C: 7 um, EY0C: 1 um}\n", "a.yaml");
+  apply_parameters(m, "mtcal_parameters: 1\nerrors: {EX0C: -2 um}\n", "b.yaml");
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EX0C")), -2e-3);
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EY0C")), 1e-3);
+}
+
+TEST(ParameterFile, RespectsUnits) {
+  const Machine base = parse_machine(kGood, "good.yaml");
+  // With units, the argument of a polynomial is in those units (no argument_unit given).
+  Machine m = base;
+  apply_parameters(m,
+                   "mtcal_parameters: 1\n"
+                   "units: {length: m, angle: rad}\n"
+                   "errors:\n"
+                   "  EXX: {unit: um, polynomial: [0, 5, 2]}\n"
+                   "  ECC: {unit: urad, polynomial: [0, 3]}\n"
+                   "  EX0C: 3 um\n",
+                   "units.yaml");
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.1")), 5e-6);   // 5 um/m
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.2")), 2e-9);   // 2 um/m^2 in mm/mm^2
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("ECC.1")), 3e-6);   // 3 urad/rad
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EX0C")), 3e-3);    // a quantity carries its unit
+  // Without units: mm and deg, as in a machine file.
+  Machine d = base;
+  apply_parameters(d,
+                   "mtcal_parameters: 1\n"
+                   "errors:\n"
+                   "  EXX: {unit: um, polynomial: [0, 5]}\n"
+                   "  ECC: {unit: urad, polynomial: [0, 3]}\n",
+                   "defaults.yaml");
+  EXPECT_DOUBLE_EQ(d.parameter(*d.parameter_index("EXX.1")), 5e-3);                       // 5 um/mm
+  EXPECT_DOUBLE_EQ(d.parameter(*d.parameter_index("ECC.1")), 3e-6 / (3.14159265358979323846 / 180));  // urad/deg
+  // argument_unit still overrides units.
+  Machine a = base;
+  apply_parameters(a,
+                   "mtcal_parameters: 1\nunits: {length: m}\nerrors:\n"
+                   "  EXX: {unit: um, argument_unit: mm, polynomial: [0, 5]}\n",
+                   "arg.yaml");
+  EXPECT_DOUBLE_EQ(a.parameter(*a.parameter_index("EXX.1")), 5e-3);
+  // The defaults are the parameter file's own, not the machine file's.
+  Machine in_m = parse_machine(with("axes:", "units: {length: m, angle: rad}\naxes:"), "m-units.yaml");
+  apply_parameters(in_m, "mtcal_parameters: 1\nerrors:\n  EXX: {unit: um, polynomial: [0, 5]}\n", "p.yaml");
+  EXPECT_DOUBLE_EQ(in_m.parameter(*in_m.parameter_index("EXX.1")), 5e-3);
+}
+
+TEST(ParameterFile, BadInputsNameFileLineAndField) {
+  const std::string head = "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n";
+  const std::vector<BadCase> cases = {
+      {"missing mtcal_parameters", "description: x\nerrors:\n  EX0C: 12 um\n", 1, "", "missing key 'mtcal_parameters'"},
+      {"machine file instead", kGood, 1, "mtcal_machine", "unknown key"},
+      {"wrong version", "mtcal_parameters: 2\nerrors:\n  EX0C: 12 um\n", 1, "mtcal_parameters", "version"},
+      {"non-numeric version", "mtcal_parameters: one\n", 1, "mtcal_parameters", "finite number"},
+      {"unknown top-level key", "mtcal_parameters: 1\nname: x\nerrors:\n  EX0C: 12 um\n", 2, "name", "unknown key 'name'"},
+      {"misspelt errors", "mtcal_parameters: 1\nerorrs:\n  EX0C: 12 um\n", 2, "erorrs", "unknown key"},
+      {"unknown error name", head + "  EQQ: 1 um\n", 4, "errors.EQQ", "unknown error name 'EQQ'"},
+      {"parameter name, not error name", head + "  EXX.1: 1 um\n", 4, "errors.EXX.1", "unknown error name"},
+      {"location error of an axis not in topology", head + "  EY0A: 1 um\n", 4, "errors.EY0A", "not in topology wCBXfYZt"},
+      {"motion error of an axis not in topology", head + "  EAA: {unit: urad, polynomial: [1]}\n", 4, "errors.EAA", "not in topology"},
+      {"location error the axis does not have", head + "  EZ0C: 1 um\n", 4, "errors.EZ0C", "not a location error"},
+      {"bad unit", head + "  EY0C: 1 furlong\n", 4, "errors.EY0C", "unknown unit 'furlong'"},
+      {"angle unit for a length", head + "  EY0C: 1 urad\n", 4, "errors.EY0C", "length unit"},
+      {"bad unit in a map", head + "  EY0C: {value: 1, unit: furlong}\n", 4, "errors.EY0C.unit", "unknown unit 'furlong'"},
+      {"bad units section", "mtcal_parameters: 1\nunits: {length: furlong}\nerrors:\n  EX0C: 12 um\n", 2, "units.length", "unknown unit 'furlong'"},
+      {"slope as units.angle", "mtcal_parameters: 1\nunits: {angle: um/m}\n", 2, "units.angle", "slope"},
+      {"unknown units key", "mtcal_parameters: 1\nunits: {time: s}\n", 2, "units.time", "unknown key"},
+      {"missing unit", head + "  EY0C: 12\n", 4, "errors.EY0C", "number"},
+      {"non-numeric value", head + "  EY0C: twelve um\n", 4, "errors.EY0C", "expected a number before the unit"},
+      {"non-numeric value in a map", head + "  EY0C: {value: twelve, unit: um}\n", 4, "errors.EY0C.value", "finite number"},
+      {"non-numeric coefficient", head + "  EXX: {unit: um, polynomial: [0, five]}\n", 4, "errors.EXX.polynomial.1", "finite number"},
+      {"infinite value", head + "  EY0C: {value: .inf, unit: um}\n", 4, "errors.EY0C.value", "finite"},
+      {"duplicated error", head + "  EX0C: 13 um\n", 4, "errors.EX0C", "duplicated"},
+      {"errors not a map", "mtcal_parameters: 1\nerrors: [EX0C]\n", 2, "errors", "expected a map"},
+      {"fourier on a linear axis", head + "  EYY: {unit: um, fourier: {cos: [1]}}\n", 4, "errors.EYY.fourier", "rotary"},
+      {"two documents", head + "---\nmtcal_parameters: 1\n", 5, "", "one YAML document"},
+      {"invalid YAML", head + "  EY0C: [1\n", 0, "", "YAML"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    InputError e = bad_params(c.text);
+    EXPECT_EQ(e.where().file, "params.yaml");
+    if (c.line) {
+      EXPECT_EQ(e.where().line, c.line) << e.what();
+    }
+    if (*c.field) {
+      EXPECT_EQ(e.where().field, c.field) << e.what();
+    }
+    EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("params.yaml"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ParameterFile, AllOrNothing) {
+  const Machine original = load_machine(example("rrttt-table-table.yaml"));
+  const std::string yaml = to_yaml(original);
+  const auto params = parameter_map(original);
+  // Each has good errors before the bad one; the machine must keep none of them.
+  const std::vector<std::string> failing = {
+      "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n  EXX: {unit: um, polynomial: [0, 5]}\n  EQQ: 1 um\n",
+      "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n  EY0C: 1 furlong\n",
+      "mtcal_parameters: 1\nerrors:\n  EXt: 1 um\n  ECC: {unit: urad, polynomial: [0, x]}\n",
+      "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n  EX0B: 1 um\n",
+      "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n  EX0C: 13 um\n",
+      "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\nbogus: 1\n",
+      "mtcal_parameters: 2\nerrors:\n  EX0C: 12 um\n",
+      "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n---\nmtcal_parameters: 1\n",
+  };
+  for (const auto& text : failing) {
+    SCOPED_TRACE(text);
+    Machine m = original;
+    EXPECT_THROW(apply_parameters(m, text, "p.yaml"), InputError);
+    EXPECT_EQ(to_yaml(m), yaml);
+    EXPECT_EQ(parameter_map(m), params);
+  }
+}
+
+TEST(ParameterFile, LoadParametersReadsAFileAndNamesItInErrors) {
+  const auto dir = std::filesystem::temp_directory_path() / ("mtcal-params-" + std::to_string(std::random_device{}()));
+  std::filesystem::create_directories(dir);
+  const std::string good = (dir / "good.yaml").string(), bad_file = (dir / "bad.yaml").string();
+  std::ofstream(good) << "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n";
+  std::ofstream(bad_file) << "mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n  EQQ: 1 um\n";
+  Machine m = parse_machine(kGood, "good.yaml");
+  load_parameters(m, good);
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EX0C")), 12e-3);
+  const std::string yaml = to_yaml(m);
+  try {
+    load_parameters(m, bad_file);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, bad_file);
+    EXPECT_EQ(e.where().line, 4);
+    EXPECT_EQ(e.where().field, "errors.EQQ");
+  }
+  EXPECT_EQ(to_yaml(m), yaml);
+  EXPECT_THROW(load_parameters(m, (dir / "missing.yaml").string()), InputError);
+  std::filesystem::remove_all(dir);
 }

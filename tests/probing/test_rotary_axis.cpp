@@ -175,6 +175,12 @@ TEST(SphereProbing, ContactsNotOnTheSphereAreRefused) {
   for (const Point3& a : five_point_approaches()) contacts.push_back({Point3(0, 0, 0) - 18.0 * a, a});
   EXPECT_NO_THROW(sphere_centre(contacts, {30, 6, 0.01}, "t"));
   EXPECT_THROW(sphere_centre(contacts, {20, 6, 0.01}, "t"), InputError);  // wrong sphere
+  try {  // too small a sphere for the contacts: said as such, not as degenerate contacts
+    sphere_centre(contacts, {10, 6, 0.01}, "t");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not on a sphere of diameter 10"), std::string::npos) << e.what();
+  }
   contacts[2].point += Point3(0.5, 0.5, 0);                               // a stray contact
   EXPECT_THROW(sphere_centre(contacts, {30, 6, 0.01}, "t"), InputError);
   EXPECT_THROW(sphere_centre({contacts[0], contacts[1]}, {30, 6, 0.01}, "t"), InputError);
