@@ -324,7 +324,8 @@ TEST(ParameterFile, BadInputsNameFileLineAndField) {
   const std::vector<BadCase> cases = {
       {"missing mtcal_parameters", "description: x\nerrors:\n  EX0C: 12 um\n", 1, "", "missing key 'mtcal_parameters'"},
       {"machine file instead", kGood, 1, "mtcal_machine", "unknown key"},
-      {"wrong version", "mtcal_parameters: 2\nerrors:\n  EX0C: 12 um\n", 1, "mtcal_parameters", "version"},
+      {"wrong version", "mtcal_parameters: 2\nerrors:\n  EX0C: 12 um\n", 1, "mtcal_parameters", "unsupported format version 2"},
+      {"description not text", "mtcal_parameters: 1\ndescription: {a: 1}\n", 2, "description", "expected text"},
       {"non-numeric version", "mtcal_parameters: one\n", 1, "mtcal_parameters", "finite number"},
       {"unknown top-level key", "mtcal_parameters: 1\nname: x\nerrors:\n  EX0C: 12 um\n", 2, "name", "unknown key 'name'"},
       {"misspelt errors", "mtcal_parameters: 1\nerorrs:\n  EX0C: 12 um\n", 2, "erorrs", "unknown key"},
