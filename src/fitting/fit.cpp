@@ -59,7 +59,9 @@ std::optional<Cloud> analyse(std::span<const Point3> pts) {
   // SVD of the points themselves, not an eigen-decomposition of their scatter matrix: the latter
   // squares the condition number and could not see a 1e-9 flatness.
   const Eigen::JacobiSVD<MatrixXd> svd(c.y, Eigen::ComputeFullV);
-  c.sv = svd.singularValues();
+  // Fewer than 3 points give fewer than 3 singular values: the missing ones are zero.
+  c.sv.setZero();
+  c.sv.head(svd.singularValues().size()) = svd.singularValues();
   c.V = svd.matrixV();
   if (!(c.sv(0) > kCoincident * std::sqrt(static_cast<double>(n)) * magnitude)) return std::nullopt;
   c.spread = c.sv.norm() / std::sqrt(static_cast<double>(n));
