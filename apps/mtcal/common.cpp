@@ -10,6 +10,28 @@
 
 namespace mtcal::cli {
 
+namespace {
+std::string g_command_line;
+}
+
+void set_command_line(int argc, char** argv) {
+  g_command_line = "mtcal";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool quote = a.empty() || a.find_first_of(" \t\"'\\$`") != std::string::npos;
+    g_command_line += " ";
+    if (!quote) {
+      g_command_line += a;
+      continue;
+    }
+    g_command_line += "'";
+    for (char c : a) g_command_line += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    g_command_line += "'";
+  }
+}
+
+const std::string& command_line() { return g_command_line; }
+
 std::vector<std::string> split_list(const std::string& s) {
   std::vector<std::string> out;
   std::size_t start = 0;

@@ -30,6 +30,10 @@ Machine load(const ModelOptions& o);
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& s);
 
+// The command line as typed (arguments with spaces or quotes are quoted), for reports.
+void set_command_line(int argc, char** argv);
+const std::string& command_line();
+
 // A subcommand and what running it does (its options live in the closure).
 struct Command {
   CLI::App* app = nullptr;

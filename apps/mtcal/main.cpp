@@ -24,6 +24,7 @@
 #include "mtcal/util/parse.hpp"
 #include "mtcal/version.hpp"
 #include "common.hpp"
+#include "eval_report.hpp"
 
 using namespace mtcal;
 using namespace mtcal::cli;
@@ -34,8 +35,8 @@ namespace {
 std::string fmt_num(double v) { return fmt::format("{:.9g}", v); }
 
 int run_eval(const ModelOptions& mo, const std::string& at, const std::string& points,
-             const std::string& grid, const std::string& out, bool as_json, bool no_travel_check,
-             int threads) {
+             const std::string& grid, const std::string& out, const std::string& report, bool as_json,
+             bool no_travel_check, int threads) {
   const int modes = !at.empty() + !points.empty() + !grid.empty();
   if (modes != 1) throw InputError({"eval", 0, ""}, "expected exactly one of --at, --points, --grid");
   const Machine m = load(mo);
@@ -44,6 +45,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
 
   if (!at.empty()) {
     if (!out.empty()) throw InputError({"--out", 0, ""}, "--out goes with --points or --grid, not --at");
+    if (!report.empty()) throw InputError({"--report", 0, ""}, "--report goes with --points or --grid, not --at");
     const auto q = parse_joint_values(m, at);
     check_joints(m, q, "--at", !no_travel_check);
     const VolumetricError e = model.evaluate(q);
@@ -148,6 +150,12 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
     file->stream() << header << "\n";
   }
 
+  std::optional<EvalReport> collect;
+  if (!report.empty()) {
+    AtomicFile probe_path(report);  // refuse a bad report path before the work
+    collect.emplace(model, count);
+  }
+
   const std::size_t chunk = std::size_t{1} << 20;
   const bool progress = count > chunk && ::isatty(STDERR_FILENO);
   std::vector<double> q(std::min(count, chunk) * n), res(std::min(count, chunk) * 6);
@@ -171,6 +179,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
       const double t = std::hypot(e[0], e[1], e[2]), a = std::hypot(e[3], e[4], e[5]);
       if (t > bt) bt = t, std::copy_n(&q[r * n], n, q_t.begin());
       if (a > br) br = a, std::copy_n(&q[r * n], n, q_r.begin());
+      if (collect) collect->add(first + r, &q[r * n], e);
     }
     if (file) {
       buf.clear();
@@ -191,6 +200,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
   }
   if (progress) std::cerr << "\r" << std::string(60, ' ') << "\r" << std::flush;
   if (file) file->commit();
+  if (collect) collect->write(report, command_line(), points, grid);
 
   auto where = [&](const std::vector<double>& qr) {
     json j;
@@ -210,6 +220,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
     j["max_translation"] = {{"value", count ? bt : 0.0}, {"at", count ? where(q_t) : json::object()}};
     j["max_rotation"] = {{"value", count ? br : 0.0}, {"at", count ? where(q_r) : json::object()}};
     if (!out.empty()) j["out"] = out;
+    if (!report.empty()) j["report"] = report;
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << fmt::format("machine      {} ({})\n", m.name, m.topology.chain);
@@ -220,6 +231,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
       std::cout << fmt::format("largest rotational error     {:.3f} urad  at {}\n", br * 1e6, where_text(q_r));
     }
     if (!out.empty()) std::cout << "wrote        " << out << "\n";
+    if (!report.empty()) std::cout << "report       " << report << "\n";
   }
   return 0;
 }
@@ -307,6 +319,7 @@ int run_effects(const ModelOptions& mo, const std::string& at, const std::string
 }  // namespace
 
 int main(int argc, char** argv) {
+  set_command_line(argc, argv);
   CLI::App app{"mtcal - geometric accuracy of CNC machine tools: error models, evaluation, "
                "identification and compensation"};
   app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
@@ -325,6 +338,9 @@ int main(int argc, char** argv) {
                                        "optional dirX ... = +1/-1 directions of motion");
   eval->add_option("--grid", grid, "Full grid, e.g. \"X=-300:300:7,B=-90:90:5\" (lo:hi:count per axis)");
   eval->add_option("--out", out, "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV");
+  std::string eval_report;
+  eval->add_option("--report", eval_report, "Write an HTML report (error map, distribution, largest errors; "
+                                            "self-contained, opens offline) of a --points or --grid run");
   eval->add_flag("--json", eval_json, "Machine-readable output (keys dx dy dz rx ry rz for --at)");
   eval->add_flag("--no-travel-check", no_travel_check, "Evaluate outside the axes' travel too");
   eval->add_option("--threads", threads, "Threads for batches (0: all cores)")->check(CLI::Range(0, 4096));
@@ -384,7 +400,7 @@ int main(int argc, char** argv) {
   }
   try {
     const int rc = [&] {
-      if (eval->parsed()) return run_eval(eval_model, at, points, grid, out, eval_json, no_travel_check, threads);
+      if (eval->parsed()) return run_eval(eval_model, at, points, grid, out, eval_report, eval_json, no_travel_check, threads);
       if (errors->parsed()) return run_errors(err_model, err_json, nonzero);
       if (effects->parsed()) return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel);
       for (const auto& c : more)

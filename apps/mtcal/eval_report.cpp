@@ -1,0 +1,143 @@
+#include "eval_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "mtcal/io/joints.hpp"
+#include "mtcal/report/report.hpp"
+
+namespace mtcal::cli {
+
+namespace {
+constexpr std::size_t kMapPoints = 3000;        // cones in the 3D error map
+constexpr std::size_t kMagnitudes = 2'000'000;  // values behind the distribution
+constexpr std::size_t kLargest = 10;
+}  // namespace
+
+EvalReport::EvalReport(const ErrorModel& model, std::size_t count)
+    : model_(model),
+      count_(count),
+      stride_(std::max<std::size_t>(1, (count + kMapPoints - 1) / kMapPoints)),
+      magnitude_stride_(std::max<std::size_t>(1, (count + kMagnitudes - 1) / kMagnitudes)) {}
+
+void EvalReport::add(std::size_t index, const double* q, const double* e) {
+  const std::size_t n = model_.axis_count();
+  const double t = std::hypot(e[0], e[1], e[2]);
+  if (index % magnitude_stride_ == 0) magnitudes_.push_back(static_cast<float>(t * 1e3));
+  const bool sample = index % stride_ == 0;
+  const bool large = largest_.size() < kLargest || t > std::hypot(largest_.back().e[0], largest_.back().e[1], largest_.back().e[2]);
+  if (!sample && !large) return;
+  Sample s;
+  s.q.assign(q, q + n);
+  std::copy(e, e + 6, s.e);
+  s.nominal = model_.nominal_pose(s.q).t;
+  if (sample) samples_.push_back(s);
+  if (large) {
+    largest_.push_back(s);
+    std::sort(largest_.begin(), largest_.end(), [](const Sample& a, const Sample& b) {
+      return std::hypot(a.e[0], a.e[1], a.e[2]) > std::hypot(b.e[0], b.e[1], b.e[2]);
+    });
+    if (largest_.size() > kLargest) largest_.pop_back();
+  }
+}
+
+void EvalReport::write(const std::string& path, const std::string& command, const std::string& points_file,
+                       const std::string& grid) const {
+  const Machine& m = model_.machine();
+  const std::size_t n = m.axes.size();
+  Report r("Volumetric error of " + m.name, command);
+  r.set_machine(m);
+  if (!points_file.empty()) r.add_input("configurations", points_file);
+  if (!grid.empty()) r.add_figure("grid", grid, "mm, deg");
+  r.add_figure("configurations", fmt::format("{}", count_), "");
+  r.add_figure("tool length", fmt::format("{:g}", m.tool.length), "mm");
+  auto config_text = [&](const std::vector<double>& q) {
+    std::string s;
+    for (std::size_t k = 0; k < n; ++k)
+      s += fmt::format("{}{}={:g}", k ? ", " : "", m.axes[k].letter, to_user_units(m.axes[k], q[k]));
+    return s;
+  };
+  if (!largest_.empty()) {
+    const auto& top = largest_.front();
+    r.add_figure("largest translational error", fmt::format("{:.3f}", std::hypot(top.e[0], top.e[1], top.e[2]) * 1e3),
+                 "µm at " + config_text(top.q));
+  }
+  double max_rot = 0;
+  for (const auto& s : samples_) max_rot = std::max(max_rot, std::hypot(s.e[3], s.e[4], s.e[5]));
+  if (stride_ > 1)
+    r.add_warning(fmt::format("The error map shows every {}th of the {} configurations ({} cones); the largest "
+                              "errors and the figures above use all of them.",
+                              stride_, count_, samples_.size()));
+
+  r.add_section("Error map");
+  r.add_paragraph("Each cone is the translational error of the tool relative to the workpiece (dx, dy, dz) at the "
+                  "nominal tool point, in the workpiece frame; colour and size show its magnitude in µm. The red "
+                  "marker is the configuration with the largest error.");
+  nlohmann::json x = nlohmann::json::array(), y = x, z = x, u = x, v = x, w = x, text = x;
+  for (const auto& s : samples_) {
+    x.push_back(s.nominal.x());
+    y.push_back(s.nominal.y());
+    z.push_back(s.nominal.z());
+    u.push_back(s.e[0] * 1e3);
+    v.push_back(s.e[1] * 1e3);
+    w.push_back(s.e[2] * 1e3);
+    text.push_back(config_text(s.q));
+  }
+  nlohmann::json cones = {{"type", "cone"}, {"x", x}, {"y", y}, {"z", z}, {"u", u}, {"v", v}, {"w", w},
+                          {"text", text}, {"sizemode", "scaled"}, {"sizeref", 1.2}, {"anchor", "tail"},
+                          {"colorscale", "Viridis"}, {"colorbar", {{"title", {{"text", "µm"}}}}},
+                          {"hovertemplate", "%{text}<br>|e| %{norm:.2f} µm<extra></extra>"}, {"name", "error"}};
+  nlohmann::json data = nlohmann::json::array({cones});
+  if (!largest_.empty()) {
+    const auto& top = largest_.front();
+    data.push_back({{"type", "scatter3d"}, {"mode", "markers+text"}, {"x", {top.nominal.x()}}, {"y", {top.nominal.y()}},
+                    {"z", {top.nominal.z()}}, {"marker", {{"size", 8}, {"color", "red"}}},
+                    {"text", {"largest"}}, {"name", "largest error"}});
+  }
+  r.add_plot("Translational error vectors over the evaluated configurations (µm, at nominal tool points in mm)",
+             {{"data", data},
+              {"layout", {{"scene", {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
+                                     {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
+                                     {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
+                                     {"aspectmode", "data"}}},
+                          {"showlegend", false}}}});
+
+  r.add_section("Distribution");
+  // Histogram binned here so that the page stays small for millions of configurations.
+  const float hi = magnitudes_.empty() ? 1.0f : *std::max_element(magnitudes_.begin(), magnitudes_.end());
+  const int bins = 50;
+  std::vector<std::size_t> counts(bins, 0);
+  for (float mval : magnitudes_) {
+    const int b = hi > 0 ? std::min(bins - 1, static_cast<int>(mval / hi * bins)) : 0;
+    ++counts[static_cast<std::size_t>(b)];
+  }
+  nlohmann::json centres = nlohmann::json::array(), cnt = nlohmann::json::array();
+  for (int b = 0; b < bins; ++b) {
+    centres.push_back((b + 0.5) * hi / bins);
+    cnt.push_back(counts[static_cast<std::size_t>(b)]);
+  }
+  r.add_plot(magnitude_stride_ > 1 ? fmt::format("Magnitude of the translational error, every {}th configuration",
+                                                 magnitude_stride_)
+                                   : std::string("Magnitude of the translational error over all configurations"),
+             {{"data", {{{"type", "bar"}, {"x", centres}, {"y", cnt}, {"name", "configurations"}}}},
+              {"layout", {{"xaxis", {{"title", {{"text", "|(dx, dy, dz)| (µm)"}}}}},
+                          {"yaxis", {{"title", {{"text", "configurations"}}}}},
+                          {"bargap", 0.02}}}});
+
+  r.add_section("Largest errors");
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& s : largest_)
+    rows.push_back({config_text(s.q), fmt::format("{:.3f}", s.e[0] * 1e3), fmt::format("{:.3f}", s.e[1] * 1e3),
+                    fmt::format("{:.3f}", s.e[2] * 1e3), fmt::format("{:.3f}", std::hypot(s.e[0], s.e[1], s.e[2]) * 1e3),
+                    fmt::format("{:.2f}", s.e[3] * 1e6), fmt::format("{:.2f}", s.e[4] * 1e6),
+                    fmt::format("{:.2f}", s.e[5] * 1e6)});
+  r.add_table("The configurations with the largest translational errors (workpiece frame)",
+              {"configuration (mm, deg)", "dx (µm)", "dy (µm)", "dz (µm)", "|e| (µm)", "rx (µrad)", "ry (µrad)",
+               "rz (µrad)"},
+              rows);
+  r.write(path);
+}
+
+}  // namespace mtcal::cli

@@ -1,0 +1,61 @@
+// Self-contained HTML reports: summary block, tables, interactive Plotly plots, all inlined.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace mtcal {
+
+struct Machine;
+
+// One report file: a summary block (machine, inputs with their SHA-256, date, mtcal version,
+// headline figures with units, warnings), then sections of text, tables and plots. The plotting
+// library is inlined, so the file opens offline. Every user-provided string is escaped. Apart
+// from the date line, the same inputs give the same bytes.
+class Report {
+ public:
+  Report(std::string title, std::string command);
+
+  void set_machine(const Machine& m);
+  // Hashes the file (SHA-256) now; throws InputError if it cannot be read.
+  void add_input(const std::string& label, const std::string& path);
+  // A headline figure: value already formatted by the caller with its unit.
+  void add_figure(const std::string& label, const std::string& value, const std::string& unit);
+  void add_warning(const std::string& text);
+
+  void add_section(const std::string& title);
+  void add_paragraph(const std::string& text);
+  // A real HTML table (copyable); cells are text.
+  void add_table(const std::string& caption, const std::vector<std::string>& columns,
+                 const std::vector<std::vector<std::string>>& rows);
+  // A Plotly figure: {"data": [...], "layout": {...}}; caption is shown under it.
+  void add_plot(const std::string& caption, nlohmann::json figure);
+
+  std::size_t plot_count() const { return plots_; }
+  // The whole document. date: the line's text (e.g. ISO 8601 UTC).
+  std::string html(const std::string& date) const;
+  // Writes atomically; the date is now in UTC, or SOURCE_DATE_EPOCH when it is set.
+  void write(const std::string& path) const;
+
+ private:
+  std::string title_, command_, machine_;
+  std::vector<std::pair<std::string, std::string>> inputs_;  // label: "path (sha256)"
+  std::vector<std::vector<std::string>> figures_;
+  std::vector<std::string> warnings_;
+  std::string body_;
+  std::size_t plots_ = 0;
+};
+
+// HTML text escaping of & < > " '.
+std::string html_escape(std::string_view s);
+// JSON text safe inside a <script> element ("</" and "<!--" cannot end it).
+std::string script_safe_json(const nlohmann::json& j);
+// SHA-256 of bytes, lowercase hex (FIPS 180-4).
+std::string sha256_hex(std::string_view bytes);
+// The Plotly library bundled at build time (plotly.js-dist-min from npm).
+std::string_view plotly_js();
+
+}  // namespace mtcal

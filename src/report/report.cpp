@@ -1,0 +1,220 @@
+#include "mtcal/report/report.hpp"
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <ctime>
+
+#include <fmt/format.h>
+
+#include "mtcal/io/files.hpp"
+#include "mtcal/model/machine.hpp"
+#include "mtcal/util/errors.hpp"
+#include "mtcal/version.hpp"
+
+extern "C" const char mtcal_plotly_js_begin[];
+extern "C" const char mtcal_plotly_js_end[];
+
+namespace mtcal {
+
+std::string_view plotly_js() {
+  return {mtcal_plotly_js_begin, static_cast<std::size_t>(mtcal_plotly_js_end - mtcal_plotly_js_begin)};
+}
+
+std::string html_escape(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string script_safe_json(const nlohmann::json& j) {
+  // dump() escapes control characters; "<" is escaped too so that no "</script" or "<!--" in a
+  // user string can end the script element (JSON allows \u003c anywhere in a string).
+  const std::string text = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    if (c == '<')
+      out += "\\u003c";
+    else
+      out += c;
+  }
+  return out;
+}
+
+namespace {
+
+// SHA-256, FIPS 180-4 section 6.2.
+constexpr std::array<std::uint32_t, 64> kK = {
+    0x428a2f98, 0x71374491, 0xb5c0fbcf, 0xe9b5dba5, 0x3956c25b, 0x59f111f1, 0x923f82a4, 0xab1c5ed5,
+    0xd807aa98, 0x12835b01, 0x243185be, 0x550c7dc3, 0x72be5d74, 0x80deb1fe, 0x9bdc06a7, 0xc19bf174,
+    0xe49b69c1, 0xefbe4786, 0x0fc19dc6, 0x240ca1cc, 0x2de92c6f, 0x4a7484aa, 0x5cb0a9dc, 0x76f988da,
+    0x983e5152, 0xa831c66d, 0xb00327c8, 0xbf597fc7, 0xc6e00bf3, 0xd5a79147, 0x06ca6351, 0x14292967,
+    0x27b70a85, 0x2e1b2138, 0x4d2c6dfc, 0x53380d13, 0x650a7354, 0x766a0abb, 0x81c2c92e, 0x92722c85,
+    0xa2bfe8a1, 0xa81a664b, 0xc24b8b70, 0xc76c51a3, 0xd192e819, 0xd6990624, 0xf40e3585, 0x106aa070,
+    0x19a4c116, 0x1e376c08, 0x2748774c, 0x34b0bcb5, 0x391c0cb3, 0x4ed8aa4a, 0x5b9cca4f, 0x682e6ff3,
+    0x748f82ee, 0x78a5636f, 0x84c87814, 0x8cc70208, 0x90befffa, 0xa4506ceb, 0xbef9a3f7, 0xc67178f2};
+
+constexpr std::uint32_t rotr(std::uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
+
+}  // namespace
+
+std::string sha256_hex(std::string_view bytes) {
+  std::array<std::uint32_t, 8> h = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a,
+                                    0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
+  std::string msg(bytes);
+  const std::uint64_t bits = static_cast<std::uint64_t>(bytes.size()) * 8;
+  msg += static_cast<char>(0x80);
+  while (msg.size() % 64 != 56) msg += '\0';
+  for (int i = 7; i >= 0; --i) msg += static_cast<char>((bits >> (8 * i)) & 0xff);
+  for (std::size_t off = 0; off < msg.size(); off += 64) {
+    std::array<std::uint32_t, 64> w{};
+    for (int t = 0; t < 16; ++t) {
+      const auto* p = reinterpret_cast<const unsigned char*>(msg.data() + off + 4 * static_cast<std::size_t>(t));
+      w[static_cast<std::size_t>(t)] = (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) |
+                                       (std::uint32_t{p[2]} << 8) | std::uint32_t{p[3]};
+    }
+    for (std::size_t t = 16; t < 64; ++t) {
+      const std::uint32_t s0 = rotr(w[t - 15], 7) ^ rotr(w[t - 15], 18) ^ (w[t - 15] >> 3);
+      const std::uint32_t s1 = rotr(w[t - 2], 17) ^ rotr(w[t - 2], 19) ^ (w[t - 2] >> 10);
+      w[t] = w[t - 16] + s0 + w[t - 7] + s1;
+    }
+    auto [a, b, c, d, e, f, g, hh] = h;
+    for (std::size_t t = 0; t < 64; ++t) {
+      const std::uint32_t S1 = rotr(e, 6) ^ rotr(e, 11) ^ rotr(e, 25);
+      const std::uint32_t ch = (e & f) ^ (~e & g);
+      const std::uint32_t t1 = hh + S1 + ch + kK[t] + w[t];
+      const std::uint32_t S0 = rotr(a, 2) ^ rotr(a, 13) ^ rotr(a, 22);
+      const std::uint32_t maj = (a & b) ^ (a & c) ^ (b & c);
+      const std::uint32_t t2 = S0 + maj;
+      hh = g;
+      g = f;
+      f = e;
+      e = d + t1;
+      d = c;
+      c = b;
+      b = a;
+      a = t1 + t2;
+    }
+    h[0] += a, h[1] += b, h[2] += c, h[3] += d, h[4] += e, h[5] += f, h[6] += g, h[7] += hh;
+  }
+  std::string out;
+  for (auto v : h) out += fmt::format("{:08x}", v);
+  return out;
+}
+
+Report::Report(std::string title, std::string command) : title_(std::move(title)), command_(std::move(command)) {}
+
+void Report::set_machine(const Machine& m) {
+  machine_ = m.name + " (" + m.topology.chain + ")";
+  if (!m.source.empty()) add_input("machine file", m.source);
+}
+
+void Report::add_input(const std::string& label, const std::string& path) {
+  inputs_.emplace_back(label, path + "  (SHA-256 " + sha256_hex(read_text_file(path, label)) + ")");
+}
+
+void Report::add_figure(const std::string& label, const std::string& value, const std::string& unit) {
+  figures_.push_back({label, value, unit});
+}
+
+void Report::add_warning(const std::string& text) { warnings_.push_back(text); }
+
+void Report::add_section(const std::string& title) { body_ += "<h2>" + html_escape(title) + "</h2>\n"; }
+
+void Report::add_paragraph(const std::string& text) { body_ += "<p>" + html_escape(text) + "</p>\n"; }
+
+void Report::add_table(const std::string& caption, const std::vector<std::string>& columns,
+                       const std::vector<std::vector<std::string>>& rows) {
+  std::string t = "<table class=\"data\">\n<caption>" + html_escape(caption) + "</caption>\n<thead><tr>";
+  for (const auto& c : columns) t += "<th>" + html_escape(c) + "</th>";
+  t += "</tr></thead>\n<tbody>\n";
+  for (const auto& r : rows) {
+    t += "<tr>";
+    for (const auto& c : r) t += "<td>" + html_escape(c) + "</td>";
+    t += "</tr>\n";
+  }
+  body_ += t + "</tbody>\n</table>\n";
+}
+
+void Report::add_plot(const std::string& caption, nlohmann::json figure) {
+  const std::string id = fmt::format("plot-{}", ++plots_);
+  auto& layout = figure["layout"];
+  if (!layout.contains("margin")) layout["margin"] = {{"l", 60}, {"r", 20}, {"t", 40}, {"b", 50}};
+  body_ += fmt::format("<figure><div class=\"plot\" id=\"{}\"></div><figcaption>{}</figcaption></figure>\n", id,
+                       html_escape(caption));
+  body_ += fmt::format(
+      "<script>(function(){{var f={};Plotly.newPlot('{}',f.data,f.layout,{{responsive:true,displaylogo:false}});}})();</script>\n",
+      script_safe_json(figure), id);
+}
+
+std::string Report::html(const std::string& date) const {
+  std::string h;
+  h += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  h += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
+  h += "<title>" + html_escape(title_) + " - mtcal</title>\n";
+  h += R"(<style>
+body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; margin: 2em auto; max-width: 1100px; color: #222; padding: 0 1em; }
+h1 { font-size: 1.6em; margin-bottom: 0.2em; } h2 { font-size: 1.25em; margin-top: 2em; border-bottom: 1px solid #ccc; }
+table { border-collapse: collapse; margin: 0.8em 0; } td, th { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: left; }
+table.data td { font-variant-numeric: tabular-nums; } caption { text-align: left; font-weight: 600; padding: 0.3em 0; }
+th { background: #f3f3f3; } .summary th { width: 12em; } .figures td.value { text-align: right; font-weight: 600; }
+.warnings { background: #fff4e5; border-left: 4px solid #f0a020; padding: 0.5em 1em; }
+.plot { width: 100%; height: 480px; } figure { margin: 1em 0; } figcaption { color: #555; font-size: 0.9em; }
+footer { margin-top: 3em; color: #777; font-size: 0.85em; }
+@media print { .plot { page-break-inside: avoid; } }
+</style>
+)";
+  h += "<script>";
+  h += plotly_js();
+  h += "</script>\n</head>\n<body>\n";
+  h += "<h1>" + html_escape(title_) + "</h1>\n";
+  h += "<table class=\"summary\">\n";
+  if (!machine_.empty()) h += "<tr><th>Machine</th><td>" + html_escape(machine_) + "</td></tr>\n";
+  for (const auto& [label, text] : inputs_)
+    h += "<tr><th>" + html_escape(label) + "</th><td>" + html_escape(text) + "</td></tr>\n";
+  h += "<tr><th>Command</th><td><code>" + html_escape(command_) + "</code></td></tr>\n";
+  h += "<tr><th>Date</th><td class=\"date\">" + html_escape(date) + "</td></tr>\n";
+  h += "<tr><th>mtcal</th><td>" + html_escape(version()) + "</td></tr>\n";
+  h += "</table>\n";
+  if (!figures_.empty()) {
+    h += "<table class=\"figures\"><caption>Headline figures</caption>\n";
+    for (const auto& f : figures_)
+      h += "<tr><th>" + html_escape(f[0]) + "</th><td class=\"value\">" + html_escape(f[1]) + "</td><td>" +
+           html_escape(f[2]) + "</td></tr>\n";
+    h += "</table>\n";
+  }
+  if (!warnings_.empty()) {
+    h += "<div class=\"warnings\"><strong>Warnings</strong><ul>\n";
+    for (const auto& w : warnings_) h += "<li>" + html_escape(w) + "</li>\n";
+    h += "</ul></div>\n";
+  }
+  h += body_;
+  h += "<footer>Made by mtcal " + html_escape(version()) +
+       ", an open toolkit for the geometric accuracy of machine tools. Conventions: docs/conventions.md.</footer>\n";
+  h += "</body>\n</html>\n";
+  return h;
+}
+
+void Report::write(const std::string& path) const {
+  std::time_t t = std::time(nullptr);
+  if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) t = static_cast<std::time_t>(std::strtoll(e, nullptr, 10));
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[64];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
+  write_file_atomically(path, html(buf));
+}
+
+}  // namespace mtcal
