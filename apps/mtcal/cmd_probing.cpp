@@ -6,6 +6,7 @@
 #include <memory>
 #include <numbers>
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -16,6 +17,7 @@
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/probing/rotary_axis.hpp"
 #include "mtcal/probing/sphere_probing.hpp"
+#include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 
@@ -27,7 +29,7 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct RotaryOptions {
   std::string axis = "C";
-  std::string contacts, centres, machine, method = "both", out;
+  std::string contacts, centres, machine, method = "both", out, report;
   double sphere_diameter = 0, stylus_diameter = 0, reject_sigma = 2.0, max_rms = 0.01;
   int bins = 40, threads = 0;
   bool json_out = false;
@@ -134,6 +136,126 @@ std::pair<double, const char*> display(std::size_t q) {
   return {1e6, "urad"};
 }
 
+// The HTML report: estimates of both estimators, centres and their circle, residuals, and the
+// triples' distributions.
+void write_rotary_report(const RotaryOptions& o, const NominalRotaryAxis& axis, const std::vector<MeasuredCentre>& centres,
+                         const std::vector<SphereCentre>& details, const std::string& centre_method,
+                         const TriplesEstimate* tri, const LeastSquaresEstimate* lsq) {
+  const auto names = rotary_quantity_names(axis.letter);
+  Report r(std::string("Location errors of rotary axis ") + axis.letter, command_line());
+  if (!o.machine.empty()) r.set_machine(load_machine(o.machine));
+  r.add_input(o.contacts.empty() ? "sphere centres" : "probe contacts", o.contacts.empty() ? o.centres : o.contacts);
+  r.add_figure("indexations", fmt::format("{}", centres.size()), centre_method + " sphere centres");
+  const RotaryEstimate* best = lsq ? static_cast<const RotaryEstimate*>(lsq) : tri;
+  for (std::size_t q = 0; q < 4; ++q) {
+    const auto [f, unit] = display(q);
+    r.add_figure(names[q], fmt::format("{:.3f} ± {:.3f}", best->value[q] * f, best->uncertainty[q] * f),
+                 std::string(unit) + (lsq ? " (least squares, standard uncertainty)" : " (triples, standard uncertainty)"));
+  }
+  if (tri) {
+    const double kept = static_cast<double>(tri->kept[0]) / static_cast<double>(std::max<std::size_t>(1, tri->triples - tri->degenerate));
+    if (kept < 0.8)
+      r.add_warning(fmt::format("The {:g}-sigma rule rejected {:.0f} % of the triples for {}: look for outlying "
+                                "centres (dirt on the sphere, a missed trigger).", o.reject_sigma, 100 * (1 - kept), names[0]));
+    if (tri->degenerate > 0)
+      r.add_warning(fmt::format("{} triples of centres were collinear and skipped.", tri->degenerate));
+  }
+  for (std::size_t i = 0; i < details.size(); ++i)
+    if (details[i].rms > 0.5 * o.max_rms)
+      r.add_warning(fmt::format("The contacts at {}={:g} deg lie {:.4f} mm rms from their sphere (limit {} mm).",
+                                axis.letter, centres[i].angle / kDeg, details[i].rms, o.max_rms));
+  if (best->value[5] > 1e-3) r.add_warning("The axis is tilted by more than 1 mrad from its nominal direction.");
+
+  r.add_section("Location errors");
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t q = 0; q < kRotaryQuantities; ++q) {
+    const auto [f, unit] = display(q);
+    auto cells = [&, f = f](const RotaryEstimate* e) -> std::vector<std::string> {
+      if (!e) return {"", "", ""};
+      return {fmt::format("{:.4f}", e->value[q] * f), fmt::format("{:.4f}", e->uncertainty[q] * f),
+              fmt::format("{:.4f}", e->spread[q] * f)};
+    };
+    std::vector<std::string> row{names[q], unit};
+    for (const auto& c : cells(tri)) row.push_back(c);
+    for (const auto& c : cells(lsq)) row.push_back(c);
+    rows.push_back(row);
+  }
+  r.add_table("Both estimators (ISO 230-7 names; uncertainty = standard uncertainty; spread = scatter of the "
+              "samples used)",
+              {"quantity", "unit", "triples value", "triples u", "triples spread", "least-squares value",
+               "least-squares u", "least-squares spread"},
+              rows);
+
+  r.add_section("Sphere centres");
+  nlohmann::json cx = nlohmann::json::array(), cy = cx, cz = cx, ct = cx;
+  for (const auto& c : centres) {
+    cx.push_back(c.centre.x());
+    cy.push_back(c.centre.y());
+    cz.push_back(c.centre.z());
+    ct.push_back(fmt::format("{}={:g} deg", axis.letter, c.angle / kDeg));
+  }
+  nlohmann::json data = nlohmann::json::array();
+  data.push_back({{"type", "scatter3d"}, {"mode", "markers"}, {"x", cx}, {"y", cy}, {"z", cz}, {"text", ct},
+                  {"name", "sphere centres"}, {"marker", {{"size", 4}}}});
+  std::vector<Point3> pts;
+  for (const auto& c : centres) pts.push_back(c.centre);
+  const auto circle = fit_circle(pts);
+  if (circle) {
+    // The fitted circle and the measured axis line through its centre.
+    const Point3 u = circle->normal.unitOrthogonal(), v = circle->normal.cross(u);
+    nlohmann::json lx = nlohmann::json::array(), ly = lx, lz = lx;
+    for (int k = 0; k <= 120; ++k) {
+      const double a = 2 * std::numbers::pi * k / 120;
+      const Point3 p = circle->centre + circle->radius * (std::cos(a) * u + std::sin(a) * v);
+      lx.push_back(p.x());
+      ly.push_back(p.y());
+      lz.push_back(p.z());
+    }
+    data.push_back({{"type", "scatter3d"}, {"mode", "lines"}, {"x", lx}, {"y", ly}, {"z", lz}, {"name", "fitted circle"}});
+    const Point3 a0 = circle->centre - 0.5 * circle->radius * circle->normal;
+    const Point3 a1 = circle->centre + 0.5 * circle->radius * circle->normal;
+    data.push_back({{"type", "scatter3d"}, {"mode", "lines"}, {"x", {a0.x(), a1.x()}}, {"y", {a0.y(), a1.y()}},
+                    {"z", {a0.z(), a1.z()}}, {"name", "measured axis"}, {"line", {{"width", 6}}}});
+  }
+  r.add_plot("Sphere centres at each indexation (mm, machine coordinates), the least-squares circle and the axis",
+             {{"data", data}, {"layout", {{"scene", {{"aspectmode", "data"}}}}}});
+  if (lsq) {
+    nlohmann::json ang = nlohmann::json::array(), rad = ang;
+    for (std::size_t i = 0; i < centres.size(); ++i) {
+      ang.push_back(centres[i].angle / kDeg);
+      rad.push_back(lsq->circle.quality.residuals[i] * 1e3);
+    }
+    r.add_plot("Radial deviation of each centre from the least-squares circle (µm)",
+               {{"data", {{{"type", "bar"}, {"x", ang}, {"y", rad}, {"name", "radial deviation"}}}},
+                {"layout", {{"xaxis", {{"title", {{"text", std::string(1, axis.letter) + " (deg)"}}}}},
+                            {"yaxis", {{"title", {{"text", "µm"}}}}}}}});
+  }
+  if (tri) {
+    r.add_section("Triples' distributions");
+    r.add_paragraph(fmt::format("Every one of the {} triples of centres gives a circle and so a value of each "
+                                "quantity (Cubas & Yeh 2022); values beyond {:g} standard deviations are rejected "
+                                "before averaging. {} triples were collinear.",
+                                tri->triples, o.reject_sigma, tri->degenerate));
+    for (std::size_t q = 0; q < 4; ++q) {
+      const auto [f, unit] = display(q);
+      const auto& h = tri->histograms[q];
+      nlohmann::json xs = nlohmann::json::array();
+      const double w = (h.high - h.low) / static_cast<double>(h.counts.size());
+      for (std::size_t b = 0; b < h.counts.size(); ++b) xs.push_back((h.low + (static_cast<double>(b) + 0.5) * w) * f);
+      r.add_plot(fmt::format("{}: distribution over the triples ({}); kept {} of {}", names[q], unit, tri->kept[q],
+                             tri->triples - tri->degenerate),
+                 {{"data", {{{"type", "bar"}, {"x", xs}, {"y", h.counts}, {"name", names[q]}}}},
+                  {"layout", {{"xaxis", {{"title", {{"text", names[q] + " (" + unit + ")"}}}}},
+                              {"yaxis", {{"title", {{"text", "triples"}}}}},
+                              {"bargap", 0.02},
+                              {"shapes", {{{"type", "line"}, {"x0", tri->value[q] * f}, {"x1", tri->value[q] * f},
+                                           {"y0", 0}, {"y1", 1}, {"yref", "paper"},
+                                           {"line", {{"color", "red"}}}}}}}}});
+    }
+  }
+  r.write(o.report);
+}
+
 int run_rotary(const RotaryOptions& o) {
   if (o.axis.size() != 1 || o.axis[0] < 'A' || o.axis[0] > 'C')
     throw InputError({"--axis", 0, ""}, "expected A, B or C, found '" + o.axis + "'");
@@ -152,6 +274,7 @@ int run_rotary(const RotaryOptions& o) {
 
   std::unique_ptr<AtomicFile> file;
   if (!o.out.empty()) file = std::make_unique<AtomicFile>(o.out);  // refuse a bad path before the work
+  if (!o.report.empty()) AtomicFile check(o.report);
 
   std::optional<TriplesEstimate> tri;
   std::optional<LeastSquaresEstimate> lsq;
@@ -170,6 +293,8 @@ int run_rotary(const RotaryOptions& o) {
     file->stream() << y;
     file->commit();
   }
+
+  if (!o.report.empty()) write_rotary_report(o, axis, centres, details, centre_method, tri ? &*tri : nullptr, lsq ? &*lsq : nullptr);
 
   if (o.json_out) {
     json j;
@@ -215,6 +340,7 @@ int run_rotary(const RotaryOptions& o) {
     }
     j["centres"] = cs;
     if (!o.out.empty()) j["out"] = o.out;
+    if (!o.report.empty()) j["report"] = o.report;
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -234,6 +360,7 @@ int run_rotary(const RotaryOptions& o) {
     std::cout << fmt::format("triples: {} ({} degenerate); kept after the {:g}-sigma rule: {} of {}\n", tri->triples,
                              tri->degenerate, o.reject_sigma, tri->kept[0], tri->triples - tri->degenerate);
   if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
+  if (!o.report.empty()) std::cout << "report " << o.report << "\n";
   return 0;
 }
 
@@ -314,6 +441,8 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
                                       "'_spread' spread, triples' histograms");
   r->add_option("--out", ro->out, "Write the location errors as a parameter file (mtcal eval --params ...); with "
                                   "--method both the least-squares values");
+  r->add_option("--report", ro->report, "Write an HTML report: both estimators, centres and circle, residuals, "
+                                        "the triples' distributions");
 
   auto so = std::make_shared<SimOptions>();
   auto* s = app.add_subcommand("probe-sim", "Simulated touch-probe contacts on a sphere at indexations of a rotary "

@@ -118,7 +118,10 @@ LeastSquaresEstimate estimate_by_least_squares(const NominalRotaryAxis& axis,
   e.circle = *fit;
   e.value = location_from_line(axis, fit->centre, fit->normal, fit->radius);
   fill_line(e, axis, fit->centre, fit->normal);
-  for (std::size_t q = 0; q < kRotaryQuantities; ++q) e.spread[q] = fit->quality.sigma;
+  // Spread: the centres' residual standard deviation (mm), as an angle over the radius for the
+  // orientation errors and the tilt.
+  for (std::size_t q = 0; q < kRotaryQuantities; ++q)
+    e.spread[q] = (q == 2 || q == 3 || q == 5) ? fit->quality.sigma / fit->radius : fit->quality.sigma;
   // First-order propagation of the fit's covariance over (cx cy cz n_i n_j r).
   const int k0 = [&] {
     int k = 0;

@@ -52,7 +52,9 @@ std::pair<Point3, Point3> line_from_location(const NominalRotaryAxis& axis,
 struct RotaryEstimate {
   std::array<double, kRotaryQuantities> value{};
   std::array<double, kRotaryQuantities> uncertainty{};  // standard uncertainty
-  std::array<double, kRotaryQuantities> spread{};       // standard deviation of the samples used
+  // Triples: standard deviation of the kept triples. Least squares: the centres' residual
+  // standard deviation (mm; divided by the radius for the angles).
+  std::array<double, kRotaryQuantities> spread{};
   Point3 axis_point = Point3::Zero();                   // where the line crosses the reference plane
   Point3 axis_direction = Point3::UnitZ();
 };
