@@ -20,6 +20,7 @@
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 #include "mtcal/version.hpp"
@@ -236,9 +237,35 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
   return 0;
 }
 
-int run_errors(const ModelOptions& mo, bool as_json, bool nonzero) {
+int run_errors(const ModelOptions& mo, bool as_json, bool nonzero, const std::string& report) {
   const Machine m = load(mo);
   const auto params = m.parameters();
+  if (!report.empty()) {
+    Report r("Error parameters of " + m.name, command_line());
+    r.set_machine(m);
+    for (const auto& p : mo.params) r.add_input("parameter file", p);
+    std::size_t shown = 0;
+    std::vector<std::vector<std::string>> rows;
+    nlohmann::json names = nlohmann::json::array(), values = names;
+    for (const auto& p : params) {
+      if (nonzero && p.value == 0.0) continue;
+      ++shown;
+      rows.push_back({p.name, std::string(to_string(p.error.kind)), p.unit, fmt::format("{:.9g}", p.value)});
+      if (p.error.kind != ErrorKind::Motion && p.value != 0.0) {
+        names.push_back(p.name);
+        values.push_back(p.value * (is_rotation(p.error.component) ? 1e6 : 1e3));
+      }
+    }
+    r.add_figure("parameters", fmt::format("{} of {}", shown, params.size()), nonzero ? "(non-zero)" : "");
+    r.add_section("Location and mounting errors");
+    r.add_plot("Location and mounting errors (µm for translations, µrad for rotations)",
+               {{"data", {{{"type", "bar"}, {"x", names}, {"y", values}, {"name", "value"}}}},
+                {"layout", {{"yaxis", {{"title", {{"text", "µm or µrad"}}}}}}}});
+    r.add_section("Every parameter");
+    r.add_table("Parameters in internal units (mm, rad); motion-error coefficients per mm^i or rad^i",
+                {"name", "kind", "unit", "value"}, rows);
+    r.write(report);
+  }
   if (as_json) {
     json arr = json::array();
     for (const auto& p : params) {
@@ -266,7 +293,7 @@ int run_errors(const ModelOptions& mo, bool as_json, bool nonzero) {
 }
 
 int run_effects(const ModelOptions& mo, const std::string& at, const std::string& only_errors,
-                const std::string& around, bool as_json, bool no_travel_check) {
+                const std::string& around, bool as_json, bool no_travel_check, const std::string& report) {
   Machine m = load(mo);
   // About the nominal machine the effects are the errors' definitions (exact zeros where an
   // error has no effect); about the actual machine they include second-order cross terms.
@@ -282,6 +309,8 @@ int run_effects(const ModelOptions& mo, const std::string& at, const std::string
   const auto effects = ErrorModel(m).error_sensitivities(q);
   // Per 1 um of a translational error or 1 urad of a rotational one: dx dy dz in um, rx ry rz in urad.
   json arr = json::array();
+  std::vector<std::vector<std::string>> rows;
+  json bar_names = json::array(), bar_values = json::array();
   std::string text = fmt::format("{:<6} {:<9} {:<5} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "error", "kind",
                                  "per", "dx um", "dy um", "dz um", "rx urad", "ry urad", "rz urad");
   for (const auto& e : effects) {
@@ -297,6 +326,29 @@ int run_effects(const ModelOptions& mo, const std::string& at, const std::string
     arr.push_back(j);
     text += fmt::format("{:<6} {:<9} {:<5} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", name,
                         to_string(e.error.kind), rot ? "urad" : "um", v[0], v[1], v[2], v[3], v[4], v[5]);
+    rows.push_back({name, std::string(to_string(e.error.kind)), rot ? "1 µrad" : "1 µm", fmt::format("{:.4g}", v[0]),
+                    fmt::format("{:.4g}", v[1]), fmt::format("{:.4g}", v[2]), fmt::format("{:.4g}", v[3]),
+                    fmt::format("{:.4g}", v[4]), fmt::format("{:.4g}", v[5])});
+    bar_names.push_back(name);
+    bar_values.push_back(std::hypot(v[0], v[1], v[2]));
+  }
+  if (!report.empty()) {
+    Report r("Single-error effects on " + m.name, command_line());
+    r.set_machine(m);
+    for (const auto& p : mo.params) r.add_input("parameter file", p);
+    std::string where;
+    for (std::size_t k = 0; k < m.axes.size(); ++k)
+      where += fmt::format("{}{}={:g}", k ? ", " : "", m.axes[k].letter, to_user_units(m.axes[k], q[k]));
+    r.add_figure("configuration", where, "mm, deg");
+    r.add_figure("tool length", fmt::format("{:g}", m.tool.length), "mm");
+    r.add_figure("linearised about", around, "machine");
+    r.add_section("Effect of each error on the tool point");
+    r.add_plot("Size of the tool-point displacement per 1 µm or 1 µrad of each error (µm)",
+               {{"data", {{{"type", "bar"}, {"x", bar_names}, {"y", bar_values}, {"name", "|(dx, dy, dz)|"}}}},
+                {"layout", {{"yaxis", {{"title", {{"text", "µm per µm or µrad"}}}}}}}});
+    r.add_table("Effect per 1 µm (translational errors) or 1 µrad (rotational errors), workpiece frame",
+                {"error", "kind", "per", "dx (µm)", "dy (µm)", "dz (µm)", "rx (µrad)", "ry (µrad)", "rz (µrad)"}, rows);
+    r.write(report);
   }
   if (as_json) {
     json j;
@@ -352,6 +404,8 @@ int main(int argc, char** argv) {
   add_model_options(errors, err_model);
   errors->add_flag("--json", err_json, "Machine-readable output");
   errors->add_flag("--nonzero", nonzero, "Only parameters whose value is not zero");
+  std::string err_report;
+  errors->add_option("--report", err_report, "Write an HTML report of the parameters");
 
   ModelOptions eff_model;
   std::string eff_at, eff_errors;
@@ -371,6 +425,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   effects->add_flag("--json", eff_json, "Machine-readable output (keys error kind per dx dy dz rx ry rz)");
   effects->add_flag("--no-travel-check", eff_no_travel, "Allow a configuration outside the travel");
+  std::string eff_report;
+  effects->add_option("--report", eff_report, "Write an HTML report of the effects");
 
   const std::vector<Command> more = add_probing_commands(app);
 
@@ -401,8 +457,8 @@ int main(int argc, char** argv) {
   try {
     const int rc = [&] {
       if (eval->parsed()) return run_eval(eval_model, at, points, grid, out, eval_report, eval_json, no_travel_check, threads);
-      if (errors->parsed()) return run_errors(err_model, err_json, nonzero);
-      if (effects->parsed()) return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel);
+      if (errors->parsed()) return run_errors(err_model, err_json, nonzero, err_report);
+      if (effects->parsed()) return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel, eff_report);
       for (const auto& c : more)
         if (c.app->parsed()) return c.run();
       throw Error("no command");

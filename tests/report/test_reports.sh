@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Reports from example data: every report type is written, is deterministic apart from its date
+# line, escapes hostile names, and renders in headless Chromium without JavaScript errors
+# (browser_check.mjs; screenshots into $SHOTS). Needs MTCAL, EXAMPLES, WEB, SHOTS.
+# Exit 77 (SKIPPED) when the browser part cannot run; prints "N passed, N failed".
+set -u
+pass=0
+fail=0
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
+M3="$EXAMPLES/vmc-3axis.yaml"
+
+run() { "$@" >"$tmp/out" 2>"$tmp/err" || bad "$*: $(cat "$tmp/err")"; }
+
+# Every report type from the shipped examples.
+run "$MTCAL" eval -m "$M3" --grid "X=-400:400:21,Y=-250:250:21,Z=-500:0:21" --report "$tmp/eval-grid.html"
+printf 'X,Y,Z,B,C,dirX\n0,0,0,0,0,1\n100,50,-20,30,90,-1\n-200,100,50,-45,180,1\n' >"$tmp/points.csv"
+run "$MTCAL" eval -m "$M5" --points "$tmp/points.csv" --report "$tmp/eval-points.html"
+run "$MTCAL" effects -m "$M5" --at "X=100,B=30,C=90" --report "$tmp/effects.html"
+run "$MTCAL" errors -m "$M5" --nonzero --report "$tmp/errors.html"
+run "$MTCAL" probe-sim -m "$M5" --axis C --noise 0.001 --out "$tmp/contacts.csv"
+run "$MTCAL" rotary-axis --axis C --contacts "$tmp/contacts.csv" --sphere-diameter 30 --stylus-diameter 6 \
+  --machine "$M5" --report "$tmp/rotary-axis.html"
+for f in eval-grid eval-points effects errors rotary-axis; do
+  [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
+done
+# The points report names its input with the input's SHA-256.
+sum=$(sha256sum "$tmp/points.csv" | cut -d' ' -f1)
+grep -q "$sum" "$tmp/eval-points.html" && ok || bad "input hash missing from the report"
+# Self-contained: outside the inlined Plotly library, no script, stylesheet or image from elsewhere
+# (the browser check below also fails on any request that is not file: or data:).
+python3 - "$WEB/node_modules/plotly.js-dist-min/plotly.min.js" "$tmp"/*.html <<'PY' && ok || bad "a report refers to something outside it"
+import re, sys
+lib = open(sys.argv[1], encoding="utf-8").read()
+for f in sys.argv[2:]:
+    html = open(f, encoding="utf-8").read()
+    assert html.count(lib) == 1, f"{f}: Plotly is not inlined exactly once"
+    rest = html.replace(lib, "")
+    bad = re.findall(r'<(?:script|img|iframe)[^>]+src=|<link[^>]+href=|https?://', rest)
+    assert not bad, f"{f}: {bad[:3]}"
+PY
+
+# Deterministic apart from the date line (same command, same output path, two dates).
+grid="X=-400:400:21,Y=-250:250:21,Z=-500:0:21"
+SOURCE_DATE_EPOCH=1000000000 "$MTCAL" eval -m "$M3" --grid "$grid" --report "$tmp/same.html" >/dev/null
+mv "$tmp/same.html" "$tmp/a.html"
+SOURCE_DATE_EPOCH=2000000000 "$MTCAL" eval -m "$M3" --grid "$grid" --report "$tmp/same.html" >/dev/null
+grep -q '2001-09-09 01:46:40 UTC' "$tmp/a.html" && ok || bad "SOURCE_DATE_EPOCH not used for the date"
+if cmp -s "$tmp/a.html" "$tmp/same.html"; then bad "the date line did not change"; else ok; fi
+if cmp -s <(grep -v 'class="date"' "$tmp/a.html") <(grep -v 'class="date"' "$tmp/same.html"); then ok; else bad "reports differ beyond the date line"; fi
+
+# Hostile names: a machine name and a file name that are HTML and script.
+hostile_dir="$tmp/<b>dir & 'quote'"
+mkdir -p "$hostile_dir"
+python3 - "$M3" "$hostile_dir/m.yaml" <<'PY'
+import re, sys
+text = open(sys.argv[1], encoding="utf-8").read()
+name = "</script><script>alert(1)</script><img src=x onerror=alert(2)> & \"q\" 'a'"
+text = re.sub(r"^name: .*$", "name: " + '"' + name.replace("\\", "\\\\").replace('"', '\\"') + '"', text, count=1, flags=re.M)
+open(sys.argv[2], "w", encoding="utf-8").write(text)
+PY
+run "$MTCAL" eval -m "$hostile_dir/m.yaml" --grid "X=-400:400:5,Y=0,Z=-100" --report "$tmp/hostile.html"
+if grep -qF '<script>alert(1)' "$tmp/hostile.html" || grep -qF '<img src=x' "$tmp/hostile.html" || grep -qF '<b>dir' "$tmp/hostile.html"; then
+  bad "a hostile name reached the HTML unescaped"
+else
+  ok
+fi
+grep -qF '&lt;/script&gt;&lt;script&gt;alert(1)' "$tmp/hostile.html" && ok || bad "hostile machine name not shown escaped"
+
+# In a real browser: no JavaScript error, no dialog (the hostile one), every plot rendered.
+node_rc=0
+if command -v node >/dev/null; then
+  (cd "$WEB" && MTCAL_WEB="$WEB" node "$(dirname "$0")/browser_check.mjs" "$SHOTS" \
+    "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
+    "$tmp/rotary-axis.html:6" "$tmp/hostile.html:2") >"$tmp/browser" 2>&1
+  node_rc=$?
+  cat "$tmp/browser"
+else
+  echo "SKIPPED: node is not installed"
+  node_rc=77
+fi
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ] || exit 1
+exit "$node_rc"
