@@ -42,5 +42,9 @@ struct Command {
 
 // Probing commands: rotary-axis, probe-sim (cmd_probing.cpp).
 std::vector<Command> add_probing_commands(CLI::App& app);
+// Acceptance-test evaluations: iso230-2 (cmd_evaluation.cpp).
+std::vector<Command> add_evaluation_commands(CLI::App& app);
+// Method comparison: compare (cmd_compare.cpp).
+std::vector<Command> add_compare_commands(CLI::App& app);
 
 }  // namespace mtcal::cli

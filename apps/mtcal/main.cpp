@@ -428,7 +428,9 @@ int main(int argc, char** argv) {
   std::string eff_report;
   effects->add_option("--report", eff_report, "Write an HTML report of the effects");
 
-  const std::vector<Command> more = add_probing_commands(app);
+  std::vector<Command> more = add_probing_commands(app);
+  for (auto& c : add_evaluation_commands(app)) more.push_back(std::move(c));
+  for (auto& c : add_compare_commands(app)) more.push_back(std::move(c));
 
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];

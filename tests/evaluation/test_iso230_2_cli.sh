@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# mtcal iso230-2 on the real runs of ../shared/data/iso230-2 against an independent Python
+# evaluation of the PRODUCT.md formulas; JSON keys; bad inputs. Needs MTCAL, DATA.
+set -u
+pass=0
+fail=0
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+if [ -d "$DATA" ]; then
+  for f in "$DATA"/*.dat; do
+    "$MTCAL" iso230-2 "$f" --json >"$tmp/out.json" 2>"$tmp/err" || { bad "$f: $(cat "$tmp/err")"; continue; }
+    python3 - "$f" "$tmp/out.json" <<'PY' && ok || bad "$f differs from the reference"
+import json, re, statistics as st, sys
+tg, vals = {}, {}
+for line in open(sys.argv[1]):
+    m = re.match(r'TGT_DATA\[(\d+)\]=(.*)', line)
+    if m:
+        tg[int(m[1])] = float(m[2])
+        continue
+    m = re.match(r'REF_DATA_(FWD|BWD)\[(\d+),(\d+)\]=(.*)', line)
+    if m:
+        vals.setdefault((m[1], int(m[2])), []).append(float(m[4]))
+T = sorted(tg)
+up = {i: [v - tg[i] for v in vals[('FWD', i)]] for i in T}   # forward = positive direction
+dn = {i: [v - tg[i] for v in vals[('BWD', i)]] for i in T}
+mu = {i: st.mean(up[i]) for i in T}                          # over runs, not targets
+md = {i: st.mean(dn[i]) for i in T}
+su = {i: st.stdev(up[i]) for i in T}
+sd = {i: st.stdev(dn[i]) for i in T}
+B = {i: mu[i] - md[i] for i in T}
+ref = {
+    'A_up': max(mu[i] + 2 * su[i] for i in T) - min(mu[i] - 2 * su[i] for i in T),
+    'A_down': max(md[i] + 2 * sd[i] for i in T) - min(md[i] - 2 * sd[i] for i in T),
+    'A': max(max(mu[i] + 2 * su[i], md[i] + 2 * sd[i]) for i in T) - min(min(mu[i] - 2 * su[i], md[i] - 2 * sd[i]) for i in T),
+    'B': max(abs(B[i]) for i in T), 'B_mean': st.mean(B.values()),
+    'R': max(max(2 * su[i] + 2 * sd[i] + abs(B[i]), 4 * su[i], 4 * sd[i]) for i in T),   # not R_up
+    'R_up': max(4 * su[i] for i in T), 'R_down': max(4 * sd[i] for i in T),
+    'E_up': max(mu.values()) - min(mu.values()), 'E_down': max(md.values()) - min(md.values()),
+    'E': max(max(mu.values()), max(md.values())) - min(min(mu.values()), min(md.values())),
+    'M': max((mu[i] + md[i]) / 2 for i in T) - min((mu[i] + md[i]) / 2 for i in T),
+}
+got = json.load(open(sys.argv[2]))
+keys = [k for k in got if k not in ('unit', 'runs', 'targets')]
+assert keys == ['A', 'A_up', 'A_down', 'B', 'B_mean', 'R', 'R_up', 'R_down', 'E', 'E_up', 'E_down', 'M'], keys
+for k, v in ref.items():
+    assert abs(got[k] - v) < 1e-12, (k, got[k], v)
+assert len(got['targets']) == len(T)
+assert sorted(got['targets'][0]) == sorted(['target', 'mean_up', 'mean_down', 'mean', 'B', 's_up', 's_down', 'R_up', 'R_down', 'R'])
+for t, i in zip(got['targets'], T):
+    assert abs(t['mean_up'] - mu[i]) < 1e-12 and abs(t['s_down'] - sd[i]) < 1e-12
+PY
+  done
+else
+  echo "no shared data at $DATA: the real-data checks are skipped"
+fi
+
+# CSV form, unit option, report.
+printf 'target,run,direction,measured\n0,1,up,1\n0,2,up,3\n0,1,down,-1\n0,2,down,1\n10,1,+,14\n10,2,+,16\n10,1,-,12\n10,2,-,12\n' >"$tmp/p.csv"
+"$MTCAL" iso230-2 "$tmp/p.csv" --unit um --json --report "$tmp/r.html" >"$tmp/out.json" 2>"$tmp/err" && ok || bad "csv: $(cat "$tmp/err")"
+python3 -c "import json; d=json.load(open('$tmp/out.json')); assert d['unit']=='um' and abs(d['E']-5)<1e-12 and abs(d['B_mean']-2.5)<1e-12, d" && ok || bad "csv values"
+grep -q 'Plotly.newPlot' "$tmp/r.html" && ok || bad "report not written"
+
+# Bad inputs: one line on stderr, non-zero exit.
+expect_error() {
+  local what=$1 sub=$2
+  shift 2
+  "$@" >/dev/null 2>"$tmp/err"
+  local rc=$?
+  if [ "$rc" -ne 0 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -qF -- "$sub" "$tmp/err"; then ok; else bad "$what: rc $rc: $(cat "$tmp/err")"; fi
+}
+printf 'target,run,direction,measured\n0,1,up,1\n0,2,up,3\n0,1,down,-1\n10,1,up,14\n10,2,up,16\n10,1,down,12\n10,2,down,12\n' >"$tmp/unequal.csv"
+expect_error "unequal runs" "unequal run counts" "$MTCAL" iso230-2 "$tmp/unequal.csv"
+printf 'target,run,direction,measured\n0,1,up,1\n0,2,up,3\n10,1,up,14\n10,2,up,16\n' >"$tmp/oneway.csv"
+expect_error "missing direction" "down" "$MTCAL" iso230-2 "$tmp/oneway.csv"
+printf 'target,run,direction,measured\n0,1,up,1\n0,1,down,3\n10,1,up,14\n10,1,down,16\n' >"$tmp/onerun.csv"
+expect_error "one run" "at least 2 runs" "$MTCAL" iso230-2 "$tmp/onerun.csv"
+printf 'TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=oops\n' >"$tmp/bad.dat"
+expect_error "bad dat value" "bad.dat:2" "$MTCAL" iso230-2 "$tmp/bad.dat"
+expect_error "missing file" "cannot open" "$MTCAL" iso230-2 "$tmp/none.csv"
+expect_error "report to a directory" "directory" "$MTCAL" iso230-2 "$tmp/p.csv" --report "$tmp"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
