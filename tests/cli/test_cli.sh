@@ -287,5 +287,51 @@ printf 'X,Y,Z\n0,0,0\n' >"$tmp/pts.csv"
 expect_error "eval --params bad, batch output" "unknown error name" -- "$MTCAL" eval -m "$tmp/clean.yaml" --params "$tmp/badparams.yaml" --points "$tmp/pts.csv" --out "$tmp/partial-eval.csv"
 [ ! -e "$tmp/partial-eval.csv" ] && ok || bad "no partial eval output after a bad --params"
 
+# compare: two methods over repeated tests (Mohammed 2019's ballbar and SAMBA/TANGO example).
+MOH="$EXAMPLES/../data/mohammed2019-ballbar-vs-samba.csv"
+expect_exit 0 "compare" -- "$MTCAL" compare "$MOH"
+grep -qE '^EXXb +4 +-0.81375 ' "$tmp/out" && ok || bad "compare text row EXXb: $(grep EXXb "$tmp/out")"
+grep -q '^20 parameters, 20 measured by both methods; mean +- 1 stdev bands overlap for 10 of 20' "$tmp/out" && ok || bad "compare summary line: $(tail -1 "$tmp/out")"
+expect_exit 0 "compare --json" -- "$MTCAL" compare "$MOH" --json
+[ "$(json_get "d['methods']")" = "['ballbar', 'samba-tango']" ] && ok || bad "compare JSON methods"
+[ "$(json_get "list(d['parameters'])[:3] + [len(d['parameters'])]")" = "['EXXb', 'EYYb', 'EXYb', 20]" ] && ok || bad "compare JSON parameters in file order"
+[ "$(json_get "sorted(d['parameters']['EXX'].keys())")" = "['abs_diff', 'mean', 'n', 'overlap', 'paired', 'pearson_r', 'stdev']" ] && ok || bad "compare JSON parameter keys"
+[ "$(json_get "sorted(d['parameters']['EXX']['mean'].keys()) == sorted(d['parameters']['EXX']['stdev'].keys()) == ['ballbar', 'samba-tango']")" = "True" ] && ok || bad "compare JSON mean/stdev keyed by method"
+python3 -c "
+import json; d = json.load(open('$tmp/out')); p = d['parameters']['EXX']
+assert abs(p['mean']['ballbar'] + 4.6475) < 1e-12 and abs(p['abs_diff'] - 0.03) < 1e-12 and p['overlap'] is True, p
+assert p['n'] == {'ballbar': 4, 'samba-tango': 4} and abs(p['pearson_r'] + 0.140) < 1e-3, p
+s = d['summary']
+assert (s['parameters'], s['overlap'], s['no_overlap'], s['strong_correlation']) == (20, 10, 10, 9), s
+" && ok || bad "compare JSON values and summary"
+printf '# two tests, one parameter of one method\nmethod,test,parameter,value\nA,1,P,1\nA,2,P,3\nB,1,P,2\nB,2,P,2\nA,1,Q,5\n' >"$tmp/cmp-missing.csv"
+expect_exit 0 "compare with a one-method parameter" -- "$MTCAL" compare "$tmp/cmp-missing.csv" --json
+python3 -c "
+import json; d = json.load(open('$tmp/out')); q = d['parameters']['Q']
+assert q['mean'] == {'A': 5.0, 'B': None} and q['stdev'] == {'A': None, 'B': None}, q
+assert q['abs_diff'] is None and q['overlap'] is None and q['pearson_r'] is None and q['n'] == {'A': 1, 'B': 0}, q
+assert d['parameters']['P']['pearson_r'] is None and d['summary']['one_method_only'] == ['Q'], d
+" && ok || bad "compare JSON nulls for a one-method parameter"
+expect_exit 0 "compare text with a one-method parameter" -- "$MTCAL" compare "$tmp/cmp-missing.csv"
+grep -q '^only A measured Q$' "$tmp/out" && ok || bad "compare text names the one-method parameter: $(cat "$tmp/out")"
+printf 'method,test,parameter,value\nA,1,P,1\nB,1,P,oops\n' >"$tmp/cmp-nonnum.csv"
+expect_error "compare non-numeric value" "cmp-nonnum.csv:3: field 'value': expected a finite number, found 'oops'" -- "$MTCAL" compare "$tmp/cmp-nonnum.csv"
+printf 'method,run,parameter,value\nA,1,P,1\n' >"$tmp/cmp-header.csv"
+expect_error "compare wrong header" "cmp-header.csv:1: expected the header 'method,test,parameter,value'" -- "$MTCAL" compare "$tmp/cmp-header.csv"
+printf 'method,test,parameter,value\nA,1,P,1\nA,2,P,2\n' >"$tmp/cmp-one.csv"
+expect_error "compare one method" "only one method, 'A' (expected exactly two methods)" -- "$MTCAL" compare "$tmp/cmp-one.csv"
+printf 'method,test,parameter,value\nA,1,P,1\nB,1,P,2\nC,1,P,3\n' >"$tmp/cmp-three.csv"
+expect_error "compare three methods" "cmp-three.csv:4: field 'method': a third method 'C'" -- "$MTCAL" compare "$tmp/cmp-three.csv"
+printf 'method,test,parameter,value\nA,1,P,1\nB,1,P,2\nA,1,P,3\n' >"$tmp/cmp-dup.csv"
+expect_error "compare duplicate" "cmp-dup.csv:4: method 'A', test '1', parameter 'P' is given twice (first on line 2)" -- "$MTCAL" compare "$tmp/cmp-dup.csv"
+expect_error "compare missing file" "nope-compare.csv" -- "$MTCAL" compare "$tmp/nope-compare.csv"
+expect_error "compare without data" "DATA is required" -- "$MTCAL" compare
+expect_exit 2 "compare usage error exit code" -- "$MTCAL" compare
+expect_error "compare bad data, report" "expected a finite number" -- "$MTCAL" compare "$tmp/cmp-nonnum.csv" --report "$tmp/partial-compare.html"
+[ ! -e "$tmp/partial-compare.html" ] && ok || bad "no partial compare report after a failure"
+expect_exit 0 "compare --report" -- "$MTCAL" compare "$MOH" --report "$tmp/compare.html" --json
+grep -q 'Plotly.newPlot' "$tmp/compare.html" && grep -q 'samba-tango' "$tmp/compare.html" && ok || bad "compare report holds the plot and the methods"
+[ "$(json_get "d['report']")" = "$tmp/compare.html" ] && ok || bad "compare JSON report"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
