@@ -20,8 +20,8 @@ int main(int argc, char** argv) {
   Machine m = mtcal::testing::nominal_machine("wCAYXfZt");
   for (int q = 0; q < 4; ++q) m.set_parameter(names[q], truth[q]);
   const auto axis = NominalRotaryAxis::from(m.axis('C'));
-  std::printf("| probe noise σ | estimator | RMS error EX0C µm | EY0C µm | EA0C µrad | EB0C µrad | mean reported u (EX0C) µm |\n");
-  std::printf("|---:|---|---:|---:|---:|---:|---:|\n");
+  std::printf("| probe noise σ | estimator | RMS error EX0C µm | EY0C µm | EA0C µrad | EB0C µrad | mean reported u: EX0C µm | EA0C µrad |\n");
+  std::printf("|---:|---|---:|---:|---:|---:|---:|---:|\n");
   struct Level {
     double noise_um;
     bool outlier;
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   for (const Level level : {Level{0.0, false}, Level{0.5, false}, Level{1.0, false}, Level{2.0, false},
                             Level{5.0, false}, Level{1.0, true}}) {
     const double noise_um = level.noise_um;
-    double se[2][4] = {}, u_sum[2] = {};
+    double se[2][4] = {}, u_sum[2] = {}, ua_sum[2] = {};
     for (int t = 0; t < trials; ++t) {
       ProbingSimulation sim;
       sim.axis = 'C';
@@ -48,15 +48,16 @@ int main(int argc, char** argv) {
       for (int e = 0; e < 2; ++e) {
         for (int q = 0; q < 4; ++q) se[e][q] += std::pow(est[e]->value[q] - truth[q], 2);
         u_sum[e] += est[e]->uncertainty[0];
+        ua_sum[e] += est[e]->uncertainty[2];
       }
     }
     for (int e = 0; e < 2; ++e) {
       const double n = trials;
-      std::printf("| %.1f µm%s | %s | %.4f | %.4f | %.4f | %.4f | %.4f |\n", noise_um,
+      std::printf("| %.1f µm%s | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f |\n", noise_um,
                   level.outlier ? " + one 25 µm outlier" : "",
                   e == 0 ? "triples, 2σ rule" : "least squares", std::sqrt(se[e][0] / n) * 1e3,
                   std::sqrt(se[e][1] / n) * 1e3, std::sqrt(se[e][2] / n) * 1e6, std::sqrt(se[e][3] / n) * 1e6,
-                  u_sum[e] / n * 1e3);
+                  u_sum[e] / n * 1e3, ua_sum[e] / n * 1e6);
     }
   }
   return 0;

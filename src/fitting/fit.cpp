@@ -476,7 +476,25 @@ std::optional<CircleFit> fit_circle(std::span<const Point3> points) {
   eval(*sol, r, &J);
   const int dof = 2 * static_cast<int>(n) - 6;
   const double ssr = r.squaredNorm();
-  const auto local = covariance(J, dof > 0 ? ssr / dof : 0.0, dof);
+  // The radial and the out-of-plane residuals may differ in noise (probed sphere centres are
+  // noisier along the probe's axis): each gets its own variance, from its own 3 parameters'
+  // worth of redundancy, and the covariance is that of the weighted problem.
+  std::optional<MatrixXd> local;
+  if (n > 3) {
+    const double pooled = ssr / dof;
+    const double var_r = std::max(r.head(n).squaredNorm() / static_cast<double>(n - 3), 1e-6 * pooled);
+    const double var_a = std::max(r.tail(n).squaredNorm() / static_cast<double>(n - 3), 1e-6 * pooled);
+    if (pooled > 0) {
+      MatrixXd Jw = J;
+      Jw.topRows(n) /= std::sqrt(var_r);
+      Jw.bottomRows(n) /= std::sqrt(var_a);
+      local = covariance(Jw, 1.0, dof);
+    } else {
+      local = covariance(J, 0.0, dof);
+    }
+  } else {
+    local = covariance(J, 0.0, dof);
+  }
   if (!local) return std::nullopt;
   // From local steps (a, b, h, alpha, beta, dr) to (cx, cy, cz, n_i, n_j, r).
   const Index k = largest_component(sol->N), i = (k + 1) % 3, j = (k + 2) % 3;

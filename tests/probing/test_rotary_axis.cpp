@@ -114,6 +114,7 @@ TEST(RotaryAxis, UncertaintiesCoverTheTruthWithNoise) {
   const std::vector<std::pair<const char*, double>> truth = {
       {"EX0C", 0.012}, {"EY0C", -0.008}, {"EA0C", 25e-6}, {"EB0C", -40e-6}};
   int inside_tri = 0, inside_lsq = 0, total = 0;
+  std::array<double, 4> z2_tri{}, z2_lsq{};  // mean squared normalised error per quantity
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     const Case c = probe('C', truth, steps(0, 350, 10), 0.001, seed);
     const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
@@ -123,10 +124,19 @@ TEST(RotaryAxis, UncertaintiesCoverTheTruthWithNoise) {
       ++total;
       inside_tri += std::abs(tri.value[q] - truth[q].second) <= 3 * tri.uncertainty[q];
       inside_lsq += std::abs(lsq.value[q] - truth[q].second) <= 3 * lsq.uncertainty[q];
+      z2_tri[q] += std::pow((tri.value[q] - truth[q].second) / tri.uncertainty[q], 2) / 20;
+      z2_lsq[q] += std::pow((lsq.value[q] - truth[q].second) / lsq.uncertainty[q], 2) / 20;
       // And the uncertainties are of the right size for 1 um noise, not inflated.
       EXPECT_LT(lsq.uncertainty[q], q < 2 ? 2e-3 : 2e-5);
       EXPECT_LT(tri.uncertainty[q], q < 2 ? 2e-3 : 2e-5);
     }
+  }
+  // Calibrated, not merely covering: E[z^2] = 1; 20 trials leave a wide but informative window.
+  for (std::size_t q = 0; q < 4; ++q) {
+    EXPECT_GT(z2_tri[q], 0.4) << truth[q].first;
+    EXPECT_LT(z2_tri[q], 1.8) << truth[q].first;
+    EXPECT_GT(z2_lsq[q], 0.4) << truth[q].first;
+    EXPECT_LT(z2_lsq[q], 1.8) << truth[q].first;
   }
   EXPECT_GE(inside_tri, total * 95 / 100) << inside_tri << " of " << total;
   EXPECT_GE(inside_lsq, total * 95 / 100) << inside_lsq << " of " << total;

@@ -69,7 +69,8 @@ std::optional<LineFit> fit_line(std::span<const Point3> points);
 // i = (k+1)%3, j = (k+2)%3 its other two (n_k follows from |n| = 1); zero when dof == 0.
 // The centre's variance along the normal is that of the plane's offset (full-rank block).
 // dof counts residual equations: 2n - 6 (radial and out-of-plane per point); rms is of the radial
-// residuals, sigma of both.
+// residuals, sigma of both. The covariance weights the radial and the out-of-plane residuals by
+// their own variances (each estimated with n - 3 degrees of freedom).
 struct CircleFit {
   Point3 centre = Point3::Zero();
   Point3 normal = Point3::UnitZ();
