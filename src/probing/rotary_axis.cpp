@@ -179,6 +179,8 @@ void for_triples(std::size_t n, std::size_t t, std::size_t T, Fn&& fn) {
       for (std::size_t k = j + 1; k < n; ++k) fn(i, j, k);
 }
 
+constexpr std::size_t kTasks = 64;
+
 template <class Fn>
 void parallel(std::size_t threads, Fn&& fn) {
   if (threads <= 1) {
@@ -211,11 +213,15 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
   };
 
   // Pass 1: mean and standard deviation of every quantity over all valid triples.
-  std::vector<Sums> pass1(threads);
+  // The work is cut into a fixed number of tasks (rows i with the same i mod kTasks), whatever
+  // the thread count, and their sums are added in task order: the same inputs give the same
+  // bits on any machine.
+  std::vector<Sums> pass1(kTasks);
   parallel(threads, [&](std::size_t t) {
-    Sums s;  // local: neighbouring threads' sums would share cache lines
+   for (std::size_t task = t; task < kTasks; task += threads) {
+    Sums s;  // local: neighbouring tasks' sums would share cache lines
     std::array<double, kRotaryQuantities> q;
-    for_triples(n, t, threads, [&](std::size_t i, std::size_t j, std::size_t k) {
+    for_triples(n, task, kTasks, [&](std::size_t i, std::size_t j, std::size_t k) {
       if (!triple(i, j, k, q)) {
         ++s.degenerate;
         return;
@@ -226,7 +232,8 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
         s.s2[m] += q[m] * q[m];
       }
     });
-    pass1[t] = s;
+    pass1[task] = s;
+   }
   });
   Sums all;
   for (const auto& s : pass1) {
@@ -259,14 +266,15 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
     width[m] = 2 * half / bins;
   }
   const double k_sigma = options.reject_sigma;
-  std::vector<KeptSums> pass2(threads);
+  std::vector<KeptSums> pass2(kTasks);
   parallel(threads, [&](std::size_t t) {
+   for (std::size_t task = t; task < kTasks; task += threads) {
     KeptSums s;
     s.point_sum.assign(n * kRotaryQuantities, 0.0);
     s.point_count.assign(n * kRotaryQuantities, 0);
     for (auto& h : s.hist) h.assign(static_cast<std::size_t>(bins), 0);
     std::array<double, kRotaryQuantities> q;
-    for_triples(n, t, threads, [&](std::size_t i, std::size_t j, std::size_t k) {
+    for_triples(n, task, kTasks, [&](std::size_t i, std::size_t j, std::size_t k) {
       if (!triple(i, j, k, q)) return;
       for (std::size_t m = 0; m < kRotaryQuantities; ++m) {
         const double b = std::floor((q[m] - lo[m]) / width[m]);
@@ -281,7 +289,8 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
         }
       }
     });
-    pass2[t] = std::move(s);
+    pass2[task] = std::move(s);
+   }
   });
   KeptSums total;
   total.point_sum.assign(n * kRotaryQuantities, 0.0);
@@ -328,6 +337,12 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
       e.uncertainty[m] = std::sqrt(std::max(0.0, 9.0 * zeta1 / static_cast<double>(n)));
     }
   }
+  const double through = static_cast<double>((n - 1) * (n - 2) / 2);  // triples through one centre
+  e.rejected_share.assign(n, 0.0);
+  for (std::size_t c = 0; c < n; ++c)
+    for (std::size_t m = 0; m < 4; ++m)
+      e.rejected_share[c] = std::max(
+          e.rejected_share[c], 1.0 - static_cast<double>(total.point_count[c * kRotaryQuantities + m]) / through);
   // The axis line of the triples' estimate, for plotting and merging.
   const auto [point, direction] = line_from_location(axis, e.value);
   e.axis_point = point;

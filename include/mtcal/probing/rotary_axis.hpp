@@ -77,6 +77,9 @@ struct TriplesEstimate : RotaryEstimate {
   std::size_t degenerate = 0;    // (nearly) collinear triples, skipped
   std::array<std::size_t, kRotaryQuantities> kept{};  // per quantity, after rejection
   std::array<double, kRotaryQuantities> mean_all{};   // before rejection
+  // Per centre (input order): the largest share, over the four location errors, of the
+  // triples through it that the rule rejected. An outlying centre stands out here.
+  std::vector<double> rejected_share;
   std::array<Histogram, kRotaryQuantities> histograms;
 };
 // Needs >= 3 centres not all on one line; throws InputError otherwise. The uncertainty of each
