@@ -97,6 +97,7 @@ void write_report(const CompareOptions& o, const MethodComparison& c) {
 }
 
 int run_compare(const CompareOptions& o) {
+  check_outputs({o.data}, {o.report});
   if (!o.report.empty()) AtomicFile check(o.report);  // refuse a bad report path before the work
   const MethodComparison c = compare_methods(read_comparison_csv(o.data));
   if (!o.report.empty()) write_report(o, c);

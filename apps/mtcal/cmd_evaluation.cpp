@@ -98,6 +98,7 @@ void write_report(const Iso2302Options& o, const PositioningRuns& runs, const Po
 }
 
 int run_iso230_2(const Iso2302Options& o) {
+  check_outputs({o.file}, {o.report});
   const bool dat = o.format == "dat" || (o.format == "auto" && looks_like_dat(o.file));
   const PositioningRuns runs = dat ? read_positioning_dat(o.file) : read_positioning_csv(o.file, o.unit);
   const PositioningEvaluation e = evaluate_positioning(runs, o.file);

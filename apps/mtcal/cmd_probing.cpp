@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
@@ -69,9 +70,15 @@ std::vector<MeasuredCentre> centres_from_contacts(const RotaryOptions& o, std::s
   const bool approach = ax >= 0 && ay >= 0 && az >= 0;
   if (!approach && (ax >= 0 || ay >= 0 || az >= 0))
     throw InputError({o.contacts, 1, ""}, "give all three approach_x, approach_y, approach_z columns or none");
-  std::vector<double> angles;
-  std::map<double, std::vector<ProbeContact>> groups;
-  std::map<double, int> first_line;
+  // Consecutive rows with the same angle form one indexation; an angle met again later is an
+  // error (a sphere probed twice would silently merge into one bad fit).
+  struct Group {
+    double angle;
+    int line;
+    std::vector<ProbeContact> contacts;
+  };
+  std::vector<Group> groups;
+  std::map<double, int> seen;
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const auto& row = t.rows[r];
     const double angle = row[static_cast<std::size_t>(ca)];
@@ -83,18 +90,22 @@ std::vector<MeasuredCentre> centres_from_contacts(const RotaryOptions& o, std::s
         throw InputError({o.contacts, t.lines[r], "approach_x"}, "the approach direction is a zero vector");
       c.approach.normalize();
     }
-    if (!groups.count(angle)) {
-      angles.push_back(angle);
-      first_line[angle] = t.lines[r];
+    if (groups.empty() || groups.back().angle != angle) {
+      if (seen.count(angle))
+        throw InputError({o.contacts, t.lines[r], o.axis},
+                         fmt::format("{}={:g} was probed already (from line {}); keep each indexation's contacts together",
+                                     o.axis, angle, seen[angle]));
+      seen[angle] = t.lines[r];
+      groups.push_back({angle, t.lines[r], {}});
     }
-    groups[angle].push_back(c);
+    groups.back().contacts.push_back(c);
   }
   const SphereProbing probing{o.sphere_diameter, o.stylus_diameter, o.max_rms};
   std::vector<MeasuredCentre> out;
   method.clear();
-  for (double a : angles) {
-    const auto sc = sphere_centre(groups[a], probing,
-                                  fmt::format("{}:{} ({}={:g})", o.contacts, first_line[a], o.axis, a));
+  for (const auto& g : groups) {
+    const double a = g.angle;
+    const auto sc = sphere_centre(g.contacts, probing, fmt::format("{}:{} ({}={:g})", o.contacts, g.line, o.axis, a));
     if (method.empty()) method = sc.method;
     if (method != sc.method) method = "mixed";
     out.push_back({a * kDeg, sc.centre()});
@@ -111,17 +122,26 @@ std::vector<MeasuredCentre> centres_from_file(const RotaryOptions& o) {
   const int ca = require(t, o.centres, o.axis);
   const int cx = require(t, o.centres, "x"), cy = require(t, o.centres, "y"), cz = require(t, o.centres, "z");
   std::vector<MeasuredCentre> out;
-  for (const auto& row : t.rows)
+  std::map<double, int> seen;
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    const auto& row = t.rows[r];
+    const double angle = row[static_cast<std::size_t>(ca)];
+    if (seen.count(angle))
+      throw InputError({o.centres, t.lines[r], o.axis},
+                       fmt::format("{}={:g} is given twice (lines {} and {})", o.axis, angle, seen[angle], t.lines[r]));
+    seen[angle] = t.lines[r];
     out.push_back({row[static_cast<std::size_t>(ca)] * kDeg,
                    Point3(row[static_cast<std::size_t>(cx)], row[static_cast<std::size_t>(cy)], row[static_cast<std::size_t>(cz)])});
+  }
   return out;
 }
 
-json estimate_json(const RotaryEstimate& e, const std::array<std::string, kRotaryQuantities>& names) {
+// With 3 centres there is no redundancy: the uncertainty is unknown (null), not zero.
+json estimate_json(const RotaryEstimate& e, const std::array<std::string, kRotaryQuantities>& names, bool u_known) {
   json j;
   for (std::size_t q = 0; q < kRotaryQuantities; ++q) {
     j[names[q]] = e.value[q];
-    j[names[q] + "_u"] = e.uncertainty[q];
+    j[names[q] + "_u"] = u_known ? json(e.uncertainty[q]) : json(nullptr);
     j[names[q] + "_spread"] = e.spread[q];
   }
   j["axis_point"] = {e.axis_point.x(), e.axis_point.y(), e.axis_point.z()};
@@ -138,12 +158,13 @@ std::pair<double, const char*> display(std::size_t q) {
 
 // The HTML report: estimates of both estimators, centres and their circle, residuals, and the
 // triples' distributions.
-void write_rotary_report(const RotaryOptions& o, const NominalRotaryAxis& axis, const std::vector<MeasuredCentre>& centres,
+void write_rotary_report(const RotaryOptions& o, const Machine* machine, const NominalRotaryAxis& axis,
+                         const std::vector<MeasuredCentre>& centres,
                          const std::vector<SphereCentre>& details, const std::string& centre_method,
-                         const TriplesEstimate* tri, const LeastSquaresEstimate* lsq) {
+                         const TriplesEstimate* tri, const LeastSquaresEstimate* lsq, bool u_known) {
   const auto names = rotary_quantity_names(axis.letter);
   Report r(std::string("Location errors of rotary axis ") + axis.letter, command_line());
-  if (!o.machine.empty()) r.set_machine(load_machine(o.machine));
+  if (machine) r.set_machine(*machine);
   r.add_input(o.contacts.empty() ? "sphere centres" : "probe contacts", o.contacts.empty() ? o.centres : o.contacts);
   r.add_figure("indexations", fmt::format("{}", centres.size()), centre_method + " sphere centres");
   const RotaryEstimate* best = lsq ? static_cast<const RotaryEstimate*>(lsq) : tri;
@@ -159,12 +180,23 @@ void write_rotary_report(const RotaryOptions& o, const NominalRotaryAxis& axis, 
                                 "centres (dirt on the sphere, a missed trigger).", o.reject_sigma, 100 * (1 - kept), names[0]));
     if (tri->degenerate > 0)
       r.add_warning(fmt::format("{} triples of centres were collinear and skipped.", tri->degenerate));
+    // Centres whose triples are rejected far more often than the others' are likely outliers.
+    std::vector<double> share = tri->rejected_share;
+    std::vector<double> sorted = share;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+    for (std::size_t i = 0; i < share.size(); ++i)
+      if (share[i] > 0.2 && share[i] > 3 * median)
+        r.add_warning(fmt::format("The triples through the centre at {}={:g} deg were rejected {:.0f} % of the time "
+                                  "(median {:.0f} %): an outlying measurement?",
+                                  axis.letter, centres[i].angle / kDeg, 100 * share[i], 100 * median));
   }
   for (std::size_t i = 0; i < details.size(); ++i)
     if (details[i].rms > 0.5 * o.max_rms)
       r.add_warning(fmt::format("The contacts at {}={:g} deg lie {:.4f} mm rms from their sphere (limit {} mm).",
                                 axis.letter, centres[i].angle / kDeg, details[i].rms, o.max_rms));
   if (best->value[5] > 1e-3) r.add_warning("The axis is tilted by more than 1 mrad from its nominal direction.");
+  if (!u_known) r.add_warning("Only 3 indexations: the circle passes exactly through them; there is no redundancy and no uncertainty.");
 
   r.add_section("Location errors");
   std::vector<std::vector<std::string>> rows;
@@ -197,9 +229,14 @@ void write_rotary_report(const RotaryOptions& o, const NominalRotaryAxis& axis, 
   nlohmann::json data = nlohmann::json::array();
   data.push_back({{"type", "scatter3d"}, {"mode", "markers"}, {"x", cx}, {"y", cy}, {"z", cz}, {"text", ct},
                   {"name", "sphere centres"}, {"marker", {{"size", 4}}}});
-  std::vector<Point3> pts;
-  for (const auto& c : centres) pts.push_back(c.centre);
-  const auto circle = fit_circle(pts);
+  std::optional<CircleFit> circle;
+  if (lsq) {
+    circle = lsq->circle;
+  } else {
+    std::vector<Point3> pts;
+    for (const auto& c : centres) pts.push_back(c.centre);
+    circle = fit_circle(pts);
+  }
   if (circle) {
     // The fitted circle and the measured axis line through its centre.
     const Point3 u = circle->normal.unitOrthogonal(), v = circle->normal.cross(u);
@@ -263,23 +300,53 @@ int run_rotary(const RotaryOptions& o) {
     throw InputError({"rotary-axis", 0, ""}, "expected exactly one of --contacts and --centres");
   if (!o.contacts.empty() && !(o.sphere_diameter > 0))
     throw InputError({"--sphere-diameter", 0, ""}, "expected the sphere diameter (mm) with --contacts");
+  check_outputs({o.contacts, o.centres, o.machine}, {o.out, o.report});
+  if (!o.out.empty() && o.machine.empty())
+    throw InputError({"--out", 0, ""}, "--out needs --machine: the position errors are relative to the axis's nominal "
+                                       "point, which the machine file gives");
+  if (o.reject_sigma != 0 && o.reject_sigma < 1)
+    throw InputError({"--reject-sigma", 0, ""}, fmt::format("expected 0 (no rejection) or at least 1, found {:g}", o.reject_sigma));
   NominalRotaryAxis axis = NominalRotaryAxis::by_letter(o.axis[0]);
-  if (!o.machine.empty()) axis = NominalRotaryAxis::from(load_machine(o.machine).axis(o.axis[0]));
+  std::optional<Machine> machine;
+  if (!o.machine.empty()) {
+    machine = load_machine(o.machine);
+    axis = NominalRotaryAxis::from(machine->axis(o.axis[0]));
+  }
 
   std::string centre_method = "given";
   std::vector<SphereCentre> details;
   const auto centres = o.contacts.empty() ? centres_from_file(o) : centres_from_contacts(o, centre_method, details);
   const auto names = rotary_quantity_names(axis.letter);
   const bool do_triples = o.method != "lsq", do_lsq = o.method != "triples";
+  const bool u_known = centres.size() >= 4;
 
   std::unique_ptr<AtomicFile> file;
   if (!o.out.empty()) file = std::make_unique<AtomicFile>(o.out);  // refuse a bad path before the work
   if (!o.report.empty()) AtomicFile check(o.report);
 
+  constexpr std::size_t kMaxTriplesCentres = 1000;  // C(1000, 3) = 1.7e8 triples, about 20 s
+  if (do_triples && centres.size() > kMaxTriplesCentres)
+    throw InputError({o.contacts.empty() ? o.centres : o.contacts, 0, ""},
+                     fmt::format("{} indexations make too many triples for --method triples/both (at most {}); use "
+                                 "--method lsq",
+                                 centres.size(), kMaxTriplesCentres));
   std::optional<TriplesEstimate> tri;
   std::optional<LeastSquaresEstimate> lsq;
-  if (do_triples) tri = estimate_by_triples(axis, centres, TriplesOptions{o.reject_sigma, o.bins, o.threads});
   if (do_lsq) lsq = estimate_by_least_squares(axis, centres);
+  if (do_triples) tri = estimate_by_triples(axis, centres, TriplesOptions{o.reject_sigma, o.bins, o.threads});
+  // A circle of centres far from perpendicular to the axis means the wrong axis or wrong data.
+  const RotaryEstimate& first = lsq ? static_cast<const RotaryEstimate&>(*lsq) : *tri;
+  for (const RotaryEstimate* e : {lsq ? static_cast<const RotaryEstimate*>(&*lsq) : nullptr,
+                                  tri ? static_cast<const RotaryEstimate*>(&*tri) : nullptr}) {
+    if (!e) continue;
+    for (std::size_t q = 0; q < kRotaryQuantities; ++q)
+      if (!std::isfinite(e->value[q]))
+        throw InputError({"centres", 0, names[q]}, "the estimate is not finite: are the centres of axis " + o.axis + "?");
+  }
+  if (first.value[5] > 0.1)
+    throw InputError({"--axis", 0, o.axis},
+                     fmt::format("the centres turn about a line {:.1f} deg from the nominal direction of {}: wrong --axis?",
+                                 first.value[5] / kDeg, o.axis));
 
   if (file) {
     const RotaryEstimate& use = lsq ? static_cast<const RotaryEstimate&>(*lsq) : *tri;
@@ -294,7 +361,9 @@ int run_rotary(const RotaryOptions& o) {
     file->commit();
   }
 
-  if (!o.report.empty()) write_rotary_report(o, axis, centres, details, centre_method, tri ? &*tri : nullptr, lsq ? &*lsq : nullptr);
+  if (!o.report.empty())
+    write_rotary_report(o, machine ? &*machine : nullptr, axis, centres, details, centre_method, tri ? &*tri : nullptr,
+                        lsq ? &*lsq : nullptr, u_known);
 
   if (o.json_out) {
     json j;
@@ -303,7 +372,7 @@ int run_rotary(const RotaryOptions& o) {
     j["centre_method"] = centre_method;
     j["units"] = "positions and radius in mm, angles in rad";
     if (tri) {
-      json t = estimate_json(*tri, names);
+      json t = estimate_json(*tri, names, u_known);
       t["triples"] = tri->triples;
       t["degenerate"] = tri->degenerate;
       t["reject_sigma"] = o.reject_sigma;
@@ -320,7 +389,7 @@ int run_rotary(const RotaryOptions& o) {
       j["triples"] = t;
     }
     if (lsq) {
-      json l = estimate_json(*lsq, names);
+      json l = estimate_json(*lsq, names, u_known);
       l["rms"] = lsq->circle.quality.rms;
       j["least_squares"] = l;
     }
@@ -351,11 +420,14 @@ int run_rotary(const RotaryOptions& o) {
   for (std::size_t q = 0; q < kRotaryQuantities; ++q) {
     const auto [f, unit] = display(q);
     auto cell = [&](const RotaryEstimate* e) {
-      return e ? fmt::format("{:.4f} +- {:.4f}", e->value[q] * f, e->uncertainty[q] * f) : std::string();
+      if (!e) return std::string();
+      return u_known ? fmt::format("{:.4f} +- {:.4f}", e->value[q] * f, e->uncertainty[q] * f)
+                     : fmt::format("{:.4f} +- n/a", e->value[q] * f);
     };
     std::cout << fmt::format("{:<8} {:<5} {:>30} {:>30}\n", names[q], unit, cell(tri ? &*tri : nullptr),
                              cell(lsq ? &*lsq : nullptr));
   }
+  if (!u_known) std::cout << "3 indexations: a circle exactly, no redundancy, so no uncertainty\n";
   if (tri)
     std::cout << fmt::format("triples: {} ({} degenerate); kept after the {:g}-sigma rule: {} of {}\n", tri->triples,
                              tri->degenerate, o.reject_sigma, tri->kept[0], tri->triples - tri->degenerate);
@@ -372,6 +444,7 @@ struct SimOptions {
 };
 
 int run_sim(const SimOptions& o) {
+  check_outputs(model_inputs(o.model), {o.out});
   const Machine m = load(o.model);
   if (o.axis.size() != 1) throw InputError({"--axis", 0, ""}, "expected one axis letter, found '" + o.axis + "'");
   const auto k = m.axis_index(o.axis[0]);
@@ -421,8 +494,8 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
                 "CSV of probe contacts: the axis's angle (deg, column named by its letter), recorded stylus-tip "
                 "centre x,y,z (mm), approach_x,approach_y,approach_z (direction of probe motion)");
   r->add_option("--centres", ro->centres, "CSV of sphere centres already known: the axis's angle (deg), x,y,z (mm)");
-  r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)");
-  r->add_option("--stylus-diameter", ro->stylus_diameter, "Stylus tip diameter, mm (with --contacts)");
+  r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)")->check(kFinite);
+  r->add_option("--stylus-diameter", ro->stylus_diameter, "Stylus tip diameter, mm (with --contacts)")->check(kFinite);
   r->add_option("--machine", ro->machine, "Machine file giving the axis's nominal point and direction (default: "
                                           "through the origin along its letter's axis)");
   r->add_option("--method", ro->method, "Estimator: triples, lsq or both")
@@ -430,10 +503,10 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
       ->capture_default_str();
   r->add_option("--reject-sigma", ro->reject_sigma, "Triples farther than this many standard deviations are "
                                                     "rejected (0: none)")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(CLI::Range(0.0, 100.0) & kFinite)
       ->capture_default_str();
   r->add_option("--max-rms", ro->max_rms, "Largest rms distance (mm) of contacts from their sphere")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
   r->add_option("--bins", ro->bins, "Histogram bins of the triples' distributions")->check(CLI::Range(1, 10000));
   r->add_option("--threads", ro->threads, "Threads for the triples (0: all cores)")->check(CLI::Range(0, 4096));
@@ -453,10 +526,10 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
   s->add_option("--hold", so->hold, "Other joints, e.g. \"A=0\" (mm, deg; not named: 0)");
   s->add_option("--sphere", so->sphere, "Sphere centre at zero indexation, machine coordinates x,y,z in mm")
       ->capture_default_str();
-  s->add_option("--sphere-diameter", so->sphere_diameter, "mm")->capture_default_str();
-  s->add_option("--stylus-diameter", so->stylus_diameter, "mm")->capture_default_str();
-  s->add_option("--noise", so->noise, "Standard deviation of each recorded coordinate, mm")->capture_default_str();
-  s->add_option("--trigger-bias", so->bias, "Probe pre-travel along the approach, mm")->capture_default_str();
+  s->add_option("--sphere-diameter", so->sphere_diameter, "mm")->check(kFinite)->capture_default_str();
+  s->add_option("--stylus-diameter", so->stylus_diameter, "mm")->check(kFinite)->capture_default_str();
+  s->add_option("--noise", so->noise, "Standard deviation of each recorded coordinate, mm")->check(kFinite)->capture_default_str();
+  s->add_option("--trigger-bias", so->bias, "Probe pre-travel along the approach, mm")->check(kFinite)->capture_default_str();
   s->add_option("--seed", so->seed, "Random seed of the noise")->capture_default_str();
   s->add_option("--out", so->out, "Contacts CSV to write (input of mtcal rotary-axis --contacts)")->required();
   return {{r, [ro] { return run_rotary(*ro); }}, {s, [so] { return run_sim(*so); }}};

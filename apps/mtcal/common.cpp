@@ -1,6 +1,7 @@
 #include "common.hpp"
 
 #include <cmath>
+#include <filesystem>
 
 #include <fmt/format.h>
 
@@ -31,6 +32,37 @@ void set_command_line(int argc, char** argv) {
 }
 
 const std::string& command_line() { return g_command_line; }
+
+void check_outputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+  namespace fs = std::filesystem;
+  auto same = [](const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+  };
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i].empty()) continue;
+    for (const auto& in : inputs)
+      if (!in.empty() && same(outputs[i], in))
+        throw InputError({outputs[i], 0, ""}, "this output would replace the input '" + in + "'; choose another path");
+    for (std::size_t j = i + 1; j < outputs.size(); ++j)
+      if (!outputs[j].empty() && same(outputs[i], outputs[j]))
+        throw InputError({outputs[i], 0, ""}, "two outputs are written to this one path");
+  }
+}
+
+std::vector<std::string> model_inputs(const ModelOptions& o) {
+  std::vector<std::string> in{o.machine};
+  in.insert(in.end(), o.params.begin(), o.params.end());
+  return in;
+}
+
+const CLI::Validator kFinite(
+    [](std::string& s) -> std::string {
+      const auto v = parse_number(s);
+      return v ? std::string() : "expected a finite number, found '" + s + "'";
+    },
+    "FINITE");
 
 std::vector<std::string> split_list(const std::string& s) {
   std::vector<std::string> out;

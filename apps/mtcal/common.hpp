@@ -27,6 +27,14 @@ void add_model_options(CLI::App* cmd, ModelOptions& o);
 // The machine with --params, --tool-length, --only and --set applied, in that order.
 Machine load(const ModelOptions& o);
 
+// Refuses (InputError) an output path that is one of the inputs or another output, before any
+// work: a report must never replace the measurements it reports on.
+void check_outputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
+// The model options' files (machine, parameter files), for check_outputs and report inputs.
+std::vector<std::string> model_inputs(const ModelOptions& o);
+// CLI11 check: a finite number (CLI11's Range lets NaN through).
+extern const CLI::Validator kFinite;
+
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& s);
 

@@ -44,11 +44,12 @@ void EvalReport::add(std::size_t index, const double* q, const double* e) {
 }
 
 void EvalReport::write(const std::string& path, const std::string& command, const std::string& points_file,
-                       const std::string& grid) const {
+                       const std::string& grid, const std::vector<std::string>& parameter_files) const {
   const Machine& m = model_.machine();
   const std::size_t n = m.axes.size();
   Report r("Volumetric error of " + m.name, command);
   r.set_machine(m);
+  for (const auto& p : parameter_files) r.add_input("parameter file", p);
   if (!points_file.empty()) r.add_input("configurations", points_file);
   if (!grid.empty()) r.add_figure("grid", grid, "mm, deg");
   r.add_figure("configurations", fmt::format("{}", count_), "");
@@ -64,8 +65,6 @@ void EvalReport::write(const std::string& path, const std::string& command, cons
     r.add_figure("largest translational error", fmt::format("{:.3f}", std::hypot(top.e[0], top.e[1], top.e[2]) * 1e3),
                  "µm at " + config_text(top.q));
   }
-  double max_rot = 0;
-  for (const auto& s : samples_) max_rot = std::max(max_rot, std::hypot(s.e[3], s.e[4], s.e[5]));
   if (stride_ > 1)
     r.add_warning(fmt::format("The error map shows every {}th of the {} configurations ({} cones); the largest "
                               "errors and the figures above use all of them.",

@@ -16,7 +16,7 @@ class EvalReport {
   // One evaluated configuration (q internal units, e = dx dy dz rx ry rz).
   void add(std::size_t index, const double* q, const double* e);
   void write(const std::string& path, const std::string& command, const std::string& points_file,
-             const std::string& grid) const;
+             const std::string& grid, const std::vector<std::string>& parameter_files) const;
 
  private:
   struct Sample {

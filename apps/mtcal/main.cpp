@@ -40,6 +40,11 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
              bool no_travel_check, int threads) {
   const int modes = !at.empty() + !points.empty() + !grid.empty();
   if (modes != 1) throw InputError({"eval", 0, ""}, "expected exactly one of --at, --points, --grid");
+  {
+    auto inputs = model_inputs(mo);
+    inputs.push_back(points);
+    check_outputs(inputs, {out, report});
+  }
   const Machine m = load(mo);
   const ErrorModel model(m);
   const std::size_t n = m.axes.size();
@@ -201,7 +206,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
   }
   if (progress) std::cerr << "\r" << std::string(60, ' ') << "\r" << std::flush;
   if (file) file->commit();
-  if (collect) collect->write(report, command_line(), points, grid);
+  if (collect) collect->write(report, command_line(), points, grid, mo.params);
 
   auto where = [&](const std::vector<double>& qr) {
     json j;
@@ -238,6 +243,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
 }
 
 int run_errors(const ModelOptions& mo, bool as_json, bool nonzero, const std::string& report) {
+  check_outputs(model_inputs(mo), {report});
   const Machine m = load(mo);
   const auto params = m.parameters();
   if (!report.empty()) {
@@ -294,6 +300,7 @@ int run_errors(const ModelOptions& mo, bool as_json, bool nonzero, const std::st
 
 int run_effects(const ModelOptions& mo, const std::string& at, const std::string& only_errors,
                 const std::string& around, bool as_json, bool no_travel_check, const std::string& report) {
+  check_outputs(model_inputs(mo), {report});
   Machine m = load(mo);
   // About the nominal machine the effects are the errors' definitions (exact zeros where an
   // error has no effect); about the actual machine they include second-order cross terms.

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <stdlib.h>
 #include <unistd.h>
 
 #include "mtcal/util/errors.hpp"
@@ -63,9 +64,17 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   if (target.filename().empty() || fs::is_directory(target, ec))
     throw Error("cannot write '" + path_ + "': it is a directory; expected a file name");
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  tmp_ = (dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
+  // A unique name (mkstemp): two outputs of one run, or two runs, never share a temporary file.
+  std::string pattern = (dir / ("." + target.filename().string() + ".tmpXXXXXX")).string();
+  const int fd = ::mkstemp(pattern.data());
+  if (fd < 0) throw Error("cannot write '" + path_ + "': cannot create a file in " + dir.string());
+  ::close(fd);
+  tmp_ = pattern;
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
-  if (!out_) throw Error("cannot write '" + path_ + "': cannot create a file in " + dir.string());
+  if (!out_) {
+    std::remove(tmp_.c_str());
+    throw Error("cannot write '" + path_ + "': cannot create a file in " + dir.string());
+  }
   slot_ = register_pending(tmp_);
 }
 

@@ -256,7 +256,7 @@ expect_error "rotary-axis without --sphere-diameter" "--sphere-diameter" -- "$MT
 expect_error "rotary-axis --contacts and --centres" "exactly one of --contacts and --centres" -- "$MTCAL" rotary-axis --axis C --contacts "$C0" --centres "$tmp/centres.csv" --sphere-diameter 30
 expect_error "rotary-axis neither input" "exactly one of --contacts and --centres" -- "$MTCAL" rotary-axis --axis C
 expect_error "rotary-axis --axis X" "expected A, B or C" -- "$MTCAL" rotary-axis --axis X --contacts "$C0" --sphere-diameter 30 --stylus-diameter 6
-expect_error "contacts not on the sphere (too small)" "c0.csv:2 (C=0): the contacts are not on a sphere of diameter 20" -- "$MTCAL" rotary-axis --axis C --contacts "$C0" --sphere-diameter 20 --stylus-diameter 6 --out "$tmp/partial.yaml"
+expect_error "contacts not on the sphere (too small)" "c0.csv:2 (C=0): the contacts are not on a sphere of diameter 20" -- "$MTCAL" rotary-axis --axis C --contacts "$C0" --sphere-diameter 20 --stylus-diameter 6 --machine "$MR" --out "$tmp/partial.yaml"
 [ ! -e "$tmp/partial.yaml" ] && ok || bad "no partial --out after contacts off the sphere"
 expect_error "contacts not on the sphere" "not on a sphere of diameter 28" -- "$MTCAL" rotary-axis --axis C --contacts "$C0" --sphere-diameter 28 --stylus-diameter 6
 sed '1s/approach_z/approach_q/' "$C0" >"$tmp/unkcol.csv"
@@ -264,9 +264,9 @@ expect_error "contacts unknown column" "unknown column 'approach_q'" -- "$MTCAL"
 expect_error "contacts without the axis column" "missing column 'A'" -- "$MTCAL" rotary-axis --axis A --contacts "$C0" --sphere-diameter 30 --stylus-diameter 6
 expect_exit 0 "probe-sim two indexations" -- "$MTCAL" probe-sim -m "$tmp/cerr.yaml" --axis C --angles 0:90:2 --out "$tmp/two.csv"
 echo "keep me" >"$tmp/existing.yaml"
-expect_error "fewer than 3 indexations" "at least 3" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/two.csv" --sphere-diameter 30 --stylus-diameter 6 --out "$tmp/partial.yaml"
+expect_error "fewer than 3 indexations" "at least 3" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/two.csv" --sphere-diameter 30 --stylus-diameter 6 --machine "$MR" --out "$tmp/partial.yaml"
 [ ! -e "$tmp/partial.yaml" ] && ok || bad "no partial --out after too few indexations"
-expect_error "fewer than 3 indexations, existing --out" "at least 3" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/two.csv" --sphere-diameter 30 --stylus-diameter 6 --out "$tmp/existing.yaml"
+expect_error "fewer than 3 indexations, existing --out" "at least 3" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/two.csv" --sphere-diameter 30 --stylus-diameter 6 --machine "$MR" --out "$tmp/existing.yaml"
 [ "$(cat "$tmp/existing.yaml")" = "keep me" ] && ok || bad "a failed rotary-axis leaves an existing --out alone"
 head -3 "$tmp/centres.csv" >"$tmp/centres2.csv"
 expect_error "two centres" "at least 3" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/centres2.csv"
@@ -332,6 +332,35 @@ expect_error "compare bad data, report" "expected a finite number" -- "$MTCAL" c
 expect_exit 0 "compare --report" -- "$MTCAL" compare "$MOH" --report "$tmp/compare.html" --json
 grep -q 'Plotly.newPlot' "$tmp/compare.html" && grep -q 'samba-tango' "$tmp/compare.html" && ok || bad "compare report holds the plot and the methods"
 [ "$(json_get "d['report']")" = "$tmp/compare.html" ] && ok || bad "compare JSON report"
+
+# Outputs never replace inputs, nor each other; rotary-axis refuses what would give nonsense.
+expect_error "report over its input" "would replace the input" -- "$MTCAL" eval -m "$M5" --points "$tmp/p.csv" --report "$tmp/p.csv"
+[ "$(head -1 "$tmp/p.csv")" = "X,Y,Z,B,C,dirX" ] && ok || bad "the input survived"
+expect_error "report over the machine" "would replace the input" -- "$MTCAL" errors -m "$M5" --report "$M5"
+expect_error "two outputs, one path" "two outputs" -- "$MTCAL" eval -m "$M5" --points "$tmp/p.csv" --out "$tmp/same.out" --report "$tmp/same.out"
+"$MTCAL" probe-sim -m "$MR" --axis C --out "$tmp/rc.csv" >/dev/null
+expect_error "rotary --out needs --machine" "needs --machine" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6 --out "$tmp/x.yaml"
+expect_error "rotary wrong axis" "missing column 'A'" -- "$MTCAL" rotary-axis --axis A --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6
+python3 - "$tmp/rc.csv" "$tmp/rc_tilted.csv" <<'PY'
+import sys
+rows = open(sys.argv[1]).read().splitlines()
+out = [rows[0]]
+for r in rows[1:]:   # rotate every contact 90 deg about x: the circle now turns about y
+    c, x, y, z, ax, ay, az = r.split(',')
+    out.append(','.join([c, x, str(-float(z)), y, ax, str(-float(az)), ay]))
+open(sys.argv[2], 'w').write('\n'.join(out) + '\n')
+PY
+expect_error "rotary tilted data" "wrong --axis" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc_tilted.csv" --sphere-diameter 30 --stylus-diameter 6
+expect_error "reject-sigma below 1" "at least 1" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6 --reject-sigma 0.5
+expect_error "reject-sigma nan" "finite" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6 --reject-sigma nan
+expect_error "max-rms nan" "finite" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6 --max-rms nan
+{ head -6 "$tmp/rc.csv"; tail -n +12 "$tmp/rc.csv"; sed -n 2,6p "$tmp/rc.csv"; } >"$tmp/rc_repeat.csv"
+expect_error "an angle probed twice" "probed already" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc_repeat.csv" --sphere-diameter 30 --stylus-diameter 6
+printf 'C,x,y,z\n0,1,0,0\n120,-0.5,0.8,0\n0,-0.5,-0.8,0\n' >"$tmp/dupc.csv"
+expect_error "a centre angle given twice" "given twice" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/dupc.csv"
+printf 'C,x,y,z\n0,100,0,0\n120,-50,86.6025403784,0\n240,-50,-86.6025403784,0\n' >"$tmp/three.csv"
+expect_exit 0 "three centres" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/three.csv" --json
+python3 -c "import json; d=json.load(open('$tmp/out')); assert d['least_squares']['EX0C_u'] is None and d['triples']['EX0C_u'] is None, d" && ok || bad "three centres: uncertainty not null"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
