@@ -150,6 +150,24 @@ struct BadCase {
   const char* message;    // substring of the message
 };
 
+// Each case fails with file, line (when given), field (when given) and a message part.
+template <class Parse>
+void expect_bad_cases(const std::vector<BadCase>& cases, const std::string& file, Parse&& parse) {
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    InputError e = parse(c.text);
+    EXPECT_EQ(e.where().file, file);
+    if (c.line) {
+      EXPECT_EQ(e.where().line, c.line) << e.what();
+    }
+    if (*c.field) {
+      EXPECT_EQ(e.where().field, c.field) << e.what();
+    }
+    EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+  }
+}
+
 TEST(MachineFile, BadInputsNameFileLineAndKey) {
   const std::vector<BadCase> cases = {
       {"unknown top-level key", with("name: test", "nmae: test"), 2, "nmae", "unknown key"},
@@ -186,19 +204,7 @@ TEST(MachineFile, BadInputsNameFileLineAndKey) {
       {"point needs 3 numbers", with("point: [0, 0, 100]}\n  C", "point: [0, 100]}\n  C"), 8, "axes.B.point", "3 numbers"},
       {"infinite value", with("polynomial: [0, 5]", "polynomial: [0, .inf]"), 11, "errors.EXX.polynomial.1", "finite"},
   };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.name);
-    InputError e = bad(c.text);
-    EXPECT_EQ(e.where().file, "bad.yaml");
-    if (c.line) {
-      EXPECT_EQ(e.where().line, c.line) << e.what();
-    }
-    if (*c.field) {
-      EXPECT_EQ(e.where().field, c.field) << e.what();
-    }
-    EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
-  }
+  expect_bad_cases(cases, "bad.yaml", bad);
 }
 
 // ---- Parameter files (load_parameters / apply_parameters) ----
@@ -351,19 +357,7 @@ TEST(ParameterFile, BadInputsNameFileLineAndField) {
       {"two documents", head + "---\nmtcal_parameters: 1\n", 5, "", "one YAML document"},
       {"invalid YAML", head + "  EY0C: [1\n", 0, "", "YAML"},
   };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.name);
-    InputError e = bad_params(c.text);
-    EXPECT_EQ(e.where().file, "params.yaml");
-    if (c.line) {
-      EXPECT_EQ(e.where().line, c.line) << e.what();
-    }
-    if (*c.field) {
-      EXPECT_EQ(e.where().field, c.field) << e.what();
-    }
-    EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("params.yaml"), std::string::npos) << e.what();
-  }
+  expect_bad_cases(cases, "params.yaml", bad_params);
 }
 
 TEST(ParameterFile, AllOrNothing) {
