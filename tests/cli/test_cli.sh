@@ -2,35 +2,9 @@
 # Command-line tests: exit codes, one-line errors, JSON keys, CSV in/out, no partial outputs.
 # Needs MTCAL (the binary) and EXAMPLES (examples/machines). Prints "N passed, N failed".
 set -u
-pass=0
-fail=0
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/../testing/cli_lib.sh"
 M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
 M3="$EXAMPLES/vmc-3axis.yaml"
-
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
-
-# expect_exit CODE DESCRIPTION -- command...
-expect_exit() {
-  local code=$1 what=$2
-  shift 3
-  "$@" >"$tmp/out" 2>"$tmp/err"
-  local got=$?
-  if [ "$got" -eq "$code" ]; then ok; else bad "$what: exit $got, expected $code; stderr: $(cat "$tmp/err")"; fi
-}
-expect_error() {  # expect_error DESCRIPTION SUBSTRING -- command...: non-zero exit, one stderr line
-  local what=$1 sub=$2
-  shift 3
-  "$@" >"$tmp/out" 2>"$tmp/err"
-  local got=$?
-  if [ "$got" -eq 0 ]; then bad "$what: exit 0"; return; fi
-  if [ "$(wc -l <"$tmp/err")" -ne 1 ]; then bad "$what: stderr is not one line: $(cat "$tmp/err")"; return; fi
-  if ! grep -qF -- "$sub" "$tmp/err"; then bad "$what: stderr lacks '$sub': $(cat "$tmp/err")"; return; fi
-  ok
-}
-json_get() { python3 -c "import json,sys; d=json.load(open('$tmp/out')); print($1)"; }
 
 expect_exit 0 "--version" -- "$MTCAL" --version
 grep -q '^mtcal [0-9]' "$tmp/out" && ok || bad "--version prints mtcal VERSION"
@@ -362,5 +336,4 @@ printf 'C,x,y,z\n0,100,0,0\n120,-50,86.6025403784,0\n240,-50,-86.6025403784,0\n'
 expect_exit 0 "three centres" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/three.csv" --json
 python3 -c "import json; d=json.load(open('$tmp/out')); assert d['least_squares']['EX0C_u'] is None and d['triples']['EX0C_u'] is None, d" && ok || bad "three centres: uncertainty not null"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+summary_and_exit

@@ -2,12 +2,7 @@
 # mtcal iso230-2 on the real runs of ../shared/data/iso230-2 against an independent Python
 # evaluation of the PRODUCT.md formulas; JSON keys; bad inputs. Needs MTCAL, DATA.
 set -u
-pass=0
-fail=0
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+source "$(dirname "$0")/../testing/cli_lib.sh"
 
 if [ -d "$DATA" ]; then
   for f in "$DATA"/*.dat; do
@@ -64,23 +59,15 @@ python3 -c "import json; d=json.load(open('$tmp/out.json')); assert d['unit']=='
 grep -q 'Plotly.newPlot' "$tmp/r.html" && ok || bad "report not written"
 
 # Bad inputs: one line on stderr, non-zero exit.
-expect_error() {
-  local what=$1 sub=$2
-  shift 2
-  "$@" >/dev/null 2>"$tmp/err"
-  local rc=$?
-  if [ "$rc" -ne 0 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -qF -- "$sub" "$tmp/err"; then ok; else bad "$what: rc $rc: $(cat "$tmp/err")"; fi
-}
 printf 'target,run,direction,measured\n0,1,up,1\n0,2,up,3\n0,1,down,-1\n10,1,up,14\n10,2,up,16\n10,1,down,12\n10,2,down,12\n' >"$tmp/unequal.csv"
-expect_error "unequal runs" "unequal run counts" "$MTCAL" iso230-2 "$tmp/unequal.csv"
+expect_error "unequal runs" "unequal run counts" -- "$MTCAL" iso230-2 "$tmp/unequal.csv"
 printf 'target,run,direction,measured\n0,1,up,1\n0,2,up,3\n10,1,up,14\n10,2,up,16\n' >"$tmp/oneway.csv"
-expect_error "missing direction" "down" "$MTCAL" iso230-2 "$tmp/oneway.csv"
+expect_error "missing direction" "down" -- "$MTCAL" iso230-2 "$tmp/oneway.csv"
 printf 'target,run,direction,measured\n0,1,up,1\n0,1,down,3\n10,1,up,14\n10,1,down,16\n' >"$tmp/onerun.csv"
-expect_error "one run" "at least 2 runs" "$MTCAL" iso230-2 "$tmp/onerun.csv"
+expect_error "one run" "at least 2 runs" -- "$MTCAL" iso230-2 "$tmp/onerun.csv"
 printf 'TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=oops\n' >"$tmp/bad.dat"
-expect_error "bad dat value" "bad.dat:2" "$MTCAL" iso230-2 "$tmp/bad.dat"
-expect_error "missing file" "cannot open" "$MTCAL" iso230-2 "$tmp/none.csv"
-expect_error "report to a directory" "directory" "$MTCAL" iso230-2 "$tmp/p.csv" --report "$tmp"
+expect_error "bad dat value" "bad.dat:2" -- "$MTCAL" iso230-2 "$tmp/bad.dat"
+expect_error "missing file" "cannot open" -- "$MTCAL" iso230-2 "$tmp/none.csv"
+expect_error "report to a directory" "directory" -- "$MTCAL" iso230-2 "$tmp/p.csv" --report "$tmp"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+summary_and_exit

@@ -4,12 +4,7 @@
 # (browser_check.mjs; screenshots into $SHOTS). Needs MTCAL, EXAMPLES, WEB, SHOTS.
 # Exit 77 (SKIPPED) when the browser part cannot run; prints "N passed, N failed".
 set -u
-pass=0
-fail=0
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+source "$(dirname "$0")/../testing/cli_lib.sh"
 M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
 M3="$EXAMPLES/vmc-3axis.yaml"
 
