@@ -1,12 +1,17 @@
 // mtcal iso230-2: ISO 230-2 positioning accuracy and repeatability of a linear axis.
 #include <iostream>
+#include <cmath>
 #include <memory>
+#include <numbers>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "common.hpp"
+#include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/io/joints.hpp"
+#include "mtcal/io/machine_file.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
@@ -135,6 +140,119 @@ int run_iso230_2(const Iso2302Options& o) {
   return 0;
 }
 
+struct BallbarCliOptions {
+  std::string trace, plane = "XY", direction, report, out, centre;
+  ModelOptions model;
+  double radius = 150, feed = 0, overshoot_start = 0, overshoot_stop = 0, step_deg = 1;
+  bool predict = false, json_out = false;
+};
+
+json deviation_json(const CircularDeviation& d) {
+  return {{"points", d.points}, {"G", d.G}, {"G_minimum_zone", d.G_minimum_zone},
+          {"centre", {d.centre_x, d.centre_y}}, {"minimum_zone_centre", {d.mz_centre_x, d.mz_centre_y}},
+          {"F_max", d.F_max}, {"F_min", d.F_min}, {"F_mean", d.F_mean}};
+}
+
+void write_ballbar_report(const BallbarCliOptions& o, const std::vector<TracePoint>& t, const BallbarEvaluation& e) {
+  Report r("ISO 230-4 circular test, plane " + o.plane, command_line());
+  r.add_input("trace", o.trace);
+  r.add_figure("nominal radius", fmt::format("{:g}", o.radius), "mm");
+  if (o.feed > 0) r.add_figure("feed", fmt::format("{:g}", o.feed), "mm/min");
+  if (e.cw) r.add_figure("G (CW)", fmt::format("{:.2f}", e.cw->G * 1e3), "µm");
+  if (e.ccw) r.add_figure("G (CCW)", fmt::format("{:.2f}", e.ccw->G * 1e3), "µm");
+  if (e.G_b) r.add_figure("G(b)", fmt::format("{:.2f}", *e.G_b * 1e3), "µm");
+  if (e.H) r.add_figure("H", fmt::format("{:.2f}", *e.H * 1e3), "µm");
+  r.add_figure("F max / min", fmt::format("{:.2f} / {:.2f}", e.F_max * 1e3, e.F_min * 1e3), "µm");
+  r.add_section("Trace");
+  r.add_paragraph("Radial deviation of the bar from the nominal radius (µm), magnified round the circle, for both "
+                  "directions, as ballbar software shows it.");
+  json data = json::array();
+  for (CircleDirection d : {CircleDirection::CW, CircleDirection::CCW}) {
+    json th = json::array(), rr = json::array();
+    for (const auto& s : t)
+      if (s.direction == d) {
+        th.push_back(s.angle * 180 / std::numbers::pi);
+        rr.push_back((s.radius - o.radius) * 1e3);
+      }
+    data.push_back({{"type", "scatterpolar"}, {"mode", "lines"}, {"theta", th}, {"r", rr},
+                    {"name", d == CircleDirection::CW ? "CW" : "CCW"}});
+  }
+  const double lo = std::floor(e.F_min * 1e3) - 1, hi = std::ceil(e.F_max * 1e3) + 1;
+  json radial = {{"range", {lo, hi}}, {"title", {{"text", "µm"}}}};
+  json layout = {{"polar", {{"radialaxis", radial}}}};
+  r.add_plot("Radial deviation (µm) against the angle in the test plane", {{"data", data}, {"layout", layout}});
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& [name, d] : {std::pair{"CW", e.cw}, std::pair{"CCW", e.ccw}})
+    if (d)
+      rows.push_back({name, fmt::format("{}", d->points), fmt::format("{:.3f}", d->G * 1e3),
+                      fmt::format("{:.3f}", d->G_minimum_zone * 1e3), fmt::format("{:.3f}", d->F_max * 1e3),
+                      fmt::format("{:.3f}", d->F_min * 1e3), fmt::format("{:.3f}, {:.3f}", d->centre_x * 1e3, d->centre_y * 1e3)});
+  r.add_table("ISO 230-4 per direction (µm)", {"direction", "samples", "G", "G minimum zone", "F max", "F min",
+                                              "least-squares centre (µm)"},
+              rows);
+  r.write(o.report);
+}
+
+int run_ballbar(const BallbarCliOptions& o) {
+  if (o.predict) {
+    if (o.model.machine.empty() || o.out.empty())
+      throw InputError({"--predict", 0, ""}, "--predict needs --machine and --out");
+    check_outputs(model_inputs(o.model), {o.out});
+    const Machine m = load(o.model);
+    const auto centre = parse_joint_values(m, o.centre);
+    const auto t = predict_ballbar(m, o.plane, centre, o.radius, o.step_deg * std::numbers::pi / 180);
+    AtomicFile f(o.out);
+    f.stream() << "direction,angle_deg,radius_mm\n";
+    for (const auto& s : t)
+      f.stream() << fmt::format("{},{:.6f},{:.9f}\n", s.direction == CircleDirection::CW ? "cw" : "ccw",
+                                s.angle * 180 / std::numbers::pi, s.radius);
+    f.commit();
+    std::cout << fmt::format("predicted {} samples of a {} mm circle in {} on {}: wrote {}\n", t.size(), o.radius,
+                             o.plane, m.name, o.out);
+    return 0;
+  }
+  if (o.trace.empty()) throw InputError({"ballbar", 0, ""}, "expected a trace file (or --predict)");
+  check_outputs({o.trace}, {o.report});
+  BallbarOptions bo;
+  bo.nominal_radius = o.radius;
+  bo.overshoot_start = o.overshoot_start;
+  bo.overshoot_stop = o.overshoot_stop;
+  if (o.direction == "cw") bo.only = CircleDirection::CW;
+  if (o.direction == "ccw") bo.only = CircleDirection::CCW;
+  const auto t = read_ballbar_csv(o.trace);
+  const auto e = evaluate_ballbar(t, bo, o.trace);
+  if (!o.report.empty()) write_ballbar_report(o, t, e);
+  if (o.json_out) {
+    json j;
+    j["plane"] = o.plane;
+    j["radius"] = o.radius;
+    if (o.feed > 0) j["feed"] = o.feed;
+    j["G_cw"] = e.cw ? json(e.cw->G) : json(nullptr);
+    j["G_ccw"] = e.ccw ? json(e.ccw->G) : json(nullptr);
+    j["G_b"] = e.G_b ? json(*e.G_b) : json(nullptr);
+    j["H"] = e.H ? json(*e.H) : json(nullptr);
+    j["F_max"] = e.F_max;
+    j["F_min"] = e.F_min;
+    j["F_mean_bidirectional"] = e.F_mean_bidirectional ? json(*e.F_mean_bidirectional) : json(nullptr);
+    if (e.cw) j["cw"] = deviation_json(*e.cw);
+    if (e.ccw) j["ccw"] = deviation_json(*e.ccw);
+    j["units"] = "mm";
+    if (!o.report.empty()) j["report"] = o.report;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << fmt::format("ISO 230-4 circular test, plane {}, radius {:g} mm{}\n", o.plane, o.radius,
+                           o.feed > 0 ? fmt::format(", feed {:g} mm/min", o.feed) : std::string());
+  for (const auto& [name, d] : {std::pair{"CW ", e.cw}, std::pair{"CCW", e.ccw}})
+    if (d)
+      std::cout << fmt::format("{}  G {:.2f} um (minimum zone {:.2f})  F max {:.2f} min {:.2f} um  ({} samples)\n", name,
+                               d->G * 1e3, d->G_minimum_zone * 1e3, d->F_max * 1e3, d->F_min * 1e3, d->points);
+  if (e.G_b) std::cout << fmt::format("G(b) {:.2f} um   H {:.2f} um   mean radial deviation {:.2f} um\n", *e.G_b * 1e3,
+                                      *e.H * 1e3, *e.F_mean_bidirectional * 1e3);
+  if (!o.report.empty()) std::cout << "report " << o.report << "\n";
+  return 0;
+}
+
 }  // namespace
 
 std::vector<Command> add_evaluation_commands(CLI::App& app) {
@@ -151,7 +269,30 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
   c->add_flag("--json", o->json_out, "Machine-readable output: A A_up A_down B B_mean R R_up R_down E E_up E_down M at "
                                      "the top level (input unit), per-target values under targets");
   c->add_option("--report", o->report, "Write an HTML report: deviations with ±2s bands per direction, tables");
-  return {{c, [o] { return run_iso230_2(*o); }}};
+  auto b = std::make_shared<BallbarCliOptions>();
+  auto* bb = app.add_subcommand("ballbar", "ISO 230-4 circular test: G per direction (least-squares and minimum-zone "
+                                           "centres), G(b), H, F from a ballbar trace; or --predict the trace of a "
+                                           "machine model");
+  bb->add_option("trace", b->trace, "Trace CSV direction,angle_deg,radius_mm (direction cw or ccw)");
+  bb->add_option("--radius", b->radius, "Nominal radius, mm")->check(CLI::PositiveNumber & kFinite)->capture_default_str();
+  bb->add_option("--plane", b->plane, "Test plane: XY, YZ or ZX")->check(CLI::IsMember({"XY", "YZ", "ZX"}))->capture_default_str();
+  bb->add_option("--feed", b->feed, "Feed, mm/min (recorded in the output)")->check(kFinite);
+  bb->add_option("--overshoot-start", b->overshoot_start, "Degrees of travel ignored after each direction's start")
+      ->check(CLI::Range(0.0, 180.0) & kFinite);
+  bb->add_option("--overshoot-stop", b->overshoot_stop, "Degrees of travel ignored before each direction's end")
+      ->check(CLI::Range(0.0, 180.0) & kFinite);
+  bb->add_option("--direction", b->direction, "Evaluate one direction only: cw or ccw (no G(b), no H)")
+      ->check(CLI::IsMember({"cw", "ccw"}));
+  bb->add_flag("--json", b->json_out, "Machine-readable output: G_cw G_ccw G_b H F_max F_min F_mean_bidirectional "
+                                      "(mm), per direction under cw and ccw");
+  bb->add_option("--report", b->report, "Write an HTML report with the polar plot of both directions");
+  bb->add_flag("--predict", b->predict, "Predict the trace of --machine instead of evaluating one");
+  bb->add_option("--machine,-m", b->model.machine, "Machine file, with --predict");
+  bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict");
+  bb->add_option("--centre", b->centre, "Centre of the circle as joint values, e.g. \"X=0,Y=0,Z=-100\" (mm, deg)");
+  bb->add_option("--step-deg", b->step_deg, "Angle between predicted samples, deg")->check(CLI::Range(0.01, 10.0) & kFinite);
+  bb->add_option("--out", b->out, "Trace CSV to write, with --predict");
+  return {{c, [o] { return run_iso230_2(*o); }}, {bb, [b] { return run_ballbar(*b); }}};
 }
 
 }  // namespace mtcal::cli

@@ -34,7 +34,7 @@ std::string lower(std::string s) {
 
 double wrap(double a) {  // to [0, 2 pi)
   a = std::fmod(a, 2 * kPi);
-  return a < 0 ? a + 2 * kPi : a;
+  return a < 0 ? a + 2 * kPi : a + 0.0;  // + 0.0 turns -0 into 0
 }
 
 struct Xy {

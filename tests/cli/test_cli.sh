@@ -336,4 +336,22 @@ printf 'C,x,y,z\n0,100,0,0\n120,-50,86.6025403784,0\n240,-50,-86.6025403784,0\n'
 expect_exit 0 "three centres" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/three.csv" --json
 python3 -c "import json; d=json.load(open('$tmp/out')); assert d['least_squares']['EX0C_u'] is None and d['triples']['EX0C_u'] is None, d" && ok || bad "three centres: uncertainty not null"
 
+# Ballbar: prediction from a model, evaluation, JSON keys, errors.
+expect_exit 0 "ballbar --predict" -- "$MTCAL" ballbar --predict -m "$M3" --plane XY --radius 100 --centre "Z=-200" --out "$tmp/trace.csv"
+[ "$(head -1 "$tmp/trace.csv")" = "direction,angle_deg,radius_mm" ] && [ "$(wc -l <"$tmp/trace.csv")" -eq 721 ] && ok || bad "predicted trace format"
+expect_exit 0 "ballbar --json" -- "$MTCAL" ballbar "$tmp/trace.csv" --radius 100 --json
+[ "$(json_get "[k for k in d if k in ('G_cw','G_ccw','G_b','H','F_max','F_min','F_mean_bidirectional')]")" = "['G_cw', 'G_ccw', 'G_b', 'H', 'F_max', 'F_min', 'F_mean_bidirectional']" ] && ok || bad "ballbar JSON keys"
+# Both paths' zone about any centre is at least each path's minimum zone; the minimum zone is at most G.
+python3 -c "import json; d=json.load(open('$tmp/out')); assert d['G_b'] >= max(d['cw']['G_minimum_zone'], d['ccw']['G_minimum_zone']) - 1e-7 and d['cw']['G_minimum_zone'] <= d['cw']['G'] + 1e-12, d" && ok || bad "ballbar G(b) >= minimum zones and minimum zone <= G"
+awk -F, 'NR==1 || $1=="ccw"' "$tmp/trace.csv" >"$tmp/ccw.csv"
+expect_error "ballbar one direction" "both directions" -- "$MTCAL" ballbar "$tmp/ccw.csv" --radius 100
+expect_exit 0 "ballbar --direction ccw" -- "$MTCAL" ballbar "$tmp/ccw.csv" --radius 100 --direction ccw --json
+[ "$(json_get "d['H']")" = "None" ] && ok || bad "one direction: no H"
+awk -F, 'NR==1 || $2 < 180' "$tmp/trace.csv" >"$tmp/half.csv"
+expect_error "ballbar half circle" "gap" -- "$MTCAL" ballbar "$tmp/half.csv" --radius 100
+printf 'direction,angle_deg,radius_mm\nsideways,0,100\n' >"$tmp/badtrace.csv"
+expect_error "ballbar bad direction" "badtrace.csv:2" -- "$MTCAL" ballbar "$tmp/badtrace.csv" --radius 100
+expect_error "ballbar predict without machine" "needs --machine" -- "$MTCAL" ballbar --predict --out "$tmp/x.csv"
+expect_error "ballbar predict bad plane" "plane" -- "$MTCAL" ballbar --predict -m "$M5" --plane XB --out "$tmp/x.csv"
+
 summary_and_exit
