@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
+
 #include "mtcal/fitting/fit.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/kinematics/error_model.hpp"
@@ -265,6 +267,71 @@ BallbarEvaluation evaluate_ballbar(const std::vector<TracePoint>& trace, const B
   e.F_max = std::max(e.cw->F_max, e.ccw->F_max);
   e.F_min = std::min(e.cw->F_min, e.ccw->F_min);
   return e;
+}
+
+TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& o, const std::string& plane,
+                                const std::string& source) {
+  const auto cw = trimmed(trace, CircleDirection::CW, o), ccw = trimmed(trace, CircleDirection::CCW, o);
+  if (cw.size() < 8 || ccw.size() < 8)
+    throw InputError({source, 0, ""}, "the diagnostic fit needs both directions (squareness and servo mismatch differ "
+                                      "only in how they change with the direction)");
+  const std::string a1(1, plane.size() == 2 ? plane[0] : 'X'), a2(1, plane.size() == 2 ? plane[1] : 'Y');
+  const double R = o.nominal_radius;
+  constexpr double tau = 5 * kDeg;  // decay of a reversal spike
+  struct Column {
+    std::string name, unit;
+    double scale;  // value in its unit = coefficient * scale
+  };
+  const std::vector<Column> cols = {
+      {"centre offset " + a1, "um", 1e3},       {"centre offset " + a2, "um", 1e3},
+      {"radius offset", "um", 1e3},             {"scaling mismatch " + a1 + a2, "um/m", 1e6},
+      {"squareness " + a1 + a2, "um/m", 1e6},   {"servo mismatch " + a1 + a2, "um/m", 1e6},
+      {"backlash " + a1, "um", 1e3},            {"backlash " + a2, "um", 1e3},
+      {"reversal spike " + a1, "um", 1e3},      {"reversal spike " + a2, "um", 1e3},
+      {"straightness " + a1 + " (bow in " + a2 + ")", "um", 1e3},
+      {"straightness " + a2 + " (bow in " + a1 + ")", "um", 1e3},
+      {"cyclic cos 4a", "um", 1e3}, {"cyclic sin 4a", "um", 1e3}, {"cyclic cos 5a", "um", 1e3},
+      {"cyclic sin 5a", "um", 1e3}, {"cyclic cos 6a", "um", 1e3}, {"cyclic sin 6a", "um", 1e3}};
+  std::vector<TracePoint> all = cw;
+  all.insert(all.end(), ccw.begin(), ccw.end());
+  const Eigen::Index n = static_cast<Eigen::Index>(all.size()), p = static_cast<Eigen::Index>(cols.size());
+  Eigen::MatrixXd A(n, p);
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& s = all[static_cast<std::size_t>(i)];
+    const double a = s.angle, d = s.direction == CircleDirection::CCW ? 1.0 : -1.0;
+    const double c = std::cos(a), sn = std::sin(a);
+    const double v1 = -d * sn, v2 = d * c;  // directions of motion of the two axes
+    auto sgn = [](double v) { return std::abs(v) < 1e-9 ? 0.0 : (v > 0 ? 1.0 : -1.0); };
+    // Angle travelled since the last reversal of each axis (axis 1 reverses at 0 and pi, axis 2 at
+    // pi/2 and 3pi/2).
+    const double since1 = std::fmod(wrap(d * a), kPi), since2 = std::fmod(wrap(d * a - d * kPi / 2), kPi);
+    A.row(i) << c, sn, 1.0, 0.5 * R * std::cos(2 * a), -0.5 * R * std::sin(2 * a), d * 0.5 * R * std::sin(2 * a),
+        -0.5 * sgn(v1) * c, -0.5 * sgn(v2) * sn, std::exp(-since1 / tau), std::exp(-since2 / tau), c * c * sn,
+        sn * sn * c, std::cos(4 * a), std::sin(4 * a), std::cos(5 * a), std::sin(5 * a), std::cos(6 * a),
+        std::sin(6 * a);
+    b[i] = s.radius - R;
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const auto sv = svd.singularValues();
+  if (!(sv[p - 1] > 1e-9 * sv[0]))
+    throw InputError({source, 0, ""}, "the trace does not separate the diagnostic terms (too few samples round the circle)");
+  const Eigen::VectorXd x = svd.solve(b);
+  const Eigen::VectorXd r = b - A * x;
+  TraceDiagnosis out;
+  out.dof = static_cast<int>(n - p);
+  const double sigma2 = out.dof > 0 ? r.squaredNorm() / out.dof : 0.0;
+  const Eigen::MatrixXd cov = sigma2 * svd.matrixV() * sv.cwiseAbs2().cwiseInverse().asDiagonal() * svd.matrixV().transpose();
+  const Eigen::VectorXd fitted = A * x;
+  const double fitted_rms = std::sqrt(fitted.squaredNorm() / static_cast<double>(n));
+  out.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(n)) * 1e3;
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const auto& col = cols[static_cast<std::size_t>(j)];
+    const double contribution = std::sqrt((A.col(j) * x[j]).squaredNorm() / static_cast<double>(n));
+    out.terms.push_back({col.name, col.unit, x[j] * col.scale, std::sqrt(std::max(0.0, cov(j, j))) * col.scale,
+                         fitted_rms > 0 ? 100.0 * contribution / fitted_rms : 0.0});
+  }
+  return out;
 }
 
 std::vector<TracePoint> predict_ballbar(const Machine& m, const std::string& plane, const std::vector<double>& centre,

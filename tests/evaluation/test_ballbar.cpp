@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/util/errors.hpp"
@@ -151,4 +152,73 @@ TEST(Ballbar, PredictedTracesShowSingleErrorsAsTheyShould) {
   EXPECT_NEAR(*er.H, 4e-3, 1e-5);
   EXPECT_THROW(predict_ballbar(m, "XC", centre, R, 0.01), ModelError);
   EXPECT_THROW(predict_ballbar(mtcal::testing::nominal_machine("wCBfXYt"), "YZ", {0, 0, 0, 0}, R, 0.01), ModelError);
+}
+
+namespace {
+double term(const TraceDiagnosis& d, const std::string& name) {
+  for (const auto& t : d.terms)
+    if (t.name == name) return t.value;
+  ADD_FAILURE() << "no term " << name;
+  return 0;
+}
+}  // namespace
+
+TEST(Ballbar, DiagnosisRecoversTheErrorsBehindPredictedTraces) {
+  // Traces predicted by the kinematic model (not by the diagnostic basis) for single errors:
+  // each shows up in its own term, with the sign and size of first-order theory.
+  const Machine m = mtcal::testing::nominal_machine("wXYfZt");
+  const std::vector<double> centre{0.0, 0.0, -100.0};
+  const double step = 0.5 * kPi / 180;
+  auto diagnose = [&](const Machine& mm) {
+    return diagnose_ballbar(predict_ballbar(mm, "XY", centre, R, step), nominal(R), "XY");
+  };
+  const auto clean = diagnose(m);
+  for (const auto& t : clean.terms) EXPECT_NEAR(t.value, 0.0, 1e-6) << t.name;
+
+  Machine sq = m;
+  sq.set_parameter("EC0Y", 20e-6);  // Y leans towards -X: squareness +20 um/m
+  const auto ds = diagnose(sq);
+  EXPECT_NEAR(term(ds, "squareness XY"), 20.0, 0.05);
+  EXPECT_NEAR(term(ds, "servo mismatch XY"), 0.0, 0.05);
+
+  Machine bk = m;
+  bk.set_parameter("EXX.b", 3e-3);  // X runs 3 um ahead in its direction: lost motion -6 um
+  const auto db = diagnose(bk);
+  EXPECT_NEAR(term(db, "backlash X"), -6.0, 0.1);
+  EXPECT_NEAR(term(db, "backlash Y"), 0.0, 0.1);
+  EXPECT_NEAR(term(db, "squareness XY"), 0.0, 0.05);
+
+  Machine sc = m;
+  sc.set_parameter("EXX.1", 10e-6);  // X scale +10 um/m: mismatch +10 um/m, mean radius +sR/2
+  const auto dc = diagnose(sc);
+  EXPECT_NEAR(term(dc, "scaling mismatch XY"), 10.0, 0.05);
+  EXPECT_NEAR(term(dc, "radius offset"), 10e-6 * R / 2 * 1e3, 0.01);
+
+  // Servo mismatch: a direction-dependent oval, built directly.
+  const double mu = 15e-6;
+  auto servo = trace([&](double a, CircleDirection d) {
+    return R + (d == CircleDirection::CCW ? 1.0 : -1.0) * 0.5 * mu * R * std::sin(2 * a);
+  });
+  const auto dv = diagnose_ballbar(servo, nominal(R), "XY");
+  EXPECT_NEAR(term(dv, "servo mismatch XY"), 15.0, 0.05);
+  EXPECT_NEAR(term(dv, "squareness XY"), 0.0, 0.05);
+}
+
+TEST(Ballbar, DiagnosisUncertaintiesCoverTheTruthWithNoise) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.5e-3);
+  Machine sq = mtcal::testing::nominal_machine("wXYfZt");
+  sq.set_parameter("EC0Y", 20e-6);
+  int inside = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    auto t = predict_ballbar(sq, "XY", {0.0, 0.0, -100.0}, R, 1.0 * kPi / 180);
+    for (auto& s : t) s.radius += noise(rng);
+    const auto d = diagnose_ballbar(t, nominal(R), "XY");
+    for (const auto& tt : d.terms)
+      if (tt.name == "squareness XY") inside += std::abs(tt.value - 20.0) <= 3 * tt.uncertainty;
+  }
+  EXPECT_GE(inside, 28);
+  auto one = predict_ballbar(sq, "XY", {0.0, 0.0, -100.0}, R, 1.0 * kPi / 180);
+  std::erase_if(one, [](const TracePoint& s) { return s.direction == CircleDirection::CW; });
+  EXPECT_THROW(diagnose_ballbar(one, nominal(R), "XY"), InputError);
 }

@@ -54,6 +54,27 @@ struct BallbarEvaluation {
 BallbarEvaluation evaluate_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& options,
                                    const std::string& source = "trace");
 
+// One term of the diagnostic trace model with its least-squares value, standard uncertainty
+// and share of the trace (RMS of its contribution over the RMS of the fitted trace, %).
+struct TraceTerm {
+  std::string name;   // e.g. "backlash X", "squareness XY"
+  std::string unit;   // of value and uncertainty: um, um/m (ppm, urad)
+  double value = 0, uncertainty = 0, share = 0;
+};
+struct TraceDiagnosis {
+  std::vector<TraceTerm> terms;
+  double residual_rms = 0;  // um, what the model leaves
+  int dof = 0;
+};
+// Least-squares fit of a physical model of the radial deviation (both directions, after the
+// overshoot), docs/evaluations.md: centre offsets, radius, scaling mismatch (cos 2a), squareness
+// (direction-independent sin 2a), servo mismatch (direction-dependent sin 2a), backlash per
+// axis (a step at each reversal), reversal spikes per axis (5 deg decay after a reversal),
+// straightness (bow) of each axis, and cyclic harmonics 4-6. plane names the axes ("XY" ...).
+// Throws InputError without both directions or when the terms cannot be separated.
+TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& options,
+                                const std::string& plane, const std::string& source = "trace");
+
 // The trace a ballbar would record on a machine model: the two axes of plane ("XY", "YZ", "ZX")
 // describe a circle of radius mm about the centre configuration (joint values, internal units),
 // clockwise and counter-clockwise, one sample every step rad; the bar joins the actual tool
