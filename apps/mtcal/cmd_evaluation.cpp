@@ -2,6 +2,7 @@
 #include <iostream>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -153,7 +154,8 @@ json deviation_json(const CircularDeviation& d) {
           {"F_max", d.F_max}, {"F_min", d.F_min}, {"F_mean", d.F_mean}};
 }
 
-void write_ballbar_report(const BallbarCliOptions& o, const std::vector<TracePoint>& t, const BallbarEvaluation& e) {
+void write_ballbar_report(const BallbarCliOptions& o, const std::vector<TracePoint>& t, const BallbarEvaluation& e,
+                          const TraceDiagnosis* diagnosis) {
   Report r("ISO 230-4 circular test, plane " + o.plane, command_line());
   r.add_input("trace", o.trace);
   r.add_figure("nominal radius", fmt::format("{:g}", o.radius), "mm");
@@ -190,6 +192,25 @@ void write_ballbar_report(const BallbarCliOptions& o, const std::vector<TracePoi
   r.add_table("ISO 230-4 per direction (µm)", {"direction", "samples", "G", "G minimum zone", "F max", "F min",
                                               "least-squares centre (µm)"},
               rows);
+  if (diagnosis) {
+    r.add_section("Diagnostics");
+    r.add_paragraph(fmt::format("Least-squares fit of a physical model of the trace (docs/evaluations.md); the share is "
+                                "each term's RMS over the RMS of the fitted trace. What the model leaves: {:.3f} µm rms.",
+                                diagnosis->residual_rms));
+    json names = json::array(), shares = json::array();
+    std::vector<std::vector<std::string>> drows;
+    for (const auto& term : diagnosis->terms) {
+      names.push_back(term.name);
+      shares.push_back(term.share);
+      std::string unit = term.unit == "um" ? "µm" : "µm/m";
+      drows.push_back({term.name, fmt::format("{:.3f}", term.value), fmt::format("{:.3f}", term.uncertainty), unit,
+                       fmt::format("{:.1f}", term.share)});
+    }
+    r.add_plot("Share of each diagnostic term in the fitted trace (%)",
+               {{"data", {{{"type", "bar"}, {"x", names}, {"y", shares}, {"name", "share"}}}},
+                {"layout", {{"yaxis", {{"title", {{"text", "%"}}}}}}}});
+    r.add_table("Diagnostic terms", {"term", "value", "standard uncertainty", "unit", "share (%)"}, drows);
+  }
   r.write(o.report);
 }
 
@@ -221,7 +242,9 @@ int run_ballbar(const BallbarCliOptions& o) {
   if (o.direction == "ccw") bo.only = CircleDirection::CCW;
   const auto t = read_ballbar_csv(o.trace);
   const auto e = evaluate_ballbar(t, bo, o.trace);
-  if (!o.report.empty()) write_ballbar_report(o, t, e);
+  std::optional<TraceDiagnosis> diagnosis;
+  if (!bo.only) diagnosis = diagnose_ballbar(t, bo, o.plane, o.trace);
+  if (!o.report.empty()) write_ballbar_report(o, t, e, diagnosis ? &*diagnosis : nullptr);
   if (o.json_out) {
     json j;
     j["plane"] = o.plane;
@@ -236,6 +259,13 @@ int run_ballbar(const BallbarCliOptions& o) {
     j["F_mean_bidirectional"] = e.F_mean_bidirectional ? json(*e.F_mean_bidirectional) : json(nullptr);
     if (e.cw) j["cw"] = deviation_json(*e.cw);
     if (e.ccw) j["ccw"] = deviation_json(*e.ccw);
+    if (diagnosis) {
+      json dj = json::object();
+      for (const auto& term : diagnosis->terms)
+        dj[term.name] = {{"value", term.value}, {"u", term.uncertainty}, {"unit", term.unit}, {"share", term.share}};
+      j["diagnostics"] = dj;
+      j["diagnostics_residual_rms_um"] = diagnosis->residual_rms;
+    }
     j["units"] = "mm";
     if (!o.report.empty()) j["report"] = o.report;
     std::cout << j.dump(2) << "\n";
@@ -249,6 +279,13 @@ int run_ballbar(const BallbarCliOptions& o) {
                                d->G * 1e3, d->G_minimum_zone * 1e3, d->F_max * 1e3, d->F_min * 1e3, d->points);
   if (e.G_b) std::cout << fmt::format("G(b) {:.2f} um   H {:.2f} um   mean radial deviation {:.2f} um\n", *e.G_b * 1e3,
                                       *e.H * 1e3, *e.F_mean_bidirectional * 1e3);
+  if (diagnosis) {
+    std::cout << "diagnostics (least-squares fit of the trace model; share of the fitted trace):\n";
+    for (const auto& term : diagnosis->terms)
+      std::cout << fmt::format("  {:<34} {:>9.3f} +- {:<7.3f} {:<5} {:>5.1f} %\n", term.name, term.value,
+                               term.uncertainty, term.unit, term.share);
+    std::cout << fmt::format("  residual rms {:.3f} um\n", diagnosis->residual_rms);
+  }
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
   return 0;
 }

@@ -341,6 +341,10 @@ expect_exit 0 "ballbar --predict" -- "$MTCAL" ballbar --predict -m "$M3" --plane
 [ "$(head -1 "$tmp/trace.csv")" = "direction,angle_deg,radius_mm" ] && [ "$(wc -l <"$tmp/trace.csv")" -eq 721 ] && ok || bad "predicted trace format"
 expect_exit 0 "ballbar --json" -- "$MTCAL" ballbar "$tmp/trace.csv" --radius 100 --json
 [ "$(json_get "[k for k in d if k in ('G_cw','G_ccw','G_b','H','F_max','F_min','F_mean_bidirectional')]")" = "['G_cw', 'G_ccw', 'G_b', 'H', 'F_max', 'F_min', 'F_mean_bidirectional']" ] && ok || bad "ballbar JSON keys"
+[ "$(json_get "sorted(d['diagnostics']['squareness XY'].keys())")" = "['share', 'u', 'unit', 'value']" ] && ok || bad "ballbar diagnostics keys"
+# The vmc example's X reversal (EXX reversal 1 um) comes out of its predicted trace as a lost
+# motion of -2 um (its squareness term also carries the angular errors' effect, so not checked).
+python3 -c "import json; d=json.load(open('$tmp/out')); v=d['diagnostics']['backlash X']['value']; assert abs(v+2.0) < 0.01, v" && ok || bad "ballbar diagnostics backlash of the example"
 # Both paths' zone about any centre is at least each path's minimum zone; the minimum zone is at most G.
 python3 -c "import json; d=json.load(open('$tmp/out')); assert d['G_b'] >= max(d['cw']['G_minimum_zone'], d['ccw']['G_minimum_zone']) - 1e-7 and d['cw']['G_minimum_zone'] <= d['cw']['G'] + 1e-12, d" && ok || bad "ballbar G(b) >= minimum zones and minimum zone <= G"
 awk -F, 'NR==1 || $1=="ccw"' "$tmp/trace.csv" >"$tmp/ccw.csv"
