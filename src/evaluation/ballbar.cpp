@@ -5,14 +5,13 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
 
 #include "mtcal/fitting/fit.hpp"
-#include "mtcal/io/files.hpp"
+#include "mtcal/io/csv.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
@@ -22,12 +21,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
 
 std::string lower(std::string s) {
   for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -188,49 +181,26 @@ double radius_at(const std::vector<std::pair<double, double>>& sorted, double a)
 }  // namespace
 
 std::vector<TracePoint> read_ballbar_csv(const std::string& path) {
-  const std::string text = read_text_file(path, "ballbar trace");
-  std::istringstream in(text.rfind("\xEF\xBB\xBF", 0) == 0 ? text.substr(3) : text);
-  std::string line;
-  int lineno = 0, cd = -1, ca = -1, cr = -1;
-  bool header = false;
+  const TextTable t = read_text_csv(path, "ballbar trace");
+  const auto c = t.require_columns({"direction", "angle_deg", "radius_mm"}, path);
   std::vector<TracePoint> out;
-  while (std::getline(in, line)) {
-    ++lineno;
-    const std::string s = trim(line);
-    if (s.empty() || s[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(s);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
-    if (!header) {
-      for (std::size_t i = 0; i < cells.size(); ++i) {
-        int* slot = cells[i] == "direction" ? &cd : cells[i] == "angle_deg" ? &ca : cells[i] == "radius_mm" ? &cr : nullptr;
-        if (!slot)
-          throw InputError({path, lineno, cells[i]}, "unknown column '" + cells[i] + "' (expected direction, angle_deg, radius_mm)");
-        if (*slot >= 0) throw InputError({path, lineno, cells[i]}, "duplicated column '" + cells[i] + "'");
-        *slot = static_cast<int>(i);
-      }
-      if (cd < 0 || ca < 0 || cr < 0)
-        throw InputError({path, lineno, ""}, "expected the columns direction, angle_deg, radius_mm");
-      header = true;
-      continue;
-    }
-    if (cells.size() != 3) throw InputError({path, lineno, ""}, fmt::format("expected 3 values, found {}", cells.size()));
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    const auto& cells = t.rows[r];
+    const int lineno = t.lines[r];
     TracePoint p;
-    const std::string d = lower(cells[static_cast<std::size_t>(cd)]);
+    const std::string d = lower(cells[c[0]]);
     if (d == "cw") p.direction = CircleDirection::CW;
     else if (d == "ccw") p.direction = CircleDirection::CCW;
-    else throw InputError({path, lineno, "direction"}, "expected cw or ccw, found '" + cells[static_cast<std::size_t>(cd)] + "'");
-    const auto a = parse_number(cells[static_cast<std::size_t>(ca)]);
-    if (!a) throw InputError({path, lineno, "angle_deg"}, "expected a number, found '" + cells[static_cast<std::size_t>(ca)] + "'");
-    const auto r = parse_number(cells[static_cast<std::size_t>(cr)]);
-    if (!r || !(*r > 0))
-      throw InputError({path, lineno, "radius_mm"}, "expected a length > 0, found '" + cells[static_cast<std::size_t>(cr)] + "'");
+    else throw InputError({path, lineno, "direction"}, "expected cw or ccw, found '" + cells[c[0]] + "'");
+    const auto a = parse_number(cells[c[1]]);
+    if (!a) throw InputError({path, lineno, "angle_deg"}, "expected a number, found '" + cells[c[1]] + "'");
+    const auto radius = parse_number(cells[c[2]]);
+    if (!radius || !(*radius > 0))
+      throw InputError({path, lineno, "radius_mm"}, "expected a length > 0, found '" + cells[c[2]] + "'");
     p.angle = *a * kDeg;
-    p.radius = *r;
+    p.radius = *radius;
     out.push_back(p);
   }
-  if (!header) throw InputError({path, 0, ""}, "no header line (direction,angle_deg,radius_mm)");
   return out;
 }
 

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "mtcal/io/csv.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
@@ -37,47 +38,22 @@ double sample_sd(const std::vector<double>& v, double m) {
 }  // namespace
 
 PositioningRuns read_positioning_csv(const std::string& path, const std::string& unit) {
-  const std::string text = read_text_file(path, "positioning file");
-  std::istringstream in(text.rfind("\xEF\xBB\xBF", 0) == 0 ? text.substr(3) : text);
-  std::string line;
-  int lineno = 0;
-  bool header = false;
-  int ct = -1, cr = -1, cd = -1, cm = -1;
+  const TextTable table = read_text_csv(path, "positioning file");
+  const auto c = table.require_columns({"target", "run", "direction", "measured"}, path);
   // target value -> direction -> run -> measured
   std::vector<double> order;
   std::map<double, std::map<int, std::map<long, double>>> data;
-  while (std::getline(in, line)) {
-    ++lineno;
-    const std::string s = trim(line);
-    if (s.empty() || s[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(s);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
-    if (!header) {
-      for (std::size_t i = 0; i < cells.size(); ++i) {
-        const std::string& c = cells[i];
-        int* slot = c == "target" ? &ct : c == "run" ? &cr : c == "direction" ? &cd : c == "measured" ? &cm : nullptr;
-        if (!slot) throw InputError({path, lineno, c}, "unknown column '" + c + "' (expected target, run, direction, measured)");
-        if (*slot >= 0) throw InputError({path, lineno, c}, "duplicated column '" + c + "'");
-        *slot = static_cast<int>(i);
-      }
-      for (const char* need : {"target", "run", "direction", "measured"}) {
-        const int v = std::string(need) == "target" ? ct : std::string(need) == "run" ? cr : std::string(need) == "direction" ? cd : cm;
-        if (v < 0) throw InputError({path, lineno, ""}, std::string("missing column '") + need + "'");
-      }
-      header = true;
-      continue;
-    }
-    if (cells.size() != 4) throw InputError({path, lineno, ""}, fmt::format("expected 4 values, found {}", cells.size()));
-    auto num = [&](int c, const char* name) {
-      const auto v = parse_number(cells[static_cast<std::size_t>(c)]);
-      if (!v) throw InputError({path, lineno, name}, "expected a number, found '" + cells[static_cast<std::size_t>(c)] + "'");
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const auto& cells = table.rows[r];
+    const int lineno = table.lines[r];
+    auto num = [&](std::size_t col, const char* name) {
+      const auto v = parse_number(cells[col]);
+      if (!v) throw InputError({path, lineno, name}, "expected a number, found '" + cells[col] + "'");
       return *v;
     };
-    const double target = num(ct, "target"), measured = num(cm, "measured"), run = num(cr, "run");
+    const double target = num(c[0], "target"), measured = num(c[3], "measured"), run = num(c[1], "run");
     if (run != std::floor(run)) throw InputError({path, lineno, "run"}, "expected a whole run number");
-    const std::string d = cells[static_cast<std::size_t>(cd)];
+    const std::string& d = cells[c[2]];
     int dir = 0;
     if (d == "up" || d == "+") dir = 1;
     else if (d == "down" || d == "-") dir = -1;
@@ -88,7 +64,6 @@ PositioningRuns read_positioning_csv(const std::string& path, const std::string&
       throw InputError({path, lineno, "run"}, fmt::format("run {} of target {:g} ({}) given twice", run, target, d));
     runs[static_cast<long>(run)] = measured;
   }
-  if (!header) throw InputError({path, 0, ""}, "no header line (target,run,direction,measured)");
   PositioningRuns r;
   r.unit = unit;
   std::sort(order.begin(), order.end());
