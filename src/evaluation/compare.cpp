@@ -18,13 +18,6 @@ namespace {
 
 constexpr std::array<const char*, 4> kColumns = {"method", "test", "parameter", "value"};
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
-
 // Splits one line into cells. The numeric reader (io/csv) has no use for quotes, but names of
 // tests and parameters written by spreadsheets may carry them: a cell may be wrapped in double
 // quotes, with "" standing for one quote inside, so that it can hold commas.

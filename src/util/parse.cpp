@@ -18,4 +18,10 @@ std::optional<double> parse_number(std::string_view text) {
   return v;
 }
 
+std::string trim(std::string_view text) {
+  const auto b = text.find_first_not_of(" \t\r");
+  if (b == std::string_view::npos) return "";
+  return std::string(text.substr(b, text.find_last_not_of(" \t\r") - b + 1));
+}
+
 }  // namespace mtcal
