@@ -46,7 +46,6 @@ void EvalReport::add(std::size_t index, const double* q, const double* e) {
 void EvalReport::write(const std::string& path, const std::string& command, const std::string& points_file,
                        const std::string& grid, const std::vector<std::string>& parameter_files) const {
   const Machine& m = model_.machine();
-  const std::size_t n = m.axes.size();
   Report r("Volumetric error of " + m.name, command);
   r.set_machine(m);
   for (const auto& p : parameter_files) r.add_input("parameter file", p);
@@ -54,12 +53,7 @@ void EvalReport::write(const std::string& path, const std::string& command, cons
   if (!grid.empty()) r.add_figure("grid", grid, "mm, deg");
   r.add_figure("configurations", fmt::format("{}", count_), "");
   r.add_figure("tool length", fmt::format("{:g}", m.tool.length), "mm");
-  auto config_text = [&](const std::vector<double>& q) {
-    std::string s;
-    for (std::size_t k = 0; k < n; ++k)
-      s += fmt::format("{}{}={:g}", k ? ", " : "", m.axes[k].letter, to_user_units(m.axes[k], q[k]));
-    return s;
-  };
+  auto config_text = [&](const std::vector<double>& q) { return format_joint_values(m, q, ", "); };
   if (!largest_.empty()) {
     const auto& top = largest_.front();
     r.add_figure("largest translational error", fmt::format("{:.3f}", std::hypot(top.e[0], top.e[1], top.e[2]) * 1e3),

@@ -213,12 +213,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
     for (std::size_t k = 0; k < n; ++k) j[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], qr[k]);
     return j;
   };
-  auto where_text = [&](const std::vector<double>& qr) {
-    std::string s;
-    for (std::size_t k = 0; k < n; ++k)
-      s += fmt::format("{}{}={:g}", k ? "," : "", m.axes[k].letter, to_user_units(m.axes[k], qr[k]));
-    return s;
-  };
+  auto where_text = [&](const std::vector<double>& qr) { return format_joint_values(m, qr); };
   if (as_json) {
     json j;
     j["configurations"] = count;
@@ -343,10 +338,7 @@ int run_effects(const ModelOptions& mo, const std::string& at, const std::string
     Report r("Single-error effects on " + m.name, command_line());
     r.set_machine(m);
     for (const auto& p : mo.params) r.add_input("parameter file", p);
-    std::string where;
-    for (std::size_t k = 0; k < m.axes.size(); ++k)
-      where += fmt::format("{}{}={:g}", k ? ", " : "", m.axes[k].letter, to_user_units(m.axes[k], q[k]));
-    r.add_figure("configuration", where, "mm, deg");
+    r.add_figure("configuration", format_joint_values(m, q, ", "), "mm, deg");
     r.add_figure("tool length", fmt::format("{:g}", m.tool.length), "mm");
     r.add_figure("linearised about", around, "machine");
     r.add_section("Effect of each error on the tool point");

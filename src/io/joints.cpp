@@ -64,6 +64,13 @@ std::vector<double> parse_joint_values(const Machine& m, std::string_view spec) 
   return q;
 }
 
+std::string format_joint_values(const Machine& m, const std::vector<double>& q, std::string_view separator) {
+  std::string s;
+  for (std::size_t k = 0; k < m.axes.size(); ++k)
+    s += fmt::format("{}{}={:g}", k ? separator : "", m.axes[k].letter, to_user_units(m.axes[k], q[k]));
+  return s;
+}
+
 std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view spec) {
   std::vector<std::vector<double>> g(m.axes.size(), std::vector<double>{0.0});
   std::vector<bool> seen(m.axes.size(), false);

@@ -20,6 +20,10 @@ double to_user_units(const Axis& ax, double q);
 // Throws InputError (field = the offending item) for unknown letters, repeats or non-numbers.
 std::vector<double> parse_joint_values(const Machine& m, std::string_view spec);
 
+// The inverse of parse_joint_values: "X=100,B=30" for every axis, in user units (%g), joined
+// by separator.
+std::string format_joint_values(const Machine& m, const std::vector<double>& q, std::string_view separator = ",");
+
 // Per-axis sample values of a grid "X=-300:300:7,B=-90:90:5" (lo:hi:count, or a single value);
 // axes not named are held at 0. Internal units, chain order.
 std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view spec);
