@@ -54,5 +54,9 @@ std::vector<Command> add_probing_commands(CLI::App& app);
 std::vector<Command> add_evaluation_commands(CLI::App& app);
 // Method comparison: compare (cmd_compare.cpp).
 std::vector<Command> add_compare_commands(CLI::App& app);
+// Volumetric accuracy: volumetric, contributions, diagonals (cmd_volumetric.cpp).
+std::vector<Command> add_volumetric_commands(CLI::App& app);
+// Tool-path simulation from G-code: toolpath (cmd_toolpath.cpp).
+std::vector<Command> add_toolpath_commands(CLI::App& app);
 
 }  // namespace mtcal::cli

@@ -430,6 +430,8 @@ int main(int argc, char** argv) {
   std::vector<Command> more = add_probing_commands(app);
   for (auto& c : add_evaluation_commands(app)) more.push_back(std::move(c));
   for (auto& c : add_compare_commands(app)) more.push_back(std::move(c));
+  for (auto& c : add_volumetric_commands(app)) more.push_back(std::move(c));
+  for (auto& c : add_toolpath_commands(app)) more.push_back(std::move(c));
 
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];

@@ -1,0 +1,1 @@
+#include "mtcal/evaluation/contributions.hpp"

@@ -1,0 +1,1 @@
+#include "mtcal/io/gcode.hpp"
