@@ -3,10 +3,12 @@
 
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "mtcal/model/machine.hpp"
 
@@ -34,6 +36,22 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
 std::vector<std::string> model_inputs(const ModelOptions& o);
 // CLI11 check: a finite number (CLI11's Range lets NaN through).
 extern const CLI::Validator kFinite;
+
+// Configurations read from a CSV file (columns named by axis letters, mm and deg, and optional
+// dir<axis> columns of +1/-1/0), every row checked before any work.
+struct Configurations {
+  std::vector<double> q;         // rows x axes, internal units
+  std::vector<std::int8_t> dir;  // rows x axes, or empty when the file has no dir column
+  std::vector<int> lines;        // file line of each row
+  std::size_t size(std::size_t axes) const { return axes ? q.size() / axes : 0; }
+};
+Configurations read_configurations(const Machine& m, const std::string& path, bool travel_check);
+// parse_grid with the count limited to max_count and the grid's corners checked against the travel.
+std::vector<std::vector<double>> checked_grid(const Machine& m, const std::string& spec, bool travel_check,
+                                              std::size_t max_count = 4'000'000'000);
+std::size_t grid_count(const std::vector<std::vector<double>>& values);
+// {"X": 100, "B": 30}: a configuration in user units (mm, deg), for JSON outputs.
+nlohmann::ordered_json joint_json(const Machine& m, std::span<const double> q);
 
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& s);

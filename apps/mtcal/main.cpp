@@ -75,66 +75,19 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
   std::size_t count = 0;
   bool with_dir = false;
   std::function<void(std::size_t, double*, std::int8_t*)> fill;
-  CsvTable table;
+  Configurations configs;
   std::vector<std::vector<double>> grid_values;
   if (!points.empty()) {
-    table = read_csv(points);
-    std::vector<int> qcol(n, -1), dcol(n, -1);
-    for (std::size_t k = 0; k < n; ++k) {
-      qcol[k] = table.column(std::string(1, m.axes[k].letter));
-      dcol[k] = table.column(std::string("dir") + m.axes[k].letter);
-      with_dir = with_dir || dcol[k] >= 0;
-    }
-    for (const auto& c : table.columns) {
-      bool known = false;
-      for (const auto& ax : m.axes)
-        known = known || c == std::string(1, ax.letter) || c == std::string("dir") + ax.letter;
-      for (const char* k : kOutputKeys) known = known || c == k;
-      if (!known)
-        throw InputError({points, 1, c}, "unknown column '" + c + "' (expected axis letters of " +
-                                             m.topology.chain + " and optional dir<axis>)");
-    }
-    if (std::all_of(qcol.begin(), qcol.end(), [](int c) { return c < 0; }))
-      throw InputError({points, 1, ""}, "no axis column (expected columns named by the axis letters of " +
-                                            m.topology.chain + "; axes without a column are at 0)");
-    // Check every row before any work, so that a bad row fails the command at once.
-    for (std::size_t r = 0; r < table.rows.size(); ++r) {
-      std::vector<double> qr(n, 0.0);
-      for (std::size_t k = 0; k < n; ++k) {
-        if (qcol[k] >= 0) qr[k] = table.rows[r][qcol[k]] * joint_unit_factor(m.axes[k]);
-        if (dcol[k] >= 0) {
-          const double d = table.rows[r][dcol[k]];
-          if (d != 1 && d != -1 && d != 0)
-            throw InputError({points, table.lines[r], std::string("dir") + m.axes[k].letter},
-                             fmt::format("expected +1, -1 or 0, found {:g}", d));
-        }
-      }
-      check_joints(m, qr, fmt::format("{}:{}", points, table.lines[r]), !no_travel_check);
-    }
-    count = table.rows.size();
-    fill = [&, qcol, dcol](std::size_t r, double* qr, std::int8_t* dr) {
-      for (std::size_t k = 0; k < n; ++k) {
-        qr[k] = qcol[k] >= 0 ? table.rows[r][qcol[k]] * joint_unit_factor(m.axes[k]) : 0.0;
-        if (dr) dr[k] = dcol[k] >= 0 ? static_cast<std::int8_t>(table.rows[r][dcol[k]]) : 0;
-      }
+    configs = read_configurations(m, points, !no_travel_check);
+    count = configs.size(n);
+    with_dir = !configs.dir.empty();
+    fill = [&](std::size_t r, double* qr, std::int8_t* dr) {
+      std::copy_n(&configs.q[r * n], n, qr);
+      if (dr) std::copy_n(&configs.dir[r * n], n, dr);
     };
   } else {
-    grid_values = parse_grid(m, grid);
-    count = 1;
-    for (const auto& v : grid_values) {
-      if (count > std::size_t{4'000'000'000} / v.size())
-        throw InputError({"--grid", 0, ""}, "more than 4e9 configurations; use a coarser grid");
-      count *= v.size();
-    }
-    {
-      std::vector<double> lo(n), hi(n);
-      for (std::size_t k = 0; k < n; ++k) {
-        lo[k] = *std::min_element(grid_values[k].begin(), grid_values[k].end());
-        hi[k] = *std::max_element(grid_values[k].begin(), grid_values[k].end());
-      }
-      check_joints(m, lo, "--grid", !no_travel_check);
-      check_joints(m, hi, "--grid", !no_travel_check);
-    }
+    grid_values = checked_grid(m, grid, !no_travel_check);
+    count = grid_count(grid_values);
     // Mixed-radix index: the last axis of the chain varies fastest.
     fill = [&](std::size_t i, double* qr, std::int8_t*) {
       for (std::size_t k = n; k-- > 0;) {
@@ -208,11 +161,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
   if (file) file->commit();
   if (collect) collect->write(report, command_line(), points, grid, mo.params);
 
-  auto where = [&](const std::vector<double>& qr) {
-    json j;
-    for (std::size_t k = 0; k < n; ++k) j[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], qr[k]);
-    return j;
-  };
+  auto where = [&](const std::vector<double>& qr) { return joint_json(m, qr); };
   auto where_text = [&](const std::vector<double>& qr) { return format_joint_values(m, qr); };
   if (as_json) {
     json j;

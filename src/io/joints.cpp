@@ -54,14 +54,37 @@ double to_user_units(const Axis& ax, double q) {
   return parse_number(fmt::format("{:.12g}", v)).value_or(v);
 }
 
-std::vector<double> parse_joint_values(const Machine& m, std::string_view spec) {
+std::vector<double> parse_joint_values(const Machine& m, std::string_view spec, const char* option) {
   std::vector<double> q(m.axes.size(), 0.0);
   std::vector<bool> seen(m.axes.size(), false);
-  for (const auto& [name, value] : items(spec, "--at")) {
-    const std::size_t k = axis_of(m, name, seen, "--at");
-    q[k] = to_number(value, name, "--at") * joint_unit_factor(m.axes[k]);
+  for (const auto& [name, value] : items(spec, option)) {
+    const std::size_t k = axis_of(m, name, seen, option);
+    q[k] = to_number(value, name, option) * joint_unit_factor(m.axes[k]);
   }
   return q;
+}
+
+JointBox parse_box(const Machine& m, std::string_view spec, const char* option) {
+  const std::size_t n = m.axes.size();
+  JointBox b{std::vector<double>(n, -INFINITY), std::vector<double>(n, INFINITY), std::vector<bool>(n, false)};
+  std::vector<bool> seen(n, false);
+  for (const auto& [name, value] : items(spec, option)) {
+    const std::size_t k = axis_of(m, name, seen, option);
+    const double f = joint_unit_factor(m.axes[k]);
+    const auto colon = value.find(':');
+    if (colon == std::string::npos) {
+      b.lo[k] = b.hi[k] = to_number(value, name, option) * f;
+    } else {
+      if (value.find(':', colon + 1) != std::string::npos)
+        throw InputError({option, 0, name}, "expected lo:hi or a single value, found '" + value + "'");
+      b.lo[k] = to_number(value.substr(0, colon), name, option) * f;
+      b.hi[k] = to_number(value.substr(colon + 1), name, option) * f;
+      if (b.lo[k] > b.hi[k])
+        throw InputError({option, 0, name}, "expected lo <= hi, found '" + value + "'");
+    }
+    b.named[k] = true;
+  }
+  return b;
 }
 
 std::string format_joint_values(const Machine& m, const std::vector<double>& q, std::string_view separator) {

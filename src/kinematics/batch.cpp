@@ -7,6 +7,7 @@
 
 #include "mtcal/util/errors.hpp"
 #include "program.hpp"
+#include "../util/kernel.hpp"
 
 namespace mtcal {
 
@@ -243,14 +244,6 @@ struct AxisLanes {
     mul_block(B, E);
   }
 }
-
-// On x86-64 the block kernel is also compiled for AVX2 + FMA and picked at run time, so a
-// portable build still uses the wider vectors where the processor has them.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-#define MTCAL_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define MTCAL_KERNEL_CLONES
-#endif
 
 MTCAL_KERNEL_CLONES
 void run_block(const ErrorModel::Program& prog, const Machine& m, const double* q,

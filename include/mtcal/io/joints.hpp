@@ -17,8 +17,17 @@ std::string_view joint_unit_name(const Axis& ax);
 double to_user_units(const Axis& ax, double q);
 
 // "X=100,Y=50,Z=-20,B=30,C=90" -> internal joint values in chain order; axes not named are 0.
-// Throws InputError (field = the offending item) for unknown letters, repeats or non-numbers.
-std::vector<double> parse_joint_values(const Machine& m, std::string_view spec);
+// Throws InputError (field = the offending item; file = option) for unknown letters, repeats or
+// non-numbers.
+std::vector<double> parse_joint_values(const Machine& m, std::string_view spec, const char* option = "--at");
+
+// A box of joint values: "X=0:500,Y=-200:200,B=30" (lo:hi, or one value for lo = hi). Axes not
+// named span everything (lo = -inf, hi = +inf, named false). Internal units, chain order.
+struct JointBox {
+  std::vector<double> lo, hi;
+  std::vector<bool> named;
+};
+JointBox parse_box(const Machine& m, std::string_view spec, const char* option = "--box");
 
 // The inverse of parse_joint_values: "X=100,B=30" for every axis, in user units (%g), joined
 // by separator.
