@@ -10,6 +10,43 @@
 
 namespace mtcal::cli {
 
+nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>& samples,
+                                 const std::vector<PlotMark>& marks, bool join_marks) {
+  nlohmann::json x = nlohmann::json::array(), y = x, z = x, u = x, v = x, w = x, text = x;
+  for (const auto& s : samples) {
+    x.push_back(s.nominal.x());
+    y.push_back(s.nominal.y());
+    z.push_back(s.nominal.z());
+    u.push_back(s.error.x() * 1e3);
+    v.push_back(s.error.y() * 1e3);
+    w.push_back(s.error.z() * 1e3);
+    text.push_back(format_joint_values(m, s.q, ", "));
+  }
+  nlohmann::json cones = {{"type", "cone"}, {"x", x}, {"y", y}, {"z", z}, {"u", u}, {"v", v}, {"w", w},
+                          {"text", text}, {"sizemode", "scaled"}, {"sizeref", 1.2}, {"anchor", "tail"},
+                          {"colorscale", "Viridis"}, {"colorbar", {{"title", {{"text", "µm"}}}}},
+                          {"hovertemplate", "%{text}<br>|e| %{norm:.2f} µm<extra></extra>"}, {"name", "error"}};
+  nlohmann::json data = nlohmann::json::array({cones});
+  if (!marks.empty()) {
+    nlohmann::json mx = nlohmann::json::array(), my = mx, mz = mx, label = mx;
+    for (const auto& mk : marks) {
+      mx.push_back(mk.nominal.x());
+      my.push_back(mk.nominal.y());
+      mz.push_back(mk.nominal.z());
+      label.push_back(mk.label);
+    }
+    data.push_back({{"type", "scatter3d"}, {"mode", join_marks ? "lines+markers+text" : "markers+text"}, {"x", mx},
+                    {"y", my}, {"z", mz}, {"marker", {{"size", 8}, {"color", "red"}}},
+                    {"line", {{"color", "red"}, {"width", 4}}}, {"text", label}, {"name", "marked"}});
+  }
+  return {{"data", data},
+          {"layout", {{"scene", {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
+                                 {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
+                                 {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
+                                 {"aspectmode", "data"}}},
+                      {"showlegend", false}}}};
+}
+
 namespace {
 constexpr std::size_t kMapPoints = 3000;        // cones in the 3D error map
 constexpr std::size_t kMagnitudes = 2'000'000;  // values behind the distribution
@@ -68,34 +105,12 @@ void EvalReport::write(const std::string& path, const std::string& command, cons
   r.add_paragraph("Each cone is the translational error of the tool relative to the workpiece (dx, dy, dz) at the "
                   "nominal tool point, in the workpiece frame; colour and size show its magnitude in µm. The red "
                   "marker is the configuration with the largest error.");
-  nlohmann::json x = nlohmann::json::array(), y = x, z = x, u = x, v = x, w = x, text = x;
-  for (const auto& s : samples_) {
-    x.push_back(s.nominal.x());
-    y.push_back(s.nominal.y());
-    z.push_back(s.nominal.z());
-    u.push_back(s.e[0] * 1e3);
-    v.push_back(s.e[1] * 1e3);
-    w.push_back(s.e[2] * 1e3);
-    text.push_back(config_text(s.q));
-  }
-  nlohmann::json cones = {{"type", "cone"}, {"x", x}, {"y", y}, {"z", z}, {"u", u}, {"v", v}, {"w", w},
-                          {"text", text}, {"sizemode", "scaled"}, {"sizeref", 1.2}, {"anchor", "tail"},
-                          {"colorscale", "Viridis"}, {"colorbar", {{"title", {{"text", "µm"}}}}},
-                          {"hovertemplate", "%{text}<br>|e| %{norm:.2f} µm<extra></extra>"}, {"name", "error"}};
-  nlohmann::json data = nlohmann::json::array({cones});
-  if (!largest_.empty()) {
-    const auto& top = largest_.front();
-    data.push_back({{"type", "scatter3d"}, {"mode", "markers+text"}, {"x", {top.nominal.x()}}, {"y", {top.nominal.y()}},
-                    {"z", {top.nominal.z()}}, {"marker", {{"size", 8}, {"color", "red"}}},
-                    {"text", {"largest"}}, {"name", "largest error"}});
-  }
+  std::vector<ConeSample> cones;
+  for (const auto& s : samples_) cones.push_back({s.q, s.nominal, Vec3(s.e[0], s.e[1], s.e[2])});
+  std::vector<PlotMark> marks;
+  if (!largest_.empty()) marks.push_back({"largest", largest_.front().nominal});
   r.add_plot("Translational error vectors over the evaluated configurations (µm, at nominal tool points in mm)",
-             {{"data", data},
-              {"layout", {{"scene", {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
-                                     {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
-                                     {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
-                                     {"aspectmode", "data"}}},
-                          {"showlegend", false}}}});
+             error_cone_figure(m, cones, marks));
 
   r.add_section("Distribution");
   // Histogram binned here so that the page stays small for millions of configurations.

@@ -5,9 +5,25 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "mtcal/kinematics/error_model.hpp"
 
 namespace mtcal::cli {
+
+// A 3D cone plot of translational errors at nominal tool points (Plotly figure, µm), shared by
+// the eval and volumetric reports. marks: labelled points drawn over the cones.
+struct ConeSample {
+  std::vector<double> q;  // internal units
+  Vec3 nominal;           // tool point, workpiece frame (mm)
+  Vec3 error;             // mm
+};
+struct PlotMark {
+  std::string label;
+  Vec3 nominal;
+};
+nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>& samples,
+                                 const std::vector<PlotMark>& marks, bool join_marks = false);
 
 // Collects what the report shows while the batches stream past, in bounded memory.
 class EvalReport {
