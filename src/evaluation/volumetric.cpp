@@ -278,8 +278,31 @@ VolumetricAccuracy volumetric_accuracy(std::span<const Vec3> e, const VaSearchOp
   }
   double best2 = 0.0;
   std::size_t bi = 0, bj = 0;
-  if (options.initial_bound) lower_bound(e, best2, bi, bj, r.distance_evaluations);
-  FarthestPair(e).search(best2, bi, bj, r.distance_evaluations);
+  if (!options.initial_bound) {
+    FarthestPair(e).search(best2, bi, bj, r.distance_evaluations);
+  } else {
+    lower_bound(e, best2, bi, bj, r.distance_evaluations);
+    r.initial_bound = std::sqrt(best2);
+    // A point can only be in a pair longer than the bound if the farthest corner of the set's
+    // bounding box is farther from it than the bound: most points of a smooth map are not, and
+    // the tree is built on the rest (same monotone-rounding argument as the box bound).
+    Vec3 lo = e[0], hi = e[0];
+    for (const Vec3& v : e) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    std::vector<Vec3> candidates;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < n; ++i) {
+      double far2 = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        const double w = std::max(e[i][d] - lo[d], hi[d] - e[i][d]);
+        far2 += w * w;
+      }
+      if (far2 > best2) candidates.push_back(e[i]), index.push_back(i);
+    }
+    std::size_t ci = 0, cj = 0;
+    const double before = best2;
+    FarthestPair(candidates).search(best2, ci, cj, r.distance_evaluations);
+    if (best2 > before) bi = index[ci], bj = index[cj];
+  }
   r.va = {std::sqrt(best2), std::min(bi, bj), std::max(bi, bj)};
   return r;
 }

@@ -47,6 +47,7 @@ struct VolumetricAccuracy {
   PointPair va;
   std::array<PointPair, 3> component;  // x, y, z
   std::uint64_t distance_evaluations = 0;  // pair distances the search computed (its work)
+  double initial_bound = 0.0;              // distance of the starting pair (<= va.value)
 };
 
 // Exact VA of a set of error vectors (any N >= 0; N <= 1 gives 0 at pair (0, 0)).
