@@ -219,7 +219,8 @@ int run_volumetric(const VolumetricOptions& o) {
     t_hist = seconds_since(t0);
     std::vector<double> mags(map.size());
     for (std::size_t i = 0; i < map.size(); ++i) mags[i] = map.error[i].norm();
-    magnitudes = value_distribution(mags, bins);
+    // 'auto' sizes each histogram for its own count (the errors are far fewer than their pairs).
+    magnitudes = value_distribution(mags, o.histogram == "auto" ? histogram_bins("auto", static_cast<double>(map.size())) : bins);
   }
   std::optional<GroupingResult> grouping;
   GroupingOptions gopt;

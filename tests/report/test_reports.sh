@@ -22,7 +22,11 @@ run "$MTCAL" rotary-axis --axis C --contacts "$tmp/contacts.csv" --sphere-diamet
 printf 'target,run,direction,measured\n0,1,up,0.001\n0,2,up,0.003\n0,1,down,-0.001\n0,2,down,0.001\n10,1,up,10.004\n10,2,up,10.006\n10,1,down,10.002\n10,2,down,10.002\n' >"$tmp/positions.csv"
 run "$MTCAL" iso230-2 "$tmp/positions.csv" --report "$tmp/iso230-2.html"
 run "$MTCAL" compare "$EXAMPLES/../data/mohammed2019-ballbar-vs-samba.csv" --report "$tmp/compare.html"
-for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare; do
+run "$MTCAL" volumetric -m "$M3" --grid "X=-400:400:11,Y=-250:250:11,Z=-500:0:11" --histogram auto --box-scan 5 \
+  --group-angle 0.1 --report "$tmp/volumetric.html"
+run "$MTCAL" contributions -m "$M3" --grid "X=-400:400:11,Y=-250:250:11,Z=-500:0:11" --report "$tmp/contributions.html"
+run "$MTCAL" diagonals -m "$M3" --box "X=-400:400,Y=-250:250,Z=-500:0" --report "$tmp/diagonals.html"
+for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare volumetric contributions diagonals; do
   [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
 done
 # The points report names its input with the input's SHA-256.
@@ -73,7 +77,8 @@ node_rc=0
 if command -v node >/dev/null; then
   (cd "$WEB" && MTCAL_WEB="$WEB" node "$(dirname "$0")/browser_check.mjs" "$SHOTS" \
     "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
-    "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/compare.html:1" "$tmp/hostile.html:2") >"$tmp/browser" 2>&1
+    "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
+    "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2") >"$tmp/browser" 2>&1
   node_rc=$?
   cat "$tmp/browser"
 else
