@@ -1,0 +1,1 @@
+#include "mtcal/prediction/prediction_model.hpp"

@@ -1,0 +1,1 @@
+#include "mtcal/prediction/regression.hpp"
