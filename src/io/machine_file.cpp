@@ -455,6 +455,50 @@ std::string quote(const std::string& s) {
 }
 }  // namespace
 
+// One error's line of an `errors:` section, internal units (mm, rad), full precision.
+std::string error_yaml(const Machine& m, const ErrorName& en) {
+  const int c = index_of(en.component);
+  const char* u = c >= 3 ? "rad" : "mm";
+  if (en.kind == ErrorKind::Mounting) {
+    const auto& arr = en.body == 't' ? m.tool_mounting : m.workpiece_mounting;
+    return fmt::format("  {}: {{value: {}, unit: {}}}\n", en.str(), num(arr[static_cast<std::size_t>(c)]), u);
+  }
+  const Axis& ax = m.axis(en.body);
+  if (en.kind == ErrorKind::Location)
+    return fmt::format("  {}: {{value: {}, unit: {}}}\n", en.str(), num(ax.location[static_cast<std::size_t>(c)]), u);
+  const auto& f = ax.motion[static_cast<std::size_t>(c)];
+  const char* au = ax.kind == AxisKind::Linear ? "mm" : "rad";
+  std::string y = fmt::format("  {}: {{unit: {}, ", en.str(), u);
+  if (const auto* p = std::get_if<Polynomial>(&f.form())) {
+    y += fmt::format("argument_unit: {}, polynomial: {}, reversal: {}}}\n", au,
+                     list({p->coefficients.begin(), p->coefficients.end()}), num(p->reversal));
+  } else if (const auto* t = std::get_if<Table>(&f.form())) {
+    y += fmt::format("argument_unit: {}, ", au);
+    y += "table: {positions: " + list(t->positions) + ", forward: " + list(t->forward);
+    if (!t->backward.empty()) y += ", backward: " + list(t->backward);
+    y += "}}\n";
+  } else {
+    const auto& fo = std::get<Fourier>(f.form());
+    y += fmt::format("fourier: {{constant: {}, cos: {}, sin: {}}}, reversal: {}}}\n", num(fo.constant),
+                     list(fo.cos_terms), list(fo.sin_terms), num(fo.reversal));
+  }
+  return y;
+}
+
+std::string parameters_yaml(const Machine& m, const std::vector<ErrorName>& errors, const std::string& comment) {
+  std::string y;
+  std::size_t start = 0;
+  while (start < comment.size()) {
+    const auto end = comment.find('\n', start);
+    y += "# " + comment.substr(start, end == std::string::npos ? std::string::npos : end - start) + "\n";
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  y += "mtcal_parameters: 1\nunits: {length: mm, angle: rad}\nerrors:\n";
+  for (const auto& e : errors) y += error_yaml(m, e);
+  return y;
+}
+
 std::string to_yaml(const Machine& m) {
   std::string y;
   y += fmt::format("mtcal_machine: {}\n", kFormatVersion);
@@ -474,41 +518,16 @@ std::string to_yaml(const Machine& m) {
   y += "workpiece: {origin: " + vec(m.workpiece.origin) + "}\n";
   y += "errors:\n";
   for (const auto& ax : m.axes) {
-    for (int c = 0; c < 6; ++c) {
-      const auto& f = ax.motion[c];
-      if (!ax.motion_given[c] && f.is_zero()) continue;
-      ErrorName en{ErrorKind::Motion, static_cast<Component>(c), ax.letter};
-      const char* u = c >= 3 ? "rad" : "mm";
-      const char* au = ax.kind == AxisKind::Linear ? "mm" : "rad";
-      y += fmt::format("  {}: {{unit: {}, ", en.str(), u);
-      if (const auto* p = std::get_if<Polynomial>(&f.form())) {
-        y += fmt::format("argument_unit: {}, polynomial: {}, reversal: {}}}\n", au,
-                         list({p->coefficients.begin(), p->coefficients.end()}), num(p->reversal));
-      } else if (const auto* t = std::get_if<Table>(&f.form())) {
-        y += fmt::format("argument_unit: {}, ", au);
-        y += "table: {positions: " + list(t->positions) + ", forward: " + list(t->forward);
-        if (!t->backward.empty()) y += ", backward: " + list(t->backward);
-        y += "}}\n";
-      } else {
-        const auto& fo = std::get<Fourier>(f.form());
-        y += fmt::format("fourier: {{constant: {}, cos: {}, sin: {}}}, reversal: {}}}\n", num(fo.constant),
-                         list(fo.cos_terms), list(fo.sin_terms), num(fo.reversal));
-      }
-    }
-    for (int c = 0; c < 6; ++c) {
-      if (!ax.allows_location(static_cast<Component>(c)) || ax.location[c] == 0.0) continue;
-      ErrorName en{ErrorKind::Location, static_cast<Component>(c), ax.letter};
-      y += fmt::format("  {}: {{value: {}, unit: {}}}\n", en.str(), num(ax.location[c]), c >= 3 ? "rad" : "mm");
-    }
+    for (int c = 0; c < 6; ++c)
+      if (ax.motion_given[c] || !ax.motion[c].is_zero()) y += error_yaml(m, {ErrorKind::Motion, static_cast<Component>(c), ax.letter});
+    for (int c = 0; c < 6; ++c)
+      if (ax.allows_location(static_cast<Component>(c)) && ax.location[c] != 0.0)
+        y += error_yaml(m, {ErrorKind::Location, static_cast<Component>(c), ax.letter});
   }
-  for (char body : {'t', 'w'}) {
-    const auto& arr = body == 't' ? m.tool_mounting : m.workpiece_mounting;
-    for (int c = 0; c < 6; ++c) {
-      if (arr[c] == 0.0) continue;
-      ErrorName en{ErrorKind::Mounting, static_cast<Component>(c), body};
-      y += fmt::format("  {}: {{value: {}, unit: {}}}\n", en.str(), num(arr[c]), c >= 3 ? "rad" : "mm");
-    }
-  }
+  for (char body : {'t', 'w'})
+    for (int c = 0; c < 6; ++c)
+      if ((body == 't' ? m.tool_mounting : m.workpiece_mounting)[c] != 0.0)
+        y += error_yaml(m, {ErrorKind::Mounting, static_cast<Component>(c), body});
   return y;
 }
 

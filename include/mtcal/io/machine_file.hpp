@@ -3,6 +3,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "mtcal/model/machine.hpp"
 
@@ -20,5 +21,10 @@ void apply_parameters(Machine& m, std::string_view yaml_text, const std::string&
 
 // YAML text that parse_machine reads back to the same machine (internal units, full precision).
 std::string to_yaml(const Machine& m);
+// A parameter file (load_parameters reads it) with these errors' values in m, internal units,
+// full precision; comment lines (split at newlines) first.
+std::string parameters_yaml(const Machine& m, const std::vector<ErrorName>& errors, const std::string& comment = "");
+// One error's entry of an `errors:` section as written by to_yaml.
+std::string error_yaml(const Machine& m, const ErrorName& error);
 
 }  // namespace mtcal

@@ -1,0 +1,184 @@
+// Indirect calibration from probing (Viprey 2015; Mohammed 2019 SAMBA/TANGO): virtual machine,
+// nonlinear least squares, identifiability, combinatorial subset analysis, Monte Carlo uncertainty.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mtcal/identification/probing_plan.hpp"
+#include "mtcal/model/machine.hpp"
+
+namespace mtcal {
+
+// The artefact's unknowns: true ball centres and the offsets n . p of the touched facet planes
+// (per feature index; the entry of the other kind is unused).
+struct ArtefactState {
+  std::vector<Vec3> ball;
+  std::vector<double> offset;
+};
+// The nominal state: ball centres as given, offsets of the planes through the given points.
+ArtefactState nominal_artefact(const ProbingPlan& plan);
+
+// Two balls at a calibrated distance (mm): fixes the scale that uncalibrated balls leave free.
+struct ScaleBar {
+  std::string ball_a, ball_b;
+  double length = 0.0;
+};
+// "1:2:304.8" -> {1, 2, 304.8}; throws InputError.
+ScaleBar parse_scale_bar(const std::string& spec);
+
+// ---- Virtual machine (Viprey 2015 figure 4) ----
+
+struct SimulationOptions {
+  double noise = 0.0;           // standard deviation of each reading, mm
+  double artefact_error = 0.0;  // standard deviation of each feature's true position about its nominal one, mm
+  std::uint64_t seed = 1;
+  std::vector<ScaleBar> scale_bars;  // true ball pairs are set to these lengths (ball_b moved along the bar)
+};
+struct Simulation {
+  ProbingPlan measurements;  // the plan with readings
+  ArtefactState truth;
+};
+// The nominal targets of a plan: linear axis values that put the nominal tool point on each
+// feature's nominal position at the record's indexation (exact: the nominal chain is affine in
+// the linear axes at fixed rotary values).
+ProbingPlan plan_targets(const Machine& m, const ProbingPlan& plan);
+// What machine `truth` reads: for a ball, the linear axes that put the actual tool point on the
+// true centre; for a facet, the probing axis (the linear axis most nearly along its normal) moved
+// from the nominal target until the actual tool point is on the true plane, its direction of
+// motion set to the approach (against the normal); other axes keep the plan's directions. Then
+// Gaussian noise on the readings (balls: X, Y, Z; facets: the probing axis). Throws ModelError if
+// a reading does not converge.
+Simulation simulate_probing(const Machine& truth, const ProbingPlan& plan, const SimulationOptions& options);
+
+// ---- Identification ----
+
+struct IdentificationOptions {
+  // Parameters (EXX.1, EX0C, EXX.b) or errors (EXX: every coefficient) of the machine to estimate;
+  // every other parameter keeps the machine's value. The artefact's unknowns are always estimated.
+  std::vector<std::string> estimate;
+  std::vector<ScaleBar> scale_bars;
+  bool estimate_pretravel = false;  // one probe pre-travel for all facet touches (mm)
+  // Standard deviations that weight the residuals (mm).
+  double sigma_ball = 1e-3, sigma_facet = 1e-3, sigma_scale_bar = 1e-3;
+  enum class Loss { None, Huber, Cauchy };
+  Loss loss = Loss::None;
+  double loss_scale = 3.0;  // in units of sigma
+  int max_iterations = 100;
+  double function_tolerance = 1e-14, parameter_tolerance = 1e-14, gradient_tolerance = 1e-16;
+  // A scaled Jacobian direction whose singular value is below this fraction of the largest is
+  // unidentifiable.
+  double rank_tolerance = 1e-8;
+};
+
+struct EstimatedParameter {
+  std::string name;
+  double value = 0.0;
+  double u = 0.0;  // standard uncertainty: sqrt of the covariance's diagonal (residual variance)
+  std::string unit;
+};
+
+// Identifiability of a set of unknowns at a plan: SVD of the Jacobian with unit-norm columns.
+struct Identifiability {
+  std::vector<std::string> columns;  // machine parameters, then artefact unknowns ("ball 3 x", "facet 7"), pre-travel
+  std::size_t rank = 0;
+  std::vector<double> singular_values;  // of the scaled Jacobian, largest first
+  double condition = 0.0;               // largest / smallest (infinity when rank deficient)
+  std::vector<std::string> identifiable, unidentifiable;  // requested machine parameters, split
+  // For each excluded unknown, the combination of kept ones it cannot be told apart from:
+  // "EXw = -1 ball 3 x - 1 ball 4 x ..." (natural units: moving the left side by 1 is the same as
+  // moving the right-hand unknowns by these amounts).
+  std::vector<std::string> null_directions;
+};
+
+struct IdentificationResult {
+  std::string termination;  // Ceres' termination type and message
+  bool converged = false;
+  int iterations = 0;
+  double initial_cost = 0.0, final_cost = 0.0;  // 1/2 sum of squared weighted residuals
+  std::size_t residuals = 0, unknowns = 0;
+  double sigma0 = 0.0;  // a posteriori standard deviation of unit weight: sqrt(2 cost / (m - n))
+  double rms_ball = 0.0, rms_facet = 0.0, rms_scale_bar = 0.0;  // unweighted residual RMS, mm
+  Identifiability identifiability;  // at the solution, over the estimated unknowns
+  std::vector<EstimatedParameter> parameters;  // estimated machine parameters
+  Eigen::MatrixXd correlation;                 // among them
+  ArtefactState artefact;
+  double pretravel = 0.0, pretravel_u = 0.0;
+  Machine machine;  // the prior machine with the estimates
+};
+
+// Nonlinear least squares (Ceres, Levenberg-Marquardt, dense QR) on the exact model with its
+// analytic Jacobian. Requested parameters that are not identifiable at the start are excluded
+// (reported, never given values). Throws InputError for unknown names, too few residuals, or an
+// unknown scale-bar ball.
+IdentificationResult identify(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options);
+
+// Identifiability of options.estimate at a plan or measurements (plans are first given their
+// nominal targets), evaluated at the prior machine and nominal artefact.
+Identifiability identifiability(const Machine& m, const ProbingPlan& plan, const IdentificationOptions& options);
+
+// ---- Combinatorial analysis (Viprey 2015, section 4) ----
+
+struct SubsetOptions {
+  std::vector<std::string> candidates;  // machine parameter names
+  std::vector<std::string> always;      // machine parameters in every subset (the artefact's unknowns always are)
+  std::size_t choose = 1;               // subset size, from the candidates
+  double rank_tolerance = 1e-8;
+  int threads = 0;
+  std::size_t keep = 1000;  // subsets listed (best conditioned first); count covers all
+};
+struct ParameterSubset {
+  std::vector<std::size_t> members;  // indices into candidates, ascending
+  double condition = 0.0;            // of the scaled Jacobian with always + members + artefact
+  double residue = 0.0;              // Viprey eq. 5 at first order: |r| after fitting (measurements only; else NaN)
+};
+struct SubsetAnalysis {
+  std::uint64_t examined = 0;  // C(n, k)
+  std::uint64_t full_rank = 0;
+  std::uint64_t pruned = 0;    // partial subsets found deficient, whose supersets were never formed
+  std::vector<ParameterSubset> subsets;  // best conditioned first, at most keep
+};
+// Every k-subset of the candidates whose model (with the always-parameters, the artefact unknowns
+// and the scale bars) has full rank. Depth-first over subsets with an incremental Cholesky
+// factorisation of the scaled normal matrix: a prefix that is already deficient is pruned with
+// all its supersets. Split over threads by leading member. With measurements, each subset's
+// first-order residue is computed too.
+SubsetAnalysis full_rank_subsets(const Machine& m, const ProbingPlan& plan, const SubsetOptions& options,
+                                 const IdentificationOptions& model_options = {});
+
+// ---- Uncertainty by Monte Carlo ----
+
+struct MonteCarloOptions {
+  std::size_t runs = 100;
+  std::uint64_t seed = 1;
+  int threads = 0;
+  // Reading noise: 0 means the fit's residual RMS per feature kind.
+  double noise = 0.0;
+  // Workspace grid (per axis values, chain order, internal units) for the VA of each run's model;
+  // empty: none.
+  std::vector<std::vector<double>> workspace;
+};
+struct MonteCarloResult {
+  std::size_t runs = 0, failed = 0;
+  std::vector<double> mean, stdev;       // per estimated parameter (order of result.parameters)
+  std::vector<std::vector<double>> samples;  // runs x parameters
+  double va_mean = 0.0, va_stdev = 0.0;  // over the workspace grid
+  double va_identified = 0.0;            // VA of the identified machine itself
+};
+// Re-draws the readings from the identified machine and artefact with noise, identifies again
+// (starting from the identification), and collects the estimates: the spread is the uncertainty.
+MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options,
+                             const IdentificationResult& result, const MonteCarloOptions& mc);
+
+// Viprey 2015 eq. 2: the identified model against the imposed one over a workspace grid:
+// max and RMS of |e_identified - e_true| (translational, mm).
+struct ModelDeviation {
+  double max = 0.0, rms = 0.0;
+};
+ModelDeviation model_deviation(const Machine& identified, const Machine& truth, const std::vector<std::vector<double>>& workspace);
+
+}  // namespace mtcal
