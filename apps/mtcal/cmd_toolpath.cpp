@@ -25,7 +25,7 @@ namespace {
 using json = nlohmann::ordered_json;
 
 constexpr std::size_t kPlotPoints = 20000;  // points kept for the report's plots
-constexpr std::size_t kCones = 1500;        // error cones along the 3D path
+constexpr std::size_t kArrows = 300;        // error vectors drawn along the 3D path
 
 struct ToolpathCliOptions {
   ModelOptions model;
@@ -123,7 +123,7 @@ void write_report(const ToolpathCliOptions& o, const ErrorModel& model, const To
 
   r.add_section("Error along the path");
   r.add_paragraph("The path is the nominal tool point in the workpiece frame (mm), coloured by the translational "
-                  "error |(dx, dy, dz)| in µm; cones show the error vectors (dx, dy, dz) at evenly spaced points. "
+                  "error |(dx, dy, dz)| in µm; red lines show the error vectors (dx, dy, dz), magnified, at evenly spaced points. "
                   "Fletcher et al. 2009, section 4.3.");
   nlohmann::json x = nlohmann::json::array(), y = x, z = x, mag = x, text = x;
   std::vector<Vec3> pts(p.size());
@@ -133,29 +133,42 @@ void write_report(const ToolpathCliOptions& o, const ErrorModel& model, const To
     x.push_back(pts[i].x());
     y.push_back(pts[i].y());
     z.push_back(pts[i].z());
-    mag.push_back(std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) * 1e3);
-    text.push_back(fmt::format("line {}, s {:.3f} mm", p.line_[i], p.s_[i]));
+    const double um = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) * 1e3;
+    mag.push_back(um);
+    text.push_back(fmt::format("line {}, s {:.3f} mm<br>|e| {:.2f} µm", p.line_[i], p.s_[i], um));
   }
   nlohmann::json path = {{"type", "scatter3d"}, {"mode", "lines"}, {"x", x}, {"y", y}, {"z", z}, {"text", text},
                          {"line", {{"width", 5}, {"color", mag}, {"colorscale", "Viridis"}, {"showscale", true},
                                    {"colorbar", {{"title", {{"text", "|e| µm"}}}}}}},
-                         {"hovertemplate", "%{text}<br>|e| %{line.color:.2f} µm<extra></extra>"},
+                         {"hovertemplate", "%{text}<extra></extra>"},
                          {"name", "path"}};
-  nlohmann::json cx = nlohmann::json::array(), cy = cx, cz = cx, cu = cx, cv = cx, cw = cx;
-  const std::size_t every = std::max<std::size_t>(1, p.size() / kCones);
-  for (std::size_t i = 0; i < p.size(); i += every) {
-    cx.push_back(pts[i].x());
-    cy.push_back(pts[i].y());
-    cz.push_back(pts[i].z());
-    cu.push_back(p.e_[i * 3] * 1e3);
-    cv.push_back(p.e_[i * 3 + 1] * 1e3);
-    cw.push_back(p.e_[i * 3 + 2] * 1e3);
+  // Error vectors as line segments from the path, the largest a twentieth of the path's extent
+  // long (a scale in mm per µm); lines, unlike cones, keep a visible size along a dense path.
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  double big = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    lo = lo.cwiseMin(pts[i]);
+    hi = hi.cwiseMax(pts[i]);
+    big = std::max(big, mag[i].get<double>());
   }
-  nlohmann::json cones = {{"type", "cone"}, {"x", cx}, {"y", cy}, {"z", cz}, {"u", cu}, {"v", cv}, {"w", cw},
-                          {"sizemode", "scaled"}, {"sizeref", 0.8}, {"anchor", "tail"}, {"colorscale", "Viridis"},
-                          {"showscale", false}, {"hovertemplate", "|e| %{norm:.2f} µm<extra></extra>"}, {"name", "error"}};
-  r.add_plot("Tool path (mm, workpiece frame) coloured by |error| (µm), with the error vectors as cones",
-             {{"data", {path, cones}},
+  const double extent = p.size() ? (hi - lo).norm() : 0.0;
+  const double scale = big > 0 && extent > 0 ? extent / 20 / big : 0.0;  // mm per µm
+  nlohmann::json ax = nlohmann::json::array(), ay = ax, az = ax;
+  const std::size_t every = std::max<std::size_t>(1, p.size() / kArrows);
+  for (std::size_t i = 0; i < p.size(); i += every) {
+    const Vec3 e(p.e_[i * 3] * 1e3, p.e_[i * 3 + 1] * 1e3, p.e_[i * 3 + 2] * 1e3);
+    const Vec3 tip = pts[i] + scale * e;
+    // From the path point to the tip, then a gap before the next segment.
+    ax.insert(ax.end(), {pts[i].x(), tip.x(), nullptr});
+    ay.insert(ay.end(), {pts[i].y(), tip.y(), nullptr});
+    az.insert(az.end(), {pts[i].z(), tip.z(), nullptr});
+  }
+  nlohmann::json arrows = {{"type", "scatter3d"}, {"mode", "lines"}, {"x", ax}, {"y", ay}, {"z", az},
+                           {"line", {{"width", 2}, {"color", "firebrick"}}}, {"hoverinfo", "skip"},
+                           {"name", "error vectors"}};
+  r.add_plot(fmt::format("Tool path (mm, workpiece frame) coloured by |error| (µm), with the error vectors (red, "
+                         "1 µm drawn as {:.3g} mm)", scale),
+             {{"data", {path, arrows}},
               {"layout", {{"scene", {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
                                      {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
                                      {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
@@ -322,7 +335,7 @@ std::vector<Command> add_toolpath_commands(CLI::App& app) {
               "Machine-readable summary: points, blocks, path_length, ignored_words, rapids_skipped, max_error "
               "{value, line, at}, range {dx: [min, max], ...}, out, report");
   c->add_option("--report", o->report,
-                "Write an HTML report: the path in 3D coloured by |error| with error cones, the errors along the path");
+                "Write an HTML report: the path in 3D coloured by |error| with the error vectors, the errors along the path");
   return {{c, [o] { return run_toolpath(*o); }}};
 }
 
