@@ -1,1 +1,311 @@
 #include "mtcal/prediction/prediction_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include "mtcal/io/files.hpp"
+#include "mtcal/util/errors.hpp"
+#include "mtcal/util/parse.hpp"
+
+namespace mtcal {
+namespace {
+
+constexpr int kFormatVersion = 1;
+
+// File and dotted key path for messages, as in the machine file reader.
+struct Ctx {
+  const std::string& file;
+  std::string path;
+  Ctx child(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
+    throw InputError({file, n.IsDefined() ? n.Mark().line + 1 : 0, path}, what);
+  }
+};
+
+std::string describe(const YAML::Node& n) {
+  if (!n.IsDefined() || n.IsNull()) return "nothing";
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  return n.IsSequence() ? "a list" : "a map";
+}
+
+// A map's keys checked against the known ones, each once.
+std::vector<std::pair<std::string, YAML::Node>> entries(const YAML::Node& n, const Ctx& ctx,
+                                                        std::initializer_list<std::string_view> known) {
+  if (!n.IsMap()) ctx.fail(n, "expected a map, found " + describe(n));
+  std::vector<std::pair<std::string, YAML::Node>> out;
+  for (auto it = n.begin(); it != n.end(); ++it) {
+    if (!it->first.IsScalar()) ctx.fail(it->first, "expected a plain key, found " + describe(it->first));
+    const std::string key = it->first.Scalar();
+    if (known.size() && std::find(known.begin(), known.end(), std::string_view(key)) == known.end()) {
+      std::string list;
+      for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+      ctx.child(key).fail(it->first, "unknown key '" + key + "' (expected one of: " + list + ")");
+    }
+    for (const auto& kv : out)
+      if (kv.first == key) ctx.child(key).fail(it->first, "duplicated key '" + key + "'");
+    out.emplace_back(key, it->second);
+  }
+  return out;
+}
+
+YAML::Node get(const std::vector<std::pair<std::string, YAML::Node>>& e, const std::string& key) {
+  for (const auto& kv : e)
+    if (kv.first == key) return kv.second;
+  return YAML::Node(YAML::NodeType::Undefined);
+}
+
+double number(const YAML::Node& n, const Ctx& ctx) {
+  if (!n.IsScalar()) ctx.fail(n, "expected a number, found " + describe(n));
+  const auto v = parse_number(n.Scalar());
+  if (!v) ctx.fail(n, "expected a finite number, found '" + n.Scalar() + "'");
+  return *v;
+}
+
+std::string text(const YAML::Node& n, const Ctx& ctx) {
+  if (!n.IsScalar()) ctx.fail(n, "expected text, found " + describe(n));
+  return n.Scalar();
+}
+
+std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) {
+  if (!n.IsSequence()) ctx.fail(n, "expected a list of numbers, found " + describe(n));
+  std::vector<double> v;
+  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], ctx.child(std::to_string(i))));
+  return v;
+}
+
+// form + parameters (by name) or coefficients (polynomial c0..c3).
+Model parse_model(const std::vector<std::pair<std::string, YAML::Node>>& e, const YAML::Node& n, const Ctx& ctx) {
+  const YAML::Node fn = get(e, "form");
+  if (!fn.IsDefined()) ctx.fail(n, "missing key 'form' (polynomial, exp_approach, stretched_exp, logistic_ln, gompertz, saturation, power)");
+  const std::string fs = text(fn, ctx.child("form"));
+  const auto form = model_form_from_string(fs);
+  if (!form)
+    ctx.child("form").fail(fn, "unknown model form '" + fs +
+                                   "' (expected polynomial, exp_approach, stretched_exp, logistic_ln, gompertz, saturation, power)");
+  Model m;
+  m.spec.form = *form;
+  if (*form == ModelForm::Polynomial) {
+    const YAML::Node cn = get(e, "coefficients");
+    if (!cn.IsDefined()) ctx.fail(n, "a polynomial needs 'coefficients: [c0, c1, c2, c3]'");
+    if (get(e, "parameters").IsDefined()) ctx.child("parameters").fail(get(e, "parameters"), "a polynomial takes 'coefficients', not 'parameters'");
+    auto c = numbers(cn, ctx.child("coefficients"));
+    if (c.empty() || c.size() > 4)
+      ctx.child("coefficients").fail(cn, fmt::format("expected 1 to 4 coefficients [c0, c1, c2, c3], found {}", c.size()));
+    m.spec.degree = std::max(1, static_cast<int>(c.size()) - 1);
+    c.resize(static_cast<std::size_t>(m.spec.degree) + 1, 0.0);
+    m.p = c;
+    return m;
+  }
+  const YAML::Node pn = get(e, "parameters");
+  if (get(e, "coefficients").IsDefined())
+    ctx.child("coefficients").fail(get(e, "coefficients"), fs + " takes 'parameters' by name, not 'coefficients'");
+  const auto names = parameter_names(m.spec);
+  std::string list;
+  for (const auto& k : names) list += (list.empty() ? "" : ", ") + k;
+  if (!pn.IsDefined()) ctx.fail(n, fmt::format("missing key 'parameters' ({}: {})", fs, list));
+  const Ctx pc = ctx.child("parameters");
+  if (!pn.IsMap()) pc.fail(pn, "expected a map {" + list + "}, found " + describe(pn));
+  for (auto it = pn.begin(); it != pn.end(); ++it) {
+    const std::string k = it->first.Scalar();
+    if (std::find(names.begin(), names.end(), k) == names.end())
+      pc.child(k).fail(it->first, fmt::format("unknown parameter '{}' of {} (expected {})", k, fs, list));
+  }
+  for (const auto& k : names) {
+    const YAML::Node v = pn[k];
+    if (!v.IsDefined()) pc.fail(pn, fmt::format("missing parameter '{}' of {} (expected {})", k, fs, list));
+    m.p.push_back(number(v, pc.child(k)));
+  }
+  return m;
+}
+
+Component parse_component(const YAML::Node& n, const Ctx& ctx, const std::vector<Component>& earlier) {
+  const auto e = entries(n, ctx,
+                         {"name", "axis", "variable", "form", "parameters", "coefficients", "stages", "speed_variable",
+                          "of", "scale", "times", "ramp", "valid", "source", "description"});
+  Component c;
+  c.line = n.Mark().line + 1;
+  const YAML::Node nn = get(e, "name");
+  if (!nn.IsDefined()) ctx.fail(n, "missing key 'name'");
+  c.name = text(nn, ctx.child("name"));
+  if (c.name.empty() || c.name.find_first_of(" ,\t") != std::string::npos)
+    ctx.child("name").fail(nn, "expected a name without spaces or commas, found '" + c.name + "'");
+  for (const auto& o : earlier)
+    if (o.name == c.name) ctx.child("name").fail(nn, fmt::format("component '{}' is defined twice (first on line {})", c.name, o.line));
+  const Ctx cc = ctx.child(c.name);
+  const YAML::Node an = get(e, "axis");
+  if (!an.IsDefined()) cc.fail(n, "missing key 'axis' (x, y, z, or none for a component that is listed but not summed)");
+  const std::string a = text(an, cc.child("axis"));
+  if (a == "x" || a == "y" || a == "z") c.axis = a[0];
+  else if (a != "none") cc.child("axis").fail(an, "expected x, y, z or none, found '" + a + "'");
+  if (auto s = get(e, "source"); s.IsDefined()) c.source = text(s, cc.child("source"));
+  if (auto s = get(e, "scale"); s.IsDefined()) c.scale = number(s, cc.child("scale"));
+  if (auto s = get(e, "times"); s.IsDefined()) c.times = text(s, cc.child("times"));
+  if (auto s = get(e, "speed_variable"); s.IsDefined()) c.speed_variable = text(s, cc.child("speed_variable"));
+
+  const bool has_model = get(e, "form").IsDefined() || get(e, "parameters").IsDefined() || get(e, "coefficients").IsDefined();
+  const bool has_stages = get(e, "stages").IsDefined();
+  const bool has_of = get(e, "of").IsDefined();
+  if (has_model + has_stages + has_of != 1)
+    cc.fail(n, "expected exactly one of a model (form with parameters or coefficients), 'stages', or 'of'");
+  if (has_of) {
+    c.of = text(get(e, "of"), cc.child("of"));
+    if (std::none_of(earlier.begin(), earlier.end(), [&](const Component& o) { return o.name == c.of; }))
+      cc.child("of").fail(get(e, "of"), "'" + c.of + "' is not a component defined above this one");
+  } else {
+    const YAML::Node vn = get(e, "variable");
+    if (!vn.IsDefined()) cc.fail(n, "missing key 'variable' (the driving variable: a points column such as t, F, dx)");
+    c.variable = text(vn, cc.child("variable"));
+  }
+  if (has_model) c.model = parse_model(e, n, cc);
+  if (has_stages) {
+    const YAML::Node sn = get(e, "stages");
+    const Ctx sc = cc.child("stages");
+    if (!sn.IsSequence() || sn.size() < 2) sc.fail(sn, "expected a list of at least 2 stages {speed, form, ...}, found " + describe(sn));
+    for (std::size_t i = 0; i < sn.size(); ++i) {
+      const Ctx ic = sc.child(std::to_string(i));
+      const auto se = entries(sn[i], ic, {"speed", "form", "parameters", "coefficients", "source"});
+      SpeedStage st;
+      const YAML::Node sp = get(se, "speed");
+      if (!sp.IsDefined()) ic.fail(sn[i], "missing key 'speed' (rpm)");
+      st.speed = number(sp, ic.child("speed"));
+      if (st.speed <= 0) ic.child("speed").fail(sp, fmt::format("expected a spindle speed > 0 rpm, found {:g}", st.speed));
+      if (!c.stages.empty() && st.speed <= c.stages.back().speed)
+        ic.child("speed").fail(sp, fmt::format("expected stages in increasing speed, found {:g} after {:g}", st.speed, c.stages.back().speed));
+      st.model = parse_model(se, sn[i], ic);
+      if (auto s = get(se, "source"); s.IsDefined()) st.source = text(s, ic.child("source"));
+      c.stages.push_back(st);
+    }
+  }
+  if (auto rn = get(e, "ramp"); rn.IsDefined()) {
+    const Ctx rc = cc.child("ramp");
+    const auto re = entries(rn, rc, {"variable", "zero_at", "one_at"});
+    Ramp r;
+    for (const char* k : {"variable", "zero_at", "one_at"})
+      if (!get(re, k).IsDefined()) rc.fail(rn, std::string("missing key '") + k + "'");
+    r.variable = text(get(re, "variable"), rc.child("variable"));
+    r.zero_at = number(get(re, "zero_at"), rc.child("zero_at"));
+    r.one_at = number(get(re, "one_at"), rc.child("one_at"));
+    if (r.one_at == r.zero_at) rc.fail(rn, "expected one_at != zero_at");
+    c.ramp = r;
+  }
+  if (auto vn = get(e, "valid"); vn.IsDefined()) {
+    if (has_of) cc.child("valid").fail(vn, "'valid' belongs to the component named by 'of'");
+    const auto v = numbers(vn, cc.child("valid"));
+    if (v.size() != 2 || !(v[0] <= v[1]))
+      cc.child("valid").fail(vn, "expected [low, high] with low <= high");
+    c.valid = std::make_pair(v[0], v[1]);
+  }
+  return c;
+}
+
+}  // namespace
+
+const Component* PredictionModel::find(const std::string& n) const {
+  for (const auto& c : components)
+    if (c.name == n) return &c;
+  return nullptr;
+}
+
+std::vector<std::string> PredictionModel::variables() const {
+  std::set<std::string> s;
+  for (const auto& c : components) {
+    if (!c.variable.empty()) s.insert(c.variable);
+    if (!c.stages.empty()) s.insert(c.speed_variable);
+    if (c.ramp) s.insert(c.ramp->variable);
+    if (!c.times.empty()) s.insert(c.times);
+  }
+  return {s.begin(), s.end()};
+}
+
+PredictionModel parse_prediction_model(const std::string& text_in, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text_in);
+  } catch (const YAML::Exception& e) {
+    throw InputError({source, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
+  }
+  const Ctx ctx{source, ""};
+  if (!root.IsMap()) ctx.fail(root, "expected a prediction model (a map with 'mtcal_prediction_model' and 'components'), found " + describe(root));
+  const auto e = entries(root, ctx, {"mtcal_prediction_model", "name", "description", "units", "components"});
+  const YAML::Node vn = get(e, "mtcal_prediction_model");
+  if (!vn.IsDefined()) ctx.fail(root, "missing key 'mtcal_prediction_model' (the format version, 1)");
+  if (number(vn, ctx.child("mtcal_prediction_model")) != kFormatVersion)
+    ctx.child("mtcal_prediction_model").fail(vn, fmt::format("expected format version {}, found {}", kFormatVersion, vn.Scalar()));
+  PredictionModel m;
+  m.file = source;
+  if (auto n = get(e, "name"); n.IsDefined()) m.name = text(n, ctx.child("name"));
+  if (auto u = get(e, "units"); u.IsDefined()) {
+    // The units are fixed (mm, min, mm/min, rpm); the key only documents them, so a file that
+    // says otherwise is refused rather than misread.
+    const auto ue = entries(u, ctx.child("units"), {"error", "distance", "time", "feed", "speed"});
+    const std::pair<const char*, const char*> fixed[] = {
+        {"error", "mm"}, {"distance", "mm"}, {"time", "min"}, {"feed", "mm/min"}, {"speed", "rpm"}};
+    for (const auto& [k, want] : fixed)
+      if (auto n = get(ue, k); n.IsDefined() && text(n, ctx.child("units").child(k)) != want)
+        ctx.child("units").child(k).fail(n, fmt::format("expected '{}' (the only unit mtcal reads here), found '{}'", want, n.Scalar()));
+  }
+  const YAML::Node cn = get(e, "components");
+  if (!cn.IsDefined()) ctx.fail(root, "missing key 'components'");
+  if (!cn.IsSequence() || cn.size() == 0) ctx.child("components").fail(cn, "expected a non-empty list of components, found " + describe(cn));
+  for (std::size_t i = 0; i < cn.size(); ++i)
+    m.components.push_back(parse_component(cn[i], ctx.child("components"), m.components));
+  return m;
+}
+
+PredictionModel read_prediction_model(const std::string& path) {
+  return parse_prediction_model(read_text_file(path, "prediction model file"), path);
+}
+
+double evaluate_stages(const std::vector<SpeedStage>& s, double speed, double x) {
+  if (s.empty()) return std::numeric_limits<double>::quiet_NaN();
+  // Eq. 3.9 / 5.19 and 3.10 / 5.20: proportional scaling of the nearest stage outside the range.
+  if (speed <= s.front().speed) return speed / s.front().speed * s.front().model(x);
+  if (speed >= s.back().speed) return speed / s.back().speed * s.back().model(x);
+  std::size_t k = 1;
+  while (s[k].speed < speed) ++k;
+  const auto& lo = s[k - 1];
+  const auto& hi = s[k];
+  // Eq. 3.7-3.8 / 5.17-5.18 with each stage weighted by its nearness (see the header).
+  const double w = (speed - lo.speed) / (hi.speed - lo.speed);
+  return (1.0 - w) * lo.model(x) + w * hi.model(x);
+}
+
+PointPrediction predict_point(const PredictionModel& m, const std::function<double(const std::string&)>& lookup,
+                              bool strict, const std::string& where) {
+  PointPrediction p;
+  p.values.reserve(m.components.size());
+  for (std::size_t i = 0; i < m.components.size(); ++i) {
+    const Component& c = m.components[i];
+    double raw = 0.0;
+    if (!c.of.empty()) {
+      const auto it = std::find_if(m.components.begin(), m.components.end(), [&](const Component& o) { return o.name == c.of; });
+      raw = p.raw[static_cast<std::size_t>(it - m.components.begin())];
+    } else {
+      const double x = lookup(c.variable);
+      if (c.valid && (x < c.valid->first || x > c.valid->second)) {
+        const std::string msg = fmt::format("{}: {} = {:g} is outside the validity range [{:g}, {:g}] of the model ({})",
+                                            c.name, c.variable, x, c.valid->first, c.valid->second,
+                                            strict ? "refused by --strict" : "extrapolated");
+        if (strict) throw InputError({where, 0, c.variable}, msg);
+        p.warnings.push_back(msg);
+      }
+      raw = c.model ? (*c.model)(x) : evaluate_stages(c.stages, lookup(c.speed_variable), x);
+      if (!std::isfinite(raw))
+        throw InputError({where, 0, c.variable},
+                         fmt::format("{}: the model is undefined at {} = {:g} (line {} of {})", c.name, c.variable, x, c.line, m.file));
+    }
+    double v = c.scale * raw;
+    if (c.ramp) v *= (lookup(c.ramp->variable) - c.ramp->zero_at) / (c.ramp->one_at - c.ramp->zero_at);
+    if (!c.times.empty()) v *= lookup(c.times);
+    p.raw.push_back(raw);
+    p.values.push_back(v);
+    if (c.axis) p.e[c.axis - 'x'] += v;
+  }
+  return p;
+}
+
+}  // namespace mtcal
