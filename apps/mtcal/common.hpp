@@ -76,6 +76,8 @@ std::vector<Command> add_compare_commands(CLI::App& app);
 std::vector<Command> add_volumetric_commands(CLI::App& app);
 // Tool-path simulation from G-code: toolpath (cmd_toolpath.cpp).
 std::vector<Command> add_toolpath_commands(CLI::App& app);
+// Identification from probing: simulate, identify, identifiability (cmd_identification.cpp).
+std::vector<Command> add_identification_commands(CLI::App& app);
 // Workpiece error prediction (Yaqoob 2017): regress, predict, separate (cmd_prediction.cpp).
 std::vector<Command> add_prediction_commands(CLI::App& app);
 

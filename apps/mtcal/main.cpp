@@ -382,6 +382,7 @@ int main(int argc, char** argv) {
   for (auto& c : add_volumetric_commands(app)) more.push_back(std::move(c));
   for (auto& c : add_toolpath_commands(app)) more.push_back(std::move(c));
   for (auto& c : add_prediction_commands(app)) more.push_back(std::move(c));
+  for (auto& c : add_identification_commands(app)) more.push_back(std::move(c));
 
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];

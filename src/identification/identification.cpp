@@ -171,6 +171,7 @@ struct ColumnAnalysis {
   double condition = 0.0;
   std::vector<std::size_t> kept, dropped;
   std::vector<Eigen::VectorXd> combination;  // per dropped column: coefficients over kept (natural units)
+  double kept_condition = 0.0;               // of the kept columns
 };
 
 ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::size_t>& order, double tol) {
@@ -181,7 +182,14 @@ ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::
   Eigen::MatrixXd S = J;
   for (Eigen::Index j = 0; j < n; ++j)
     if (scale[j] > 0) S.col(j) /= scale[j];
-  // Sequential: keep a column when its part orthogonal to the kept ones is above the tolerance.
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(S);
+  const auto& sv = svd.singularValues();
+  a.singular.assign(sv.data(), sv.data() + sv.size());
+  const double smax = sv.size() ? sv[0] : 0.0;
+  for (double s : a.singular) a.rank += s > tol * smax;
+  a.condition = a.rank == a.singular.size() && a.rank > 0 ? smax / a.singular.back() : std::numeric_limits<double>::infinity();
+  // Sequential: keep a column when its part orthogonal to the kept ones is above the same
+  // threshold as the SVD's (distance from the span bounds the smallest singular value).
   Eigen::MatrixXd Q(J.rows(), 0);
   for (std::size_t j : order) {
     const auto col = static_cast<Eigen::Index>(j);
@@ -191,12 +199,20 @@ ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::
     }
     Eigen::VectorXd v = S.col(col);
     for (int pass = 0; pass < 2; ++pass) v -= Q * (Q.transpose() * v);  // twice: Gram-Schmidt stays orthogonal
-    if (v.norm() > tol) {
+    if (v.norm() > tol * smax) {
       Q.conservativeResize(Eigen::NoChange, Q.cols() + 1);
       Q.col(Q.cols() - 1) = v / v.norm();
       a.kept.push_back(j);
     } else {
       a.dropped.push_back(j);
+    }
+  }
+  {
+    Eigen::MatrixXd K(S.rows(), static_cast<Eigen::Index>(a.kept.size()));
+    for (std::size_t i = 0; i < a.kept.size(); ++i) K.col(static_cast<Eigen::Index>(i)) = S.col(static_cast<Eigen::Index>(a.kept[i]));
+    if (K.cols() > 0) {
+      const Eigen::JacobiSVD<Eigen::MatrixXd> ks(K);
+      a.kept_condition = ks.singularValues()[0] / ks.singularValues()[K.cols() - 1];
     }
   }
   for (std::size_t j : a.dropped) {
@@ -205,12 +221,6 @@ ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::
     a.combination.push_back(K.size() ? Eigen::VectorXd(K.colPivHouseholderQr().solve(J.col(static_cast<Eigen::Index>(j))))
                                      : Eigen::VectorXd());
   }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(S);
-  const auto& sv = svd.singularValues();
-  a.singular.assign(sv.data(), sv.data() + sv.size());
-  const double smax = sv.size() ? sv[0] : 0.0;
-  for (double s : a.singular) a.rank += s > tol * smax;
-  a.condition = a.rank == a.singular.size() && a.rank > 0 ? smax / a.singular.back() : std::numeric_limits<double>::infinity();
   return a;
 }
 
@@ -248,6 +258,7 @@ Identifiability make_identifiability(const ProbingModel& pm, const Eigen::Matrix
   out.rank = a.rank;
   out.singular_values = a.singular;
   out.condition = a.condition;
+  out.condition_identifiable = a.kept_condition;
   std::vector<std::string> kept_names;
   for (std::size_t j : a.kept) kept_names.push_back(out.columns[j]);
   const std::size_t k = pm.parameters().size();
@@ -331,8 +342,12 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   IdentificationResult res;
   std::vector<std::size_t> params = requested;
   if (!fixed_params) {
-    // Exclude what the measurements cannot determine, before solving (at the prior).
-    const ProbingModel pm0(prior, meas, requested, o.scale_bars, o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+    // Exclude what the measurements cannot determine, before solving. Structural: at the
+    // error-free machine, where the errors' equivalences are exact (at the actual errors they
+    // hold only to parts in 1e5 and would pass a rank test while leaving huge uncertainties).
+    Machine nominal_machine = prior;
+    nominal_machine.clear_errors();
+    const ProbingModel pm0(nominal_machine, meas, requested, o.scale_bars, o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
     check_enough(pm0, meas.source);
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
@@ -387,6 +402,7 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   res.identifiability.rank = at.rank;
   res.identifiability.singular_values = at.singular_values;
   res.identifiability.condition = at.condition;
+  res.identifiability.condition_identifiable = at.condition_identifiable;
   res.identifiability.identifiable = at.identifiable;
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(J.cols(), J.cols());
   if (at.rank == static_cast<std::size_t>(J.cols())) {
@@ -417,7 +433,9 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
 
 }  // namespace
 
-Identifiability identifiability(const Machine& m, const ProbingPlan& plan, const IdentificationOptions& o) {
+Identifiability identifiability(const Machine& machine, const ProbingPlan& plan, const IdentificationOptions& o) {
+  Machine m = machine;
+  m.clear_errors();  // structural: see identify_with
   const ProbingPlan p = with_targets(m, plan);
   const ProbingModel pm(m, p, detail::parameter_indices(m, o.estimate, "--estimate"), o.scale_bars, o.estimate_pretravel,
                         o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);

@@ -105,8 +105,12 @@ std::uint64_t binomial(std::uint64_t n, std::uint64_t k) {
 
 }  // namespace
 
-SubsetAnalysis full_rank_subsets(const Machine& m, const ProbingPlan& plan, const SubsetOptions& o,
+SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan, const SubsetOptions& o,
                                  const IdentificationOptions& mo) {
+  // First order about the error-free machine (Viprey: little displacement theory), where the
+  // equivalences between errors are exact.
+  Machine m = machine;
+  m.clear_errors();
   const ProbingPlan p = plan.measured ? plan : plan_targets(m, plan);
   const auto always = detail::parameter_indices(m, o.always, "--always");
   const auto cand = detail::parameter_indices(m, o.candidates, "--candidates");

@@ -88,6 +88,7 @@ struct Identifiability {
   std::size_t rank = 0;
   std::vector<double> singular_values;  // of the scaled Jacobian, largest first
   double condition = 0.0;               // largest / smallest (infinity when rank deficient)
+  double condition_identifiable = 0.0;  // the same over the identifiable unknowns only
   std::vector<std::string> identifiable, unidentifiable;  // requested machine parameters, split
   // For each excluded unknown, the combination of kept ones it cannot be told apart from:
   // "EXw = -1 ball 3 x - 1 ball 4 x ..." (natural units: moving the left side by 1 is the same as
@@ -117,8 +118,10 @@ struct IdentificationResult {
 // unknown scale-bar ball.
 IdentificationResult identify(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options);
 
-// Identifiability of options.estimate at a plan or measurements (plans are first given their
-// nominal targets), evaluated at the prior machine and nominal artefact.
+// Structural identifiability of options.estimate at a plan or measurements (plans are first given
+// their nominal targets): at the error-free machine and nominal artefact, where equivalences
+// between errors are exact. Unknowns are taken in order (artefact, then the requested parameters,
+// then pre-travel) and kept while they add rank.
 Identifiability identifiability(const Machine& m, const ProbingPlan& plan, const IdentificationOptions& options);
 
 // ---- Combinatorial analysis (Viprey 2015, section 4) ----
