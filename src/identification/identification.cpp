@@ -279,9 +279,10 @@ Identifiability make_identifiability(const ProbingModel& pm, const Eigen::Matrix
 ProbingPlan with_targets(const Machine& m, const ProbingPlan& plan) { return plan.measured ? plan : plan_targets(m, plan); }
 
 void check_enough(const ProbingModel& pm, const std::string& source) {
-  if (pm.residuals() < pm.unknowns())
+  // Strictly more: with as many residuals as unknowns nothing is left to estimate the noise from.
+  if (pm.residuals() <= pm.unknowns())
     throw InputError({source, 0, ""}, fmt::format("too few measurements: {} residuals for {} unknowns (machine parameters, "
-                                                  "ball centres, facet offsets)",
+                                                  "ball centres, facet offsets); expected more residuals than unknowns",
                                                   pm.residuals(), pm.unknowns()));
 }
 

@@ -53,6 +53,8 @@ ProbingModel::ProbingModel(const Machine& base, const ProbingPlan& plan, std::ve
       if (!idx || plan_.features[*idx].kind != ProbeFeature::Kind::Ball)
         throw InputError({"--scale-bar", 0, id}, "expected a ball of the measurements, found no ball '" + id + "'");
     if (*a == *b) throw InputError({"--scale-bar", 0, sb.ball_a}, "a scale bar needs two different balls");
+    for (const auto& [id, idx] : {std::pair{sb.ball_a, *a}, std::pair{sb.ball_b, *b}})
+      if (!used[idx]) throw InputError({"--scale-bar", 0, id}, "ball '" + id + "' of the scale bar is never probed in these measurements");
     bars_.push_back({*a, *b, sb.length});
   }
   if (pretravel_) {
