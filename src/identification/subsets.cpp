@@ -120,8 +120,11 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   if (cand.empty()) throw InputError({"--candidates", 0, ""}, "expected candidate parameters, found none");
   if (o.choose < 1 || o.choose > cand.size())
     throw InputError({"--choose", 0, ""}, fmt::format("expected a subset size from 1 to {} (the candidates), found {}", cand.size(), o.choose));
-  if (!(o.rank_tolerance > 0 && o.rank_tolerance < 1))
-    throw InputError({"--rank-tolerance", 0, ""}, fmt::format("expected a tolerance in (0, 1), found {:g}", o.rank_tolerance));
+  if (!(o.rank_tolerance >= 1e-7 && o.rank_tolerance < 1))
+    throw InputError({"--rank-tolerance", 0, ""},
+                     fmt::format("expected a tolerance from 1e-7 to 1 for the subset analysis (its normal-matrix test "
+                                 "resolves no finer), found {:g}",
+                                 o.rank_tolerance));
   std::vector<std::size_t> params = always;
   params.insert(params.end(), cand.begin(), cand.end());
   const detail::ProbingModel pm(m, p, params, mo.scale_bars, mo.estimate_pretravel, mo.sigma_ball, mo.sigma_facet, mo.sigma_scale_bar);
