@@ -122,11 +122,11 @@ Model parse_model(const std::vector<std::pair<std::string, YAML::Node>>& e, cons
   return m;
 }
 
-Component parse_component(const YAML::Node& n, const Ctx& ctx, const std::vector<Component>& earlier) {
+ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::vector<ErrorComponent>& earlier) {
   const auto e = entries(n, ctx,
                          {"name", "axis", "variable", "form", "parameters", "coefficients", "stages", "speed_variable",
                           "of", "scale", "times", "ramp", "valid", "source", "description"});
-  Component c;
+  ErrorComponent c;
   c.line = n.Mark().line + 1;
   const YAML::Node nn = get(e, "name");
   if (!nn.IsDefined()) ctx.fail(n, "missing key 'name'");
@@ -153,7 +153,7 @@ Component parse_component(const YAML::Node& n, const Ctx& ctx, const std::vector
     cc.fail(n, "expected exactly one of a model (form with parameters or coefficients), 'stages', or 'of'");
   if (has_of) {
     c.of = text(get(e, "of"), cc.child("of"));
-    if (std::none_of(earlier.begin(), earlier.end(), [&](const Component& o) { return o.name == c.of; }))
+    if (std::none_of(earlier.begin(), earlier.end(), [&](const ErrorComponent& o) { return o.name == c.of; }))
       cc.child("of").fail(get(e, "of"), "'" + c.of + "' is not a component defined above this one");
   } else {
     const YAML::Node vn = get(e, "variable");
@@ -204,7 +204,7 @@ Component parse_component(const YAML::Node& n, const Ctx& ctx, const std::vector
 
 }  // namespace
 
-const Component* PredictionModel::find(const std::string& n) const {
+const ErrorComponent* PredictionModel::find(const std::string& n) const {
   for (const auto& c : components)
     if (c.name == n) return &c;
   return nullptr;
@@ -279,10 +279,10 @@ PointPrediction predict_point(const PredictionModel& m, const std::function<doub
   PointPrediction p;
   p.values.reserve(m.components.size());
   for (std::size_t i = 0; i < m.components.size(); ++i) {
-    const Component& c = m.components[i];
+    const ErrorComponent& c = m.components[i];
     double raw = 0.0;
     if (!c.of.empty()) {
-      const auto it = std::find_if(m.components.begin(), m.components.end(), [&](const Component& o) { return o.name == c.of; });
+      const auto it = std::find_if(m.components.begin(), m.components.end(), [&](const ErrorComponent& o) { return o.name == c.of; });
       raw = p.raw[static_cast<std::size_t>(it - m.components.begin())];
     } else {
       const double x = lookup(c.variable);

@@ -91,7 +91,7 @@ TEST(PredictionModelTest, ThesisModelReproducesTable64And65) {
                            -0.000410502, -0.000410335, -0.000410058, -0.000409674, -0.000409183, -0.000408585, -0.000407883};
   const double spdy[14] = {6.1541E-05, 8.21389E-05, 0.000100431, 0.000115486, 0.000129229, 0.000141843, 0.00015358,
                            0.000164609, 0.00017505, 0.000184994, 0.000194508, 0.000203648, 0.000212456, 0.000220968};
-  const Component* sy = m.find("e_spd_y");
+  const ErrorComponent* sy = m.find("e_spd_y");
   ASSERT_NE(sy, nullptr);
   for (int k = 0; k < 14; ++k) {
     SCOPED_TRACE(k);

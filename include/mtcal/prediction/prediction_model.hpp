@@ -28,7 +28,7 @@ struct Ramp {
 //   scale * ramp * f(variable) [* times-variable]
 // where f is the model, the spindle-speed interpolation of the stage models, or (with 'of')
 // another component's value before that component's own scale.
-struct Component {
+struct ErrorComponent {
   std::string name;
   char axis = 0;               // 'x', 'y', 'z': summed into that axis' predicted error; 0: listed only
   std::string variable;        // driving variable (a points column: t, S, F, dx, dy, dz, e_prog ...)
@@ -47,8 +47,8 @@ struct Component {
 struct PredictionModel {
   std::string name;
   std::string file;
-  std::vector<Component> components;
-  const Component* find(const std::string& name) const;
+  std::vector<ErrorComponent> components;
+  const ErrorComponent* find(const std::string& name) const;
   // Every variable the components read (driving, speed, ramp, times), sorted, each once.
   std::vector<std::string> variables() const;
 };
