@@ -75,6 +75,16 @@ void solve_position(const ErrorModel& model, bool actual, std::vector<double>& q
   throw ModelError(fmt::format("the position of the probing on line {} does not converge", line));
 }
 
+// The probing axis of a facet touch: the linear axis whose motion is most nearly along the
+// normal, and its direction when approaching against the normal (n . p decreasing).
+std::pair<std::size_t, std::int8_t> probing_axis(const Eigen::Matrix3d& A, const Vec3& normal, const std::array<std::size_t, 3>& lin) {
+  const Vec3 along = A.transpose() * normal;
+  int c = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(along[k]) > std::abs(along[c])) c = k;
+  return {lin[static_cast<std::size_t>(c)], static_cast<std::int8_t>(along[c] > 0 ? -1 : 1)};
+}
+
 }  // namespace
 
 ProbingPlan plan_targets(const Machine& m, const ProbingPlan& plan) {
@@ -88,6 +98,10 @@ ProbingPlan plan_targets(const Machine& m, const ProbingPlan& plan) {
     for (std::size_t k : lin) r.q[k] = 0.0;
     const Eigen::Matrix3d A = linear_jacobian(nominal, r.q, lin);
     solve_position(nominal, false, r.q, r.dir, f.position, A, lin, r.line);
+    if (f.kind == ProbeFeature::Kind::Facet) {
+      const auto [k, sign] = probing_axis(A, f.normal, lin);
+      r.dir[k] = sign;
+    }
   }
   out.measured = false;
   return out;
@@ -114,18 +128,13 @@ ProbingPlan simulate_readings(const Machine& truth, const ProbingPlan& plan, con
       for (std::size_t k : lin) r.q[k] += noise * gauss(rng);
       continue;
     }
-    // The probing axis: the linear axis whose motion is most nearly along the facet normal.
-    const Vec3 along = A.transpose() * f.normal;
-    int c = 0;
-    for (int k = 1; k < 3; ++k)
-      if (std::abs(along[k]) > std::abs(along[c])) c = k;
-    const std::size_t k = lin[static_cast<std::size_t>(c)];
-    // Approaching against the normal: the axis moves so that n . p decreases.
-    r.dir[k] = static_cast<std::int8_t>(along[c] > 0 ? -1 : 1);
+    const auto [k, sign] = probing_axis(A, f.normal, lin);
+    r.dir[k] = sign;
+    const double slope = f.normal.dot(A.col(static_cast<Eigen::Index>(std::find(lin.begin(), lin.end(), k) - lin.begin())));
     const double plane = artefact.offset[r.feature] - pretravel;
     for (int it = 0;; ++it) {
       const double g = f.normal.dot(actual.actual_pose(r.q, r.dir).t) - plane;
-      r.q[k] -= g / along[c];
+      r.q[k] -= g / slope;
       if (std::abs(g) < 1e-13 * (1.0 + std::abs(plane))) break;
       if (it == 50) throw ModelError(fmt::format("the facet contact on line {} does not converge", r.line));
     }

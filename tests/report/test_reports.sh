@@ -26,7 +26,11 @@ run "$MTCAL" volumetric -m "$M3" --grid "X=-400:400:11,Y=-250:250:11,Z=-500:0:11
   --group-angle 0.1 --report "$tmp/volumetric.html"
 run "$MTCAL" contributions -m "$M3" --grid "X=-400:400:11,Y=-250:250:11,Z=-500:0:11" --report "$tmp/contributions.html"
 run "$MTCAL" diagonals -m "$M3" --box "X=-400:400,Y=-250:250,Z=-500:0" --report "$tmp/diagonals.html"
-for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare volumetric contributions diagonals; do
+run "$MTCAL" toolpath -m "$M3" --gcode "$EXAMPLES/../gcode/pocket.nc" --step 2 --origin "X=-100,Y=-50,Z=-300" --report "$tmp/toolpath.html"
+run "$MTCAL" simulate -m "$M5" --plan "$EXAMPLES/../plans/hu40t-samba-tango.csv" --noise-um 1 --scale-bar 1:2:304.8 --out "$tmp/samba.csv"
+run "$MTCAL" identify -m "$M5" --measurements "$tmp/samba.csv" --estimate EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B \
+  --scale-bar 1:2:304.8 --report "$tmp/identify.html"
+for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare volumetric contributions diagonals toolpath identify; do
   [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
 done
 # The points report names its input with the input's SHA-256.
@@ -78,7 +82,8 @@ if command -v node >/dev/null; then
   (cd "$WEB" && MTCAL_WEB="$WEB" node "$(dirname "$0")/browser_check.mjs" "$SHOTS" \
     "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
     "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
-    "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2") >"$tmp/browser" 2>&1
+    "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2" \
+    "$tmp/identify.html:2") >"$tmp/browser" 2>&1
   node_rc=$?
   cat "$tmp/browser"
 else
