@@ -242,7 +242,10 @@ std::string combination_text(const std::string& name, const Eigen::VectorXd& c, 
   std::string s = name + " =";
   for (std::size_t t = 0; t < terms.size() && t < 6; ++t) {
     const double v = c[static_cast<Eigen::Index>(terms[t].second)];
-    s += fmt::format(" {} {:.4g} {}", v < 0 ? "-" : (t ? "+" : ""), std::abs(v), kept_names[terms[t].second]);
+    if (t == 0)
+      s += fmt::format(" {}{:.4g} {}", v < 0 ? "-" : "", std::abs(v), kept_names[terms[t].second]);
+    else
+      s += fmt::format(" {} {:.4g} {}", v < 0 ? "-" : "+", std::abs(v), kept_names[terms[t].second]);
   }
   if (terms.size() > 6) s += fmt::format(" ... ({} terms)", terms.size());
   return s;

@@ -173,7 +173,7 @@ TEST(Identification, UnidentifiableRequestsAreReportedAndExcluded) {
   EXPECT_EQ(id.identifiable, (std::vector<std::string>{"EX0X"}));
   EXPECT_EQ(id.unidentifiable, (std::vector<std::string>{"EXt", "EXw"}));
   ASSERT_EQ(id.null_directions.size(), 2u);
-  EXPECT_NE(id.null_directions[0].find("EXt =  1 EX0X"), std::string::npos) << id.null_directions[0];
+  EXPECT_NE(id.null_directions[0].find("EXt = 1 EX0X"), std::string::npos) << id.null_directions[0];
   // With the rotary location errors in, the X zero and the tool offset are both absorbed.
   o = options({"EX0C", "EX0B", "EX0X", "EXt"});
   const Identifiability id2 = identifiability(m, plan, o);
