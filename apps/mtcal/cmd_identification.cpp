@@ -303,7 +303,8 @@ int run_identify(const IdentifyOptions& o) {
     if (o.est.pretravel) j["pretravel"] = {{"value", r.pretravel}, {"u", r.pretravel_u}};
     if (mc) j["monte_carlo"] = {{"runs", mc->runs}, {"failed", mc->failed}, {"seconds", mc_seconds}, {"seed", o.seed},
                                  {"va_mean", workspace.empty() ? json(nullptr) : json(mc->va_mean)},
-                                 {"va_stdev", workspace.empty() ? json(nullptr) : json(mc->va_stdev)}};
+                                 {"va_stdev", workspace.empty() ? json(nullptr) : json(mc->va_stdev)},
+                                 {"map_stdev_max", workspace.empty() ? json(nullptr) : json(mc->map_stdev_max)}};
     if (va) j["va"] = *va;
     if (dev) j["e_v"] = {{"max", dev->max}, {"rms", dev->rms}};
     if (!o.out.empty()) j["out"] = o.out;
@@ -331,7 +332,9 @@ int run_identify(const IdentifyOptions& o) {
   if (mc) std::cout << fmt::format("Monte Carlo: {} runs ({} failed) in {:.2f} s\n", mc->runs, mc->failed, mc_seconds);
   if (va) {
     std::cout << fmt::format("VA of the identified model over {}: {:.3f} um", o.workspace, *va * 1e3);
-    if (mc) std::cout << fmt::format(" (Monte Carlo {:.3f} +- {:.3f} um)", mc->va_mean * 1e3, mc->va_stdev * 1e3);
+    if (mc)
+      std::cout << fmt::format(" (Monte Carlo {:.3f} +- {:.3f} um; error map's largest standard deviation {:.3f} um)",
+                               mc->va_mean * 1e3, mc->va_stdev * 1e3, mc->map_stdev_max * 1e3);
     std::cout << "\n";
   }
   if (dev) std::cout << fmt::format("e_V against {}: max {:.4f} um, rms {:.4f} um\n", o.truth, dev->max * 1e3, dev->rms * 1e3);
@@ -348,6 +351,7 @@ struct IdentifiabilityOptions {
   std::string plan;
   std::vector<std::string> candidates, always;
   std::size_t choose = 0, list = 20;
+  std::string sort = "condition";
   int threads = 0;
   bool json_out = false;
 };
@@ -376,6 +380,7 @@ int run_identifiability(const IdentifiabilityOptions& o) {
   so.threads = o.threads;
   so.rank_tolerance = std::max(o.est.rank_tolerance, 1e-7);  // the normal matrix resolves no finer
   so.keep = o.list;
+  so.by_residue = o.sort == "residue";
   const auto t0 = Clock::now();
   const SubsetAnalysis a = full_rank_subsets(m, plan, so, opt);
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -476,7 +481,10 @@ std::vector<Command> add_identification_commands(CLI::App& app) {
     c->add_option("--candidates", o->candidates, "Candidate parameters for the subset analysis")->delimiter(',');
     c->add_option("--choose", o->choose, "Subset size K")->check(CLI::Range(1, 64));
     c->add_option("--always", o->always, "Parameters in every subset (e.g. the tool mounting positions)")->delimiter(',');
-    c->add_option("--list", o->list, "Subsets listed, best conditioned first")->capture_default_str();
+    c->add_option("--list", o->list, "Subsets listed, best first")->capture_default_str();
+    c->add_option("--sort", o->sort, "Rank subsets by condition number, or by residue of estimation (measurements only)")
+        ->check(CLI::IsMember({"condition", "residue"}))
+        ->capture_default_str();
     c->add_option("--threads", o->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
     c->add_flag("--json", o->json_out, "Machine-readable output: rank singular_values unidentifiable ...; with --choose: count subsets[parameters condition]");
     out.push_back({c, [o] { return run_identifiability(*o); }});

@@ -288,7 +288,6 @@ Identifiability make_identifiability(const ProbingModel& pm, const Eigen::Matrix
   return out;
 }
 
-ProbingPlan with_targets(const Machine& m, const ProbingPlan& plan) { return plan.measured ? plan : plan_targets(m, plan); }
 
 void check_enough(const ProbingModel& pm, const std::string& source) {
   // Strictly more: with as many residuals as unknowns nothing is left to estimate the noise from.
@@ -360,7 +359,9 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
     // hold only to parts in 1e5 and would pass a rank test while leaving huge uncertainties).
     Machine nominal_machine = prior;
     nominal_machine.clear_errors();
-    const ProbingModel pm0(nominal_machine, meas, requested, o.scale_bars, o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+    // At the nominal targets, not the readings: the readings carry the machine's errors (up to
+    // 1e-4 of the travel), which would turn exact equivalences into near ones.
+    const ProbingModel pm0(nominal_machine, plan_targets(nominal_machine, meas), requested, o.scale_bars, o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
     check_enough(pm0, meas.source);
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
@@ -449,7 +450,7 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
 Identifiability identifiability(const Machine& machine, const ProbingPlan& plan, const IdentificationOptions& o) {
   Machine m = machine;
   m.clear_errors();  // structural: see identify_with
-  const ProbingPlan p = with_targets(m, plan);
+  const ProbingPlan p = plan_targets(m, plan);  // measurements too: see identify_with
   const ProbingModel pm(m, p, detail::parameter_indices(m, o.estimate, "--estimate"), o.scale_bars, o.estimate_pretravel,
                         o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
   Eigen::VectorXd r;
@@ -492,6 +493,7 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
   out.samples.assign(mc.runs, std::vector<double>(k, std::numeric_limits<double>::quiet_NaN()));
   std::vector<double> va(mc.runs, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> ok(mc.runs, 0);
+  std::vector<std::vector<Vec3>> maps(mc.workspace.empty() ? 0 : mc.runs);
   const std::size_t workers = detail::worker_count(mc.threads, mc.runs);
   std::mutex error_mutex;
   std::string first_error;
@@ -504,8 +506,12 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
                                                  pm.has_pretravel() ? result.pretravel : 0.0, noise, rng);
       const IdentificationResult r = identify_with(prior, meas, o, &params, &x0);
       for (std::size_t j = 0; j < k; ++j) out.samples[run][j] = r.parameters[j].value;
-      if (!mc.workspace.empty())
-        va[run] = volumetric_accuracy(grid_error_map(ErrorModel(r.machine), mc.workspace, {1}).error).va.value;
+      if (!mc.workspace.empty()) {
+        const ErrorMap map = grid_error_map(ErrorModel(r.machine), mc.workspace, {1});
+        va[run] = volumetric_accuracy(map.error).va.value;
+        // Per-point sums for the map's spread, summed in run order after the pool (below).
+        maps[run] = map.error;
+      }
       ok[run] = r.converged || r.final_cost < 1e9;
     } catch (const std::exception& e) {
       const std::lock_guard lock(error_mutex);
@@ -537,6 +543,17 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
     for (std::size_t run = 0; run < mc.runs; ++run)
       if (ok[run]) s2 += (va[run] - out.va_mean) * (va[run] - out.va_mean);
     out.va_stdev = good > 1 ? std::sqrt(s2 / static_cast<double>(good - 1)) : 0.0;
+    // The map's uncertainty: per point and component the spread over the runs; its largest.
+    const std::size_t points = maps.empty() ? 0 : maps[0].size();
+    for (std::size_t i = 0; i < points && good > 1; ++i) {
+      Vec3 mean = Vec3::Zero(), sq = Vec3::Zero();
+      for (std::size_t run = 0; run < mc.runs; ++run)
+        if (ok[run]) mean += maps[run][i];
+      mean /= static_cast<double>(good);
+      for (std::size_t run = 0; run < mc.runs; ++run)
+        if (ok[run]) sq += (maps[run][i] - mean).cwiseAbs2();
+      out.map_stdev_max = std::max(out.map_stdev_max, std::sqrt(sq.maxCoeff() / static_cast<double>(good - 1)));
+    }
   }
   return out;
 }

@@ -111,7 +111,9 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   // equivalences between errors are exact.
   Machine m = machine;
   m.clear_errors();
-  const ProbingPlan p = plan.measured ? plan : plan_targets(m, plan);
+  // The Jacobian at the nominal targets (structural, as identifiability); the residue's r0 at
+  // the readings of a measurement file.
+  const ProbingPlan p = plan_targets(m, plan);
   const auto always = detail::parameter_indices(m, o.always, "--always");
   const auto cand = detail::parameter_indices(m, o.candidates, "--candidates");
   for (std::size_t c : cand)
@@ -154,6 +156,9 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   Eigen::VectorXd c;
   double r0_2 = 0;
   if (plan.measured) {
+    const detail::ProbingModel measured(m, plan, params, mo.scale_bars, mo.estimate_pretravel, mo.sigma_ball, mo.sigma_facet,
+                                        mo.sigma_scale_bar);
+    measured.evaluate(measured.initial(), r0, nullptr);
     c = -(S.transpose() * r0);
     r0_2 = r0.squaredNorm();
   }
@@ -186,8 +191,11 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
     out.pruned += s.pruned;
     for (auto& found : s.found) out.subsets.push_back(std::move(found));
   }
-  std::stable_sort(out.subsets.begin(), out.subsets.end(),
-                   [](const ParameterSubset& a, const ParameterSubset& b) { return a.condition < b.condition; });
+  if (o.by_residue && !plan.measured)
+    throw InputError({"--sort", 0, ""}, "ranking by residue needs measurements (a file with the readings X, Y, Z)");
+  std::stable_sort(out.subsets.begin(), out.subsets.end(), [&](const ParameterSubset& a, const ParameterSubset& b) {
+    return o.by_residue ? a.residue < b.residue : a.condition < b.condition;
+  });
   if (out.subsets.size() > o.keep) out.subsets.resize(o.keep);
   return out;
 }

@@ -134,7 +134,8 @@ struct SubsetOptions {
   // matrix, whose rounding (1e-16) limits it to about 1e-8: at least 1e-7 is required.
   double rank_tolerance = 1e-6;
   int threads = 0;
-  std::size_t keep = 1000;  // subsets listed (best conditioned first); count covers all
+  std::size_t keep = 1000;  // subsets listed (best first); count covers all
+  bool by_residue = false;  // rank by the residue of estimation (measurements) instead of the condition number
 };
 struct ParameterSubset {
   std::vector<std::size_t> members;  // indices into candidates, ascending
@@ -145,7 +146,7 @@ struct SubsetAnalysis {
   std::uint64_t examined = 0;  // C(n, k)
   std::uint64_t full_rank = 0;
   std::uint64_t pruned = 0;    // partial subsets found deficient, whose supersets were never formed
-  std::vector<ParameterSubset> subsets;  // best conditioned first, at most keep
+  std::vector<ParameterSubset> subsets;  // best conditioned (or smallest residue) first, at most keep
 };
 // Every k-subset of the candidates whose model (with the always-parameters, the artefact unknowns
 // and the scale bars) has full rank. Depth-first over subsets with an incremental Cholesky
@@ -173,6 +174,7 @@ struct MonteCarloResult {
   std::vector<std::vector<double>> samples;  // runs x parameters
   double va_mean = 0.0, va_stdev = 0.0;  // over the workspace grid
   double va_identified = 0.0;            // VA of the identified machine itself
+  double map_stdev_max = 0.0;            // largest standard deviation of an error component over the workspace, mm
 };
 // Re-draws the readings from the identified machine and artefact with noise, identifies again
 // (starting from the identification), and collects the estimates: the spread is the uncertainty.
