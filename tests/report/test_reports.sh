@@ -30,7 +30,10 @@ run "$MTCAL" toolpath -m "$M3" --gcode "$EXAMPLES/../gcode/pocket.nc" --step 2 -
 run "$MTCAL" simulate -m "$M5" --plan "$EXAMPLES/../plans/hu40t-samba-tango.csv" --noise-um 1 --scale-bar 1:2:304.8 --out "$tmp/samba.csv"
 run "$MTCAL" identify -m "$M5" --measurements "$tmp/samba.csv" --estimate EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B \
   --scale-bar 1:2:304.8 --report "$tmp/identify.html"
-for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare volumetric contributions diagonals toolpath identify; do
+run "$MTCAL" regress "$EXAMPLES/../prediction/yaqoob2017-table5_8.csv" --x t --y e_splz --report "$tmp/regress.html"
+run "$MTCAL" predict --model "$EXAMPLES/../prediction/yaqoob2017-model.yaml" --points "$EXAMPLES/../prediction/yaqoob2017-w2-points.csv" \
+  --report "$tmp/predict.html"
+for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare volumetric contributions diagonals toolpath identify regress predict; do
   [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
 done
 # The points report names its input with the input's SHA-256.
@@ -83,7 +86,7 @@ if command -v node >/dev/null; then
     "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
     "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
     "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2" \
-    "$tmp/identify.html:2") >"$tmp/browser" 2>&1
+    "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3") >"$tmp/browser" 2>&1
   node_rc=$?
   cat "$tmp/browser"
 else
