@@ -300,7 +300,7 @@ int run_identify(const IdentifyOptions& o) {
         art["facets"][meas.features[f].id] = r.artefact.offset[f];
     }
     j["artefact"] = art;
-    if (o.est.pretravel) j["pretravel"] = {{"value", r.pretravel}, {"u", r.pretravel_u}};
+    if (r.pretravel_estimated) j["pretravel"] = {{"value", r.pretravel}, {"u", r.pretravel_u}};
     if (mc) j["monte_carlo"] = {{"runs", mc->runs}, {"failed", mc->failed}, {"seconds", mc_seconds}, {"seed", o.seed},
                                  {"va_mean", workspace.empty() ? json(nullptr) : json(mc->va_mean)},
                                  {"va_stdev", workspace.empty() ? json(nullptr) : json(mc->va_stdev)},
@@ -328,7 +328,7 @@ int run_identify(const IdentifyOptions& o) {
   }
   for (const auto& u : r.identifiability.unidentifiable) std::cout << "NOT identifiable, excluded: " << u << "\n";
   for (const auto& d : r.identifiability.null_directions) std::cout << "  cannot be separated: " << d << "\n";
-  if (o.est.pretravel) std::cout << fmt::format("pre-travel {:.4f} um +- {:.4f}\n", r.pretravel * 1e3, r.pretravel_u * 1e3);
+  if (r.pretravel_estimated) std::cout << fmt::format("pre-travel {:.4f} um +- {:.4f}\n", r.pretravel * 1e3, r.pretravel_u * 1e3);
   if (mc) std::cout << fmt::format("Monte Carlo: {} runs ({} failed) in {:.2f} s\n", mc->runs, mc->failed, mc_seconds);
   if (va) {
     std::cout << fmt::format("VA of the identified model over {}: {:.3f} um", o.workspace, *va * 1e3);
@@ -384,15 +384,7 @@ int run_identifiability(const IdentifiabilityOptions& o) {
   const auto t0 = Clock::now();
   const SubsetAnalysis a = full_rank_subsets(m, plan, so, opt);
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  // Candidate names as given (errors expand to their parameters).
-  const auto params = m.parameters();
-  std::vector<std::string> names;
-  for (const auto& n : o.candidates) {
-    if (m.parameter_index(n)) names.push_back(n);
-    else
-      for (const auto& p : params)
-        if (p.error.str() == n) names.push_back(p.name);
-  }
+  const std::vector<std::string>& names = a.candidates;  // resolved: errors expanded, duplicates removed
   auto members = [&](const ParameterSubset& s) {
     std::vector<std::string> v;
     for (std::size_t i : s.members) v.push_back(i < names.size() ? names[i] : std::to_string(i));
@@ -400,7 +392,7 @@ int run_identifiability(const IdentifiabilityOptions& o) {
   };
   if (o.json_out) {
     json j;
-    j["candidates"] = names;
+    j["candidates"] = names;  // resolved parameter names
     j["always"] = o.always;
     j["choose"] = o.choose;
     j["examined"] = a.examined;

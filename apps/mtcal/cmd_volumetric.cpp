@@ -177,8 +177,9 @@ int run_volumetric(const VolumetricOptions& o) {
   t0 = Clock::now();
   const VolumetricAccuracy va = volumetric_accuracy(map.error);
   const double t_va = seconds_since(t0);
-  const ContributionAnalysis critical =
-      contributions(m, map.configuration(va.va.j), {}, std::optional<std::span<const double>>(map.configuration(va.va.i)));
+  const ContributionAnalysis critical = contributions(m, map.configuration(va.va.j), map.direction(va.va.j),
+                                                      std::optional<std::span<const double>>(map.configuration(va.va.i)),
+                                                      map.direction(va.va.i));
 
   // Reduced volume.
   std::optional<ErrorMap> box_map;
@@ -234,10 +235,13 @@ int run_volumetric(const VolumetricOptions& o) {
   if (out) {
     std::string header;
     for (std::size_t k = 0; k < n; ++k) header += (k ? "," : "") + std::string(1, m.axes[k].letter);
+    if (!map.dir.empty())
+      for (std::size_t k = 0; k < n; ++k) header += std::string(",dir") + m.axes[k].letter;
     out->stream() << header << ",dx,dy,dz\n";
     fmt::memory_buffer buf;
     for (std::size_t i = 0; i < map.size(); ++i) {
       for (std::size_t k = 0; k < n; ++k) fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "", to_user_units(m.axes[k], map.q[i * n + k]));
+      for (const std::int8_t d : map.direction(i)) fmt::format_to(std::back_inserter(buf), ",{}", d);
       fmt::format_to(std::back_inserter(buf), ",{:.9e},{:.9e},{:.9e}\n", map.error[i].x(), map.error[i].y(), map.error[i].z());
       if (buf.size() > (1u << 20)) out->stream().write(buf.data(), static_cast<std::streamsize>(buf.size())), buf.clear();
     }
@@ -437,6 +441,7 @@ int run_contributions(const ContributionOptions& o) {
   const ErrorModel model(m);
   if (!o.report.empty()) AtomicFile probe(o.report);
   std::vector<double> a, b;
+  std::vector<std::int8_t> dir_a, dir_b;  // directions of motion (from --points), or empty
   std::optional<VolumetricAccuracy> va;
   struct WhatIf {
     ErrorName error;
@@ -463,17 +468,19 @@ int run_contributions(const ContributionOptions& o) {
     va = volumetric_accuracy(map.error);
     b = config(map, va->va.i);
     a = config(map, va->va.j);
+    dir_b.assign(map.direction(va->va.i).begin(), map.direction(va->va.i).end());
+    dir_a.assign(map.direction(va->va.j).begin(), map.direction(va->va.j).end());
     // The exact answer to "which error first": the VA with that error removed, every other kept.
     if (!o.no_what_if)
       for (const auto& e : nonzero_errors(m)) {
         const ErrorModel without(without_error(m, e));
-        const ErrorMap wm = error_map(without, map.q, {}, {o.source.threads});
+        const ErrorMap wm = error_map(without, map.q, map.dir, {o.source.threads});
         what_if.push_back({e, volumetric_accuracy(wm.error).va.value});
       }
     std::stable_sort(what_if.begin(), what_if.end(), [](const WhatIf& x, const WhatIf& y) { return x.va < y.va; });
   }
-  const ContributionAnalysis c =
-      b.empty() ? contributions(m, a) : contributions(m, a, {}, std::optional<std::span<const double>>(b));
+  const ContributionAnalysis c = b.empty() ? contributions(m, a, dir_a)
+                                           : contributions(m, a, dir_a, std::optional<std::span<const double>>(b), dir_b);
 
   if (!o.report.empty()) {
     Report r("Error contributions on " + m.name, command_line());

@@ -241,7 +241,8 @@ ErrorMap error_map(const ErrorModel& model, std::vector<double> q, std::span<con
   ErrorMap map;
   map.axes = n;
   map.q = std::move(q);
-  evaluate_map(model, map, dir, options);
+  map.dir.assign(dir.begin(), dir.end());
+  evaluate_map(model, map, map.dir, options);
   return map;
 }
 
@@ -255,6 +256,8 @@ ErrorMap sub_map(const ErrorMap& map, std::span<const double> lo, std::span<cons
     for (std::size_t k = 0; k < map.axes && inside; ++k) inside = q[k] >= lo[k] && q[k] <= hi[k];
     if (!inside) continue;
     out.q.insert(out.q.end(), q.begin(), q.end());
+    const auto d = map.direction(i);
+    out.dir.insert(out.dir.end(), d.begin(), d.end());
     out.error.push_back(map.error[i]);
   }
   return out;
@@ -425,8 +428,9 @@ void pair_row(const double* x, const double* y, const double* z, std::size_t i, 
       const double dx = x[j0 + k] - xi, dy = y[j0 + k] - yi, dz = z[j0 + k] - zi;
       const double v = std::sqrt(dx * dx + dy * dy + dz * dz);
       d[k] = v;
-      const double b = std::min(v * scale, static_cast<double>(last));
-      bin[k] = static_cast<std::uint32_t>(b);
+      // Written so that a NaN (never from finite input) still lands in a valid bin.
+      const double b = v * scale;
+      bin[k] = b < static_cast<double>(last) ? static_cast<std::uint32_t>(b) : last;
     }
     double s0 = 0, s1 = 0;
     std::size_t k = 0;
@@ -445,6 +449,8 @@ void pair_row(const double* x, const double* y, const double* z, std::size_t i, 
 
 Distribution pair_distribution(std::span<const Vec3> e, std::size_t bins, double upper, int threads) {
   if (bins == 0 || bins > 1'000'000) throw InputError({"histogram bins", 0, ""}, fmt::format("expected 1 to 1e6 bins, found {}", bins));
+  for (const Vec3& v : e)
+    if (!v.allFinite()) throw InputError({"pair distribution", 0, ""}, "expected finite error vectors, found a non-finite one");
   const VolumetricAccuracy va = volumetric_accuracy(e);
   if (upper == 0.0) upper = va.va.value;
   if (!(upper >= va.va.value) || !std::isfinite(upper))
@@ -475,7 +481,8 @@ Distribution pair_distribution(std::span<const Vec3> e, std::size_t bins, double
     }
     for (std::size_t k = t + 1; k <= tasks; ++k) start[k] = n - 1;
   }
-  const std::size_t workers = detail::worker_count(threads, tasks);
+  // Each worker keeps 4 copies of the histogram: at most 1 GiB of them in all.
+  const std::size_t workers = std::min(detail::worker_count(threads, tasks), std::max<std::size_t>(1, (std::size_t{1} << 30) / (32 * bins)));
   std::vector<std::vector<std::uint64_t>> counts(workers, std::vector<std::uint64_t>(4 * bins, 0));
   std::vector<double> task_sum(tasks, 0.0), task_min(tasks, std::numeric_limits<double>::infinity());
   detail::run_tasks(tasks, workers, [&](std::size_t t, std::size_t w) {

@@ -112,7 +112,7 @@ namespace {
 // The readings machine `truth` gives for a plan against a known artefact (facet planes moved by
 // the pre-travel: the probe triggers that much beyond the plane), with Gaussian noise.
 ProbingPlan simulate_readings(const Machine& truth, const ProbingPlan& plan, const ArtefactState& artefact,
-                              double pretravel, double noise, std::mt19937_64& rng) {
+                              double pretravel, double noise_ball, double noise_facet, std::mt19937_64& rng) {
   std::normal_distribution<double> gauss(0.0, 1.0);
   ProbingPlan out = plan_targets(truth, plan);
   out.measured = true;
@@ -125,7 +125,7 @@ ProbingPlan simulate_readings(const Machine& truth, const ProbingPlan& plan, con
     const Eigen::Matrix3d A = linear_jacobian(nominal, r.q, lin);
     if (f.kind == ProbeFeature::Kind::Ball) {
       solve_position(actual, true, r.q, r.dir, artefact.ball[r.feature], A, lin, r.line);
-      for (std::size_t k : lin) r.q[k] += noise * gauss(rng);
+      for (std::size_t k : lin) r.q[k] += noise_ball * gauss(rng);
       continue;
     }
     const auto [k, sign] = probing_axis(A, f.normal, lin);
@@ -138,7 +138,7 @@ ProbingPlan simulate_readings(const Machine& truth, const ProbingPlan& plan, con
       if (std::abs(g) < 1e-13 * (1.0 + std::abs(plane))) break;
       if (it == 50) throw ModelError(fmt::format("the facet contact on line {} does not converge", r.line));
     }
-    r.q[k] += noise * gauss(rng);
+    r.q[k] += noise_facet * gauss(rng);
   }
   return out;
 }
@@ -166,7 +166,7 @@ Simulation simulate_probing(const Machine& truth, const ProbingPlan& plan, const
     const Vec3 d = sim.truth.ball[*b] - sim.truth.ball[*a];
     sim.truth.ball[*b] = sim.truth.ball[*a] + d.normalized() * sb.length;
   }
-  sim.measurements = simulate_readings(truth, plan, sim.truth, 0.0, o.noise, rng);
+  sim.measurements = simulate_readings(truth, plan, sim.truth, 0.0, o.noise, o.noise, rng);
   return sim;
 }
 
@@ -180,6 +180,7 @@ struct ColumnAnalysis {
   double condition = 0.0;
   std::vector<std::size_t> kept, dropped;
   std::vector<Eigen::VectorXd> combination;  // per dropped column: coefficients over kept (natural units)
+  std::vector<Eigen::VectorXd> weight;       // per dropped column: |J_kept| / |J_dropped|
   double kept_condition = 0.0;               // of the kept columns
 };
 
@@ -229,14 +230,21 @@ ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::
     for (std::size_t i = 0; i < a.kept.size(); ++i) K.col(static_cast<Eigen::Index>(i)) = J.col(static_cast<Eigen::Index>(a.kept[i]));
     a.combination.push_back(K.size() ? Eigen::VectorXd(K.colPivHouseholderQr().solve(J.col(static_cast<Eigen::Index>(j))))
                                      : Eigen::VectorXd());
+    Eigen::VectorXd w(static_cast<Eigen::Index>(a.kept.size()));
+    const double own = scale[static_cast<Eigen::Index>(j)];
+    for (std::size_t i = 0; i < a.kept.size(); ++i) w[static_cast<Eigen::Index>(i)] = own > 0 ? scale[static_cast<Eigen::Index>(a.kept[i])] / own : 0.0;
+    a.weight.push_back(w);
   }
   return a;
 }
 
-std::string combination_text(const std::string& name, const Eigen::VectorXd& c, const std::vector<std::string>& kept_names) {
+// c in natural units; weight[i] = |J_kept_i| / |J_name|: a term's share of the combination, which
+// decides what is negligible (natural-unit sizes differ by orders of magnitude between mm and rad).
+std::string combination_text(const std::string& name, const Eigen::VectorXd& c, const Eigen::VectorXd& weight,
+                             const std::vector<std::string>& kept_names) {
   std::vector<std::pair<double, std::size_t>> terms;
   for (Eigen::Index i = 0; i < c.size(); ++i)
-    if (std::abs(c[i]) > 1e-9) terms.push_back({std::abs(c[i]), static_cast<std::size_t>(i)});
+    if (std::abs(c[i]) * weight[i] > 1e-9) terms.push_back({std::abs(c[i]) * weight[i], static_cast<std::size_t>(i)});
   std::sort(terms.begin(), terms.end(), std::greater<>());
   if (terms.empty()) return name + " has no effect on the measurements";
   std::string s = name + " =";
@@ -283,7 +291,7 @@ Identifiability make_identifiability(const ProbingModel& pm, const Eigen::Matrix
     } else if (pm.has_pretravel() && j == pm.pretravel_column()) {
       out.unidentifiable.push_back(out.columns[j]);
     }
-    out.null_directions.push_back(combination_text(out.columns[j], a.combination[d], kept_names));
+    out.null_directions.push_back(combination_text(out.columns[j], a.combination[d], a.weight[d], kept_names));
   }
   return out;
 }
@@ -353,6 +361,7 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   const std::vector<std::size_t> requested = fixed_params ? *fixed_params : detail::parameter_indices(prior, o.estimate, "--estimate");
   IdentificationResult res;
   std::vector<std::size_t> params = requested;
+  bool pretravel = o.estimate_pretravel;
   if (!fixed_params) {
     // Exclude what the measurements cannot determine, before solving. Structural: at the
     // error-free machine, where the errors' equivalences are exact (at the actual errors they
@@ -374,12 +383,20 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
         params.push_back(requested[i]);
     res.identifiability.unidentifiable = before.unidentifiable;
     res.identifiability.null_directions = before.null_directions;
-    for (const auto& u : before.unidentifiable)
-      if (u.rfind("ball ", 0) == 0 || u.rfind("facet ", 0) == 0 || u == "pre-travel")
-        throw InputError({meas.source, 0, ""}, "the measurements cannot determine " + u + ": " +
-                                                   (before.null_directions.empty() ? std::string() : before.null_directions.front()));
+    for (const auto& u : before.unidentifiable) {
+      if (u == "pre-travel") {
+        pretravel = false;  // requested like a parameter: reported and excluded
+        continue;
+      }
+      if (u.rfind("ball ", 0) != 0 && u.rfind("facet ", 0) != 0) continue;
+      std::string why;
+      for (const auto& d : before.null_directions)
+        if (d.rfind(u + " ", 0) == 0) why = ": " + d;
+      throw InputError({meas.source, 0, ""}, "the measurements cannot determine " + u + why);
+    }
   }
-  const ProbingModel pm(prior, meas, params, o.scale_bars, o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+  const ProbingModel pm(prior, meas, params, o.scale_bars, pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+  res.pretravel_estimated = pretravel;
   check_enough(pm, meas.source);
   const Solve s = run_ceres(pm, start ? *start : pm.initial(), o);
   res.termination = std::string(ceres::TerminationTypeToString(s.summary.termination_type)) + ": " + s.summary.message;
@@ -418,7 +435,9 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   res.identifiability.condition = at.condition;
   res.identifiability.condition_identifiable = at.condition_identifiable;
   res.identifiability.identifiable = at.identifiable;
-  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(J.cols(), J.cols());
+  // Rank deficient at the solution (a near-dependence the structural test let through): no
+  // uncertainty can be given, and NaN says so rather than a false zero.
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Constant(J.cols(), J.cols(), std::numeric_limits<double>::quiet_NaN());
   if (at.rank == static_cast<std::size_t>(J.cols())) {
     const Eigen::MatrixXd JtJ = J.transpose() * J;
     cov = JtJ.ldlt().solve(Eigen::MatrixXd::Identity(J.cols(), J.cols())) * (res.sigma0 * res.sigma0);
@@ -427,19 +446,19 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   const std::size_t k = params.size();
   for (std::size_t i = 0; i < k; ++i)
     res.parameters.push_back({all[params[i]].name, s.x[static_cast<Eigen::Index>(i)],
-                              std::sqrt(std::max(0.0, cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)))),
+                              std::sqrt(cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i))),
                               all[params[i]].unit});
   res.correlation = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
   for (std::size_t i = 0; i < k; ++i)
     for (std::size_t j = 0; j < k; ++j) {
       const double d = std::sqrt(cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) * cov(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)));
-      if (i != j && d > 0) res.correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) / d;
+      if (i != j) res.correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) / d;
     }
   res.artefact = pm.artefact(s.x.data());
   if (pm.has_pretravel()) {
     const auto c = static_cast<Eigen::Index>(pm.pretravel_column());
     res.pretravel = s.x[c];
-    res.pretravel_u = std::sqrt(std::max(0.0, cov(c, c)));
+    res.pretravel_u = std::sqrt(cov(c, c));
   }
   res.machine = pm.machine(s.x.data());
   return res;
@@ -473,10 +492,14 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
     return names;
   }(), "--estimate");
   const std::size_t k = params.size();
-  // The readings' noise: given, or what the fit left (per kind, mean of the two where both exist).
-  double noise = mc.noise;
-  if (noise == 0.0) noise = std::max(result.rms_ball, result.rms_facet);
-  const ProbingModel pm(prior, measurements, params, o.scale_bars, o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+  // The readings' noise: given, or estimated from the fit without bias: sigma0 (which divides by
+  // m - n) times each kind's assumed standard deviation.
+  const double noise_ball = mc.noise > 0 ? mc.noise : result.sigma0 * o.sigma_ball;
+  const double noise_facet = mc.noise > 0 ? mc.noise : result.sigma0 * o.sigma_facet;
+  IdentificationOptions run_options = o;
+  run_options.estimate_pretravel = result.pretravel_estimated;
+  const ProbingModel pm(prior, measurements, params, o.scale_bars, result.pretravel_estimated, o.sigma_ball, o.sigma_facet,
+                        o.sigma_scale_bar);
   // The solution vector of the identification, as the start of every run.
   Eigen::VectorXd x0 = pm.initial();
   for (std::size_t i = 0; i < k; ++i) x0[static_cast<Eigen::Index>(i)] = result.parameters[i].value;
@@ -503,8 +526,8 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
       // artefact, with fresh noise; one seed per run, so results do not depend on the threads.
       std::mt19937_64 rng(mc.seed * 1000003ULL + run);
       const ProbingPlan meas = simulate_readings(result.machine, measurements, result.artefact,
-                                                 pm.has_pretravel() ? result.pretravel : 0.0, noise, rng);
-      const IdentificationResult r = identify_with(prior, meas, o, &params, &x0);
+                                                 pm.has_pretravel() ? result.pretravel : 0.0, noise_ball, noise_facet, rng);
+      const IdentificationResult r = identify_with(prior, meas, run_options, &params, &x0);
       for (std::size_t j = 0; j < k; ++j) out.samples[run][j] = r.parameters[j].value;
       if (!mc.workspace.empty()) {
         const ErrorMap map = grid_error_map(ErrorModel(r.machine), mc.workspace, {1});
@@ -512,7 +535,7 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
         // Per-point sums for the map's spread, summed in run order after the pool (below).
         maps[run] = map.error;
       }
-      ok[run] = r.converged || r.final_cost < 1e9;
+      ok[run] = r.converged;  // a run the solver did not finish is counted as failed, not averaged in
     } catch (const std::exception& e) {
       const std::lock_guard lock(error_mutex);
       if (first_error.empty()) first_error = e.what();

@@ -82,7 +82,7 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
     if (f.kind == ProbeFeature::Kind::Facet) {
       if (std::abs(nrm.norm() - 1.0) > 1e-6)
         throw InputError({source, line, "nx"}, fmt::format("expected a facet's unit normal, found length {:g}", nrm.norm()));
-      f.normal = nrm;
+      f.normal = nrm.normalized();  // accepted within 1e-6 of unit length; used exactly unit
     } else if (!nrm.isZero(0.0)) {
       throw InputError({source, line, "nx"}, "a ball has no normal: leave nx, ny, nz empty or 0");
     }

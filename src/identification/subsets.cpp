@@ -96,10 +96,15 @@ struct Search {
   }
 };
 
+// C(n, k), saturating at the largest uint64 (r * (n - k + i) is divisible by i at every step).
 std::uint64_t binomial(std::uint64_t n, std::uint64_t k) {
   if (k > n) return 0;
   std::uint64_t r = 1;
-  for (std::uint64_t i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  for (std::uint64_t i = 1; i <= k; ++i) {
+    std::uint64_t t = 0;
+    if (__builtin_mul_overflow(r, n - k + i, &t)) return std::numeric_limits<std::uint64_t>::max();
+    r = t / i;
+  }
   return r;
 }
 
@@ -120,6 +125,8 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
     if (std::find(always.begin(), always.end(), c) != always.end())
       throw InputError({"--candidates", 0, m.parameters()[c].name}, "a candidate is also in --always");
   if (cand.empty()) throw InputError({"--candidates", 0, ""}, "expected candidate parameters, found none");
+  if (o.by_residue && !plan.measured)
+    throw InputError({"--sort", 0, ""}, "ranking by residue needs measurements (a file with the readings X, Y, Z)");
   if (o.choose < 1 || o.choose > cand.size())
     throw InputError({"--choose", 0, ""}, fmt::format("expected a subset size from 1 to {} (the candidates), found {}", cand.size(), o.choose));
   if (!(o.rank_tolerance >= 1e-7 && o.rank_tolerance < 1))
@@ -164,6 +171,7 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   }
   SubsetAnalysis out;
   out.examined = binomial(n, o.choose);
+  for (std::size_t ci : cand) out.candidates.push_back(m.parameters()[ci].name);
   // The fixed part must be full rank by itself.
   {
     Search base{G, c, r0_2, f, 0, o.rank_tolerance, {}, 0, 0, {}, {}, {}};
@@ -185,14 +193,20 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
       return;
     }
     s.descend(t + 1, n);
+    // Only the best `keep` of a task can be among the best `keep` of all: bounded memory.
+    auto better = [&](const ParameterSubset& a, const ParameterSubset& b) {
+      return o.by_residue ? a.residue < b.residue : a.condition < b.condition;
+    };
+    if (s.found.size() > o.keep) {
+      std::nth_element(s.found.begin(), s.found.begin() + static_cast<std::ptrdiff_t>(o.keep), s.found.end(), better);
+      s.found.resize(o.keep);
+    }
   });
   for (auto& s : results) {
     out.full_rank += s.full_rank;
     out.pruned += s.pruned;
     for (auto& found : s.found) out.subsets.push_back(std::move(found));
   }
-  if (o.by_residue && !plan.measured)
-    throw InputError({"--sort", 0, ""}, "ranking by residue needs measurements (a file with the readings X, Y, Z)");
   std::stable_sort(out.subsets.begin(), out.subsets.end(), [&](const ParameterSubset& a, const ParameterSubset& b) {
     return o.by_residue ? a.residue < b.residue : a.condition < b.condition;
   });

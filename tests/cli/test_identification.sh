@@ -73,6 +73,15 @@ first=$(python3 -c "import json; print(','.join(json.load(open('$tmp/subsets.jso
 expect_exit 0 "best subset alone" -- "$MTCAL" identifiability -m "$H" --plan "$P" --estimate "EXt,EYt,EZt,$first" --scale-bar 1:2:304.8 --json
 [ "$(json_get "d['unidentifiable']")" = "[]" ] && ok || bad "best subset is identifiable: $(json_get "d['unidentifiable']")"
 
+# Candidates given twice or as an error and its parameter are resolved once, and named right.
+expect_exit 0 "subsets with duplicates" -- "$MTCAL" identifiability -m "$H" --plan "$P" --candidates EXX,EXX.1,EY0C,EX0C,EX0C --choose 2 --json
+[ "$(json_get "d['candidates']")" = "['EXX.0', 'EXX.1', 'EXX.2', 'EXX.3', 'EXX.b', 'EY0C', 'EX0C']" ] && ok || bad "resolved candidates: $(json_get "d['candidates']")"
+[ "$(json_get "all(len(set(s['parameters'])) == 2 for s in d['subsets'])")" = "True" ] && ok || bad "no subset names a parameter twice"
+
+# Pre-travel with free facet offsets: reported and excluded, the rest identified.
+expect_exit 0 "pre-travel excluded" -- "$MTCAL" identify -m "$H" --measurements "$tmp/m0.csv" --estimate EX0C --pretravel --json
+[ "$(json_get "(d['unidentifiable'], 'pretravel' in d, list(d['parameters']))")" = "(['pre-travel'], False, ['EX0C'])" ] && ok || bad "pre-travel: $(json_get "d['unidentifiable']")"
+
 # Bad input: one line, non-zero exit, no output file.
 head -12 "$tmp/m0.csv" | sed 's/,ball,/,sphere,/' >"$tmp/bad1.csv"
 expect_error "unknown kind" "expected ball or facet" -- "$MTCAL" identify -m "$H" --measurements "$tmp/bad1.csv" --estimate EX0C

@@ -113,6 +113,21 @@ expect_error "contributions two modes" "expected exactly one of" -- "$MTCAL" con
 expect_error "contributions bad pair" "separated by ';'" -- "$MTCAL" contributions -m "$M3" --pair "X=0"
 expect_error "contributions bad axis" "axis 'Q' is not in topology" -- "$MTCAL" contributions -m "$M3" --at Q=1
 
+# Directions of motion from --points reach the contributions and the what-if maps.
+printf 'X,Y,Z,dirX\n-400,0,-100,1\n-400,0,-100,-1\n400,0,-100,1\n400,0,-100,-1\n0,0,-100,1\n' >"$tmp/dir.csv"
+expect_exit 0 "volumetric with dir" -- "$MTCAL" volumetric -m "$M3" --only EXX.b --set EXX.b=0.005 --points "$tmp/dir.csv" --json --out "$tmp/dirmap.csv"
+python3 - "$tmp/out" <<'PY' && ok || bad "reversal term in VA and contributions"
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+assert abs(d["va"] - 0.010) < 1e-12, d["va"]          # +5 um against -5 um
+c = d["contributions"]
+assert math.dist(c["exact"], d["critical_pair"]["difference"]) < 1e-15
+assert abs(abs(c["items"][0]["effect"][0]) - 0.010) < 1e-12 and c["items"][0]["error"] == "EXX"
+PY
+[ "$(head -1 "$tmp/dirmap.csv")" = "X,Y,Z,dirX,dirY,dirZ,dx,dy,dz" ] && ok || bad "map CSV keeps the directions: $(head -1 "$tmp/dirmap.csv")"
+expect_exit 0 "contributions with dir" -- "$MTCAL" contributions -m "$M3" --only EXX.b --set EXX.b=0.005 --points "$tmp/dir.csv" --json
+[ "$(json_get "(round(d['va'], 12), [(w['error'], round(w['va_without'], 12)) for w in d['what_if']])")" = "(0.01, [('EXX', 0.0)])" ] && ok || bad "what-if with directions: $(cat "$tmp/out")"
+
 # diagonals.
 expect_exit 0 "diagonals --json" -- "$MTCAL" diagonals -m "$M3" --box "X=-400:400,Y=-250:250,Z=-500:0" --points 11 --out "$tmp/d.csv" --json
 [ "$(json_get "len(d['diagonals'])")" = "16" ] && ok || bad "16 diagonals"

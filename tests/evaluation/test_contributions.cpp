@@ -27,7 +27,8 @@ TEST(Contributions, SquarenessHandCalculation) {
   const auto r = contributions(m, a, {}, std::span<const double>(b));
   ASSERT_EQ(r.items.size(), 1u);
   EXPECT_EQ(r.items[0].error.str(), "EC0Y");
-  EXPECT_NEAR(std::abs(r.items[0].effect.x()), 20e-6 * 400, 1e-12);
+  // EC0Y > 0 tilts Y towards -X (docs/conventions.md: dx = -Y sin(EC0Y)): from Y=-200 to Y=200, -8 um.
+  EXPECT_NEAR(r.items[0].effect.x(), -20e-6 * 400, 1e-12);
   EXPECT_NEAR(r.items[0].effect.y(), 0.0, 1e-15);
   EXPECT_NEAR(r.items[0].share, 1.0, 1e-9);
   EXPECT_NEAR(r.items[0].along, r.exact.norm(), 1e-9);
@@ -71,6 +72,20 @@ TEST(Contributions, SumMatchesExactToSecondOrder) {
     // Sorted by the size of their part along the difference.
     for (std::size_t k = 1; k < r1.items.size(); ++k) EXPECT_GE(std::abs(r1.items[k - 1].along), std::abs(r1.items[k].along));
   }
+}
+
+TEST(Contributions, ReversalTermsFollowTheDirections) {
+  // EXX.b = 5 um: moving +X adds +5 um, moving -X adds -5 um; the pair (dir -1 -> dir +1) differs by 10 um.
+  Machine m = vmc();
+  m.clear_errors();
+  m.set_parameter("EXX.b", 0.005);
+  const auto q = parse_joint_values(m, "X=100");
+  const std::vector<std::int8_t> up{1, 0, 0}, down{-1, 0, 0};
+  const auto r = contributions(m, q, up, std::span<const double>(q), down);
+  ASSERT_EQ(r.items.size(), 1u);
+  EXPECT_NEAR(r.items[0].effect.x(), 0.010, 1e-12);
+  EXPECT_NEAR(r.exact.x(), 0.010, 1e-12);
+  EXPECT_TRUE(contributions(m, q).items.empty());  // no direction: no reversal term
 }
 
 TEST(Contributions, RemovingAnErrorRemovesItsContribution) {

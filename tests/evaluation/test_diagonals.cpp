@@ -66,7 +66,8 @@ TEST(Diagonals, SquarenessSeparatesTheBodyDiagonals) {
   const double ppp = find(d, "body PPP").deviation.back(), npp = find(d, "body NPP").deviation.back();
   // To first order; the exact rotation adds terms of c^2 * 300 mm (about 3e-7 mm).
   const double second = c * c * 300;
-  EXPECT_NEAR(std::abs(ppp), 400.0 * 300.0 * c / L, second);
+  // dx = -Y sin(EC0Y) (docs/conventions.md): along PPP (+X +Y +Z) the laser reads -c dx dy / L.
+  EXPECT_NEAR(ppp, -400.0 * 300.0 * c / L, second);
   EXPECT_NEAR(ppp, -npp, second);
   EXPECT_NEAR(find(d, "body PNP").deviation.back(), npp, second);
   EXPECT_NEAR(find(d, "body PPN").deviation.back(), ppp, second);

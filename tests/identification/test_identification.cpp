@@ -240,6 +240,11 @@ TEST(Identification, MonteCarloSpreadAgreesWithTheCovariance) {
     const double u = r.parameters[i].u / r.sigma0;
     EXPECT_NEAR(a.stdev[i] / u, 1.0, 0.2) << r.parameters[i].name;
   }
+  // Without a given noise, sigma0 times the assumed sigma: an unbiased estimate of the 1 um.
+  mc.noise = 0.0;
+  const MonteCarloResult est = monte_carlo(prior_of(truth, kLocation), sim.measurements, o, r, mc);
+  for (std::size_t i = 0; i < r.parameters.size(); ++i)
+    EXPECT_NEAR(est.stdev[i] / r.parameters[i].u, 1.0, 0.2) << r.parameters[i].name;
   // Any thread count, the same numbers (one seed per run).
   mc.threads = 1;
   mc.runs = 20;

@@ -14,11 +14,15 @@ namespace mtcal {
 // The translational volumetric error (dx dy dz, mm, workpiece frame) at a set of configurations.
 struct ErrorMap {
   std::size_t axes = 0;
-  std::vector<double> q;    // N x axes, internal units (mm, rad), chain order
-  std::vector<Vec3> error;  // N translational errors
+  std::vector<double> q;          // N x axes, internal units (mm, rad), chain order
+  std::vector<std::int8_t> dir;   // N x axes directions of motion, or empty (none)
+  std::vector<Vec3> error;        // N translational errors
 
   std::size_t size() const { return error.size(); }
   std::span<const double> configuration(std::size_t i) const { return std::span(q).subspan(i * axes, axes); }
+  std::span<const std::int8_t> direction(std::size_t i) const {
+    return dir.empty() ? std::span<const std::int8_t>() : std::span(dir).subspan(i * axes, axes);
+  }
 };
 
 // Every configuration of a full grid (per-axis values in chain order, as parse_grid returns them;

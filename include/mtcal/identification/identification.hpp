@@ -78,7 +78,7 @@ struct IdentificationOptions {
 struct EstimatedParameter {
   std::string name;
   double value = 0.0;
-  double u = 0.0;  // standard uncertainty: sqrt of the covariance's diagonal (residual variance)
+  double u = 0.0;  // standard uncertainty: sqrt of the covariance's diagonal (residual variance); NaN if rank deficient
   std::string unit;
 };
 
@@ -109,6 +109,7 @@ struct IdentificationResult {
   Eigen::MatrixXd correlation;                 // among them
   ArtefactState artefact;
   double pretravel = 0.0, pretravel_u = 0.0;
+  bool pretravel_estimated = false;  // requested and identifiable
   Machine machine;  // the prior machine with the estimates
 };
 
@@ -145,7 +146,8 @@ struct ParameterSubset {
 struct SubsetAnalysis {
   std::uint64_t examined = 0;  // C(n, k)
   std::uint64_t full_rank = 0;
-  std::uint64_t pruned = 0;    // partial subsets found deficient, whose supersets were never formed
+  std::uint64_t pruned = 0;    // deficient subsets or prefixes (a prefix's supersets are never formed)
+  std::vector<std::string> candidates;  // the candidates' parameter names, as members index them
   std::vector<ParameterSubset> subsets;  // best conditioned (or smallest residue) first, at most keep
 };
 // Every k-subset of the candidates whose model (with the always-parameters, the artefact unknowns
@@ -162,14 +164,14 @@ struct MonteCarloOptions {
   std::size_t runs = 100;
   std::uint64_t seed = 1;
   int threads = 0;
-  // Reading noise: 0 means the fit's residual RMS per feature kind.
+  // Reading noise (mm): 0 means sigma0 times the identification's sigma of each kind.
   double noise = 0.0;
   // Workspace grid (per axis values, chain order, internal units) for the VA of each run's model;
   // empty: none.
   std::vector<std::vector<double>> workspace;
 };
 struct MonteCarloResult {
-  std::size_t runs = 0, failed = 0;
+  std::size_t runs = 0, failed = 0;  // failed: the solver did not converge, or threw
   std::vector<double> mean, stdev;       // per estimated parameter (order of result.parameters)
   std::vector<std::vector<double>> samples;  // runs x parameters
   double va_mean = 0.0, va_stdev = 0.0;  // over the workspace grid
