@@ -132,7 +132,7 @@ TEST(Identification, NoiseFreeRecoveryOfEveryIdentifiableParameter) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.5, 1.5);
   for (const auto& n : extended) {
-    const auto& p = truth.parameters()[*truth.parameter_index(n)];
+    const ErrorParameter p = truth.parameters()[*truth.parameter_index(n)];  // a copy: parameters() is a temporary
     const double size = p.unit == "mm" ? 3e-3 : p.unit == "rad" ? 2e-5 : p.unit == "mm/mm" ? 1e-5 : 1e-8;
     truth.set_parameter(n, size * u(rng) * (rng() % 2 ? 1 : -1));
   }
