@@ -13,6 +13,7 @@
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/gcode.hpp"
 #include "mtcal/prediction/prediction_model.hpp"
+#include "mtcal/prediction/process_error.hpp"
 #include "mtcal/prediction/regression.hpp"
 #include "mtcal/prediction/separation.hpp"
 #include "mtcal/report/report.hpp"
@@ -37,7 +38,10 @@ json fit_json(const FitResult& f) {
   json p = json::object();
   const auto names = parameter_names(f.model.spec);
   for (std::size_t k = 0; k < names.size(); ++k)
-    p[names[k]] = {{"value", num_or_null(f.model.p[k])}, {"stddev", num_or_null(f.stddev[k])}};
+    p[names[k]] = {{"value", num_or_null(f.model.p[k])},
+                   {"stddev", num_or_null(f.stddev[k])},
+                   {"at_bound", k < f.at_bound.size() && f.at_bound[k]},
+                   {"identified", k < f.identified.size() && f.identified[k]}};
   return {{"model", f.model.spec.label()},
           {"form", std::string(to_string(f.model.spec.form))},
           {"parameters", p},
@@ -55,9 +59,13 @@ json fit_json(const FitResult& f) {
 std::string params_text(const FitResult& f) {
   std::string s;
   const auto names = parameter_names(f.model.spec);
-  for (std::size_t k = 0; k < names.size(); ++k)
-    s += fmt::format("{}{}={}{}", s.empty() ? "" : " ", names[k], g6(f.model.p[k]),
-                     std::isfinite(f.stddev[k]) ? "±" + g6(f.stddev[k]) : "");
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    std::string note;
+    if (k < f.at_bound.size() && f.at_bound[k]) note = " (at bound)";
+    else if (k < f.identified.size() && !f.identified[k]) note = " (not identifiable)";
+    else if (std::isfinite(f.stddev[k])) note = "±" + g6(f.stddev[k]);
+    s += fmt::format("{}{}={}{}", s.empty() ? "" : " ", names[k], g6(f.model.p[k]), note);
+  }
   return s;
 }
 
@@ -92,12 +100,13 @@ int run_regress(const RegressOptions& o) {
     data.push_back({{"type", "scatter"}, {"mode", "markers"}, {"name", "data"}, {"x", x}, {"y", y}});
     const double lo = *std::min_element(x.begin(), x.end()), hi = *std::max_element(x.begin(), x.end());
     for (const auto& f : c.fits) {
-      std::vector<double> cxv, cyv;
+      std::vector<double> cxv;
+      nlohmann::json cyv = nlohmann::json::array();  // null where the model is undefined: a gap, not 0
       for (int i = 0; i <= 200; ++i) {
         const double v = lo + (hi - lo) * i / 200.0;
         cxv.push_back(v);
         const double fv = f.model(v);
-        cyv.push_back(std::isfinite(fv) ? fv : 0.0);
+        cyv.push_back(std::isfinite(fv) ? nlohmann::json(fv) : nlohmann::json(nullptr));
       }
       data.push_back({{"type", "scatter"}, {"mode", "lines"}, {"name", f.model.spec.label()}, {"x", cxv}, {"y", cyv}});
     }
@@ -160,9 +169,11 @@ struct PointTable {
   std::string source;
 };
 
-// --gcode: one point per move end; t = start + time so far (length / feed, rapids at
-// --rapid-feed), F = the move's feed, S = --speed, dx dy dz = |X| |Y| |Z| (distance from the
-// program zero, as Table 6.7 evaluates e_pos at the coordinates).
+// --gcode: one point per cutting move's end (G1, G2, G3); t = start + time so far (length /
+// feed), F = the move's feed, S = --speed, dx dy dz = |X| |Y| |Z| (distance from the program
+// zero, as Table 6.7 evaluates e_pos at the coordinates). A rapid (G0) cuts nothing: it only
+// advances the time, at --rapid-feed, and gives no point (the process and control models are of
+// cutting feeds, 100-1600 mm/min).
 PointTable points_from_gcode(const PredictOptions& o) {
   if (o.speed <= 0) throw InputError({"--speed", 0, ""}, "--gcode needs --speed (spindle speed, rpm > 0)");
   const GcodeProgram prog = read_gcode(o.gcode, GcodeOptions{"XYZ", {}});
@@ -171,14 +182,18 @@ PointTable points_from_gcode(const PredictOptions& o) {
   t.columns = {"line", "X", "Y", "Z", "t", "S", "F", "dx", "dy", "dz"};
   double minutes = o.start_time;
   for (const auto& m : prog.moves) {
-    const double feed = m.motion == GcodeMotion::Rapid ? o.rapid_feed : m.feed;
-    if (feed <= 0) throw InputError({o.gcode, m.line, "F"}, "a cutting move before any F word: no feed to predict with");
-    minutes += path_length(m) / feed;
-    t.rows.push_back({double(m.line), m.end[0], m.end[1], m.end[2], minutes, o.speed, feed, std::abs(m.end[0]),
+    if (m.motion == GcodeMotion::Rapid) {
+      minutes += path_length(m) / o.rapid_feed;
+      continue;
+    }
+    if (m.feed <= 0) throw InputError({o.gcode, m.line, "F"}, "a cutting move before any F word: no feed to predict with");
+    minutes += path_length(m) / m.feed;
+    t.rows.push_back({double(m.line), m.end[0], m.end[1], m.end[2], minutes, o.speed, m.feed, std::abs(m.end[0]),
                       std::abs(m.end[1]), std::abs(m.end[2])});
     t.lines.push_back(m.line);
   }
-  if (t.rows.empty()) throw InputError({o.gcode, 0, ""}, "the program has no move");
+  if (t.rows.empty())
+    throw InputError({o.gcode, 0, ""}, "the program has no cutting move (G1, G2, G3): nothing to predict (rapids give no points)");
   return t;
 }
 
@@ -191,6 +206,8 @@ int run_predict(const PredictOptions& o) {
   PointTable t;
   if (!o.points.empty()) {
     const CsvTable c = read_csv(o.points);
+    if (c.rows.empty())
+      throw InputError({o.points, 0, "rows"}, "expected at least one point (a row after the header), found none");
     t = {c.columns, c.rows, c.lines, o.points};
   } else {
     t = points_from_gcode(o);
@@ -345,6 +362,7 @@ int run_separate(const SeparateOptions& o) {
   json j;
   j["file"] = o.data;
   j["kind"] = o.kind;
+  std::vector<std::string> warnings;
   std::string csv;
   if (o.kind == "position") {
     const auto steps = separate_position(t, o.data);
@@ -373,14 +391,24 @@ int run_separate(const SeparateOptions& o) {
     const auto rec = read_dimension_table(t, o.data);
     std::map<std::pair<int, char>, double> sub;
     if (!o.model.empty()) {
-      // Eq. 3.15: subtract e_ctrl(2400-100) of the model (e_ctrl_x / e_ctrl_y before the feed ramp).
+      // Eq. 3.15: subtract e_ctrl(2400-100) of the model, by the path of predict (scale,
+      // validity range, stages ...) at the nominal distance and with the feed ramp at its
+      // 'one_at' end (the 2400 -> 100 change the forms were fitted to, eq. 5.52-5.53).
       const PredictionModel m = read_prediction_model(o.model);
       for (const auto& r : rec) {
         if (r.workpiece != o.a) continue;
         const std::string name = r.axis == 'X' ? "e_ctrl_x" : "e_ctrl_y";
         const ErrorComponent* c = m.find(name);
-        if (!c || !c->model) throw InputError({o.model, 0, name}, "the model has no single-model component '" + name + "' (eq. 5.52-5.53)");
-        sub[{r.step, r.axis}] = (*c->model)(r.nominal);
+        if (!c) throw InputError({o.model, 0, name}, "the model has no component '" + name + "' (eq. 5.52-5.53)");
+        const auto lookup = [&](const std::string& v) -> double {
+          if (v == c->variable) return r.nominal;
+          if (c->ramp && v == c->ramp->variable) return c->ramp->one_at;
+          throw InputError({o.model, c->line, v},
+                           fmt::format("{} reads '{}': separate control gives only its distance ({}) and its feed ramp", name, v, c->variable));
+        };
+        const ComponentValue v = evaluate_component(m, name, lookup, false, fmt::format("{}:{}", o.data, r.line));
+        for (const auto& w : v.warnings) warnings.push_back(fmt::format("line {}: {}", r.line, w));
+        sub[{r.step, r.axis}] = v.value;
       }
     }
     const auto steps = separate_control(rec, o.a, o.b, o.data, sub);
@@ -396,11 +424,13 @@ int run_separate(const SeparateOptions& o) {
     }
   }
   if (!o.out.empty()) write_file_atomically(o.out, csv);
+  if (o.kind == "control") j["warnings"] = warnings;
   if (o.json_out) {
     std::cout << j.dump(2) << "\n";
     return 0;
   }
   std::cout << csv;
+  for (const auto& w : warnings) std::cout << "warning: " << w << "\n";
   if (j.contains("fits"))
     for (const auto& [name, f] : j["fits"].items()) {
       std::string p;
@@ -408,6 +438,100 @@ int run_separate(const SeparateOptions& o) {
       std::cout << fmt::format("{} = {}:{}\n", name, f["model"].get<std::string>(), p);
     }
   if (!o.out.empty()) std::cout << "written to " << o.out << "\n";
+  return 0;
+}
+
+// ---------------------------------------------------------------- process-error
+struct ProcessErrorOptions {
+  std::string feeds, measured, form = "logistic_ln";
+  EndMill tool;
+  CuttingCoefficients k;
+  CutConditions cut;
+  bool up_milling = false, json_out = false;
+};
+
+std::vector<double> number_list(const std::string& text, const char* option) {
+  std::vector<double> v;
+  for (const auto& item : split_list(text)) {
+    const auto x = parse_number(item);
+    if (!x) throw InputError({option, 0, item}, fmt::format("expected a comma list of numbers, found '{}'", item));
+    v.push_back(*x);
+  }
+  if (v.empty()) throw InputError({option, 0, ""}, "expected a comma list of numbers, found nothing");
+  return v;
+}
+
+// e_prog (Yaqoob 2017 sec. 3.7, 5.5.1) per feed, and with --measured the calibration of the
+// measured process errors on it (eq. 5.49-5.51).
+int run_process_error(ProcessErrorOptions o) {
+  o.cut.down_milling = !o.up_milling;
+  const std::vector<double> feeds = number_list(o.feeds, "--feed");
+  std::vector<double> measured;
+  std::optional<ModelSpec> spec;
+  if (!o.measured.empty()) {
+    measured = number_list(o.measured, "--measured");
+    if (measured.size() != feeds.size())
+      throw InputError({"--measured", 0, ""}, fmt::format("expected one measured process error per feed ({}), found {}", feeds.size(),
+                                                          measured.size()));
+    const auto specs = parse_model_specs(o.form, "--form");
+    if (specs.size() != 1) throw InputError({"--form", 0, o.form}, "expected one model form for the calibration, found " + o.form);
+    spec = specs[0];
+  }
+  struct Row {
+    double feed, fz;
+    MillingForces f;
+    double e_prog;
+  };
+  std::vector<Row> rows;
+  for (double F : feeds) {
+    CutConditions c = o.cut;
+    c.feed = F;
+    Row r{F, F / (o.tool.teeth * c.spindle_speed), milling_forces(o.tool, o.k, c), 0.0};
+    r.e_prog = program_generated_error(o.tool, o.k, c);
+    rows.push_back(std::move(r));
+  }
+  std::optional<Calibration> cal;
+  if (spec) {
+    cal = calibrate_process_error(o.tool, o.k, o.cut, feeds, measured, *spec);
+    if (!cal->fit.converged) throw Error("the calibration " + spec->label() + " did not converge: " + cal->fit.message);
+  }
+  if (o.json_out) {
+    json j;
+    j["tool"] = {{"diameter", o.tool.diameter}, {"teeth", o.tool.teeth}, {"helix_deg", o.tool.helix_deg},
+                 {"overhang", o.tool.overhang}, {"flute_length", o.tool.flute_length},
+                 {"flute_diameter_ratio", o.tool.flute_diameter_ratio}, {"young_modulus", o.tool.young_modulus}};
+    j["coefficients"] = {{"ktc", o.k.ktc}, {"krc", o.k.krc}, {"kte", o.k.kte}, {"kre", o.k.kre}};
+    j["cut"] = {{"radial_depth", o.cut.radial_depth}, {"axial_depth", o.cut.axial_depth}, {"spindle_speed", o.cut.spindle_speed},
+                {"down_milling", o.cut.down_milling}};
+    j["points"] = json::array();
+    for (const auto& r : rows)
+      j["points"].push_back({{"feed", r.feed}, {"fz", r.fz}, {"mean_fx", r.f.mean_x}, {"mean_fy", r.f.mean_y},
+                             {"peak_fy", r.f.peak_y}, {"e_prog", r.e_prog}});
+    if (cal) {
+      json c = fit_json(cal->fit);
+      c["measured"] = measured;
+      j["calibration"] = c;
+    }
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << fmt::format("tool D {:g} mm, {} teeth, helix {:g} deg, overhang {:g} mm, flutes {:g} mm at {:g} D, E {:g} N/mm^2\n",
+                           o.tool.diameter, o.tool.teeth, o.tool.helix_deg, o.tool.overhang, o.tool.flute_length,
+                           o.tool.flute_diameter_ratio, o.tool.young_modulus);
+  std::cout << fmt::format("cut ae {:g} mm, ap {:g} mm, {:g} rpm, {} milling; Ktc {:g} Krc {:g} N/mm^2, Kte {:g} Kre {:g} N/mm\n",
+                           o.cut.radial_depth, o.cut.axial_depth, o.cut.spindle_speed, o.cut.down_milling ? "down" : "up", o.k.ktc,
+                           o.k.krc, o.k.kte, o.k.kre);
+  std::cout << fmt::format("{:>10} {:>12} {:>12} {:>12} {:>12} {:>14}\n", "F (mm/min)", "fz (mm)", "mean Fx (N)", "mean Fy (N)",
+                           "peak |Fy| (N)", "e_prog (mm)");
+  for (const auto& r : rows)
+    std::cout << fmt::format("{:>10g} {:>12.6g} {:>12.6g} {:>12.6g} {:>12.6g} {:>14.6g}\n", r.feed, r.fz, r.f.mean_x, r.f.mean_y,
+                             r.f.peak_y, r.e_prog);
+  if (cal) {
+    const auto& f = cal->fit;
+    std::cout << fmt::format("calibration measured = {}(e_prog) (eq. 5.49-5.51): {}\n", f.model.spec.label(), params_text(f));
+    std::cout << fmt::format("  RSS {}  R^2 {}  backward mean |diff| {}  max {}\n", g6(f.rss), g6(f.r_squared), g6(f.backward.mean),
+                             g6(f.backward.max));
+  }
   return 0;
 }
 
@@ -457,7 +581,39 @@ std::vector<Command> add_prediction_commands(CLI::App& app) {
   s->add_option("--model", so->model, "control: prediction model whose e_ctrl_x / e_ctrl_y (eq. 5.52-5.53) are subtracted (eq. 3.15)");
   s->add_option("--out", so->out, "Write the separated values as CSV");
   s->add_flag("--json", so->json_out, "Machine-readable output: file kind steps[] (axis step distance e_pos count | e_ctrl/e_cpr) fits{}");
-  return {{r, [ro] { return run_regress(*ro); }}, {p, [po] { return run_predict(*po); }}, {s, [so] { return run_separate(*so); }}};
+
+  auto eo = std::make_shared<ProcessErrorOptions>();
+  auto* e = app.add_subcommand("process-error",
+                               "Program-generated process error e_prog (Yaqoob 2017 sec. 3.7): mechanistic milling forces and the "
+                               "tool as a two-section cantilever, per feed; with --measured, the calibration measured = f(e_prog) "
+                               "(eq. 5.49-5.51)");
+  e->add_option("--feed", eo->feeds, "Feed(s) F (mm/min), a comma list, e.g. \"100,200,400,800,1600\"")->required();
+  e->add_option("--speed", eo->cut.spindle_speed, "Spindle speed S (rpm)")->check(CLI::PositiveNumber)->capture_default_str();
+  e->add_option("--ae", eo->cut.radial_depth, "Radial depth of cut (mm)")->check(kFinite)->capture_default_str();
+  e->add_option("--ap", eo->cut.axial_depth, "Axial depth of cut (mm)")->check(kFinite)->capture_default_str();
+  e->add_flag("--up-milling", eo->up_milling, "Up (conventional) milling (default: down / climb milling)");
+  e->add_option("--diameter", eo->tool.diameter, "Tool diameter D (mm)")->check(kFinite)->capture_default_str();
+  e->add_option("--teeth", eo->tool.teeth, "Number of teeth")->capture_default_str();
+  e->add_option("--helix", eo->tool.helix_deg, "Helix angle (deg; 0: straight flutes)")->check(kFinite)->capture_default_str();
+  e->add_option("--overhang", eo->tool.overhang, "Length out of the holder L (mm)")->check(kFinite)->capture_default_str();
+  e->add_option("--flute-length", eo->tool.flute_length, "Fluted length from the tip (mm)")->check(kFinite)->capture_default_str();
+  e->add_option("--flute-ratio", eo->tool.flute_diameter_ratio, "Equivalent diameter of the fluted section / D")
+      ->check(kFinite)
+      ->capture_default_str();
+  e->add_option("--young", eo->tool.young_modulus, "Young's modulus E (N/mm^2)")->check(kFinite)->capture_default_str();
+  e->add_option("--ktc", eo->k.ktc, "Tangential cutting coefficient (N/mm^2)")->check(kFinite)->capture_default_str();
+  e->add_option("--krc", eo->k.krc, "Radial cutting coefficient (N/mm^2)")->check(kFinite)->capture_default_str();
+  e->add_option("--kte", eo->k.kte, "Tangential edge coefficient (N/mm)")->check(kFinite)->capture_default_str();
+  e->add_option("--kre", eo->k.kre, "Radial edge coefficient (N/mm)")->check(kFinite)->capture_default_str();
+  e->add_option("--measured", eo->measured, "Measured process errors (mm), one per feed: calibrate measured = f(e_prog)");
+  e->add_option("--form", eo->form, "Calibration form: logistic_ln (eq. 5.49-5.50), saturation (eq. 5.51) or any regress form")
+      ->capture_default_str();
+  e->add_flag("--json", eo->json_out, "Machine-readable output: tool coefficients cut points[] (feed fz mean_fx mean_fy peak_fy e_prog) "
+                                      "calibration (a regress fit with measured[])");
+  return {{r, [ro] { return run_regress(*ro); }},
+          {p, [po] { return run_predict(*po); }},
+          {s, [so] { return run_separate(*so); }},
+          {e, [eo] { return run_process_error(*eo); }}};
 }
 
 }  // namespace mtcal::cli

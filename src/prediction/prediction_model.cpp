@@ -160,7 +160,14 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
     if (!vn.IsDefined()) cc.fail(n, "missing key 'variable' (the driving variable: a points column such as t, F, dx)");
     c.variable = text(vn, cc.child("variable"));
   }
-  if (has_model) c.model = parse_model(e, n, cc);
+  std::vector<YAML::Node> model_nodes;  // where each model's parameters are, for the domain check
+  std::vector<Ctx> model_ctx;
+  if (has_model) {
+    c.model = parse_model(e, n, cc);
+    const YAML::Node pn = get(e, c.model->spec.form == ModelForm::Polynomial ? "coefficients" : "parameters");
+    model_nodes.push_back(pn);
+    model_ctx.push_back(cc.child(c.model->spec.form == ModelForm::Polynomial ? "coefficients" : "parameters"));
+  }
   if (has_stages) {
     const YAML::Node sn = get(e, "stages");
     const Ctx sc = cc.child("stages");
@@ -178,6 +185,9 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
       st.model = parse_model(se, sn[i], ic);
       if (auto s = get(se, "source"); s.IsDefined()) st.source = text(s, ic.child("source"));
       c.stages.push_back(st);
+      const bool poly = st.model.spec.form == ModelForm::Polynomial;
+      model_nodes.push_back(get(se, poly ? "coefficients" : "parameters"));
+      model_ctx.push_back(ic.child(poly ? "coefficients" : "parameters"));
     }
   }
   if (auto rn = get(e, "ramp"); rn.IsDefined()) {
@@ -198,6 +208,16 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
     if (v.size() != 2 || !(v[0] <= v[1]))
       cc.child("valid").fail(vn, "expected [low, high] with low <= high");
     c.valid = std::make_pair(v[0], v[1]);
+  }
+  // Parameters outside a form's domain over the range the component is evaluated on (its
+  // validity range, else the form's whole domain) are refused here, not at the first point.
+  std::vector<const Model*> models;
+  if (c.model) models.push_back(&*c.model);
+  for (const auto& st : c.stages) models.push_back(&st.model);
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    const double x_low = c.valid ? c.valid->first : domain_lower_bound(models[i]->spec.form);
+    const std::string why = parameter_domain_problem(*models[i], x_low);
+    if (!why.empty()) model_ctx[i].fail(model_nodes[i], why);
   }
   return c;
 }
@@ -261,7 +281,7 @@ PredictionModel read_prediction_model(const std::string& path) {
 }
 
 double evaluate_stages(const std::vector<SpeedStage>& s, double speed, double x) {
-  if (s.empty()) return std::numeric_limits<double>::quiet_NaN();
+  if (s.empty() || !(speed > 0.0) || !std::isfinite(speed)) return std::numeric_limits<double>::quiet_NaN();
   // Eq. 3.9 / 5.19 and 3.10 / 5.20: proportional scaling of the nearest stage outside the range.
   if (speed <= s.front().speed) return speed / s.front().speed * s.front().model(x);
   if (speed >= s.back().speed) return speed / s.back().speed * s.back().model(x);
@@ -274,33 +294,74 @@ double evaluate_stages(const std::vector<SpeedStage>& s, double speed, double x)
   return (1.0 - w) * lo.model(x) + w * hi.model(x);
 }
 
+namespace {
+
+// The model's own value of component i (before scale, ramp and times). raw_before: the values of
+// the earlier components when the caller has them (predict_point), else an 'of' is evaluated.
+double component_raw(const PredictionModel& m, std::size_t i, const std::function<double(const std::string&)>& lookup,
+                     bool strict, const std::string& where, std::vector<std::string>& warnings,
+                     const std::vector<double>* raw_before) {
+  const ErrorComponent& c = m.components[i];
+  if (!c.of.empty()) {
+    const auto it = std::find_if(m.components.begin(), m.components.end(), [&](const ErrorComponent& o) { return o.name == c.of; });
+    const auto k = static_cast<std::size_t>(it - m.components.begin());
+    return raw_before ? (*raw_before)[k] : component_raw(m, k, lookup, strict, where, warnings, nullptr);
+  }
+  const double x = lookup(c.variable);
+  if (c.valid && (x < c.valid->first || x > c.valid->second)) {
+    const std::string msg = fmt::format("{}: {} = {:g} is outside the validity range [{:g}, {:g}] of the model ({})",
+                                        c.name, c.variable, x, c.valid->first, c.valid->second,
+                                        strict ? "refused by --strict" : "extrapolated");
+    if (strict) throw InputError({where, 0, c.variable}, msg);
+    warnings.push_back(msg);
+  }
+  double raw = 0.0;
+  if (c.model) {
+    raw = (*c.model)(x);
+  } else {
+    // The stage interpolation and the proportional scaling (eq. 3.7-3.10) are in S / S_stage:
+    // a spindle at rest or a negative speed has no thermal stage.
+    const double speed = lookup(c.speed_variable);
+    if (!(speed > 0.0) || !std::isfinite(speed))
+      throw InputError({where, 0, c.speed_variable},
+                       fmt::format("{}: expected a spindle speed {} > 0 rpm for the speed stages (eq. 3.7-3.10), found {:g}",
+                                   c.name, c.speed_variable, speed));
+    raw = evaluate_stages(c.stages, speed, x);
+  }
+  if (!std::isfinite(raw))
+    throw InputError({where, 0, c.variable},
+                     fmt::format("{}: the model is undefined at {} = {:g} (line {} of {})", c.name, c.variable, x, c.line, m.file));
+  return raw;
+}
+
+double scaled(const ErrorComponent& c, double raw, const std::function<double(const std::string&)>& lookup) {
+  double v = c.scale * raw;
+  if (c.ramp) v *= (lookup(c.ramp->variable) - c.ramp->zero_at) / (c.ramp->one_at - c.ramp->zero_at);
+  if (!c.times.empty()) v *= lookup(c.times);
+  return v;
+}
+
+}  // namespace
+
+ComponentValue evaluate_component(const PredictionModel& m, const std::string& name,
+                                  const std::function<double(const std::string&)>& lookup, bool strict,
+                                  const std::string& where) {
+  const ErrorComponent* c = m.find(name);
+  if (!c) throw InputError({m.file, 0, name}, "the model has no component '" + name + "'");
+  ComponentValue v;
+  v.raw = component_raw(m, static_cast<std::size_t>(c - m.components.data()), lookup, strict, where, v.warnings, nullptr);
+  v.value = scaled(*c, v.raw, lookup);
+  return v;
+}
+
 PointPrediction predict_point(const PredictionModel& m, const std::function<double(const std::string&)>& lookup,
                               bool strict, const std::string& where) {
   PointPrediction p;
   p.values.reserve(m.components.size());
   for (std::size_t i = 0; i < m.components.size(); ++i) {
     const ErrorComponent& c = m.components[i];
-    double raw = 0.0;
-    if (!c.of.empty()) {
-      const auto it = std::find_if(m.components.begin(), m.components.end(), [&](const ErrorComponent& o) { return o.name == c.of; });
-      raw = p.raw[static_cast<std::size_t>(it - m.components.begin())];
-    } else {
-      const double x = lookup(c.variable);
-      if (c.valid && (x < c.valid->first || x > c.valid->second)) {
-        const std::string msg = fmt::format("{}: {} = {:g} is outside the validity range [{:g}, {:g}] of the model ({})",
-                                            c.name, c.variable, x, c.valid->first, c.valid->second,
-                                            strict ? "refused by --strict" : "extrapolated");
-        if (strict) throw InputError({where, 0, c.variable}, msg);
-        p.warnings.push_back(msg);
-      }
-      raw = c.model ? (*c.model)(x) : evaluate_stages(c.stages, lookup(c.speed_variable), x);
-      if (!std::isfinite(raw))
-        throw InputError({where, 0, c.variable},
-                         fmt::format("{}: the model is undefined at {} = {:g} (line {} of {})", c.name, c.variable, x, c.line, m.file));
-    }
-    double v = c.scale * raw;
-    if (c.ramp) v *= (lookup(c.ramp->variable) - c.ramp->zero_at) / (c.ramp->one_at - c.ramp->zero_at);
-    if (!c.times.empty()) v *= lookup(c.times);
+    const double raw = component_raw(m, i, lookup, strict, where, p.warnings, &p.raw);
+    const double v = scaled(c, raw, lookup);
     p.raw.push_back(raw);
     p.values.push_back(v);
     if (c.axis) p.e[c.axis - 'x'] += v;

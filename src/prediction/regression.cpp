@@ -49,10 +49,15 @@ std::size_t parameter_count(const ModelSpec& s) {
   return 0;
 }
 
-// x^e for x >= 0 with the limit at 0 (0 for e > 0); used by power and stretched_exp.
+// x^e for x >= 0 with its limit at x = 0: 0 for e > 0, 1 for e = 0 (x^0 = 1), +inf for e < 0.
 template <class T>
 T pow_nonneg(double x, const T& e) {
-  if (x == 0.0) return T(0.0);
+  using std::exp;
+  if (x == 0.0) {
+    if (e > T(0.0)) return T(0.0);
+    if (e == T(0.0)) return T(1.0);
+    return T(std::numeric_limits<double>::infinity());
+  }
   return exp(e * std::log(x));
 }
 
@@ -63,13 +68,36 @@ T eval_nonlinear(ModelForm f, const T* p, double x) {
   using std::exp;
   switch (f) {
     case ModelForm::ExpApproach: return p[0] - p[1] * exp(-p[2] * x);
-    case ModelForm::StretchedExp: return p[0] + p[1] * exp(-p[2] * pow_nonneg(x, p[3]));
+    case ModelForm::StretchedExp:
+      if (x == 0.0) {
+        // Limits of exp(-c x^d) as x -> 0+: 1 for d > 0, exp(-c) for d = 0; for d < 0, x^d -> +inf:
+        // 0 for c > 0, 1 for c = 0, divergent for c < 0.
+        if (p[3] > T(0.0)) return p[0] + p[1];
+        if (p[3] == T(0.0)) return p[0] + p[1] * exp(-p[2]);
+        if (p[2] > T(0.0)) return p[0];
+        if (p[2] == T(0.0)) return p[0] + p[1];
+        return T(kNaN);
+      }
+      return p[0] + p[1] * exp(-p[2] * pow_nonneg(x, p[3]));
     case ModelForm::LogisticLn:
-      if (x == 0.0) return p[2] > T(0.0) ? p[0] - p[1] : p[0];
+      if (!(p[3] > T(0.0))) return T(kNaN);  // ln(x / x0) needs x0 > 0
+      if (x == 0.0) {
+        // k ln(x / x0) -> -inf (k > 0), +inf (k < 0), 0 (k = 0) as x -> 0+.
+        if (p[2] > T(0.0)) return p[0] - p[1];
+        if (p[2] < T(0.0)) return p[0];
+        return p[0] - p[1] / T(2.0);
+      }
       return p[0] - p[1] / (T(1.0) + exp(p[2] * (std::log(x) - log(p[3]))));
     case ModelForm::Gompertz: return p[0] * exp(-exp(p[1] - p[2] * x));
     case ModelForm::Saturation: return p[0] * x / (p[1] + x);
-    case ModelForm::Power: return p[0] * pow_nonneg(x, p[1]);
+    case ModelForm::Power:
+      if (x == 0.0) {
+        // 0^b: 0 for b > 0, 1 for b = 0; undefined (a pole) for b < 0.
+        if (p[1] > T(0.0)) return T(0.0);
+        if (p[1] == T(0.0)) return p[0];
+        return T(kNaN);
+      }
+      return p[0] * pow_nonneg(x, p[1]);
     case ModelForm::Polynomial: break;
   }
   return T(kNaN);
@@ -250,6 +278,30 @@ struct Solved {
   std::string message;
 };
 
+// Lower bounds that keep each form inside its domain (-inf: none): ln(x / x0) needs x0 > 0;
+// a x / (b + x) and x^b at x = 0 need b > 0; stretched_exp's d > 0 (every fit the thesis prints
+// has these signs).
+std::vector<double> lower_bounds(ModelForm f, std::span<const double> x) {
+  const double X = std::max(max_abs(x), 1e-12);
+  const bool has_zero = std::any_of(x.begin(), x.end(), [](double v) { return v == 0.0; });
+  std::vector<double> lo(kMaxParams, -std::numeric_limits<double>::infinity());
+  if (f == ModelForm::LogisticLn) lo[3] = 1e-9 * X;
+  if (f == ModelForm::Saturation) lo[1] = 1e-9 * X;
+  if (f == ModelForm::Power && has_zero) lo[1] = 1e-9;
+  if (f == ModelForm::StretchedExp) lo[3] = 1e-3;
+  return lo;
+}
+
+// A parameter the solver left on its lower bound (an active constraint, not an interior optimum).
+std::vector<bool> at_lower_bound(const Model& m, std::span<const double> x) {
+  std::vector<bool> at(m.p.size(), false);
+  if (m.spec.form == ModelForm::Polynomial) return at;
+  const std::vector<double> lo = lower_bounds(m.spec.form, x);
+  for (std::size_t k = 0; k < m.p.size(); ++k)
+    at[k] = std::isfinite(lo[k]) && m.p[k] <= lo[k] + 1e-6 * std::abs(lo[k]);
+  return at;
+}
+
 Solved solve_ceres(ModelForm f, std::span<const double> x, std::span<const double> y, std::vector<double> start) {
   const double ys = std::max(max_abs(y), 1e-300);
   ceres::Problem::Options po;
@@ -262,16 +314,11 @@ Solved solve_ceres(ModelForm f, std::span<const double> x, std::span<const doubl
     cost->SetNumResiduals(1);
     problem.AddResidualBlock(cost, nullptr, p);
   }
-  const double X = std::max(max_abs(x), 1e-12);
-  // Bounds keep each form inside its domain: ln(x / x0) needs x0 > 0; a / (b + x) and x^b at
-  // x = 0 need b > 0 (every fit the thesis prints has these signs).
-  const bool has_zero = std::any_of(x.begin(), x.end(), [](double v) { return v == 0.0; });
-  if (f == ModelForm::LogisticLn) problem.SetParameterLowerBound(p, 3, 1e-9 * X);
-  if (f == ModelForm::Saturation) problem.SetParameterLowerBound(p, 1, 1e-9 * X);
-  if (f == ModelForm::Power && has_zero) problem.SetParameterLowerBound(p, 1, 1e-9);
-  if (f == ModelForm::StretchedExp) problem.SetParameterLowerBound(p, 3, 1e-3);
+  const std::vector<double> lower = lower_bounds(f, x);
   for (int k = 0; k < np; ++k) {
-    const double lo = problem.GetParameterLowerBound(p, k);
+    const double lo = lower[static_cast<std::size_t>(k)];
+    if (!std::isfinite(lo)) continue;
+    problem.SetParameterLowerBound(p, k, lo);
     if (p[k] <= lo) p[k] = lo + 1e-9 * (1.0 + std::abs(lo));
   }
   ceres::Solver::Options so;
@@ -318,6 +365,67 @@ Eigen::MatrixXd jacobian(const Model& m, std::span<const double> x) {
   return J;
 }
 
+// Whether a (non-converged) end point lies where the form has degenerated over the data into a
+// simpler form reached only in a limit of its parameters: logistic_ln with (x / x0)^k << 1 at
+// every point is (a - b) + (b / x0^k) x^k (x0 -> inf, a and b -> inf: an offset power law), with
+// (x / x0)^k >> 1 it is a - b x0^k x^-k; stretched_exp with c x^d << 1 is (a + b) - b c x^d
+// (c -> 0, b -> inf: again an offset power law); exp_approach with c x << 1 is a line. Returns
+// the limit in words, or "".
+std::string degenerate_limit(const Model& m, std::span<const double> x) {
+  const auto& p = m.p;
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  switch (m.spec.form) {
+    case ModelForm::LogisticLn:
+      for (double v : x)
+        if (v > 0.0) {
+          const double u = std::pow(v / p[3], p[2]);
+          lo = std::min(lo, u);
+          hi = std::max(hi, u);
+        }
+      if (hi > 0.0 && hi < 1e-2)
+        return "x0 -> inf (|a|, |b| -> inf) where logistic_ln becomes (a - b) + (b / x0^k) x^k, an offset power law "
+               "c0 + A x^k with 3 parameters";
+      if (lo > 1e2 && std::isfinite(lo))
+        return "x0 -> 0 where logistic_ln becomes a - b x0^k x^-k, an offset power law with 3 parameters";
+      return "";
+    case ModelForm::StretchedExp:
+      for (double v : x) hi = std::max(hi, std::abs(p[2]) * std::pow(v, p[3]));
+      if (hi < 1e-2)
+        return "c -> 0 (|b| -> inf) where stretched_exp becomes (a + b) - b c x^d, an offset power law c0 + A x^d "
+               "with 3 parameters";
+      return "";
+    case ModelForm::ExpApproach:
+      for (double v : x) hi = std::max(hi, std::abs(p[2] * v));
+      if (hi < 1e-2) return "c -> 0 (|b| -> inf) where exp_approach becomes (a - b) + b c x, a straight line";
+      return "";
+    default: return "";
+  }
+}
+
+// The size of a unit-consistent change of each parameter: Y for amplitudes (units of y), X for
+// x0 and saturation's b (units of x), 1 / X for rates (c; 1 / X^d for stretched_exp), 1 for
+// exponents and Gompertz' shift, Y / X^k for a polynomial's c_k and Y / X^b for power's a. X, Y:
+// the largest |x|, |y|. Independent of the parameters' values, so that a parameter whose value is
+// near 0 is not mistaken for one the data do not determine.
+std::vector<double> natural_scales(const Model& m, double X, double Y) {
+  const auto& p = m.p;
+  switch (m.spec.form) {
+    case ModelForm::Polynomial: {
+      std::vector<double> s;
+      for (std::size_t k = 0; k < p.size(); ++k)
+        s.push_back(Y / std::pow(X, static_cast<double>(k) + (m.spec.fixed_intercept ? 1.0 : 0.0)));
+      return s;
+    }
+    case ModelForm::ExpApproach: return {Y, Y, 1.0 / X};
+    case ModelForm::StretchedExp: return {Y, Y, 1.0 / std::pow(X, p[3]), 1.0};
+    case ModelForm::LogisticLn: return {Y, Y, 1.0, X};
+    case ModelForm::Gompertz: return {Y, 1.0, 1.0 / X};
+    case ModelForm::Saturation: return {Y, X};
+    case ModelForm::Power: return {Y / std::pow(X, p[1]), 1.0};
+  }
+  return std::vector<double>(p.size(), 1.0);
+}
+
 // The solution only (no statistics): used by the full fit and by each leave-one-out refit.
 struct Core {
   std::optional<Model> model;
@@ -343,6 +451,8 @@ Core fit_core(const ModelSpec& spec, std::span<const double> x, std::span<const 
     return c;
   }
   double best = std::numeric_limits<double>::infinity();
+  double best_failed = std::numeric_limits<double>::infinity();
+  std::optional<Model> failed;  // the best non-converged end point, for the diagnosis
   for (const auto& s : starts) {
     Solved r = solve_ceres(spec.form, x, y, s);
     Model m{spec, r.p};
@@ -352,8 +462,25 @@ Core fit_core(const ModelSpec& spec, std::span<const double> x, std::span<const 
       c.model = m;
       c.converged = true;
       c.message.clear();
-    } else if (!c.converged && c.message.empty()) {
-      c.message = r.message;
+    } else if (!c.converged) {
+      if (c.message.empty()) c.message = r.message;
+      if (rss < best_failed) {
+        best_failed = rss;
+        failed = m;
+      }
+    }
+  }
+  if (!c.converged && failed) {
+    // A form whose least squares have no interior optimum: the solver walks towards a limit
+    // where the form degenerates into a simpler one and the amplitudes grow without bound.
+    const std::string limit = degenerate_limit(*failed, x);
+    if (!limit.empty()) {
+      std::string ps;
+      const auto names = parameter_names(spec);
+      for (std::size_t k = 0; k < names.size(); ++k) ps += fmt::format("{}{} = {:.4g}", k ? ", " : "", names[k], failed->p[k]);
+      c.message = fmt::format("no interior optimum: the least squares run to the limit {}; Levenberg-Marquardt stopped at {} with "
+                              "RSS {:.6g}, which the form approaches but never attains",
+                              limit, ps, best_failed);
     }
   }
   return c;
@@ -403,6 +530,30 @@ double domain_lower_bound(ModelForm f) {
     case ModelForm::StretchedExp: return 0.0;
     default: return -std::numeric_limits<double>::infinity();
   }
+}
+
+std::string parameter_domain_problem(const Model& m, double x_low) {
+  if (m.p.size() != parameter_count(m.spec)) return fmt::format("expected {} parameters, found {}", parameter_count(m.spec), m.p.size());
+  switch (m.spec.form) {
+    case ModelForm::LogisticLn:
+      if (!(m.p[3] > 0.0)) return fmt::format("logistic_ln needs x0 > 0 (ln(x / x0) is undefined otherwise), found x0 = {:g}", m.p[3]);
+      break;
+    case ModelForm::Saturation:
+      if (!(m.p[1] > 0.0)) return fmt::format("saturation a x / (b + x) needs b > 0 (a pole at x = -b otherwise), found b = {:g}", m.p[1]);
+      if (x_low <= -m.p[1])
+        return fmt::format("saturation a x / (b + x) has a pole at x = {:g}, inside the range x >= {:g}", -m.p[1], x_low);
+      break;
+    case ModelForm::StretchedExp:
+      if (!(m.p[3] > 0.0))
+        return fmt::format("stretched_exp needs d > 0 (x^d with d <= 0 is singular or constant at x = 0), found d = {:g}", m.p[3]);
+      break;
+    case ModelForm::Power:
+      if (m.p[1] < 0.0 && x_low <= 0.0)
+        return fmt::format("power a x^b with b = {:g} < 0 is undefined at x = 0: give b >= 0 or a 'valid' range above 0", m.p[1]);
+      break;
+    default: break;
+  }
+  return "";
 }
 
 std::vector<double> Model::polynomial_coefficients() const {
@@ -458,6 +609,8 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
   r.dof = static_cast<int>(n) - static_cast<int>(np);
   r.stddev.assign(np, kNaN);
   r.covariance.assign(np * np, kNaN);
+  r.at_bound.assign(np, false);
+  r.identified.assign(np, false);
   if (!core.model) {
     r.identifiable = false;
     r.rss = r.sigma = r.r_squared = r.aicc = kNaN;
@@ -474,27 +627,57 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
                                                 : kNaN;
   r.backward = backward_prediction(r.model, x, y);
 
-  // Covariance sigma^2 (J^T J)^-1, columns scaled to unit norm so that the rank test does not
-  // depend on the parameters' units.
+  // Covariance sigma^2 (J^T J)^-1 over the parameters inside their bounds (a parameter on a
+  // bound is an active constraint: the interior formula does not apply to it), columns scaled to
+  // unit norm so that the rank test does not depend on the parameters' units.
+  r.at_bound = at_lower_bound(r.model, x);
+  r.identified.assign(np, true);
   const Eigen::MatrixXd J = jacobian(r.model, x);
-  Eigen::VectorXd d(static_cast<Eigen::Index>(np));
-  for (Eigen::Index k = 0; k < d.size(); ++k) {
-    const double nk = J.col(k).norm();
-    d(k) = nk > 0.0 ? 1.0 / nk : 0.0;
+  // A column that is zero, or so small that a change of its parameter by its natural scale (see
+  // natural_scales) moves the fitted values by less than 1e-9 of the data's size (e.g. the rate
+  // of an amplitude that is 0, or of an exponential that has died out at every point), does not
+  // determine its parameter; scaling it to unit norm would hide that (with RSS = 0 it would
+  // give an uncertainty of exactly 0).
+  const double Y = max_abs(y) > 0.0 ? max_abs(y) : 1.0;
+  const std::vector<double> scale = natural_scales(r.model, std::max(max_abs(x), 1e-300), Y);
+  const double negligible = 1e-9 * Y * std::sqrt(static_cast<double>(n));
+  std::vector<Eigen::Index> free;
+  for (std::size_t k = 0; k < np; ++k) {
+    if (r.at_bound[k]) continue;  // flagged as such; its own column says nothing at the bound
+    const double nk = J.col(static_cast<Eigen::Index>(k)).norm();
+    if (!(nk > 0.0) || !std::isfinite(nk) || nk * scale[k] <= negligible) r.identified[k] = false;
+    else free.push_back(static_cast<Eigen::Index>(k));
   }
-  const Eigen::MatrixXd Js = J * d.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Js.transpose() * Js);
-  const double emax = es.eigenvalues().maxCoeff();
-  r.identifiable = d.minCoeff() > 0.0 && es.eigenvalues().minCoeff() > 1e-12 * emax && emax > 0.0;
-  if (r.identifiable && r.dof > 0) {
-    const Eigen::MatrixXd inv = es.eigenvectors() * es.eigenvalues().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
-    const Eigen::MatrixXd cov = d.asDiagonal() * inv * d.asDiagonal() * (r.rss / r.dof);
-    for (std::size_t i = 0; i < np; ++i) {
-      r.stddev[i] = std::sqrt(cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)));
-      for (std::size_t j = 0; j < np; ++j)
-        r.covariance[i * np + j] = cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+  const auto nf = static_cast<Eigen::Index>(free.size());
+  bool full_rank = true;
+  if (nf > 0) {
+    Eigen::MatrixXd Js(J.rows(), nf);
+    Eigen::VectorXd d(nf);
+    for (Eigen::Index c = 0; c < nf; ++c) {
+      const double nk = J.col(free[static_cast<std::size_t>(c)]).norm();
+      d(c) = nk > 0.0 && std::isfinite(nk) ? 1.0 / nk : 0.0;
+      Js.col(c) = J.col(free[static_cast<std::size_t>(c)]) * d(c);
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Js.transpose() * Js);
+    const double emax = es.eigenvalues().maxCoeff();
+    full_rank = d.minCoeff() > 0.0 && emax > 0.0 && es.eigenvalues().minCoeff() > 1e-12 * emax;
+    if (!full_rank)
+      for (Eigen::Index c = 0; c < nf; ++c) r.identified[static_cast<std::size_t>(free[static_cast<std::size_t>(c)])] = false;
+    // The covariance of the free parameters is that of the model with the bound ones fixed; with
+    // a parameter not identified it does not exist (J^T J singular).
+    const bool all_identified = std::all_of(r.identified.begin(), r.identified.end(), [](bool b) { return b; });
+    if (full_rank && all_identified && r.dof > 0) {
+      const Eigen::MatrixXd inv = es.eigenvectors() * es.eigenvalues().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
+      const Eigen::MatrixXd cov = d.asDiagonal() * inv * d.asDiagonal() * (r.rss / r.dof);
+      for (Eigen::Index a = 0; a < nf; ++a) {
+        const auto i = static_cast<std::size_t>(free[static_cast<std::size_t>(a)]);
+        r.stddev[i] = std::sqrt(cov(a, a));
+        for (Eigen::Index b = 0; b < nf; ++b)
+          r.covariance[i * np + static_cast<std::size_t>(free[static_cast<std::size_t>(b)])] = cov(a, b);
+      }
     }
   }
+  r.identifiable = full_rank && std::all_of(r.identified.begin(), r.identified.end(), [](bool b) { return b; });
 
   if (options.loocv && n >= np + 1) {
     std::vector<double> xs(n - 1), ys(n - 1), errors;

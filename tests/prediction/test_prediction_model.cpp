@@ -152,7 +152,13 @@ TEST(PredictionModelTest, ThesisModelAgainstTables66And67) {
     EXPECT_TABLE(value(m, p, "e_cpr_y"), -4.1528E-05, 1e-9);
     EXPECT_LE(value(m, p, "e_ctrl_x"), 0.0);  // Table 6.7: +0.0070 (not reproducible)
   }
-  EXPECT_NEAR(10.0 / 2300 * 0.036, 0.000156522, 1e-9);  // the largest |e_ctrl_x| eq. 5.55 allows at 200 mm/min
+  // Eq. 5.55 at 200 mm/min by hand: (200 - 100) / 2300 * (-0.036 + 0.036 / (1 + (dx / 77.1779)^7.60716)):
+  // dx = 29: -9.1318e-7, dx = 99: -0.00136055; bounded by 0.036 * 100 / 2300 = 0.00156522 in size
+  // for every distance, against Table 6.7's +0.0070.
+  const auto at29 = predict_point(m, point(10, 4500, 200, 29, 29), false);
+  const auto at99 = predict_point(m, point(10, 4500, 200, 99, 99), false);
+  EXPECT_NEAR(value(m, at29, "e_ctrl_x"), -9.1318e-7, 1e-10);
+  EXPECT_NEAR(value(m, at99, "e_ctrl_x"), -0.00136055, 1e-8);
 }
 
 TEST(PredictionModelTest, StagesAreContinuousAtTheStageSpeeds) {
@@ -194,6 +200,43 @@ TEST(PredictionModelTest, ValidityRangeWarnsOrRefuses) {
   EXPECT_THROW(predict_point(m, missing, false), InputError);
 }
 
+// Spindle speed <= 0 has no thermal stage (eq. 3.7-3.10 scale by S / S_stage): refused.
+TEST(PredictionModelTest, SpindleSpeedMustBePositive) {
+  const PredictionModel m = read_prediction_model(kModel);
+  for (double S : {0.0, -3500.0}) {
+    try {
+      predict_point(m, point(10, S, 200, 29, 29), false, "p.csv:2");
+      ADD_FAILURE() << "no error for S = " << S;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where().field, "S");
+      EXPECT_NE(std::string(e.what()).find("expected a spindle speed S > 0 rpm"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(std::isnan(evaluate_stages(m.find("e_pt_x")->stages, S, 10)));
+  }
+}
+
+// evaluate_component follows predict_point: scale, ramp and validity. e_pf_x at 200 mm/min by
+// hand (the unnumbered e_pf_x equation between eq. 5.47 and 5.48): 0.0257241 - 0.0257241 /
+// (1 + (200 / 660.765)^4.09199) = 0.000191988 (Table 5.7), halved by scale 0.5; e_ctrl_x at
+// dx = 79 with its ramp at one_at (F = 2400): -0.0195934157 (eq. 5.53).
+TEST(PredictionModelTest, EvaluateComponentIsThePredictPath) {
+  const PredictionModel m = read_prediction_model(kModel);
+  const Point p = point(10, 3500, 200, 79, 79);
+  const auto pf = evaluate_component(m, "e_pf_x", p, false);
+  EXPECT_NEAR(pf.raw, 0.000191988, 5e-10);
+  EXPECT_NEAR(pf.value, 0.000191988 / 2, 5e-10);
+  Point q = p;
+  q.v["F"] = 2400;
+  EXPECT_NEAR(evaluate_component(m, "e_ctrl_x", q, false).value, -0.0195934157, 1e-9);
+  // 'of' with times: e_z_spd_x = -9 e_spd_x.
+  EXPECT_NEAR(evaluate_component(m, "e_z_spd_x", p, false).value, -9 * value(m, predict_point(m, p, false), "e_spd_x"), 1e-15);
+  Point far = p;
+  far.v["F"] = 3000;
+  EXPECT_FALSE(evaluate_component(m, "e_pf_x", far, false).warnings.empty());
+  EXPECT_THROW(evaluate_component(m, "e_pf_x", far, true), InputError);
+  EXPECT_THROW(evaluate_component(m, "e_nothing", p, false), InputError);
+}
+
 // The error message names the file, the line and the key.
 std::string error_of(const std::string& text) {
   try {
@@ -228,6 +271,34 @@ TEST(PredictionModelTest, BadModelFilesAreRefused) {
             std::string::npos);
   EXPECT_NE(error_of("mtcal_prediction_model: 1\nunits: {time: s}\ncomponents: []\n").find("expected 'min'"), std::string::npos);
   EXPECT_THROW(read_prediction_model("/nonexistent/model.yaml"), InputError);
+}
+
+// Parameters outside a form's domain are refused with file, line and key; a power with b = 0
+// is the constant a, also at x = 0.
+TEST(PredictionModelTest, ParametersOutsideTheDomainAreRefused) {
+  const std::string head = "mtcal_prediction_model: 1\ncomponents:\n";
+  const std::string logistic = error_of(head + "  - {name: a, axis: x, variable: t, form: logistic_ln, parameters: {a: 1, b: 1, k: 2, x0: -3}}\n");
+  EXPECT_NE(logistic.find("m.yaml:3"), std::string::npos) << logistic;
+  EXPECT_NE(logistic.find("a.parameters"), std::string::npos) << logistic;
+  EXPECT_NE(logistic.find("x0 > 0"), std::string::npos) << logistic;
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}}\n").find("undefined at x = 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: stretched_exp, parameters: {a: 1, b: 1, c: 1, d: -1}}\n").find("d > 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1, b: -28}}\n").find("b > 0"),
+            std::string::npos);
+  // A stage's parameters name the stage.
+  const std::string stage = error_of(head + "  - name: a\n    axis: x\n    variable: t\n    stages:\n"
+                                            "      - {speed: 1000, form: power, parameters: {a: 1, b: 1}}\n"
+                                            "      - {speed: 3500, form: logistic_ln, parameters: {a: 1, b: 1, k: 2, x0: 0}}\n");
+  EXPECT_NE(stage.find("m.yaml:8"), std::string::npos) << stage;
+  EXPECT_NE(stage.find("a.stages.1.parameters"), std::string::npos) << stage;
+  // b < 0 with a validity range above 0 is accepted.
+  EXPECT_EQ(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}, valid: [1, 10]}\n"), "no error");
+  const PredictionModel m =
+      parse_prediction_model(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 2.5, b: 0}}\n", "m.yaml");
+  const auto p = predict_point(m, Point{{{"t", 0.0}}}, true);
+  EXPECT_EQ(p.e[0], 2.5);
 }
 
 }  // namespace

@@ -36,13 +36,23 @@ TEST(SeparationTest, PositionErrorsFromTable53) {
   EXPECT_NEAR(find(1, 'Z').e_pos, 9.003 - 9.004134722, 1e-12);
   EXPECT_EQ(find(1, 'Z').count, 1);
   EXPECT_EQ(find(4, 'Z').distance, 37);
-  // Eq. 5.2 against these values: steps 2 and 3 agree within 0.1 um at their sizes 44 / 79 mm
-  // (Table 5.7's distances), step 4 does not (9.05 um measured, 22.9 um by eq. 5.2): the
-  // thesis' fit cannot have used this table's step 4 as printed (docs/prediction.md).
+  // Eq. 5.2 (0.000381399 d - 1.51152e-6 d^2) against these values, by hand: at Table 5.7's
+  // distances 44 / 79 mm it gives 0.01385525 / 0.02069712 mm, within 0.1 um of steps 2 and 3
+  // (0.01378333 / 0.02071667: -0.072 / +0.020 um); at this table's own sizes 45 / 80 mm (its
+  // d_y, used by separate position) 0.01410213 / 0.02083819, i.e. 0.32 / 0.12 um off. Step 4
+  // does not agree (9.05 um measured, 22.9 um by eq. 5.2 at 99 mm): the thesis' fit cannot have
+  // used this table's step 4 as printed (docs/prediction.md).
   const Model eq52{{ModelForm::Polynomial, 2, 0.0}, {0.000381399, -1.51152e-6}};
-  EXPECT_NEAR(find(2, 'Y').e_pos, eq52(44), 1e-4);
-  EXPECT_NEAR(find(3, 'Y').e_pos, eq52(79), 1e-4);
-  EXPECT_GT(std::abs(find(4, 'Y').e_pos - eq52(99)), 0.01);
+  EXPECT_NEAR(find(2, 'Y').e_pos, 0.01378333, 5e-9);
+  EXPECT_NEAR(find(3, 'Y').e_pos, 0.02071667, 5e-9);
+  EXPECT_NEAR(eq52(44), 0.01385525, 5e-9);
+  EXPECT_NEAR(eq52(79), 0.02069712, 5e-9);
+  EXPECT_NEAR(eq52(45), 0.01410213, 5e-9);
+  EXPECT_NEAR(eq52(80), 0.02083819, 5e-9);
+  EXPECT_NEAR(find(2, 'Y').e_pos - eq52(find(2, 'Y').distance), -0.000318794, 5e-9);
+  EXPECT_NEAR(find(3, 'Y').e_pos - eq52(find(3, 'Y').distance), -0.000121525, 5e-9);
+  EXPECT_NEAR(find(4, 'Y').e_pos, 0.00905, 5e-6);
+  EXPECT_NEAR(eq52(99), 0.02294409, 5e-9);
 }
 
 // Eq. 3.11-3.12 between W2 and W5 at step 3, X, by hand from Tables 5.6 and 5.7.
@@ -72,11 +82,17 @@ TEST(SeparationTest, ControlErrorsFromTable56) {
   EXPECT_THROW(separate_control(rec, "W2", "W9", path), InputError);
 }
 
+// The thesis prints no raw W1/W6/W7 measurements for eq. 3.1-3.6; values by hand, with the
+// arguments chosen so that a swapped argument or sign changes the result.
 TEST(SeparationTest, ThermalEquations) {
-  EXPECT_DOUBLE_EQ(thermal_spindle_tilt(0.0012, 0.0010), 0.0012 - 0.0010);               // eq. 3.1
-  EXPECT_DOUBLE_EQ(thermal_table_tilt(5e-5, 2e-5), 3e-5);                                 // eq. 3.3
-  EXPECT_NEAR(thermal_position(45.012, 45.0, 30.004, 30.0, 0.003), 0.012 - 0.004 - 0.003, 1e-12);  // eq. 3.5
-  EXPECT_NEAR(thermal_spindle_growth(19.008, 19.003), 0.005, 1e-12);
+  EXPECT_NEAR(thermal_spindle_tilt(0.0012, 0.0010), 0.0002, 1e-15);    // eq. 3.1: alpha - (alpha + beta)
+  EXPECT_NEAR(thermal_spindle_tilt(0.0010, 0.0012), -0.0002, 1e-15);
+  EXPECT_NEAR(thermal_table_tilt(5e-5, 2e-5), 3e-5, 1e-18);            // eq. 3.3: theta - gamma
+  // eq. 3.5: (45.012 - 45.0) - (30.004 - 30.0) - 0.003 = 0.012 - 0.004 - 0.003 = 0.005 mm.
+  EXPECT_NEAR(thermal_position(45.012, 45.0, 30.004, 30.0, 0.003), 0.005, 1e-12);
+  EXPECT_NEAR(thermal_position(30.004, 30.0, 45.012, 45.0, 0.003), -0.011, 1e-12);
+  EXPECT_NEAR(thermal_spindle_growth(19.008, 19.003), 0.005, 1e-12);   // h7 - h3
+  EXPECT_NEAR(thermal_spindle_growth(19.003, 19.008), -0.005, 1e-12);
 }
 
 TEST(SeparationTest, BadTablesAreRefused) {

@@ -64,7 +64,8 @@ PredictionModel parse_prediction_model(const std::string& text, const std::strin
 // stage below the lowest and above the highest. The thesis prints the interpolation weights
 // swapped (eq. 3.7: (S - 3500)/2000 on the 3500 rpm model), which gives the 5500 rpm model at
 // 3500 rpm and breaks continuity at every stage; mtcal weights each stage by its nearness, so
-// that the value at a stage speed is that stage's model (docs/prediction.md).
+// that the value at a stage speed is that stage's model (docs/prediction.md). NaN for a speed
+// <= 0 (predict_point refuses it).
 double evaluate_stages(const std::vector<SpeedStage>& stages, double speed, double x);
 
 // The value of every component at one point; a variable that the points do not give is an
@@ -78,8 +79,21 @@ struct PointPrediction {
 
 // lookup(name) gives a variable's value at the point (or throws). A driving variable outside
 // the component's validity range is extrapolated with a warning, or refused (InputError) when
-// strict. A model that is undefined at the point (ln of t <= 0, NaN) is always refused.
+// strict. A model that is undefined at the point (ln of t <= 0, NaN) and a spindle speed <= 0
+// for a staged component are always refused.
 PointPrediction predict_point(const PredictionModel& m, const std::function<double(const std::string&)>& lookup,
                               bool strict, const std::string& where = "");
+
+// One component by the same path as predict_point (model or stages, validity range, speed > 0,
+// scale, ramp, times; an 'of' component evaluates the one it names). InputError for a name the
+// model does not have. Used where a single component is needed (eq. 3.15 in separate control).
+struct ComponentValue {
+  double raw = 0.0;    // the model's own value
+  double value = 0.0;  // scale * ramp * raw * times
+  std::vector<std::string> warnings;
+};
+ComponentValue evaluate_component(const PredictionModel& m, const std::string& name,
+                                  const std::function<double(const std::string&)>& lookup, bool strict,
+                                  const std::string& where = "");
 
 }  // namespace mtcal

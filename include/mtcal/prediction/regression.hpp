@@ -46,9 +46,13 @@ struct Model {
   ModelSpec spec;
   std::vector<double> p;  // as parameter_names(spec)
 
-  // Value at x. LogisticLn at x = 0 takes its limit a - b (k > 0) or a (k < 0); Power at x = 0
-  // is 0 for b > 0. Outside a form's domain (x < 0 for logistic_ln, power and a non-integer
-  // stretched_exp exponent) the result is NaN: callers check.
+  // Value at x. At x = 0 the forms that need x >= 0 take their limits as x -> 0+:
+  //   logistic_ln: a - b (k > 0), a (k < 0), a - b/2 (k = 0);
+  //   power: 0 (b > 0), a (b = 0: x^0 = 1), NaN (b < 0: a pole);
+  //   stretched_exp: a + b (d > 0), a + b exp(-c) (d = 0); for d < 0: a (c > 0), a + b (c = 0),
+  //   NaN (c < 0: divergent).
+  // Outside a form's domain (x < 0 for logistic_ln, power and stretched_exp; x0 <= 0 for
+  // logistic_ln) the result is NaN: callers check.
   double operator()(double x) const;
   // Polynomial c0..c3 whatever was fixed (the fixed intercept included).
   std::vector<double> polynomial_coefficients() const;
@@ -56,6 +60,13 @@ struct Model {
 
 // The smallest x a form accepts (0 for logistic_ln, power and stretched_exp; -inf otherwise).
 double domain_lower_bound(ModelForm f);
+
+// Why parameters (from a model file) put a form outside its domain for x >= x_low, or "" when
+// they do not: logistic_ln needs x0 > 0 (ln(x / x0)); saturation needs b > 0 and no pole
+// x = -b at or above x_low; stretched_exp needs d > 0 (d <= 0 makes x^d singular or constant at
+// x = 0, not a stretched exponential); power needs b >= 0 when x_low <= 0 (0^b is a pole for b < 0).
+// The fits keep to the same signs (bounds in fit_model).
+std::string parameter_domain_problem(const Model& m, double x_low);
 
 // Backward-prediction error, Yaqoob 2017 section 3.8 and Table 5.8: the model fitted to all the
 // data predicts back each measured point and the difference |y_i - f(x_i)| is the "prediction
@@ -74,9 +85,17 @@ struct FitResult {
   Model model;
   bool converged = false;
   std::string message;               // why it did not converge, or ""
-  std::vector<double> stddev;        // standard uncertainty per parameter; NaN where not identifiable or dof == 0
-  std::vector<double> covariance;    // p x p row-major: sigma^2 (J^T J)^-1 at the solution; NaN if singular
-  bool identifiable = true;          // J^T J of full rank at the solution
+  std::vector<double> stddev;        // standard uncertainty per parameter; NaN where not identifiable, at a bound, or dof == 0
+  std::vector<double> covariance;    // p x p row-major: sigma^2 (J^T J)^-1 at the solution over the parameters
+                                     // inside their bounds; NaN if singular and in the rows/columns of bound ones
+  bool identifiable = true;          // J^T J of full rank at the solution and every parameter identified
+  // Per parameter: left on the bound that keeps the form in its domain (x0, b, d > 0; see
+  // fit_model): a boundary solution, not an interior optimum, so no covariance (stddev NaN).
+  std::vector<bool> at_bound;
+  // Per parameter: false where the data do not determine it: its Jacobian column is zero or
+  // negligible (a 100 % change of the parameter moves the fitted values by less than 1e-9 of
+  // the data's size), or the parameters are collinear. stddev NaN.
+  std::vector<bool> identified;
   double rss = 0.0;                  // sum of squared residuals
   double sigma = 0.0;                // sqrt(rss / dof); NaN when dof == 0
   int dof = 0;                       // n - p
