@@ -13,92 +13,23 @@
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 #include "mtcal/util/units.hpp"
+#include "yaml_reader.hpp"
 
 namespace mtcal {
 namespace {
 
 constexpr int kFormatVersion = 1;
 
-// Context for messages: the file and the dotted path of the key being read.
-struct Ctx {
-  const std::string& file;
-  std::string path;
+using Ctx = detail::YamlContext;
+using Entries = detail::YamlEntries;
+using detail::describe;
 
-  Ctx child(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    const int line = n.IsDefined() ? n.Mark().line + 1 : 0;
-    throw InputError({file, line, path}, what);
-  }
-};
-
-std::string describe(const YAML::Node& n) {
-  if (!n.IsDefined() || n.IsNull()) return "nothing";
-  if (n.IsScalar()) return "'" + n.Scalar() + "'";
-  if (n.IsSequence()) return "a list";
-  return "a map";
-}
-
-// The entries of a map in file order, each key once.
-class Entries {
- public:
-  std::size_t count(const std::string& key) const {
-    for (const auto& kv : items_)
-      if (kv.first == key) return 1;
-    return 0;
-  }
-  YAML::Node operator[](const std::string& key) const {
-    for (const auto& kv : items_)
-      if (kv.first == key) return kv.second;
-    return YAML::Node(YAML::NodeType::Undefined);
-  }
-  auto begin() const { return items_.begin(); }
-  auto end() const { return items_.end(); }
-  void add(std::string key, YAML::Node value) { items_.emplace_back(std::move(key), std::move(value)); }
-
- private:
-  std::vector<std::pair<std::string, YAML::Node>> items_;
-};
-
-// Checks that a map has only known keys (any key if known is empty), each once. An empty
-// section (a key with nothing after it) reads as an empty map.
 Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_list<std::string_view> known) {
-  Entries out;
-  if (n.IsDefined() && n.IsNull()) return out;
-  if (!n.IsMap()) ctx.fail(n, "expected a map, found " + describe(n));
-  for (auto it = n.begin(); it != n.end(); ++it) {
-    if (!it->first.IsScalar()) ctx.fail(it->first, "expected a plain key, found " + describe(it->first));
-    const std::string key = it->first.Scalar();
-    Ctx kc = ctx.child(key);
-    if (known.size() != 0 &&
-        std::find(known.begin(), known.end(), std::string_view(key)) == known.end()) {
-      std::string list;
-      for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-      kc.fail(it->first, "unknown key '" + key + "' (expected one of: " + list + ")");
-    }
-    if (out.count(key)) kc.fail(it->first, "duplicated key '" + key + "'");
-    out.add(key, it->second);
-  }
-  return out;
+  return detail::yaml_entries(n, ctx, known);
 }
-
-double number(const YAML::Node& n, const Ctx& ctx) {
-  if (!n.IsScalar()) ctx.fail(n, "expected a number, found " + describe(n));
-  const auto v = parse_number(n.Scalar());
-  if (!v) ctx.fail(n, "expected a finite number, found '" + n.Scalar() + "'");
-  return *v;
-}
-
-std::string text(const YAML::Node& n, const Ctx& ctx) {
-  if (!n.IsScalar()) ctx.fail(n, "expected text, found " + describe(n));
-  return n.Scalar();
-}
-
-std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) {
-  if (!n.IsSequence()) ctx.fail(n, "expected a list of numbers, found " + describe(n));
-  std::vector<double> v;
-  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], ctx.child(std::to_string(i))));
-  return v;
-}
+double number(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_number(n, ctx); }
+std::string text(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_text(n, ctx); }
+std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_numbers(n, ctx); }
 
 Vec3 vec3(const YAML::Node& n, const Ctx& ctx, double scale) {
   auto v = numbers(n, ctx);

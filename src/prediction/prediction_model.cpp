@@ -10,75 +10,29 @@
 #include "mtcal/io/files.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
+#include "../io/yaml_reader.hpp"
 
 namespace mtcal {
 namespace {
 
 constexpr int kFormatVersion = 1;
 
-// File and dotted key path for messages, as in the machine file reader.
-struct Ctx {
-  const std::string& file;
-  std::string path;
-  Ctx child(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    throw InputError({file, n.IsDefined() ? n.Mark().line + 1 : 0, path}, what);
-  }
-};
+// The machine file reader's YAML helpers: the same located messages.
+using Ctx = detail::YamlContext;
+using Entries = detail::YamlEntries;
+using detail::describe;
 
-std::string describe(const YAML::Node& n) {
-  if (!n.IsDefined() || n.IsNull()) return "nothing";
-  if (n.IsScalar()) return "'" + n.Scalar() + "'";
-  return n.IsSequence() ? "a list" : "a map";
+// A map's keys checked against the known ones, each once (an empty section is an error here).
+Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_list<std::string_view> known) {
+  return detail::yaml_entries(n, ctx, known, false);
 }
-
-// A map's keys checked against the known ones, each once.
-std::vector<std::pair<std::string, YAML::Node>> entries(const YAML::Node& n, const Ctx& ctx,
-                                                        std::initializer_list<std::string_view> known) {
-  if (!n.IsMap()) ctx.fail(n, "expected a map, found " + describe(n));
-  std::vector<std::pair<std::string, YAML::Node>> out;
-  for (auto it = n.begin(); it != n.end(); ++it) {
-    if (!it->first.IsScalar()) ctx.fail(it->first, "expected a plain key, found " + describe(it->first));
-    const std::string key = it->first.Scalar();
-    if (known.size() && std::find(known.begin(), known.end(), std::string_view(key)) == known.end()) {
-      std::string list;
-      for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-      ctx.child(key).fail(it->first, "unknown key '" + key + "' (expected one of: " + list + ")");
-    }
-    for (const auto& kv : out)
-      if (kv.first == key) ctx.child(key).fail(it->first, "duplicated key '" + key + "'");
-    out.emplace_back(key, it->second);
-  }
-  return out;
-}
-
-YAML::Node get(const std::vector<std::pair<std::string, YAML::Node>>& e, const std::string& key) {
-  for (const auto& kv : e)
-    if (kv.first == key) return kv.second;
-  return YAML::Node(YAML::NodeType::Undefined);
-}
-
-double number(const YAML::Node& n, const Ctx& ctx) {
-  if (!n.IsScalar()) ctx.fail(n, "expected a number, found " + describe(n));
-  const auto v = parse_number(n.Scalar());
-  if (!v) ctx.fail(n, "expected a finite number, found '" + n.Scalar() + "'");
-  return *v;
-}
-
-std::string text(const YAML::Node& n, const Ctx& ctx) {
-  if (!n.IsScalar()) ctx.fail(n, "expected text, found " + describe(n));
-  return n.Scalar();
-}
-
-std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) {
-  if (!n.IsSequence()) ctx.fail(n, "expected a list of numbers, found " + describe(n));
-  std::vector<double> v;
-  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], ctx.child(std::to_string(i))));
-  return v;
-}
+YAML::Node get(const Entries& e, const std::string& key) { return e[key]; }
+double number(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_number(n, ctx); }
+std::string text(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_text(n, ctx); }
+std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_numbers(n, ctx); }
 
 // form + parameters (by name) or coefficients (polynomial c0..c3).
-Model parse_model(const std::vector<std::pair<std::string, YAML::Node>>& e, const YAML::Node& n, const Ctx& ctx) {
+Model parse_model(const Entries& e, const YAML::Node& n, const Ctx& ctx) {
   const YAML::Node fn = get(e, "form");
   if (!fn.IsDefined()) ctx.fail(n, "missing key 'form' (polynomial, exp_approach, stretched_exp, logistic_ln, gompertz, saturation, power)");
   const std::string fs = text(fn, ctx.child("form"));
