@@ -20,16 +20,7 @@ namespace {
 
 constexpr int kFormatVersion = 1;
 
-using Ctx = detail::YamlContext;
-using Entries = detail::YamlEntries;
-using detail::describe;
-
-Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_list<std::string_view> known) {
-  return detail::yaml_entries(n, ctx, known);
-}
-double number(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_number(n, ctx); }
-std::string text(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_text(n, ctx); }
-std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_numbers(n, ctx); }
+using namespace detail::yaml;
 
 Vec3 vec3(const YAML::Node& n, const Ctx& ctx, double scale) {
   auto v = numbers(n, ctx);

@@ -13,14 +13,14 @@
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 
-namespace mtcal::detail {
+namespace mtcal::detail::yaml {
 
 // Context for messages: the file and the dotted path of the key being read.
-struct YamlContext {
+struct Ctx {
   const std::string& file;
   std::string path;
 
-  YamlContext child(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
+  Ctx child(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
   [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
     const int line = n.IsDefined() ? n.Mark().line + 1 : 0;
     throw InputError({file, line, path}, what);
@@ -35,7 +35,7 @@ inline std::string describe(const YAML::Node& n) {
 }
 
 // The entries of a map in file order, each key once.
-class YamlEntries {
+class Entries {
  public:
   std::size_t count(const std::string& key) const {
     for (const auto& kv : items_)
@@ -57,15 +57,15 @@ class YamlEntries {
 
 // Checks that a map has only known keys (any key if known is empty), each once. With
 // null_is_empty, a section with nothing after its key reads as an empty map.
-inline YamlEntries yaml_entries(const YAML::Node& n, const YamlContext& ctx, std::initializer_list<std::string_view> known,
+inline Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_list<std::string_view> known,
                                 bool null_is_empty = true) {
-  YamlEntries out;
+  Entries out;
   if (null_is_empty && n.IsDefined() && n.IsNull()) return out;
   if (!n.IsMap()) ctx.fail(n, "expected a map, found " + describe(n));
   for (auto it = n.begin(); it != n.end(); ++it) {
     if (!it->first.IsScalar()) ctx.fail(it->first, "expected a plain key, found " + describe(it->first));
     const std::string key = it->first.Scalar();
-    const YamlContext kc = ctx.child(key);
+    const Ctx kc = ctx.child(key);
     if (known.size() != 0 && std::find(known.begin(), known.end(), std::string_view(key)) == known.end()) {
       std::string list;
       for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
@@ -77,23 +77,23 @@ inline YamlEntries yaml_entries(const YAML::Node& n, const YamlContext& ctx, std
   return out;
 }
 
-inline double yaml_number(const YAML::Node& n, const YamlContext& ctx) {
+inline double number(const YAML::Node& n, const Ctx& ctx) {
   if (!n.IsScalar()) ctx.fail(n, "expected a number, found " + describe(n));
   const auto v = parse_number(n.Scalar());
   if (!v) ctx.fail(n, "expected a finite number, found '" + n.Scalar() + "'");
   return *v;
 }
 
-inline std::string yaml_text(const YAML::Node& n, const YamlContext& ctx) {
+inline std::string text(const YAML::Node& n, const Ctx& ctx) {
   if (!n.IsScalar()) ctx.fail(n, "expected text, found " + describe(n));
   return n.Scalar();
 }
 
-inline std::vector<double> yaml_numbers(const YAML::Node& n, const YamlContext& ctx) {
+inline std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) {
   if (!n.IsSequence()) ctx.fail(n, "expected a list of numbers, found " + describe(n));
   std::vector<double> v;
-  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(yaml_number(n[i], ctx.child(std::to_string(i))));
+  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], ctx.child(std::to_string(i))));
   return v;
 }
 
-}  // namespace mtcal::detail
+}  // namespace mtcal::detail::yaml

@@ -17,19 +17,10 @@ namespace {
 
 constexpr int kFormatVersion = 1;
 
-// The machine file reader's YAML helpers: the same located messages.
-using Ctx = detail::YamlContext;
-using Entries = detail::YamlEntries;
-using detail::describe;
-
-// A map's keys checked against the known ones, each once (an empty section is an error here).
-Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_list<std::string_view> known) {
-  return detail::yaml_entries(n, ctx, known, false);
-}
+// The machine file reader's YAML helpers: the same located messages. Here an empty section is
+// an error, so entries() is called with null_is_empty = false.
+using namespace detail::yaml;
 YAML::Node get(const Entries& e, const std::string& key) { return e[key]; }
-double number(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_number(n, ctx); }
-std::string text(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_text(n, ctx); }
-std::vector<double> numbers(const YAML::Node& n, const Ctx& ctx) { return detail::yaml_numbers(n, ctx); }
 
 // form + parameters (by name) or coefficients (polynomial c0..c3).
 Model parse_model(const Entries& e, const YAML::Node& n, const Ctx& ctx) {
@@ -79,7 +70,7 @@ Model parse_model(const Entries& e, const YAML::Node& n, const Ctx& ctx) {
 ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::vector<ErrorComponent>& earlier) {
   const auto e = entries(n, ctx,
                          {"name", "axis", "variable", "form", "parameters", "coefficients", "stages", "speed_variable",
-                          "of", "scale", "times", "ramp", "valid", "source", "description"});
+                          "of", "scale", "times", "ramp", "valid", "source", "description"}, false);
   ErrorComponent c;
   c.line = n.Mark().line + 1;
   const YAML::Node nn = get(e, "name");
@@ -128,7 +119,7 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
     if (!sn.IsSequence() || sn.size() < 2) sc.fail(sn, "expected a list of at least 2 stages {speed, form, ...}, found " + describe(sn));
     for (std::size_t i = 0; i < sn.size(); ++i) {
       const Ctx ic = sc.child(std::to_string(i));
-      const auto se = entries(sn[i], ic, {"speed", "form", "parameters", "coefficients", "source"});
+      const auto se = entries(sn[i], ic, {"speed", "form", "parameters", "coefficients", "source"}, false);
       SpeedStage st;
       const YAML::Node sp = get(se, "speed");
       if (!sp.IsDefined()) ic.fail(sn[i], "missing key 'speed' (rpm)");
@@ -146,7 +137,7 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
   }
   if (auto rn = get(e, "ramp"); rn.IsDefined()) {
     const Ctx rc = cc.child("ramp");
-    const auto re = entries(rn, rc, {"variable", "zero_at", "one_at"});
+    const auto re = entries(rn, rc, {"variable", "zero_at", "one_at"}, false);
     Ramp r;
     for (const char* k : {"variable", "zero_at", "one_at"})
       if (!get(re, k).IsDefined()) rc.fail(rn, std::string("missing key '") + k + "'");
@@ -204,7 +195,7 @@ PredictionModel parse_prediction_model(const std::string& text_in, const std::st
   }
   const Ctx ctx{source, ""};
   if (!root.IsMap()) ctx.fail(root, "expected a prediction model (a map with 'mtcal_prediction_model' and 'components'), found " + describe(root));
-  const auto e = entries(root, ctx, {"mtcal_prediction_model", "name", "description", "units", "components"});
+  const auto e = entries(root, ctx, {"mtcal_prediction_model", "name", "description", "units", "components"}, false);
   const YAML::Node vn = get(e, "mtcal_prediction_model");
   if (!vn.IsDefined()) ctx.fail(root, "missing key 'mtcal_prediction_model' (the format version, 1)");
   if (number(vn, ctx.child("mtcal_prediction_model")) != kFormatVersion)
@@ -215,7 +206,7 @@ PredictionModel parse_prediction_model(const std::string& text_in, const std::st
   if (auto u = get(e, "units"); u.IsDefined()) {
     // The units are fixed (mm, min, mm/min, rpm); the key only documents them, so a file that
     // says otherwise is refused rather than misread.
-    const auto ue = entries(u, ctx.child("units"), {"error", "distance", "time", "feed", "speed"});
+    const auto ue = entries(u, ctx.child("units"), {"error", "distance", "time", "feed", "speed"}, false);
     const std::pair<const char*, const char*> fixed[] = {
         {"error", "mm"}, {"distance", "mm"}, {"time", "min"}, {"feed", "mm/min"}, {"speed", "rpm"}};
     for (const auto& [k, want] : fixed)
