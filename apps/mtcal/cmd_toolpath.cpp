@@ -268,9 +268,7 @@ int run_toolpath(const ToolpathCliOptions& o) {
     j["path_length"] = summary.path_length;
     j["ignored_words"] = summary.counts.ignored_words;
     j["rapids_skipped"] = summary.rapids_skipped;
-    json at = json::object();
-    for (std::size_t k = 0; k < summary.max_at.size(); ++k)
-      at[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], summary.max_at[k]);
+    const json at = summary.max_at.empty() ? json::object() : joint_json(m, summary.max_at);
     j["max_error"] = {{"value", summary.max_error},
                       {"line", summary.points ? json(summary.max_line) : json(nullptr)},
                       {"at", at}};

@@ -302,10 +302,7 @@ int run_effects(const ModelOptions& mo, const std::string& at, const std::string
     json j;
     j["machine"] = m.name;
     j["topology"] = m.topology.chain;
-    json where;
-    for (std::size_t k = 0; k < m.axes.size(); ++k)
-      where[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], q[k]);
-    j["at"] = where;
+    j["at"] = joint_json(m, q);
     j["tool_length"] = m.tool.length;
     j["around"] = around;
     j["effects"] = arr;
