@@ -194,10 +194,5 @@ std::vector<std::vector<double>> checked_grid(const Machine& m, const std::strin
   return values;
 }
 
-nlohmann::ordered_json joint_json(const Machine& m, std::span<const double> q) {
-  nlohmann::ordered_json j = nlohmann::ordered_json::object();
-  for (std::size_t k = 0; k < m.axes.size(); ++k) j[std::string(1, m.axes[k].letter)] = to_user_units(m.axes[k], q[k]);
-  return j;
-}
 
 }  // namespace mtcal::cli

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "mtcal/io/json.hpp"
 #include "mtcal/model/machine.hpp"
 
 namespace mtcal::cli {
@@ -50,8 +51,6 @@ Configurations read_configurations(const Machine& m, const std::string& path, bo
 std::vector<std::vector<double>> checked_grid(const Machine& m, const std::string& spec, bool travel_check,
                                               std::size_t max_count = 4'000'000'000);
 std::size_t grid_count(const std::vector<std::vector<double>>& values);
-// {"X": 100, "B": 30}: a configuration in user units (mm, deg), for JSON outputs.
-nlohmann::ordered_json joint_json(const Machine& m, std::span<const double> q);
 
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& s);

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "mtcal/io/joints.hpp"
+#include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {

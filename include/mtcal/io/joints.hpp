@@ -5,16 +5,10 @@
 #include <string_view>
 #include <vector>
 
+#include "mtcal/model/joints.hpp"
 #include "mtcal/model/machine.hpp"
 
 namespace mtcal {
-
-// Factor from the user's joint unit (mm for linear, deg for rotary) to internal units.
-double joint_unit_factor(const Axis& ax);
-std::string_view joint_unit_name(const Axis& ax);
-// An internal joint value back in the user's unit, rounded to 12 significant digits so that
-// 30 deg reads 30 again after its trip through radians.
-double to_user_units(const Axis& ax, double q);
 
 // "X=100,Y=50,Z=-20,B=30,C=90" -> internal joint values in chain order; axes not named are 0.
 // Throws InputError (field = the offending item; file = option) for unknown letters, repeats or
@@ -36,12 +30,5 @@ std::string format_joint_values(const Machine& m, const std::vector<double>& q, 
 // Per-axis sample values of a grid "X=-300:300:7,B=-90:90:5" (lo:hi:count, or a single value);
 // axes not named are held at 0. Internal units, chain order.
 std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view spec);
-
-// Largest joint value accepted, in the user's unit (mm or deg): a kilometre, or 2800 turns.
-constexpr double kMaxJointValue = 1e6;
-
-// Throws InputError if a joint value is not finite, beyond +-kMaxJointValue, or (with
-// travel == true) outside its axis's travel.
-void check_joints(const Machine& m, const std::vector<double>& q, const std::string& where, bool travel);
 
 }  // namespace mtcal
