@@ -8,6 +8,7 @@
 
 #include "mtcal/identification/identification.hpp"
 #include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/probing_plan_file.hpp"
 
 namespace {
 

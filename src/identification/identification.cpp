@@ -31,17 +31,6 @@ ArtefactState nominal_artefact(const ProbingPlan& plan) {
   return a;
 }
 
-ScaleBar parse_scale_bar(const std::string& spec) {
-  const auto c1 = spec.find(':'), c2 = c1 == std::string::npos ? c1 : spec.find(':', c1 + 1);
-  if (c2 == std::string::npos || spec.find(':', c2 + 1) != std::string::npos)
-    throw InputError({"--scale-bar", 0, spec}, "expected BALL:BALL:LENGTH (mm), e.g. 1:2:304.8, found '" + spec + "'");
-  ScaleBar s{trim(spec.substr(0, c1)), trim(spec.substr(c1 + 1, c2 - c1 - 1)), 0.0};
-  const auto len = parse_number(spec.substr(c2 + 1));
-  if (!len || *len <= 0) throw InputError({"--scale-bar", 0, spec}, "expected a length > 0 mm, found '" + spec.substr(c2 + 1) + "'");
-  s.length = *len;
-  return s;
-}
-
 namespace {
 
 std::array<std::size_t, 3> linear_axes(const Machine& m) {
@@ -162,7 +151,7 @@ Simulation simulate_probing(const Machine& truth, const ProbingPlan& plan, const
   for (const auto& sb : o.scale_bars) {
     const auto a = plan.feature_index(sb.ball_a), b = plan.feature_index(sb.ball_b);
     if (!a || !b || plan.features[*a].kind != ProbeFeature::Kind::Ball || plan.features[*b].kind != ProbeFeature::Kind::Ball || *a == *b)
-      throw InputError({"--scale-bar", 0, sb.ball_a + ":" + sb.ball_b}, "expected two different balls of the plan");
+      throw InputError({sb.source, 0, sb.ball_a + ":" + sb.ball_b}, "expected two different balls of the plan");
     const Vec3 d = sim.truth.ball[*b] - sim.truth.ball[*a];
     sim.truth.ball[*b] = sim.truth.ball[*a] + d.normalized() * sb.length;
   }
@@ -358,7 +347,7 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
                                    const std::vector<std::size_t>* fixed_params, const Eigen::VectorXd* start) {
   if (!meas.measured)
     throw InputError({meas.source, 0, ""}, "expected measurements (columns X, Y, Z with the readings), found a plan");
-  const std::vector<std::size_t> requested = fixed_params ? *fixed_params : detail::parameter_indices(prior, o.estimate, "--estimate");
+  const std::vector<std::size_t> requested = fixed_params ? *fixed_params : detail::parameter_indices(prior, o.estimate, o.estimate_source);
   IdentificationResult res;
   std::vector<std::size_t> params = requested;
   bool pretravel = o.estimate_pretravel;
@@ -470,7 +459,7 @@ Identifiability identifiability(const Machine& machine, const ProbingPlan& plan,
   Machine m = machine;
   m.clear_errors();  // structural: see identify_with
   const ProbingPlan p = plan_targets(m, plan);  // measurements too: see identify_with
-  const ProbingModel pm(m, p, detail::parameter_indices(m, o.estimate, "--estimate"), o.scale_bars, o.estimate_pretravel,
+  const ProbingModel pm(m, p, detail::parameter_indices(m, o.estimate, o.estimate_source), o.scale_bars, o.estimate_pretravel,
                         o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
@@ -490,7 +479,7 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
     std::vector<std::string> names;
     for (const auto& p : result.parameters) names.push_back(p.name);
     return names;
-  }(), "--estimate");
+  }(), o.estimate_source);
   const std::size_t k = params.size();
   // The readings' noise: given, or estimated from the fit without bias: sigma0 (which divides by
   // m - n) times each kind's assumed standard deviation.

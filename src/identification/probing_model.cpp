@@ -8,7 +8,7 @@
 
 namespace mtcal::detail {
 
-std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<std::string>& names, const char* option) {
+std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<std::string>& names, const std::string& option) {
   std::vector<std::size_t> out;
   const auto params = m.parameters();
   auto add = [&](std::size_t i) {
@@ -51,10 +51,10 @@ ProbingModel::ProbingModel(const Machine& base, const ProbingPlan& plan, std::ve
     const auto a = plan_.feature_index(sb.ball_a), b = plan_.feature_index(sb.ball_b);
     for (const auto& [id, idx] : {std::pair{sb.ball_a, a}, std::pair{sb.ball_b, b}})
       if (!idx || plan_.features[*idx].kind != ProbeFeature::Kind::Ball)
-        throw InputError({"--scale-bar", 0, id}, "expected a ball of the measurements, found no ball '" + id + "'");
-    if (*a == *b) throw InputError({"--scale-bar", 0, sb.ball_a}, "a scale bar needs two different balls");
+        throw InputError({sb.source, 0, id}, "expected a ball of the measurements, found no ball '" + id + "'");
+    if (*a == *b) throw InputError({sb.source, 0, sb.ball_a}, "a scale bar needs two different balls");
     for (const auto& [id, idx] : {std::pair{sb.ball_a, *a}, std::pair{sb.ball_b, *b}})
-      if (!used[idx]) throw InputError({"--scale-bar", 0, id}, "ball '" + id + "' of the scale bar is never probed in these measurements");
+      if (!used[idx]) throw InputError({sb.source, 0, id}, "ball '" + id + "' of the scale bar is never probed in these measurements");
     bars_.push_back({*a, *b, sb.length});
   }
   if (pretravel_) {

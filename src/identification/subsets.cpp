@@ -119,18 +119,18 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   // The Jacobian at the nominal targets (structural, as identifiability); the residue's r0 at
   // the readings of a measurement file.
   const ProbingPlan p = plan_targets(m, plan);
-  const auto always = detail::parameter_indices(m, o.always, "--always");
-  const auto cand = detail::parameter_indices(m, o.candidates, "--candidates");
+  const auto always = detail::parameter_indices(m, o.always, o.always_source);
+  const auto cand = detail::parameter_indices(m, o.candidates, o.candidates_source);
   for (std::size_t c : cand)
     if (std::find(always.begin(), always.end(), c) != always.end())
-      throw InputError({"--candidates", 0, m.parameters()[c].name}, "a candidate is also in --always");
-  if (cand.empty()) throw InputError({"--candidates", 0, ""}, "expected candidate parameters, found none");
+      throw InputError({o.candidates_source, 0, m.parameters()[c].name}, "a candidate is also in " + o.always_source);
+  if (cand.empty()) throw InputError({o.candidates_source, 0, ""}, "expected candidate parameters, found none");
   if (o.by_residue && !plan.measured)
-    throw InputError({"--sort", 0, ""}, "ranking by residue needs measurements (a file with the readings X, Y, Z)");
+    throw InputError({o.by_residue_source, 0, ""}, "ranking by residue needs measurements (a file with the readings X, Y, Z)");
   if (o.choose < 1 || o.choose > cand.size())
-    throw InputError({"--choose", 0, ""}, fmt::format("expected a subset size from 1 to {} (the candidates), found {}", cand.size(), o.choose));
+    throw InputError({o.choose_source, 0, ""}, fmt::format("expected a subset size from 1 to {} (the candidates), found {}", cand.size(), o.choose));
   if (!(o.rank_tolerance >= 1e-7 && o.rank_tolerance < 1))
-    throw InputError({"--rank-tolerance", 0, ""},
+    throw InputError({o.rank_tolerance_source, 0, ""},
                      fmt::format("expected a tolerance from 1e-7 to 1 for the subset analysis (its normal-matrix test "
                                  "resolves no finer), found {:g}",
                                  o.rank_tolerance));
@@ -153,7 +153,7 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
     const double norm = S.col(j).norm();
     if (norm == 0) {
       if (static_cast<std::size_t>(j) < f)
-        throw InputError({"--always", 0, ""}, "'" + names[fixed[static_cast<std::size_t>(j)]] + "' has no effect on the measurements");
+        throw InputError({o.always_source, 0, ""}, "'" + names[fixed[static_cast<std::size_t>(j)]] + "' has no effect on the measurements");
       continue;  // a candidate with no effect: every subset holding it is deficient
     }
     S.col(j) /= norm;
@@ -177,8 +177,8 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
     Search base{G, c, r0_2, f, 0, o.rank_tolerance, {}, 0, 0, {}, {}, {}};
     for (std::size_t j = 0; j < f; ++j)
       if (!base.push(j))
-        throw InputError({"--always", 0, ""}, "the artefact unknowns and --always parameters are already not identifiable "
-                                              "together (at '" + names[fixed[j]] + "'); see mtcal identifiability");
+        throw InputError({o.always_source, 0, ""}, "the artefact unknowns and the parameters in every subset are already not "
+                                                "identifiable together (at '" + names[fixed[j]] + "'); see mtcal identifiability");
   }
   // One task per leading candidate; each search owns its factor.
   const std::size_t tasks = n - o.choose + 1;

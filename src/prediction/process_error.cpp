@@ -111,3 +111,33 @@ Calibration calibrate_process_error(const EndMill& tool, const CuttingCoefficien
 }
 
 }  // namespace mtcal
+
+namespace mtcal {
+
+ProcessErrorStudy process_error_study(const EndMill& tool, const CuttingCoefficients& k, const CutConditions& cut,
+                                      std::span<const double> feeds, std::span<const double> measured,
+                                      const std::optional<ModelSpec>& spec) {
+  ProcessErrorStudy out;
+  out.tool = tool;
+  out.k = k;
+  out.cut = cut;
+  if (spec && measured.size() != feeds.size())
+    throw InputError({"measured process errors", 0, ""},
+                     fmt::format("expected one measured process error per feed ({}), found {}", feeds.size(), measured.size()));
+  for (double F : feeds) {
+    CutConditions c = cut;
+    c.feed = F;
+    ProcessErrorPoint p{F, F / (tool.teeth * c.spindle_speed), milling_forces(tool, k, c), 0.0};
+    p.e_prog = program_generated_error(tool, k, c);
+    out.points.push_back(std::move(p));
+  }
+  if (spec) {
+    out.measured.assign(measured.begin(), measured.end());
+    out.calibration = calibrate_process_error(tool, k, cut, feeds, measured, *spec);
+    if (!out.calibration->fit.converged)
+      throw Error("the calibration " + spec->label() + " did not converge: " + out.calibration->fit.message);
+  }
+  return out;
+}
+
+}  // namespace mtcal

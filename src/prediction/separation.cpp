@@ -1,57 +1,15 @@
 #include "mtcal/prediction/separation.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "mtcal/util/errors.hpp"
-#include "mtcal/util/parse.hpp"
 
 namespace mtcal {
-namespace {
-
-std::optional<double> cell(const TextTable& t, std::size_t row, std::size_t col, const std::string& source, bool required) {
-  const std::string s = trim(t.rows[row][col]);
-  if (s.empty()) {
-    if (required) throw InputError({source, t.lines[row], t.columns[col]}, "expected a number, found an empty cell");
-    return std::nullopt;
-  }
-  const auto v = parse_number(s);
-  if (!v) throw InputError({source, t.lines[row], t.columns[col]}, "expected a number, found '" + s + "'");
-  return v;
-}
-
-std::size_t need(const TextTable& t, const std::string& name, const std::string& source) {
-  const int c = t.column(name);
-  if (c < 0) throw InputError({source, t.header_line, name}, "missing column '" + name + "'");
-  return static_cast<std::size_t>(c);
-}
-
-int step_of(const TextTable& t, std::size_t r, std::size_t col, const std::string& source) {
-  const double s = *cell(t, r, col, source, true);
-  if (s != std::floor(s) || s < 1 || s > 1000)
-    throw InputError({source, t.lines[r], "step"}, fmt::format("expected a step number 1, 2, ..., found {:g}", s));
-  return static_cast<int>(s);
-}
-
-}  // namespace
-
-std::vector<PositionStep> separate_position(const TextTable& t, const std::string& source) {
-  const std::size_t cs = need(t, "step", source);
-  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // cmm, probe column
-  std::vector<char> axes;
-  for (std::size_t c = 0; c < t.columns.size(); ++c) {
-    const std::string& n = t.columns[c];
-    if (n.rfind("cmm_", 0) != 0) continue;
-    const std::string f = n.substr(4);
-    const char ax = f.empty() ? 0 : static_cast<char>(std::toupper(static_cast<unsigned char>(f[0])));
-    if (ax != 'X' && ax != 'Y' && ax != 'Z')
-      throw InputError({source, t.header_line, n}, "expected a feature name starting with X, Y or Z after 'cmm_', found '" + f + "'");
-    pairs.emplace_back(c, need(t, "probe_" + f, source));
-    axes.push_back(ax);
-  }
-  if (pairs.empty()) throw InputError({source, t.header_line, ""}, "expected columns cmm_<feature> and probe_<feature> (e.g. cmm_Y1, probe_Y1)");
+std::vector<PositionStep> separate_position(const std::vector<PositionObservation>& observations) {
   std::vector<PositionStep> out;
   auto slot = [&](int step, char ax) -> PositionStep& {
     for (auto& p : out)
@@ -59,50 +17,14 @@ std::vector<PositionStep> separate_position(const TextTable& t, const std::strin
     out.push_back({step, ax, std::nan(""), 0.0, 0});
     return out.back();
   };
-  for (std::size_t r = 0; r < t.rows.size(); ++r) {
-    const int step = step_of(t, r, cs, source);
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
-      const auto cm = cell(t, r, pairs[k].first, source, false);
-      const auto pr = cell(t, r, pairs[k].second, source, false);
-      if (cm.has_value() != pr.has_value())
-        throw InputError({source, t.lines[r], t.columns[cm ? pairs[k].second : pairs[k].first]},
-                         "expected a value in both the CMM and the probe column of a feature, or in neither");
-      if (!cm) continue;
-      PositionStep& p = slot(step, axes[k]);
-      p.e_pos += *cm - *pr;
-      ++p.count;
-      const std::string dcol = std::string("d_") + static_cast<char>(std::tolower(axes[k]));
-      const std::size_t dc = need(t, dcol, source);
-      if (std::isnan(p.distance)) p.distance = *cell(t, r, dc, source, true);
-    }
+  for (const auto& o : observations) {
+    PositionStep& p = slot(o.step, o.axis);
+    p.e_pos += o.cmm - o.probe;
+    ++p.count;
+    if (std::isnan(p.distance)) p.distance = o.distance;
   }
   for (auto& p : out) p.e_pos /= p.count;
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.axis != b.axis ? a.axis < b.axis : a.step < b.step; });
-  return out;
-}
-
-std::vector<DimensionRecord> read_dimension_table(const TextTable& t, const std::string& source) {
-  const auto idx = t.require_columns({"workpiece", "step", "axis", "nominal", "measured", "e_pf", "e_pt", "e_pos"}, source);
-  std::vector<DimensionRecord> out;
-  for (std::size_t r = 0; r < t.rows.size(); ++r) {
-    DimensionRecord d;
-    d.line = t.lines[r];
-    d.workpiece = trim(t.rows[r][idx[0]]);
-    if (d.workpiece.empty()) throw InputError({source, d.line, "workpiece"}, "expected a workpiece name, found an empty cell");
-    d.step = step_of(t, r, idx[1], source);
-    const std::string ax = trim(t.rows[r][idx[2]]);
-    if (ax != "X" && ax != "Y") throw InputError({source, d.line, "axis"}, "expected X or Y, found '" + ax + "'");
-    d.axis = ax[0];
-    d.nominal = *cell(t, r, idx[3], source, true);
-    d.measured = *cell(t, r, idx[4], source, true);
-    d.e_pf = cell(t, r, idx[5], source, false);
-    d.e_pt = cell(t, r, idx[6], source, false);
-    d.e_pos = cell(t, r, idx[7], source, false);
-    for (const auto& o : out)
-      if (o.workpiece == d.workpiece && o.step == d.step && o.axis == d.axis)
-        throw InputError({source, d.line, "workpiece"}, fmt::format("{} step {} {} is given twice (first on line {})", d.workpiece, d.step, d.axis, o.line));
-    out.push_back(d);
-  }
   return out;
 }
 
@@ -141,6 +63,61 @@ std::vector<ControlStep> separate_control(const std::vector<DimensionRecord>& re
     throw InputError({source, 0, "workpiece"}, fmt::format("workpiece '{}' is not in the table", any_a ? b : a));
   if (out.empty()) throw InputError({source, 0, "step"}, fmt::format("{} and {} share no step and axis", a, b));
   std::sort(out.begin(), out.end(), [](const auto& x, const auto& y) { return x.axis != y.axis ? x.axis < y.axis : x.step < y.step; });
+  return out;
+}
+
+}  // namespace mtcal
+
+namespace mtcal {
+
+PositionSeparation separate_position_with_fits(const std::vector<PositionObservation>& observations) {
+  PositionSeparation out;
+  out.steps = separate_position(observations);
+  for (char ax : {'X', 'Y', 'Z'}) {
+    std::vector<double> d, e;
+    for (const auto& s : out.steps)
+      if (s.axis == ax) {
+        d.push_back(s.distance);
+        e.push_back(s.e_pos);
+      }
+    const ModelSpec spec = ax == 'Z' ? ModelSpec{ModelForm::Polynomial, 1, std::nullopt} : ModelSpec{ModelForm::Polynomial, 2, 0.0};
+    if (d.size() < 3) continue;
+    out.fits.emplace_back(std::string("e_pos_") + static_cast<char>(std::tolower(ax)), fit_model(spec, d, e));
+  }
+  return out;
+}
+
+std::map<std::pair<int, char>, double> control_model_errors(const PredictionModel& m, const std::vector<DimensionRecord>& records,
+                                                           const std::string& a, const std::string& source,
+                                                           std::vector<std::string>& warnings) {
+  std::map<std::pair<int, char>, double> sub;
+  for (const auto& r : records) {
+    if (r.workpiece != a) continue;
+    const std::string name = r.axis == 'X' ? "e_ctrl_x" : "e_ctrl_y";
+    const ErrorComponent* c = m.find(name);
+    if (!c) throw InputError({m.file, 0, name}, "the model has no component '" + name + "' (eq. 5.52-5.53)");
+    const auto lookup = [&](const std::string& v) -> double {
+      if (v == c->variable) return r.nominal;
+      if (c->ramp && v == c->ramp->variable) return c->ramp->one_at;
+      throw InputError({m.file, c->line, v},
+                       fmt::format("{} reads '{}': separate control gives only its distance ({}) and its feed ramp", name, v, c->variable));
+    };
+    const ComponentValue v = evaluate_component(m, name, lookup, false, fmt::format("{}:{}", source, r.line));
+    for (const auto& w : v.warnings) warnings.push_back(fmt::format("line {}: {}", r.line, w));
+    sub[{r.step, r.axis}] = v.value;
+  }
+  return sub;
+}
+
+ControlSeparation separate_control(const std::vector<DimensionRecord>& records, const std::string& a, const std::string& b,
+                                   const std::string& source, const PredictionModel* model) {
+  ControlSeparation out;
+  out.a = a;
+  out.b = b;
+  out.quantity = model ? "e_cpr" : "e_ctrl";
+  std::map<std::pair<int, char>, double> sub;
+  if (model) sub = control_model_errors(*model, records, a, source, out.warnings);
+  out.steps = separate_control(records, a, b, source, sub);
   return out;
 }
 

@@ -9,6 +9,7 @@
 
 #include "mtcal/identification/identification.hpp"
 #include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/probing_plan_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -275,9 +276,9 @@ TEST(Identification, BadInput) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("too few measurements"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(parse_scale_bar("1:2"), InputError);
-  EXPECT_THROW(parse_scale_bar("1:2:-5"), InputError);
-  EXPECT_EQ(parse_scale_bar("1:2:304.8").length, 304.8);
+  EXPECT_THROW(parse_scale_bar("1:2", "bar"), InputError);
+  EXPECT_THROW(parse_scale_bar("1:2:-5", "bar"), InputError);
+  EXPECT_EQ(parse_scale_bar("1:2:304.8", "bar").length, 304.8);
 }
 
 TEST(Subsets, CountEqualsBruteForce) {

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mtcal/io/prediction_model_file.hpp"
 #include "mtcal/prediction/prediction_model.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -299,6 +300,33 @@ TEST(PredictionModelTest, ParametersOutsideTheDomainAreRefused) {
       parse_prediction_model(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 2.5, b: 0}}\n", "m.yaml");
   const auto p = predict_point(m, Point{{{"t", 0.0}}}, true);
   EXPECT_EQ(p.e[0], 2.5);
+}
+
+}  // namespace
+}  // namespace mtcal
+
+namespace mtcal {
+namespace {
+
+// Compensation per step (Table 6.1 style) against hand values: minus the mean error of the
+// step's points, steps in the order they first appear.
+TEST(PredictionModelTest, CompensationOffsetsPerStep) {
+  PredictionPoints pts{{"step"}, {{2}, {1}, {2}}, {2, 3, 4}, "p.csv"};
+  std::vector<PointPrediction> pred(3);
+  pred[0].e[0] = 0.010, pred[0].e[1] = -0.004, pred[0].e[2] = 0.001;
+  pred[1].e[0] = 0.003, pred[1].e[1] = 0.002, pred[1].e[2] = 0.0;
+  pred[2].e[0] = 0.020, pred[2].e[1] = 0.000, pred[2].e[2] = 0.003;
+  const auto c = compensation_offsets(pts, pred);
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].step, 2);
+  EXPECT_NEAR(c[0].offset[0], -0.015, 1e-15);
+  EXPECT_NEAR(c[0].offset[1], 0.002, 1e-15);
+  EXPECT_NEAR(c[0].offset[2], -0.002, 1e-15);
+  EXPECT_EQ(c[1].step, 1);
+  EXPECT_NEAR(c[1].offset[0], -0.003, 1e-15);
+  EXPECT_NEAR(c[1].offset[1], -0.002, 1e-15);
+  pts.columns = {"t"};
+  EXPECT_THROW(compensation_offsets(pts, pred), InputError);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "mtcal/io/csv.hpp"
+#include "mtcal/io/separation_file.hpp"
 #include "mtcal/prediction/regression.hpp"
 #include "mtcal/prediction/separation.hpp"
 #include "mtcal/util/errors.hpp"
@@ -20,7 +21,7 @@ const std::string kDir = std::string(MTCAL_EXAMPLES_DIR) + "/../prediction/";
 // 9.003 - 9.004134722.
 TEST(SeparationTest, PositionErrorsFromTable53) {
   const std::string path = kDir + "yaqoob2017-table5_3.csv";
-  const auto steps = separate_position(read_text_csv(path), path);
+  const auto steps = separate_position(read_position_observations(read_text_csv(path), path));
   ASSERT_EQ(steps.size(), 12u);
   auto find = [&](int s, char a) {
     for (const auto& p : steps)
@@ -96,7 +97,7 @@ TEST(SeparationTest, ThermalEquations) {
 }
 
 TEST(SeparationTest, BadTablesAreRefused) {
-  auto pos = [](const std::string& text) { return separate_position(parse_text_csv(text, "t.csv"), "t.csv"); };
+  auto pos = [](const std::string& text) { return separate_position(read_position_observations(parse_text_csv(text, "t.csv"), "t.csv")); };
   EXPECT_THROW(pos("step,d_x,cmm_X1\n1,30,30.01\n"), InputError);                       // no probe column
   EXPECT_THROW(pos("step,d_x,cmm_X1,probe_X1\n1,30,30.01,\n"), InputError);              // one-sided pair
   EXPECT_THROW(pos("step,d_x,cmm_X1,probe_X1\n1.5,30,30.01,30.0\n"), InputError);        // step

@@ -27,9 +27,10 @@ ArtefactState nominal_artefact(const ProbingPlan& plan);
 struct ScaleBar {
   std::string ball_a, ball_b;
   double length = 0.0;
+  // Where the bar was given (the location of messages about it: a file, a command-line option).
+  std::string source = "scale bar";
 };
-// "1:2:304.8" -> {1, 2, 304.8}; throws InputError.
-ScaleBar parse_scale_bar(const std::string& spec);
+// The text form "1:2:304.8" is read by the formats layer (parse_scale_bar).
 
 // ---- Virtual machine (Viprey 2015 figure 4) ----
 
@@ -73,6 +74,9 @@ struct IdentificationOptions {
   // A scaled Jacobian direction whose singular value is below this fraction of the largest is
   // unidentifiable.
   double rank_tolerance = 1e-8;
+  // Where the names in estimate came from: the location of messages about them (a file, a
+  // command-line option).
+  std::string estimate_source = "estimated parameters";
 };
 
 struct EstimatedParameter {
@@ -137,6 +141,10 @@ struct SubsetOptions {
   int threads = 0;
   std::size_t keep = 1000;  // subsets listed (best first); count covers all
   bool by_residue = false;  // rank by the residue of estimation (measurements) instead of the condition number
+  // Where each input came from: the locations of messages about them (a file, a command-line
+  // option). The always-parameters' source is also named in the text of messages.
+  std::string candidates_source = "candidates", always_source = "parameters in every subset", choose_source = "subset size",
+              by_residue_source = "ranking by residue", rank_tolerance_source = "rank tolerance";
 };
 struct ParameterSubset {
   std::vector<std::size_t> members;  // indices into candidates, ascending
@@ -189,5 +197,37 @@ struct ModelDeviation {
   double max = 0.0, rms = 0.0;
 };
 ModelDeviation model_deviation(const Machine& identified, const Machine& truth, const std::vector<std::vector<double>>& workspace);
+
+// ---- Identification with its assessment (what mtcal identify reports) ----
+
+struct AssessmentOptions {
+  std::size_t monte_carlo_runs = 0;  // 0: no Monte Carlo
+  std::uint64_t seed = 1;
+  int threads = 0;
+  // Workspace grid (per axis values, chain order, internal units) for the identified model's VA,
+  // the Monte Carlo spread and the comparison with truth; empty: none.
+  std::vector<std::vector<double>> workspace;
+  const Machine* truth = nullptr;  // the imposed machine (simulations), or none
+};
+struct IdentificationRun {
+  IdentificationResult result;
+  double seconds = 0;                       // wall time of the identification
+  std::vector<ProbeFeature> features;       // the measurements' features (ball/facet ids of result.artefact)
+  std::optional<MonteCarloResult> monte_carlo;
+  double monte_carlo_seconds = 0;
+  std::uint64_t seed = 1;                   // of the Monte Carlo runs
+  bool workspace = false;                   // a workspace grid was given
+  std::optional<double> va;                 // VA of the identified model over the workspace (mm)
+  std::optional<ModelDeviation> deviation;  // against the imposed machine (with truth)
+  std::vector<double> imposed;              // per estimated parameter: the imposed machine's value (with truth)
+};
+// identify, then Monte Carlo (when runs > 0), the deviation from truth (when given) and the VA
+// (when a workspace is given). The machine file's parameters the result changes are in
+// identified_errors.
+IdentificationRun identify_and_assess(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options,
+                                      const AssessmentOptions& assessment);
+// The errors (in the prior's order of first estimate) whose parameters identification estimated:
+// what an identified parameter file holds.
+std::vector<ErrorName> identified_errors(const Machine& prior, const IdentificationResult& result);
 
 }  // namespace mtcal

@@ -44,15 +44,6 @@ struct ProbingPlan {
   std::size_t residual_count() const;  // 3 per ball record, 1 per facet record
 };
 
-// A plan or measurement CSV (docs/identification.md):
-//   indexation,<rotary axis letters>,feature,kind,x,y,z,nx,ny,nz,dirX,dirY,dirZ[,X,Y,Z]
-// kind is ball or facet; x y z the feature's nominal position (mm, workpiece frame); n its unit
-// normal (facets; empty or 0 for balls); dir<axis> the linear axes' directions of motion at the
-// contact (-1, 0, +1; empty = 0); X Y Z the readings (measurement files). A feature's geometry must
-// be the same on every row. Rotary values in deg. Throws InputError with file, line and column.
-ProbingPlan read_probing_csv(const Machine& m, const std::string& path);
-ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const std::string& source);
-// The same columns; readings (X Y Z ...) are written when plan.measured.
-std::string probing_csv(const Machine& m, const ProbingPlan& plan);
+// The CSV files of plans and measurements are read and written by the formats layer (probing_plan_file.hpp).
 
 }  // namespace mtcal

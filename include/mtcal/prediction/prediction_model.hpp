@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,11 +54,7 @@ struct PredictionModel {
   std::vector<std::string> variables() const;
 };
 
-// Reads the YAML model file (format in docs/prediction.md). InputError with file, line and the
-// dotted key for every problem: unknown key or model form, missing parameter, stages not
-// increasing, an 'of' naming no earlier component ...
-PredictionModel read_prediction_model(const std::string& path);
-PredictionModel parse_prediction_model(const std::string& text, const std::string& source);
+// The YAML model file is read by the formats layer (prediction_model_file.hpp).
 
 // Spindle-speed stages (eq. 3.7-3.10, 5.17-5.44): linear interpolation between the two
 // measured stages that bracket S, and proportional scaling (S / S_stage) times the nearest
@@ -95,5 +92,44 @@ struct ComponentValue {
 ComponentValue evaluate_component(const PredictionModel& m, const std::string& name,
                                   const std::function<double(const std::string&)>& lookup, bool strict,
                                   const std::string& where = "");
+
+// ---- Prediction over a table of points (what mtcal predict does) ----
+
+// Points to predict at: a value per column (variable) per row, as read from a points file or
+// made from a program's moves.
+struct PredictionPoints {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;  // columns.size() values each
+  std::vector<int> lines;                 // source line of each row
+  std::string source;                     // the file the points come from
+
+  int column(const std::string& name) const;  // index, or -1
+};
+
+// The variables the model reads that are neither a column nor a constant, sorted; and the
+// components that read a variable (for messages).
+std::vector<std::string> missing_variables(const PredictionModel& m, const PredictionPoints& points,
+                                           const std::map<std::string, double>& constants);
+std::vector<std::string> components_reading(const PredictionModel& m, const std::string& variable);
+
+// Compensation per step (Yaqoob 2017 Table 6.1): the offset to add to the programmed dimension
+// is minus the mean predicted error of the step's points.
+struct CompensationOffset {
+  double step = 0;
+  double offset[3] = {0, 0, 0};  // x, y, z (mm)
+};
+// Steps in order of first appearance. InputError naming the points' source without a 'step' column.
+std::vector<CompensationOffset> compensation_offsets(const PredictionPoints& points, const std::vector<PointPrediction>& predictions);
+
+struct PredictionRun {
+  PredictionPoints points;
+  std::vector<PointPrediction> predictions;  // per row
+  std::vector<std::string> warnings;         // "line N: ..." per point warning
+  std::vector<CompensationOffset> compensation;  // when asked for
+};
+// predict_point at every row: a variable comes from its column, else from constants. InputError
+// for a variable that is neither (before any prediction), and as predict_point.
+PredictionRun predict_points(const PredictionModel& m, const PredictionPoints& points,
+                             const std::map<std::string, double>& constants, bool strict, bool compensation);
 
 }  // namespace mtcal

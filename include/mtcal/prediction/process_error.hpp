@@ -1,6 +1,7 @@
 // Program-generated process error e_prog (Yaqoob 2017 sec. 3.7): mechanistic milling force and two-section tool deflection.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -71,5 +72,28 @@ struct Calibration {
 Calibration calibrate_process_error(const EndMill& tool, const CuttingCoefficients& k, CutConditions cut,
                                     std::span<const double> feeds, std::span<const double> measured,
                                     const ModelSpec& spec);
+
+// ---- What mtcal process-error reports ----
+
+// e_prog and the forces behind it at one feed.
+struct ProcessErrorPoint {
+  double feed = 0;  // F (mm/min)
+  double fz = 0;    // feed per tooth F / (N S) (mm)
+  MillingForces forces;
+  double e_prog = 0;  // mm
+};
+struct ProcessErrorStudy {
+  EndMill tool;
+  CuttingCoefficients k;
+  CutConditions cut;  // feed: that of the last point
+  std::vector<ProcessErrorPoint> points;  // per feed, in the given order
+  std::vector<double> measured;           // measured process errors per feed, or empty
+  std::optional<Calibration> calibration;  // with measured: measured = f(e_prog)
+};
+// e_prog per feed, and with measured values (one per feed) the calibration of spec on it.
+// InputError for a count mismatch; Error if the calibration does not converge.
+ProcessErrorStudy process_error_study(const EndMill& tool, const CuttingCoefficients& k, const CutConditions& cut,
+                                      std::span<const double> feeds, std::span<const double> measured,
+                                      const std::optional<ModelSpec>& spec);
 
 }  // namespace mtcal

@@ -119,7 +119,7 @@ struct FitOptions {
 FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<const double> y,
                     const FitOptions& options = {});
 
-// The forms tried by "--models all": polynomials of degree 1..3 with a free intercept, with the
+// The forms tried for the list "all": polynomials of degree 1..3 with a free intercept, with the
 // intercept fixed at 0, and the six nonlinear forms.
 std::vector<ModelSpec> all_model_specs();
 // "all" or a comma list of labels ("polynomial(2)", "polynomial(1,c0=0)", "exp_approach" ...),

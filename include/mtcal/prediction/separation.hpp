@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "mtcal/io/csv.hpp"
+#include "mtcal/prediction/prediction_model.hpp"
+#include "mtcal/prediction/regression.hpp"
+
 
 namespace mtcal {
 
@@ -21,11 +23,19 @@ struct PositionStep {
   double e_pos = 0;     // mean of CMM - probe (mm)
   int count = 0;        // CMM/probe pairs averaged
 };
-// Table: columns step, d_x, d_y, d_z, and pairs cmm_<F>, probe_<F> where F starts with the axis
-// letter (cmm_Y1, probe_Y1, cmm_Z1 ...); an empty cell is "not measured in this row" (the thesis
-// measures Z once per step) but must be empty in both columns of a pair. InputError naming file,
-// line and column otherwise.
-std::vector<PositionStep> separate_position(const TextTable& table, const std::string& source);
+// One CMM/probe pair of a feature at a step (a cell pair of Table 5.3; the position table's
+// reader in the formats layer, separation_file.hpp, makes them).
+struct PositionObservation {
+  int step = 0;
+  char axis = 'X';       // the feature's axis: the first letter of its name (Y1 -> Y)
+  std::string feature;   // Y1, Z1 ...
+  double distance = 0;   // distance moved along the axis at this step (mm)
+  double cmm = 0, probe = 0;
+  int line = 0;          // source line, for messages
+};
+// Per step and axis (sorted by axis, then step): e_pos = mean of cmm - probe over the
+// observations; the distance is that of the step's first observation of the axis.
+std::vector<PositionStep> separate_position(const std::vector<PositionObservation>& observations);
 
 // ---- Thermal errors (sec. 3.5), each as printed:
 // eq. 3.1/3.2 spindle tilt change e_spd = alpha - (alpha + beta)
@@ -49,9 +59,7 @@ struct DimensionRecord {
   std::optional<double> e_pf, e_pt, e_pos;
   int line = 0;
 };
-// Long table: workpiece, step, axis (X or Y), nominal, measured, e_pf, e_pt, e_pos (mm; the
-// component cells may be empty for a workpiece that is only ever the measured side).
-std::vector<DimensionRecord> read_dimension_table(const TextTable& table, const std::string& source);
+// The long table of these records is read by the formats layer (separation_file.hpp).
 
 // Eq. 3.11/3.12 between workpieces a and b at every step and axis both have:
 //   (dev_a - dev_b) - (e_pf_a - e_pf_b) - (e_pt_a - e_pt_b) - (e_pos_a - e_pos_b)
@@ -67,5 +75,33 @@ struct ControlStep {
 std::vector<ControlStep> separate_control(const std::vector<DimensionRecord>& records, const std::string& a,
                                           const std::string& b, const std::string& source,
                                           const std::map<std::pair<int, char>, double>& subtract = {});
+
+// ---- What mtcal separate reports ----
+
+// Position errors per step and the thesis' regressions on them (eq. 5.1-5.3): a quadratic
+// through zero for X and Y, a line for Z, for each axis with at least 3 steps.
+struct PositionSeparation {
+  std::vector<PositionStep> steps;
+  std::vector<std::pair<std::string, FitResult>> fits;  // "e_pos_x", "e_pos_y", "e_pos_z"
+};
+PositionSeparation separate_position_with_fits(const std::vector<PositionObservation>& observations);
+
+// Control errors between workpieces a and b (eq. 3.11-3.12); with a model, minus its
+// e_ctrl(2400-100) (eq. 3.15): the quantity is then e_cpr.
+struct ControlSeparation {
+  std::string quantity;  // "e_ctrl", or "e_cpr" with a model
+  std::string a, b;
+  std::vector<ControlStep> steps;
+  std::vector<std::string> warnings;  // "line N: ..." from the model's validity ranges
+};
+// Eq. 3.15's subtrahend per step and axis of workpiece a: the model's e_ctrl_x / e_ctrl_y by the
+// path of predict (scale, validity range, stages ...) at the nominal distance and with the feed
+// ramp at its 'one_at' end (the 2400 -> 100 change the forms were fitted to, eq. 5.52-5.53).
+// InputError naming the model file for a missing component or one that reads other variables.
+std::map<std::pair<int, char>, double> control_model_errors(const PredictionModel& model, const std::vector<DimensionRecord>& records,
+                                                           const std::string& a, const std::string& source,
+                                                           std::vector<std::string>& warnings);
+ControlSeparation separate_control(const std::vector<DimensionRecord>& records, const std::string& a, const std::string& b,
+                                   const std::string& source, const PredictionModel* model);
 
 }  // namespace mtcal
