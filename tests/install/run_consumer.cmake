@@ -1,6 +1,8 @@
 # ctest install_consumer: installs the build into a staging prefix, then configures, builds and
 # runs tests/install/consumer against it (find_package(mtcal) from the staged prefix only).
-# cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DGENERATOR=... -DCXX=... -DMACHINE=... -P
+# cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DGENERATOR=... -DCXX=... -DMACHINE=...
+#       [-DSANITIZE=ON] -P run_consumer.cmake
+# SANITIZE: the library was built with -fsanitize=address,undefined, so the consumer links the runtimes.
 foreach(v BUILD_DIR SOURCE_DIR WORK_DIR GENERATOR CXX MACHINE)
   if(NOT DEFINED ${v})
     message(FATAL_ERROR "run_consumer.cmake: ${v} is not set")
@@ -28,8 +30,12 @@ foreach(f include/mtcal/version.hpp)
     message(FATAL_ERROR "not installed: ${f}")
   endif()
 endforeach()
-run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/install/consumer -B ${consumer_build} -G ${GENERATOR}
+set(sanitize_flags)
+if(SANITIZE)
+  set(sanitize_flags -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined)
+endif()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/install/consumer -B ${consumer_build} -G "${GENERATOR}"
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_PREFIX_PATH=${stage}
-    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF ${sanitize_flags})
 run(${CMAKE_COMMAND} --build ${consumer_build})
 run(${consumer_build}/consumer ${MACHINE})
