@@ -3,6 +3,10 @@
 BUILD ?= build
 JOBS ?= 2
 CMAKE_EXTRA_FLAGS ?=
+# The compilers: `make test CXX=clang++ CC=clang BUILD=build-clang` builds with Debian's clang
+# (scripts/install-deps installs it when CXX names clang). Without CXX/CC, CMake picks its default.
+COMPILERS = $(if $(filter default,$(origin CXX)),,-DCMAKE_CXX_COMPILER=$(CXX)) \
+            $(if $(filter default,$(origin CC)),,-DCMAKE_C_COMPILER=$(CC))
 MTCAL = $(BUILD)/apps/mtcal/mtcal
 
 .PHONY: all deps configure build demo test bench test-sanitize clean
@@ -10,10 +14,10 @@ MTCAL = $(BUILD)/apps/mtcal/mtcal
 all: build
 
 deps:
-	scripts/install-deps
+	CXX="$(CXX)" scripts/install-deps
 
 configure: deps
-	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_EXTRA_FLAGS)
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release $(COMPILERS) $(CMAKE_EXTRA_FLAGS)
 
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)

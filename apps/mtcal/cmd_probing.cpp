@@ -419,7 +419,7 @@ int run_rotary(const RotaryOptions& o) {
                            lsq ? "least squares" : "");
   for (std::size_t q = 0; q < kRotaryQuantities; ++q) {
     const auto [f, unit] = display(q);
-    auto cell = [&](const RotaryEstimate* e) {
+    auto cell = [&, f = f](const RotaryEstimate* e) {
       if (!e) return std::string();
       return u_known ? fmt::format("{:.4f} +- {:.4f}", e->value[q] * f, e->uncertainty[q] * f)
                      : fmt::format("{:.4f} +- n/a", e->value[q] * f);

@@ -143,9 +143,12 @@ Simulation simulate_probing(const Machine& truth, const ProbingPlan& plan, const
   Simulation sim;
   sim.truth = nominal_artefact(plan);
   for (std::size_t f = 0; f < plan.features.size(); ++f) {
-    if (plan.features[f].kind == ProbeFeature::Kind::Ball)
-      sim.truth.ball[f] += o.artefact_error * Vec3(gauss(rng), gauss(rng), gauss(rng));
-    else
+    if (plan.features[f].kind == ProbeFeature::Kind::Ball) {
+      // Drawn one by one: the order of a call's arguments is unspecified (GCC right to left, Clang
+      // left to right). z, y, x keeps the numbers mtcal has always given (GCC's order).
+      const double dz = gauss(rng), dy = gauss(rng), dx = gauss(rng);
+      sim.truth.ball[f] += o.artefact_error * Vec3(dx, dy, dz);
+    } else
       sim.truth.offset[f] += o.artefact_error * gauss(rng);
   }
   for (const auto& sb : o.scale_bars) {

@@ -101,6 +101,7 @@ void walk(M& m, Fn&& fn) {
                          f.parameter(i)};
         if (!fn(p, [&f, i](double v) {
               if constexpr (writable) f.set_parameter(i, v);
+              else (void)f, (void)i;  // read-only walk: the setter is never called (clang: unused capture)
             }))
           return;
       }
@@ -113,6 +114,7 @@ void walk(M& m, Fn&& fn) {
       auto* slot = &ax.location[c];
       if (!fn(p, [slot](double v) {
             if constexpr (writable) *slot = v;
+            else (void)slot;
           }))
         return;
     }
@@ -126,6 +128,7 @@ void walk(M& m, Fn&& fn) {
       auto* slot = &arr[c];
       if (!fn(p, [slot](double v) {
             if constexpr (writable) *slot = v;
+            else (void)slot;
           }))
         return;
     }

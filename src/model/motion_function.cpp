@@ -11,6 +11,9 @@ template <class... Ts>
 struct Overloaded : Ts... {
   using Ts::operator()...;
 };
+// Clang 14 lacks class template argument deduction for aggregates (P1816): spell the guide out.
+template <class... Ts>
+Overloaded(Ts...) -> Overloaded<Ts...>;
 
 // Interpolation weights of a clamped linear table: value = w0 * v[i0] + w1 * v[i0 + 1].
 struct Bracket {
