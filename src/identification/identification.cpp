@@ -10,7 +10,7 @@
 #include <Eigen/SVD>
 #include <fmt/format.h>
 
-#include "../util/kernel.hpp"
+#include "mtcal/util/parallel.hpp"
 #include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
@@ -517,10 +517,9 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
   std::vector<double> va(mc.runs, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> ok(mc.runs, 0);
   std::vector<std::vector<Vec3>> maps(mc.workspace.empty() ? 0 : mc.runs);
-  const std::size_t workers = detail::worker_count(mc.threads, mc.runs);
   std::mutex error_mutex;
   std::string first_error;
-  detail::run_tasks(mc.runs, workers, [&](std::size_t run, std::size_t) {
+  parallel_for(mc.runs, mc.threads, [&](std::size_t run, std::size_t) {
     try {
       // Parametric bootstrap: the readings the identified machine gives against the fitted
       // artefact, with fresh noise; one seed per run, so results do not depend on the threads.
