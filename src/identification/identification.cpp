@@ -10,6 +10,7 @@
 #include <Eigen/SVD>
 #include <fmt/format.h>
 
+#include "mtcal/fitting/least_squares.hpp"
 #include "mtcal/util/parallel.hpp"
 #include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/util/errors.hpp"
@@ -192,12 +193,12 @@ ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::
   Eigen::MatrixXd S = J;
   for (Eigen::Index j = 0; j < n; ++j)
     if (scale[j] > 0) S.col(j) /= scale[j];
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(S);
-  const auto& sv = svd.singularValues();
+  const JacobianAnalysis ja = analyse_jacobian(J, 1.0, JacobianOptions{tol, true});
+  const auto& sv = ja.singular_values;
   a.singular.assign(sv.data(), sv.data() + sv.size());
   const double smax = sv.size() ? sv[0] : 0.0;
-  for (double s : a.singular) a.rank += s > tol * smax;
-  a.condition = a.rank == a.singular.size() && a.rank > 0 ? smax / a.singular.back() : std::numeric_limits<double>::infinity();
+  a.rank = ja.rank;
+  a.condition = ja.condition;
   // Sequential: keep a column when its part orthogonal to the kept ones is above the same
   // threshold as the SVD's (distance from the span bounds the smallest singular value).
   Eigen::MatrixXd Q(J.rows(), 0);
