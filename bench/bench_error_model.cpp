@@ -9,7 +9,6 @@
 #include <memory>
 #include <span>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -105,9 +104,8 @@ void BM_Batch_3axis(benchmark::State& state) { batch(state, Which::ThreeAxis); }
 void BM_Batch_5axis(benchmark::State& state) { batch(state, Which::FiveAxis); }
 
 void thread_args(benchmark::internal::Benchmark* b) {
-  const int all = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  b->ArgName("threads")->Arg(1);
-  if (all > 1) b->Arg(all);
+  b->ArgName("threads");
+  for (int t : mtcal::testing::thread_counts_to_compare()) b->Arg(t);
   // Worker threads do the work: wall-clock time is the meaningful rate.
   b->UseRealTime()->Unit(benchmark::kMillisecond);
 }

@@ -7,7 +7,6 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <thread>
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -16,6 +15,7 @@
 #include "mtcal/io/gcode.hpp"
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#include "synthetic.hpp"
 
 namespace {
 
@@ -172,9 +172,8 @@ void BM_ToolpathSimulate(benchmark::State& state) {
 }
 
 void thread_args(benchmark::internal::Benchmark* b) {
-  const int all = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  b->ArgName("threads")->Arg(1);
-  if (all > 1) b->Arg(all);
+  b->ArgName("threads");
+  for (int t : mtcal::testing::thread_counts_to_compare()) b->Arg(t);
   b->UseRealTime()->Unit(benchmark::kMillisecond);
 }
 

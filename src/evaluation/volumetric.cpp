@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "../util/kernel.hpp"
+#include "mtcal/util/parallel.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -482,10 +483,10 @@ Distribution pair_distribution(std::span<const Vec3> e, std::size_t bins, double
     for (std::size_t k = t + 1; k <= tasks; ++k) start[k] = n - 1;
   }
   // Each worker keeps 4 copies of the histogram: at most 1 GiB of them in all.
-  const std::size_t workers = std::min(detail::worker_count(threads, tasks), std::max<std::size_t>(1, (std::size_t{1} << 30) / (32 * bins)));
+  const std::size_t workers = std::min(worker_count(threads, tasks), std::max<std::size_t>(1, (std::size_t{1} << 30) / (32 * bins)));
   std::vector<std::vector<std::uint64_t>> counts(workers, std::vector<std::uint64_t>(4 * bins, 0));
   std::vector<double> task_sum(tasks, 0.0), task_min(tasks, std::numeric_limits<double>::infinity());
-  detail::run_tasks(tasks, workers, [&](std::size_t t, std::size_t w) {
+  parallel_for(tasks, static_cast<int>(workers), [&](std::size_t t, std::size_t w) {
     std::vector<double> d(512);
     std::vector<std::uint32_t> bin(512);
     for (std::size_t i = start[t]; i < start[t + 1]; ++i) {

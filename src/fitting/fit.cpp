@@ -1,5 +1,6 @@
 // Least-squares sphere, plane, line and 3D circle fits: closed-form starts, Gauss-Newton, covariance.
 #include "mtcal/fitting/fit.hpp"
+#include "mtcal/fitting/least_squares.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -98,19 +99,20 @@ FitQuality make_quality(std::vector<double> residuals, double ssr, int dof, int 
   return q;
 }
 
-// sigma^2 (J^T J)^-1 at the solution. Columns are equilibrated first so that the rank test does
-// not depend on units (mm against rad); nullopt when a parameter is not determined by the points.
+// sigma^2 (J^T J)^-1 at the solution (analyse_jacobian: columns equilibrated, so that the rank
+// test does not depend on units, mm against rad); nullopt when a parameter is not determined by
+// the points.
 std::optional<MatrixXd> covariance(const MatrixXd& J, double sigma2, int dof) {
   const Index p = J.cols();
   const VectorXd norms = J.colwise().norm().transpose();
   if (!norms.allFinite() || !(norms.minCoeff() > 0.0)) return std::nullopt;
+  // Scaled here by multiplying with the inverse norms (analyse_jacobian divides), as this fit has
+  // always done: the same bits in every reported uncertainty.
   const VectorXd scale = norms.cwiseInverse();
-  const Eigen::JacobiSVD<MatrixXd> svd(J * scale.asDiagonal(), Eigen::ComputeThinV);
-  const VectorXd s = svd.singularValues();
-  if (!(s(p - 1) > kRank * s(0))) return std::nullopt;
+  const JacobianAnalysis a = analyse_jacobian(J * scale.asDiagonal(), 1.0, JacobianOptions{kRank, false});
+  if (!a.full_rank()) return std::nullopt;
   if (dof <= 0) return MatrixXd::Zero(p, p);
-  const MatrixXd W = svd.matrixV() * s.cwiseAbs2().cwiseInverse().asDiagonal() * svd.matrixV().transpose();
-  MatrixXd cov = sigma2 * (scale.asDiagonal() * W * scale.asDiagonal());
+  MatrixXd cov = sigma2 * (scale.asDiagonal() * a.covariance * scale.asDiagonal());
   if (!cov.allFinite()) return std::nullopt;
   return cov;
 }

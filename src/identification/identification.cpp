@@ -10,7 +10,8 @@
 #include <Eigen/SVD>
 #include <fmt/format.h>
 
-#include "../util/kernel.hpp"
+#include "mtcal/fitting/least_squares.hpp"
+#include "mtcal/util/parallel.hpp"
 #include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
@@ -184,12 +185,12 @@ ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::
   Eigen::MatrixXd S = J;
   for (Eigen::Index j = 0; j < n; ++j)
     if (scale[j] > 0) S.col(j) /= scale[j];
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(S);
-  const auto& sv = svd.singularValues();
+  const JacobianAnalysis ja = analyse_jacobian(J, 1.0, JacobianOptions{tol, true});
+  const auto& sv = ja.singular_values;
   a.singular.assign(sv.data(), sv.data() + sv.size());
   const double smax = sv.size() ? sv[0] : 0.0;
-  for (double s : a.singular) a.rank += s > tol * smax;
-  a.condition = a.rank == a.singular.size() && a.rank > 0 ? smax / a.singular.back() : std::numeric_limits<double>::infinity();
+  a.rank = ja.rank;
+  a.condition = ja.condition;
   // Sequential: keep a column when its part orthogonal to the kept ones is above the same
   // threshold as the SVD's (distance from the span bounds the smallest singular value).
   Eigen::MatrixXd Q(J.rows(), 0);
@@ -509,10 +510,9 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
   std::vector<double> va(mc.runs, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> ok(mc.runs, 0);
   std::vector<std::vector<Vec3>> maps(mc.workspace.empty() ? 0 : mc.runs);
-  const std::size_t workers = detail::worker_count(mc.threads, mc.runs);
   std::mutex error_mutex;
   std::string first_error;
-  detail::run_tasks(mc.runs, workers, [&](std::size_t run, std::size_t) {
+  parallel_for(mc.runs, mc.threads, [&](std::size_t run, std::size_t) {
     try {
       // Parametric bootstrap: the readings the identified machine gives against the fitted
       // artefact, with fresh noise; one seed per run, so results do not depend on the threads.

@@ -7,7 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
-#include "../util/kernel.hpp"
+#include "mtcal/util/parallel.hpp"
 #include "mtcal/identification/identification.hpp"
 #include "mtcal/util/errors.hpp"
 #include "probing_model.hpp"
@@ -185,7 +185,7 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   std::vector<Search> results;
   results.reserve(tasks);
   for (std::size_t t = 0; t < tasks; ++t) results.push_back(Search{G, c, r0_2, f, o.choose, o.rank_tolerance, {}, 0, 0, {}, {}, {}});
-  detail::run_tasks(tasks, detail::worker_count(o.threads, tasks), [&](std::size_t t, std::size_t) {
+  parallel_for(tasks, o.threads, [&](std::size_t t, std::size_t) {
     Search& s = results[t];
     for (std::size_t j = 0; j < f; ++j) s.push(j);
     if (!s.push(f + t)) {

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "mtcal/model/machine_builder.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 #include "mtcal/util/units.hpp"
@@ -26,6 +27,11 @@ Vec3 vec3(const YAML::Node& n, const Ctx& ctx, double scale) {
   auto v = numbers(n, ctx);
   if (v.size() != 3) ctx.fail(n, fmt::format("expected 3 numbers [x, y, z], found {}", v.size()));
   return Vec3(v[0], v[1], v[2]) * scale;
+}
+
+// The location of a node for the builder: file, line and the dotted key path.
+SourceLocation at(const YAML::Node& n, const Ctx& ctx) {
+  return {ctx.file, n.IsDefined() ? n.Mark().line + 1 : 0, ctx.path};
 }
 
 const char* an(Dimension d) { return d == Dimension::Length ? "a length" : "an angle"; }
@@ -70,15 +76,16 @@ double quantity(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
   return *v * checked_unit(u, n, ctx, expected, true).to_internal;
 }
 
-void parse_direction(const YAML::Node& n, const Ctx& ctx, Axis& ax) {
+struct Direction {
+  int axis = 0;  // 0 x, 1 y, 2 z
+  double sign = 1.0;
+};
+
+Direction parse_direction(const YAML::Node& n, const Ctx& ctx) {
   std::string s = text(n, ctx);
   if (s.size() == 2 && (s[0] == '+' || s[0] == '-')) {
     char c = static_cast<char>(std::tolower(static_cast<unsigned char>(s[1])));
-    if (c >= 'x' && c <= 'z') {
-      ax.direction_axis = c - 'x';
-      ax.direction_sign = s[0] == '+' ? 1.0 : -1.0;
-      return;
-    }
+    if (c >= 'x' && c <= 'z') return {c - 'x', s[0] == '+' ? 1.0 : -1.0};
   }
   ctx.fail(n, "expected a direction '+x', '-x', '+y', '-y', '+z' or '-z', found '" + s + "'");
 }
@@ -159,36 +166,18 @@ MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax,
   return MotionFunction(four);
 }
 
-// The errors section (machine files and parameter files): each error replaces what m had.
-void read_errors(Machine& m, const YAML::Node& node, const Ctx& ec, double ls, double as) {
+// The errors section (machine files and parameter files): each error replaces what b had.
+void read_errors(MachineBuilder& b, const YAML::Node& node, const Ctx& ec, double ls, double as) {
   auto errs = entries(node, ec, {});
   for (auto& [key, value] : errs) {
     const YAML::Node& n = value;
     Ctx kc = ec.child(key);
-    auto en = ErrorName::parse(key);
-    if (!en)
-      kc.fail(n, "unknown error name '" + key +
-                     "' (expected ISO 230 names such as EXX, EYX, EC0Y, EX0C, or EXt / EXw for "
-                     "tool / workpiece mounting)");
-    if (!m.has_error(*en)) {
-      if (en->kind == ErrorKind::Location && m.axis_index(en->body))
-        kc.fail(n, "'" + key + "' is not a location error of axis " + std::string(1, en->body) +
-                       " (a linear axis has its zero position and two orientation errors, a rotary axis "
-                       "two position, two orientation errors and its zero position)");
-      kc.fail(n, "error '" + key + "' names axis '" + std::string(1, en->body) +
-                     "', which is not in topology " + m.topology.chain);
-    }
-    const Dimension dim = is_rotation(en->component) ? Dimension::Angle : Dimension::Length;
-    const int c = index_of(en->component);
-    if (en->kind == ErrorKind::Motion) {
-      Axis& ax = m.axes[*m.axis_index(en->body)];
-      ax.motion[c] = parse_motion(n, kc, ax, en->component, ls, as);
-      ax.motion_given[c] = true;
-    } else if (en->kind == ErrorKind::Location) {
-      m.axes[*m.axis_index(en->body)].location[c] = quantity(n, kc, dim);
-    } else {
-      (en->body == 't' ? m.tool_mounting : m.workpiece_mounting)[c] = quantity(n, kc, dim);
-    }
+    const ErrorName en = b.error_name(key, at(n, kc));
+    const Dimension dim = is_rotation(en.component) ? Dimension::Angle : Dimension::Length;
+    if (en.kind == ErrorKind::Motion)
+      b.motion(key, parse_motion(n, kc, b.current().axis(en.body), en.component, ls, as), at(n, kc));
+    else
+      b.error_value(key, quantity(n, kc, dim), at(n, kc));
   }
 }
 
@@ -205,16 +194,13 @@ Machine build(const YAML::Node& root, const std::string& file) {
     if (v != kFormatVersion)
       vc.fail(top["mtcal_machine"], fmt::format("unsupported format version {} (this mtcal reads {})", v, kFormatVersion));
   }
-  Machine m;
-  m.source = file;
-  if (top.count("name")) m.name = text(top["name"], ctx.child("name"));
-  if (top.count("description")) m.description = text(top["description"], ctx.child("description"));
+  MachineBuilder b;
+  b.source(file);
+  if (top.count("name")) b.name(text(top["name"], ctx.child("name")));
+  if (top.count("description")) b.description(text(top["description"], ctx.child("description")));
   if (!top.count("topology")) ctx.fail(root, "missing key 'topology' (e.g. wCBXfYZt)");
-  try {
-    m.topology = Topology::parse(text(top["topology"], ctx.child("topology")));
-  } catch (const ModelError& e) {
-    ctx.child("topology").fail(top["topology"], e.what());
-  }
+  b.topology(text(top["topology"], ctx.child("topology")), at(top["topology"], ctx.child("topology")));
+  const Topology& topology = b.current().topology;
 
   double ls = 1.0, as = std::numbers::pi / 180.0;  // defaults: mm and deg
   if (top.count("units")) {
@@ -227,74 +213,59 @@ Machine build(const YAML::Node& root, const std::string& file) {
   if (!top.count("axes")) ctx.fail(root, "missing key 'axes'");
   Ctx ac = ctx.child("axes");
   auto axes = entries(top["axes"], ac, {});
-  for (std::size_t i = 0; i < m.topology.axes.size(); ++i) {
-    Axis ax;
-    ax.letter = m.topology.axes[i];
-    ax.kind = std::string_view("XYZ").find(ax.letter) != std::string_view::npos ? AxisKind::Linear
-                                                                                 : AxisKind::Rotary;
-    ax.direction_axis = ax.kind == AxisKind::Linear ? ax.letter - 'X' : ax.letter - 'A';
-    ax.moves_workpiece = i < m.topology.frame_index;
-    m.axes.push_back(std::move(ax));
-  }
   for (auto& [key, node] : axes) {
     Ctx kc = ac.child(key);
-    auto idx = key.size() == 1 ? m.axis_index(key[0]) : std::nullopt;
-    if (!idx) kc.fail(node, "axis '" + key + "' is not in topology " + m.topology.chain);
-    Axis& ax = m.axes[*idx];
+    if (key.size() != 1 || !b.current().axis_index(key[0]))
+      kc.fail(node, "axis '" + key + "' is not in topology " + topology.chain);
+    const char letter = key[0];
     if (node.IsNull()) continue;
     auto e = entries(node, kc, {"travel", "direction", "point", "description"});
-    const double s = ax.kind == AxisKind::Linear ? ls : as;
+    const double s = b.current().axis(letter).kind == AxisKind::Linear ? ls : as;
     if (e.count("travel") && !e["travel"].IsNull()) {
       auto t = numbers(e["travel"], kc.child("travel"));
-      if (t.size() != 2 || !(t[0] < t[1]))
-        kc.child("travel").fail(e["travel"], "expected [min, max] with min < max");
-      ax.travel = Travel{t[0] * s, t[1] * s};
+      if (t.size() != 2) kc.child("travel").fail(e["travel"], "expected [min, max] with min < max");
+      b.axis_travel(letter, t[0] * s, t[1] * s, at(e["travel"], kc.child("travel")));
     }
     if (e.count("direction")) {
-      const int own = ax.direction_axis;
-      parse_direction(e["direction"], kc.child("direction"), ax);
-      if (ax.direction_axis != own) {
-        const char c = static_cast<char>('x' + own);
-        kc.child("direction").fail(e["direction"],
-                                   fmt::format("axis {} {} machine {}: its direction is '+{}' or '-{}'", ax.letter,
-                                               ax.kind == AxisKind::Linear ? "moves along" : "turns about", c, c, c));
-      }
+      const Direction d = parse_direction(e["direction"], kc.child("direction"));
+      b.axis_direction(letter, d.axis, d.sign, at(e["direction"], kc.child("direction")));
     }
-    if (e.count("point")) ax.point = vec3(e["point"], kc.child("point"), ls);
+    if (e.count("point")) b.axis_point(letter, vec3(e["point"], kc.child("point"), ls), at(e["point"], kc.child("point")));
   }
-  for (const auto& ax : m.axes)
-    if (!axes.count(std::string(1, ax.letter)))
-      ac.fail(top["axes"], std::string("axis '") + ax.letter + "' of topology " + m.topology.chain +
-                               " is missing (list it, even as '" + ax.letter + ": {}')");
+  for (char letter : topology.axes)
+    if (!axes.count(std::string(1, letter)))
+      ac.fail(top["axes"], std::string("axis '") + letter + "' of topology " + topology.chain +
+                               " is missing (list it, even as '" + letter + ": {}')");
 
   if (top.count("tool")) {
     Ctx tc = ctx.child("tool");
     auto t = entries(top["tool"], tc, {"length", "spindle_point", "axis"});
-    if (t.count("length")) {
-      m.tool.length = number(t["length"], tc.child("length")) * ls;
-      if (m.tool.length < 0) tc.child("length").fail(t["length"], "expected a tool length >= 0");
-    }
-    if (t.count("spindle_point")) m.tool.spindle_point = vec3(t["spindle_point"], tc.child("spindle_point"), ls);
+    if (t.count("length"))
+      b.tool_length(number(t["length"], tc.child("length")) * ls, at(t["length"], tc.child("length")));
+    if (t.count("spindle_point"))
+      b.tool_spindle_point(vec3(t["spindle_point"], tc.child("spindle_point"), ls),
+                           at(t["spindle_point"], tc.child("spindle_point")));
     if (t.count("axis")) {
-      Axis tmp;
-      parse_direction(t["axis"], tc.child("axis"), tmp);
-      if (tmp.direction_sign < 0) tc.child("axis").fail(t["axis"], "the tool axis is given as +x, +y or +z");
-      m.tool.tool_axis = tmp.direction_axis;
+      const Direction d = parse_direction(t["axis"], tc.child("axis"));
+      if (d.sign < 0) tc.child("axis").fail(t["axis"], "the tool axis is given as +x, +y or +z");
+      b.tool_axis(d.axis, at(t["axis"], tc.child("axis")));
     }
   }
   if (top.count("workpiece")) {
     Ctx wc = ctx.child("workpiece");
     auto w = entries(top["workpiece"], wc, {"origin"});
-    if (w.count("origin")) m.workpiece.origin = vec3(w["origin"], wc.child("origin"), ls);
+    if (w.count("origin"))
+      b.workpiece_origin(vec3(w["origin"], wc.child("origin"), ls), at(w["origin"], wc.child("origin")));
   }
 
-  // Every motion error starts as a zero cubic with reversal, so that every coefficient is a
-  // parameter (identification, --set) whether or not the file gives it.
-  for (auto& ax : m.axes)
-    for (auto& f : ax.motion) f = MotionFunction(Polynomial{});
-
-  if (top.count("errors")) read_errors(m, top["errors"], ctx.child("errors"), ls, as);
-  return m;
+  // Every motion error starts as a zero cubic with reversal (the builder's default), so that
+  // every coefficient is a parameter (identification, --set) whether or not the file gives it.
+  if (top.count("errors")) read_errors(b, top["errors"], ctx.child("errors"), ls, as);
+  try {
+    return b.build();
+  } catch (const ModelError& e) {
+    throw InputError({file, 0, ""}, e.what());
+  }
 }
 
 }  // namespace
@@ -343,9 +314,9 @@ void apply_parameters(Machine& m, std::string_view yaml_text, const std::string&
       if (u.count("length")) ls = unit(u["length"], uc.child("length"), Dimension::Length, false).to_internal;
       if (u.count("angle")) as = unit(u["angle"], uc.child("angle"), Dimension::Angle, false).to_internal;
     }
-    Machine updated = m;  // all or nothing
+    MachineBuilder updated(m);  // all or nothing
     if (top.count("errors")) read_errors(updated, top["errors"], ctx.child("errors"), ls, as);
-    m = std::move(updated);
+    m = updated.build();
   } catch (const YAML::Exception& e) {
     throw InputError({source, e.mark.line + 1, ""}, e.msg);
   }

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parallel.hpp"
 #include "program.hpp"
 #include "../util/kernel.hpp"
 
@@ -358,20 +358,13 @@ void ErrorModel::evaluate_batch(std::span<const double> q, std::span<const std::
                 len, out.data() + first * 6);
     }
   };
-  std::size_t threads = options.threads > 0 ? static_cast<std::size_t>(options.threads)
-                                            : std::max(1u, std::thread::hardware_concurrency());
+  std::size_t threads = worker_count(options.threads, blocks);
   // Below a few thousand configurations a thread costs more than it saves.
   threads = std::min(threads, std::max<std::size_t>(1, blocks / 256));
-  if (threads <= 1) {
-    work(0, blocks);
-    return;
-  }
-  std::vector<std::jthread> pool;
-  const std::size_t per = (blocks + threads - 1) / threads;
-  for (std::size_t t = 0; t < threads; ++t) {
-    const std::size_t b0 = t * per, b1 = std::min(blocks, b0 + per);
-    if (b0 < b1) pool.emplace_back(work, b0, b1);
-  }
+  // One contiguous range of blocks per thread: every block is computed alone, so the split
+  // does not change a result.
+  parallel_for_ranges(blocks, threads, static_cast<int>(threads),
+                      [&](std::size_t b0, std::size_t b1, std::size_t) { work(b0, b1); });
 }
 
 }  // namespace mtcal

@@ -135,6 +135,20 @@ void walk(M& m, Fn&& fn) {
   }
 }
 
+// What a valid parameter name looks like on this machine, with examples of its own names.
+std::string parameter_naming(const Machine& m) {
+  std::string motion, location;
+  walk(m, [&](const ErrorParameter& p, auto&&) {
+    if (motion.empty() && p.error.kind == ErrorKind::Motion && p.name.back() == '1') motion = p.name;
+    if (location.empty() && p.error.kind == ErrorKind::Location) location = p.name;
+    return motion.empty() || location.empty();
+  });
+  std::string s = "expected a parameter of topology " + m.topology.chain + ": a motion error with its coefficient";
+  if (!motion.empty()) s += " such as " + motion;
+  if (!location.empty()) s += ", a location error such as " + location;
+  return s + " or a mounting error such as EXt, EAw";
+}
+
 }  // namespace
 
 std::vector<ErrorParameter> Machine::parameters() const {
@@ -195,8 +209,8 @@ void Machine::set_parameter(std::size_t index, double value) {
 void Machine::set_parameter(std::string_view param, double value) {
   auto i = parameter_index(param);
   if (!i)
-    throw ModelError("unknown parameter '" + std::string(param) + "' for machine '" + name +
-                     "' (see `mtcal errors` for the names)");
+    throw ModelError("unknown parameter '" + std::string(param) + "' for machine '" + name + "' (" +
+                     parameter_naming(*this) + ")");
   set_parameter(*i, value);
 }
 
@@ -204,7 +218,7 @@ void Machine::keep_only(const std::vector<std::string>& names) {
   std::set<std::string> errors, params;
   for (const auto& n : names) {
     if (n.find('.') != std::string::npos) {
-      if (!parameter_index(n)) throw ModelError("unknown parameter '" + n + "' in --only");
+      if (!parameter_index(n)) throw ModelError("unknown parameter '" + n + "' for machine '" + name + "' (" + parameter_naming(*this) + ")");
       params.insert(n);
     } else {
       auto en = ErrorName::parse(n);

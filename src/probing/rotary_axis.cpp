@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 
 #include <fmt/format.h>
 
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parallel.hpp"
 
 namespace mtcal {
 
@@ -181,24 +181,13 @@ void for_triples(std::size_t n, std::size_t t, std::size_t T, Fn&& fn) {
 
 constexpr std::size_t kTasks = 64;
 
-template <class Fn>
-void parallel(std::size_t threads, Fn&& fn) {
-  if (threads <= 1) {
-    fn(std::size_t{0});
-    return;
-  }
-  std::vector<std::jthread> pool;
-  for (std::size_t t = 0; t < threads; ++t) pool.emplace_back([&fn, t] { fn(t); });
-}
-
 }  // namespace
 
 TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::vector<MeasuredCentre>& centres,
                                     const TriplesOptions& options) {
   require_centres(centres);
   const std::size_t n = centres.size();
-  const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
-  std::size_t threads = options.threads > 0 ? static_cast<std::size_t>(options.threads) : hw;
+  std::size_t threads = worker_count(options.threads, kTasks);
   threads = std::min(threads, std::max<std::size_t>(1, n / 8));
   // Sums are taken relative to the least-squares estimate so that tiny errors (um, urad) do
   // not drown in the rounding of large sums.
@@ -217,8 +206,7 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
   // the thread count, and their sums are added in task order: the same inputs give the same
   // bits on any machine.
   std::vector<Sums> pass1(kTasks);
-  parallel(threads, [&](std::size_t t) {
-   for (std::size_t task = t; task < kTasks; task += threads) {
+  parallel_for(kTasks, static_cast<int>(threads), [&](std::size_t task, std::size_t) {
     Sums s;  // local: neighbouring tasks' sums would share cache lines
     std::array<double, kRotaryQuantities> q;
     for_triples(n, task, kTasks, [&](std::size_t i, std::size_t j, std::size_t k) {
@@ -233,7 +221,6 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
       }
     });
     pass1[task] = s;
-   }
   });
   Sums all;
   for (const auto& s : pass1) {
@@ -267,8 +254,7 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
   }
   const double k_sigma = options.reject_sigma;
   std::vector<KeptSums> pass2(kTasks);
-  parallel(threads, [&](std::size_t t) {
-   for (std::size_t task = t; task < kTasks; task += threads) {
+  parallel_for(kTasks, static_cast<int>(threads), [&](std::size_t task, std::size_t) {
     KeptSums s;
     s.point_sum.assign(n * kRotaryQuantities, 0.0);
     s.point_count.assign(n * kRotaryQuantities, 0);
@@ -290,7 +276,6 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
       }
     });
     pass2[task] = std::move(s);
-   }
   });
   KeptSums total;
   total.point_sum.assign(n * kRotaryQuantities, 0.0);

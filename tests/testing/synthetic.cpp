@@ -4,9 +4,12 @@
 #include <numbers>
 #include <random>
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include "mtcal/io/machine_file.hpp"
+#include "mtcal/probing/rotary_axis.hpp"
+#include "mtcal/util/parallel.hpp"
 
 namespace mtcal::testing {
 
@@ -70,6 +73,26 @@ std::vector<double> random_configurations(const Machine& m, std::size_t n, std::
       if (dir) (*dir)[i * k + j] = u(rng) < 0.5 ? -1 : 1;
     }
   return q;
+}
+
+std::vector<MeasuredCentre> circle_centres(std::size_t n, std::uint64_t seed, double noise_sd) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_sd);
+  const Point3 axis_point(0.01, -0.02, 0.0), normal = Point3(3e-5, -2e-5, 1.0).normalized();
+  const Point3 u = normal.cross(Point3::UnitX()).normalized(), v = normal.cross(u);
+  std::vector<MeasuredCentre> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
+    const Point3 p = axis_point + 120.0 * (std::cos(a) * u + std::sin(a) * v) + 80.0 * normal;
+    const double dx = noise(rng), dy = noise(rng), dz = noise(rng);  // a fixed order of draws
+    out.push_back({a, p + Point3(dx, dy, dz)});
+  }
+  return out;
+}
+
+std::vector<int> thread_counts_to_compare() {
+  const int all = static_cast<int>(hardware_threads());
+  return all > 1 ? std::vector<int>{1, all} : std::vector<int>{1};
 }
 
 }  // namespace mtcal::testing
