@@ -19,8 +19,11 @@ struct TracePoint {
   double radius = 0.0;
 };
 
-// Reads the CSV `direction,angle_deg,radius_mm` (direction cw/ccw); InputError with file, line, column.
-std::vector<TracePoint> read_ballbar_csv(const std::string& path);
+// A recorded trace and where it came from (a file name, for messages).
+struct BallbarTrace {
+  std::string source = "trace";
+  std::vector<TracePoint> points;
+};
 
 struct BallbarOptions {
   double nominal_radius = 150.0;   // mm
