@@ -68,7 +68,7 @@ struct TriplesOptions {
   int histogram_bins = 40;
   int threads = 0;            // 0: all hardware threads
 };
-struct Histogram {
+struct TripleHistogram {
   double low = 0.0, high = 0.0;        // bin edges span [low, high]
   std::vector<std::size_t> counts;     // of all valid triples (before rejection)
 };
@@ -80,7 +80,7 @@ struct TriplesEstimate : RotaryEstimate {
   // Per centre (input order): the largest share, over the four location errors, of the
   // triples through it that the rule rejected. An outlying centre stands out here.
   std::vector<double> rejected_share;
-  std::array<Histogram, kRotaryQuantities> histograms;
+  std::array<TripleHistogram, kRotaryQuantities> histograms;
 };
 // Needs >= 3 centres not all on one line; throws InputError otherwise. The uncertainty of each
 // mean is the U-statistic estimate sqrt(9 zeta_1 / n), zeta_1 the variance over centres of the
