@@ -1,4 +1,5 @@
 // mtcal iso230-2 and ballbar: ISO 230-2 positioning of a linear axis, ISO 230-4 circular tests.
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <numbers>
@@ -74,6 +75,20 @@ int run_ballbar_predict(const BallbarCliOptions& o) {
   return 0;
 }
 
+// A one-direction trace without --direction: the library refuses it for G(b) and H; the CLI names
+// the option that evaluates one direction.
+void check_directions(const BallbarTrace& t, const BallbarOptions& bo) {
+  if (bo.only) return;
+  auto has = [&](CircleDirection d) {
+    return std::any_of(t.points.begin(), t.points.end(), [&](const TracePoint& p) { return p.direction == d; });
+  };
+  const bool cw = has(CircleDirection::CW), ccw = has(CircleDirection::CCW);
+  if (cw != ccw)
+    throw InputError({t.source, 0, ""}, fmt::format("G(b) and H need both directions; the trace has only {} samples (use "
+                                                    "--direction to evaluate one)",
+                                                    cw ? "cw" : "ccw"));
+}
+
 void print_ballbar(const BallbarCliOptions& o, const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis) {
   std::cout << fmt::format("ISO 230-4 circular test, plane {}, radius {:g} mm{}\n", o.plane, o.radius,
                            o.feed > 0 ? fmt::format(", feed {:g} mm/min", o.feed) : std::string());
@@ -103,6 +118,7 @@ int run_ballbar(const BallbarCliOptions& o) {
   if (o.direction == "cw") bo.only = CircleDirection::CW;
   if (o.direction == "ccw") bo.only = CircleDirection::CCW;
   const BallbarTrace t = read_ballbar_csv(o.trace);
+  check_directions(t, bo);
   const auto e = evaluate_ballbar(t.points, bo, t.source);
   std::optional<TraceDiagnosis> diagnosis;
   if (!bo.only) diagnosis = diagnose_ballbar(t.points, bo, o.plane, t.source);
