@@ -119,9 +119,9 @@ int run_ballbar(const BallbarCliOptions& o) {
   if (o.direction == "ccw") bo.only = CircleDirection::CCW;
   const BallbarTrace t = read_ballbar_csv(o.trace);
   check_directions(t, bo);
-  const auto e = evaluate_ballbar(t.points, bo, t.source);
+  const auto e = evaluate_ballbar(t, bo);
   std::optional<TraceDiagnosis> diagnosis;
-  if (!bo.only) diagnosis = diagnose_ballbar(t.points, bo, o.plane, t.source);
+  if (!bo.only) diagnosis = diagnose_ballbar(t, bo, o.plane);
   if (!o.report.empty()) write_ballbar_report(o.report, command_line(), t, e, diagnosis, o.plane, o.radius, o.feed);
   if (o.json_out) {
     Json j = to_json(e, diagnosis, o.plane, o.radius, o.feed);
