@@ -11,21 +11,14 @@
 #include <Eigen/Dense>
 
 #include "mtcal/fitting/fit.hpp"
-#include "mtcal/io/csv.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
-#include "mtcal/util/parse.hpp"
 
 namespace mtcal {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
-
-std::string lower(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 double wrap(double a) {  // to [0, 2 pi)
   a = std::fmod(a, 2 * kPi);
@@ -180,30 +173,6 @@ double radius_at(const std::vector<std::pair<double, double>>& sorted, double a)
 
 }  // namespace
 
-std::vector<TracePoint> read_ballbar_csv(const std::string& path) {
-  const TextTable t = read_text_csv(path, "ballbar trace");
-  const auto c = t.require_columns({"direction", "angle_deg", "radius_mm"}, path);
-  std::vector<TracePoint> out;
-  for (std::size_t r = 0; r < t.rows.size(); ++r) {
-    const auto& cells = t.rows[r];
-    const int lineno = t.lines[r];
-    TracePoint p;
-    const std::string d = lower(cells[c[0]]);
-    if (d == "cw") p.direction = CircleDirection::CW;
-    else if (d == "ccw") p.direction = CircleDirection::CCW;
-    else throw InputError({path, lineno, "direction"}, "expected cw or ccw, found '" + cells[c[0]] + "'");
-    const auto a = parse_number(cells[c[1]]);
-    if (!a) throw InputError({path, lineno, "angle_deg"}, "expected a number, found '" + cells[c[1]] + "'");
-    const auto radius = parse_number(cells[c[2]]);
-    if (!radius || !(*radius > 0))
-      throw InputError({path, lineno, "radius_mm"}, "expected a length > 0, found '" + cells[c[2]] + "'");
-    p.angle = *a * kDeg;
-    p.radius = *radius;
-    out.push_back(p);
-  }
-  return out;
-}
-
 BallbarEvaluation evaluate_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& o, const std::string& source) {
   if (!(o.nominal_radius > 0)) throw InputError({source, 0, ""}, "expected a nominal radius > 0");
   const auto cw = trimmed(trace, CircleDirection::CW, o), ccw = trimmed(trace, CircleDirection::CCW, o);
@@ -217,8 +186,8 @@ BallbarEvaluation evaluate_ballbar(const std::vector<TracePoint>& trace, const B
     return e;
   }
   if (cw.empty() || ccw.empty())
-    throw InputError({source, 0, ""}, fmt::format("G(b) and H need both directions; the trace has only {} samples (use "
-                                                  "--direction to evaluate one)",
+    throw InputError({source, 0, ""}, fmt::format("G(b) and H need both directions; the trace has only {} samples (evaluate "
+                                                  "one direction only)",
                                                   cw.empty() ? "ccw" : "cw"));
   e.cw = deviation(cw, o, source, "cw");
   e.ccw = deviation(ccw, o, source, "ccw");

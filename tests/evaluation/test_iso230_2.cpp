@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/io/evaluation_files.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;
@@ -112,7 +113,8 @@ TEST(Iso230_2, BadInputsAreNamed) {
   PositioningRuns no_down = hand_case();
   no_down.down[0].clear();
   try {
-    evaluate_positioning(no_down, "f.csv");
+    no_down.source = "f.csv";
+    evaluate_positioning(no_down);
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("down"), std::string::npos) << e.what();

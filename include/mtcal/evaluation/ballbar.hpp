@@ -19,8 +19,11 @@ struct TracePoint {
   double radius = 0.0;
 };
 
-// Reads the CSV `direction,angle_deg,radius_mm` (direction cw/ccw); InputError with file, line, column.
-std::vector<TracePoint> read_ballbar_csv(const std::string& path);
+// A recorded trace and where it came from (a file name, for messages).
+struct BallbarTrace {
+  std::string source = "trace";
+  std::vector<TracePoint> points;
+};
 
 struct BallbarOptions {
   double nominal_radius = 150.0;   // mm
@@ -53,6 +56,9 @@ struct BallbarEvaluation {
 // options.only.
 BallbarEvaluation evaluate_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& options,
                                    const std::string& source = "trace");
+inline BallbarEvaluation evaluate_ballbar(const BallbarTrace& trace, const BallbarOptions& options) {
+  return evaluate_ballbar(trace.points, options, trace.source);
+}
 
 // One term of the diagnostic trace model with its least-squares value, standard uncertainty
 // and share of the trace (RMS of its contribution over the RMS of the fitted trace, %).
@@ -74,6 +80,9 @@ struct TraceDiagnosis {
 // Throws InputError without both directions or when the terms cannot be separated.
 TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& options,
                                 const std::string& plane, const std::string& source = "trace");
+inline TraceDiagnosis diagnose_ballbar(const BallbarTrace& trace, const BallbarOptions& options, const std::string& plane) {
+  return diagnose_ballbar(trace.points, options, plane, trace.source);
+}
 
 // The trace a ballbar would record on a machine model: the two axes of plane ("XY", "YZ", "ZX")
 // describe a circle of radius mm about the centre configuration (joint values, internal units),

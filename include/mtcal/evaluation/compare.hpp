@@ -21,17 +21,10 @@ struct ComparisonValue {
 
 // A long table "method,test,parameter,value" with exactly two methods, in order of first appearance.
 struct ComparisonData {
+  std::string source = "input";  // where the table came from (a file name), for messages
   std::array<std::string, 2> methods;
   std::vector<ComparisonValue> values;  // in file order
 };
-
-// Reads the long CSV: a header naming the columns method, test, parameter and value (in any
-// order, no others), '#' comment lines and blank lines skipped, cells optionally in double quotes.
-// Throws InputError naming file, line and column for a wrong header, a row with the wrong number
-// of cells, an empty text cell, a value that is not a finite number, a (method, test, parameter)
-// given twice, or a number of methods other than two.
-ComparisonData read_comparison_csv(const std::string& path);
-ComparisonData parse_comparison_csv(const std::string& text, const std::string& source);
 
 // |r| at or above this counts as a strong correlation in the summary.
 inline constexpr double kStrongCorrelation = 0.5;
@@ -71,6 +64,7 @@ struct ComparisonSummary {
 };
 
 struct MethodComparison {
+  std::string source;  // of the data (ComparisonData::source)
   std::array<std::string, 2> methods;
   std::vector<ParameterComparison> parameters;  // in order of first appearance in the data
   ComparisonSummary summary;

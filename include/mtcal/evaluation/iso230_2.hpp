@@ -9,17 +9,12 @@ namespace mtcal {
 // Measured positions of one axis: target i, run j, approached in the positive (up) or negative
 // (down) direction, all in one unit.
 struct PositioningRuns {
+  std::string source = "input";  // where the runs came from (a file name), for messages
   std::string unit = "mm";
   std::vector<double> targets;
   std::vector<std::vector<double>> up;    // [target][run] measured position
   std::vector<std::vector<double>> down;  // [target][run]
 };
-
-// Reads the CSV form `target,run,direction,measured` (direction up/down or +/-; header row; '#'
-// comments). unit: the values' unit. Throws InputError naming file, line and column.
-PositioningRuns read_positioning_csv(const std::string& path, const std::string& unit);
-// Reads the key=value .dat form (TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT).
-PositioningRuns read_positioning_dat(const std::string& path);
 
 // Per target, with x_ij = measured - target (ISO 230-2:2014 clause 2; ../shared/docs/PRODUCT.md).
 struct TargetEvaluation {
@@ -42,8 +37,8 @@ struct PositioningEvaluation {
   double M = 0;                        // mean positioning error: range of x̄_i
 };
 
-// Throws InputError when a target lacks a direction, run counts differ, or there are fewer than
-// two runs or targets.
-PositioningEvaluation evaluate_positioning(const PositioningRuns& runs, const std::string& source = "input");
+// Throws InputError (naming runs.source) when a target lacks a direction, run counts differ, or
+// there are fewer than two runs or targets.
+PositioningEvaluation evaluate_positioning(const PositioningRuns& runs);
 
 }  // namespace mtcal

@@ -1,0 +1,17 @@
+// HTML report of the rotary-axis location test: both estimators, centres and their circle, residuals, the triples' distributions.
+#pragma once
+
+#include <string>
+
+#include "mtcal/model/machine.hpp"
+#include "mtcal/probing/rotary_probing.hpp"
+
+namespace mtcal {
+
+// Writes the report to path; command: the command line shown; machine: the machine file's model
+// when one gave the nominal axis (else null); max_rms: the limit of the contacts' rms distance
+// from their sphere (mm), against which large fits are flagged.
+void write_rotary_report(const std::string& path, const std::string& command, const Machine* machine,
+                         const RotaryAxisResult& result, double max_rms);
+
+}  // namespace mtcal

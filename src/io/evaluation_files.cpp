@@ -1,0 +1,306 @@
+// Readers and writers of the acceptance tests' measurement files (io/evaluation_files.hpp).
+#include "mtcal/io/evaluation_files.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <regex>
+#include <sstream>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "mtcal/io/csv.hpp"
+#include "mtcal/io/files.hpp"
+#include "mtcal/util/errors.hpp"
+#include "mtcal/util/parse.hpp"
+
+namespace mtcal {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::string lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+constexpr std::array<const char*, 4> kColumns = {"method", "test", "parameter", "value"};
+
+// Splits one line into cells. The numeric reader (io/csv) has no use for quotes, but names of
+// tests and parameters written by spreadsheets may carry them: a cell may be wrapped in double
+// quotes, with "" standing for one quote inside, so that it can hold commas.
+std::vector<std::string> split_cells(const std::string& line, const SourceLocation& where) {
+  std::vector<std::string> cells;
+  std::size_t i = 0;
+  while (true) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    std::string cell;
+    if (i < line.size() && line[i] == '"') {
+      ++i;
+      bool closed = false;
+      while (i < line.size()) {
+        if (line[i] == '"') {
+          if (i + 1 < line.size() && line[i + 1] == '"') {
+            cell += '"';
+            i += 2;
+            continue;
+          }
+          ++i;
+          closed = true;
+          break;
+        }
+        cell += line[i++];
+      }
+      if (!closed) throw InputError(where, "a quoted cell is not closed (expected a closing '\"' on the same line)");
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+      if (i < line.size() && line[i] != ',')
+        throw InputError(where, fmt::format("unexpected '{}' after a quoted cell (expected ',')", line[i]));
+    } else {
+      const auto end = line.find(',', i);
+      cell = trim(line.substr(i, end == std::string::npos ? std::string::npos : end - i));
+      i = end == std::string::npos ? line.size() : end;
+    }
+    cells.push_back(std::move(cell));
+    if (i >= line.size()) break;
+    ++i;  // the comma; a line ending in ',' has an empty last cell
+    if (i == line.size()) {
+      cells.emplace_back();
+      break;
+    }
+  }
+  return cells;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+
+}  // namespace
+
+PositioningRuns read_positioning_csv(const std::string& path, const std::string& unit) {
+  const TextTable table = read_text_csv(path, "positioning file");
+  const auto c = table.require_columns({"target", "run", "direction", "measured"}, path);
+  // target value -> direction -> run -> measured
+  std::vector<double> order;
+  std::map<double, std::map<int, std::map<long, double>>> data;
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const auto& cells = table.rows[r];
+    const int lineno = table.lines[r];
+    auto num = [&](std::size_t col, const char* name) {
+      const auto v = parse_number(cells[col]);
+      if (!v) throw InputError({path, lineno, name}, "expected a number, found '" + cells[col] + "'");
+      return *v;
+    };
+    const double target = num(c[0], "target"), measured = num(c[3], "measured"), run = num(c[1], "run");
+    if (run != std::floor(run)) throw InputError({path, lineno, "run"}, "expected a whole run number");
+    const std::string& d = cells[c[2]];
+    int dir = 0;
+    if (d == "up" || d == "+") dir = 1;
+    else if (d == "down" || d == "-") dir = -1;
+    else throw InputError({path, lineno, "direction"}, "expected up, down, + or -, found '" + d + "'");
+    if (!data.count(target)) order.push_back(target);
+    auto& runs = data[target][dir];
+    if (runs.count(static_cast<long>(run)))
+      throw InputError({path, lineno, "run"}, fmt::format("run {} of target {:g} ({}) given twice", run, target, d));
+    runs[static_cast<long>(run)] = measured;
+  }
+  PositioningRuns r;
+  r.source = path;
+  r.unit = unit;
+  std::sort(order.begin(), order.end());
+  for (double t : order) {
+    r.targets.push_back(t);
+    std::vector<double> up, down;
+    for (const auto& [run, v] : data[t][1]) up.push_back(v);
+    for (const auto& [run, v] : data[t][-1]) down.push_back(v);
+    r.up.push_back(up);
+    r.down.push_back(down);
+  }
+  return r;
+}
+
+PositioningRuns read_positioning_dat(const std::string& path) {
+  const std::string text = read_text_file(path, "positioning file");
+  std::istringstream in(text);
+  std::string line;
+  int lineno = 0;
+  std::map<long, double> targets;
+  std::map<long, std::map<long, double>> fwd, bwd;
+  std::string unit = "mm";
+  const std::regex indexed(R"(^([A-Z_]+)\[(\d+)(?:,(\d+))?\]$)");
+  while (std::getline(in, line)) {
+    ++lineno;
+    const std::string s = trim(line.substr(0, line.find('#')));
+    if (s.empty()) continue;
+    const auto eq = s.find('=');
+    if (eq == std::string::npos) throw InputError({path, lineno, ""}, "expected KEY=VALUE, found '" + s + "'");
+    const std::string key = trim(s.substr(0, eq)), value = trim(s.substr(eq + 1));
+    if (key == "UNIT") {
+      unit = value;
+      continue;
+    }
+    if (key == "CYCLES" || key == "POSITIONS") continue;  // implied by the data
+    std::smatch m;
+    if (!std::regex_match(key, m, indexed))
+      throw InputError({path, lineno, key}, "unknown key '" + key + "' (expected TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT)");
+    const auto v = parse_number(value);
+    if (!v) throw InputError({path, lineno, key}, "expected a number, found '" + value + "'");
+    const long i = std::stol(m[2]);
+    const std::string name = m[1];
+    if (name == "TGT_DATA" && !m[3].matched) {
+      targets[i] = *v;
+    } else if ((name == "REF_DATA_FWD" || name == "REF_DATA_BWD") && m[3].matched) {
+      auto& dst = name == "REF_DATA_FWD" ? fwd : bwd;
+      const long j = std::stol(m[3]);
+      if (dst[i].count(j)) throw InputError({path, lineno, key}, "given twice");
+      dst[i][j] = *v;
+    } else {
+      throw InputError({path, lineno, key}, "unknown key '" + key + "'");
+    }
+  }
+  PositioningRuns r;
+  r.source = path;
+  r.unit = unit;
+  for (const auto& [i, t] : targets) {
+    r.targets.push_back(t);
+    std::vector<double> up, down;
+    for (const auto& [j, v] : fwd[i]) up.push_back(v);
+    for (const auto& [j, v] : bwd[i]) down.push_back(v);
+    r.up.push_back(up);
+    r.down.push_back(down);
+  }
+  for (const auto& [i, runs] : fwd)
+    if (!targets.count(i)) throw InputError({path, 0, fmt::format("REF_DATA_FWD[{},...]", i)}, "no TGT_DATA for this target");
+  for (const auto& [i, runs] : bwd)
+    if (!targets.count(i)) throw InputError({path, 0, fmt::format("REF_DATA_BWD[{},...]", i)}, "no TGT_DATA for this target");
+  return r;
+}
+
+bool looks_like_dat(const std::string& path) {
+  if (path.size() >= 4 && path.substr(path.size() - 4) == ".dat") return true;
+  return read_text_file(path, "positioning file").find("TGT_DATA[") != std::string::npos;
+}
+
+PositioningRuns read_positioning_file(const std::string& path, const std::string& format, const std::string& unit) {
+  const bool dat = format == "dat" || (format == "auto" && looks_like_dat(path));
+  return dat ? read_positioning_dat(path) : read_positioning_csv(path, unit);
+}
+
+BallbarTrace read_ballbar_csv(const std::string& path) {
+  const TextTable t = read_text_csv(path, "ballbar trace");
+  const auto c = t.require_columns({"direction", "angle_deg", "radius_mm"}, path);
+  std::vector<TracePoint> out;
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    const auto& cells = t.rows[r];
+    const int lineno = t.lines[r];
+    TracePoint p;
+    const std::string d = lower(cells[c[0]]);
+    if (d == "cw") p.direction = CircleDirection::CW;
+    else if (d == "ccw") p.direction = CircleDirection::CCW;
+    else throw InputError({path, lineno, "direction"}, "expected cw or ccw, found '" + cells[c[0]] + "'");
+    const auto a = parse_number(cells[c[1]]);
+    if (!a) throw InputError({path, lineno, "angle_deg"}, "expected a number, found '" + cells[c[1]] + "'");
+    const auto radius = parse_number(cells[c[2]]);
+    if (!radius || !(*radius > 0))
+      throw InputError({path, lineno, "radius_mm"}, "expected a length > 0, found '" + cells[c[2]] + "'");
+    p.angle = *a * kDeg;
+    p.radius = *radius;
+    out.push_back(p);
+  }
+  return {path, out};
+}
+
+std::string ballbar_csv(const std::vector<TracePoint>& trace) {
+  std::string s = "direction,angle_deg,radius_mm\n";
+  for (const auto& p : trace)
+    s += fmt::format("{},{:.6f},{:.9f}\n", p.direction == CircleDirection::CW ? "cw" : "ccw",
+                     p.angle * 180 / std::numbers::pi, p.radius);
+  return s;
+}
+
+void write_ballbar_csv(const std::string& path, const std::vector<TracePoint>& trace) {
+  write_file_atomically(path, ballbar_csv(trace));
+}
+
+
+ComparisonData parse_comparison_csv(const std::string& text, const std::string& source) {
+  // Spreadsheets often start their CSV exports with a UTF-8 byte order mark.
+  const bool bom = text.rfind("\xEF\xBB\xBF", 0) == 0;
+  std::istringstream in(bom ? text.substr(3) : text);
+  std::string line;
+  int lineno = 0;
+  std::array<std::size_t, 4> col{};  // position of method, test, parameter, value in a row
+  std::size_t ncols = 0;
+  std::vector<std::string> methods;
+  ComparisonData data;
+  std::map<std::tuple<std::size_t, std::string, std::string>, int> seen;  // -> line
+  while (std::getline(in, line)) {
+    ++lineno;
+    const std::string s = trim(line);
+    if (s.empty() || s[0] == '#') continue;
+    auto cells = split_cells(s, {source, lineno, ""});
+    if (ncols == 0) {
+      std::vector<std::string> expected(kColumns.begin(), kColumns.end());
+      std::vector<std::string> sorted_cells = cells, sorted_expected = expected;
+      std::sort(sorted_cells.begin(), sorted_cells.end());
+      std::sort(sorted_expected.begin(), sorted_expected.end());
+      if (sorted_cells != sorted_expected)
+        throw InputError({source, lineno, ""},
+                         "expected the header 'method,test,parameter,value' (columns in any order, no others), "
+                         "found '" + join(cells) + "'");
+      for (std::size_t k = 0; k < kColumns.size(); ++k)
+        col[k] = static_cast<std::size_t>(std::find(cells.begin(), cells.end(), kColumns[k]) - cells.begin());
+      ncols = cells.size();
+      continue;
+    }
+    if (cells.size() != ncols)
+      throw InputError({source, lineno, ""},
+                       fmt::format("expected {} cells (method, test, parameter, value), found {}", ncols, cells.size()));
+    for (std::size_t k = 0; k < 3; ++k)
+      if (cells[col[k]].empty()) throw InputError({source, lineno, kColumns[k]}, "empty cell (expected a name)");
+    const std::string& method = cells[col[0]];
+    auto m = std::find(methods.begin(), methods.end(), method);
+    if (m == methods.end()) {
+      if (methods.size() == 2)
+        throw InputError({source, lineno, "method"},
+                         fmt::format("a third method '{}' (expected exactly two methods: '{}' and '{}')", method,
+                                     methods[0], methods[1]));
+      methods.push_back(method);
+      m = methods.end() - 1;
+    }
+    const auto v = parse_number(cells[col[3]]);
+    if (!v) throw InputError({source, lineno, "value"}, "expected a finite number, found '" + cells[col[3]] + "'");
+    ComparisonValue cv;
+    cv.method = static_cast<std::size_t>(m - methods.begin());
+    cv.test = cells[col[1]];
+    cv.parameter = cells[col[2]];
+    cv.value = *v;
+    cv.line = lineno;
+    const auto [it, inserted] = seen.emplace(std::make_tuple(cv.method, cv.test, cv.parameter), lineno);
+    if (!inserted)
+      throw InputError({source, lineno, ""}, fmt::format("method '{}', test '{}', parameter '{}' is given twice "
+                                                         "(first on line {})",
+                                                         method, cv.test, cv.parameter, it->second));
+    data.values.push_back(std::move(cv));
+  }
+  if (ncols == 0) throw InputError({source, 0, ""}, "no header line (expected 'method,test,parameter,value')");
+  if (methods.size() != 2)
+    throw InputError({source, 0, "method"},
+                     methods.empty() ? std::string("no data rows (expected values of exactly two methods)")
+                                     : "only one method, '" + methods[0] + "' (expected exactly two methods)");
+  data.source = source;
+  data.methods = {methods[0], methods[1]};
+  return data;
+}
+
+ComparisonData read_comparison_csv(const std::string& path) {
+  return parse_comparison_csv(read_text_file(path, "comparison CSV file"), path);
+}
+
+}  // namespace mtcal

@@ -1,0 +1,95 @@
+// Readers and writer of the acceptance tests' files: round trip of the ballbar trace, sources kept, bad input located.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/util/errors.hpp"
+
+using namespace mtcal;
+
+namespace {
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const auto p = std::filesystem::temp_directory_path() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+// The location of the InputError that f throws.
+template <class F>
+SourceLocation error_at(F f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.where();
+  }
+  ADD_FAILURE() << "no InputError";
+  return {};
+}
+
+}  // namespace
+
+TEST(EvaluationFiles, BallbarTraceRoundTrip) {
+  std::vector<TracePoint> trace;
+  for (int k = 0; k < 36; ++k) {
+    const double a = 2 * std::numbers::pi * k / 36;
+    trace.push_back({k % 2 ? CircleDirection::CW : CircleDirection::CCW, a, 150.0 + 1e-3 * std::sin(3 * a)});
+  }
+  const std::string path = (std::filesystem::temp_directory_path() / "mtcal-trace-roundtrip.csv").string();
+  write_ballbar_csv(path, trace);
+  const BallbarTrace back = read_ballbar_csv(path);
+  EXPECT_EQ(back.source, path);
+  ASSERT_EQ(back.points.size(), trace.size());
+  for (std::size_t i = 0; i < trace.size(); ++i) {
+    EXPECT_EQ(back.points[i].direction, trace[i].direction);
+    EXPECT_NEAR(back.points[i].angle, trace[i].angle, 1e-8);  // 6 decimals of a degree
+    EXPECT_NEAR(back.points[i].radius, trace[i].radius, 1e-9);
+  }
+  EXPECT_EQ(ballbar_csv(back.points).substr(0, 30), "direction,angle_deg,radius_mm\n");
+}
+
+TEST(EvaluationFiles, BallbarBadCellsAreLocated) {
+  const auto bad_dir = write_temp("mtcal-bb-bad.csv", "direction,angle_deg,radius_mm\nccw,0,150\nup,1,150\n");
+  const auto w = error_at([&] { read_ballbar_csv(bad_dir); });
+  EXPECT_EQ(w.file, bad_dir);
+  EXPECT_EQ(w.line, 3);
+  EXPECT_EQ(w.field, "direction");
+  const auto bad_r = write_temp("mtcal-bb-bad2.csv", "# c\ndirection,angle_deg,radius_mm\ncw,0,-1\n");
+  const auto w2 = error_at([&] { read_ballbar_csv(bad_r); });
+  EXPECT_EQ(w2.line, 3);
+  EXPECT_EQ(w2.field, "radius_mm");
+}
+
+TEST(EvaluationFiles, PositioningKeepsItsSourceAndDetectsTheForm) {
+  const auto csv = write_temp("mtcal-pos.csv", "target,run,direction,measured\n0,1,up,0.001\n0,1,down,0.002\n");
+  const auto r = read_positioning_file(csv, "auto", "um");
+  EXPECT_EQ(r.source, csv);
+  EXPECT_EQ(r.unit, "um");
+  ASSERT_EQ(r.targets.size(), 1u);
+  const auto dat = write_temp("mtcal-pos.txt", "UNIT=mm\nTGT_DATA[0]=0\nREF_DATA_FWD[0,0]=0.001\nREF_DATA_BWD[0,0]=0.002\n");
+  const auto d = read_positioning_file(dat, "auto", "um");  // TGT_DATA[ makes it the .dat form
+  EXPECT_EQ(d.source, dat);
+  EXPECT_EQ(d.unit, "mm");
+  ASSERT_EQ(d.up.size(), 1u);
+  EXPECT_DOUBLE_EQ(d.up[0][0], 0.001);
+  const auto w = error_at([&] { read_positioning_dat(write_temp("mtcal-pos-bad.dat", "UNIT=mm\nTGT_DATA[0]=x\n")); });
+  EXPECT_EQ(w.line, 2);
+  EXPECT_EQ(w.field, "TGT_DATA[0]");
+  const auto w2 = error_at([&] { read_positioning_csv(write_temp("mtcal-pos-bad.csv", "target,run,direction,measured\n0,1.5,up,0\n"), "mm"); });
+  EXPECT_EQ(w2.line, 2);
+  EXPECT_EQ(w2.field, "run");
+}
+
+TEST(EvaluationFiles, ComparisonKeepsItsSource) {
+  const auto d = parse_comparison_csv("method,test,parameter,value\nA,1,P,1\nB,1,P,2\n", "t.csv");
+  EXPECT_EQ(d.source, "t.csv");
+  EXPECT_EQ(compare_methods(d).source, "t.csv");
+  const auto w = error_at([] { parse_comparison_csv("method,test,parameter,value\nA,1,P,x\n", "t.csv"); });
+  EXPECT_EQ(w.file, "t.csv");
+  EXPECT_EQ(w.line, 2);
+  EXPECT_EQ(w.field, "value");
+}
