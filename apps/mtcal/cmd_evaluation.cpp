@@ -220,7 +220,7 @@ int run_ballbar(const BallbarCliOptions& o) {
       throw InputError({"--predict", 0, ""}, "--predict needs --machine and --out");
     check_outputs(model_inputs(o.model), {o.out});
     const Machine m = load(o.model);
-    const auto centre = parse_joint_values(m, o.centre);
+    const auto centre = parse_joint_values(m, o.centre, "--centre");
     const auto t = predict_ballbar(m, o.plane, centre, o.radius, o.step_deg * std::numbers::pi / 180);
     AtomicFile f(o.out);
     f.stream() << "direction,angle_deg,radius_mm\n";

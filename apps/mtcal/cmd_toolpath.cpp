@@ -305,6 +305,15 @@ int run_toolpath(const ToolpathCliOptions& o) {
 
 }  // namespace
 
+// The library names its parameters; the user typed options.
+int run_toolpath_command(const ToolpathCliOptions& o) {
+  try {
+    return run_toolpath(o);
+  } catch (const InputError& e) {
+    rethrow_for_options(e, {{"step", "--step"}, {"angle step", "--angle-step"}});
+  }
+}
+
 std::vector<Command> add_toolpath_commands(CLI::App& app) {
   auto o = std::make_shared<ToolpathCliOptions>();
   auto* c = app.add_subcommand(
@@ -334,7 +343,7 @@ std::vector<Command> add_toolpath_commands(CLI::App& app) {
               "{value, line, at}, range {dx: [min, max], ...}, out, report");
   c->add_option("--report", o->report,
                 "Write an HTML report: the path in 3D coloured by |error| with the error vectors, the errors along the path");
-  return {{c, [o] { return run_toolpath(*o); }}};
+  return {{c, [o] { return run_toolpath_command(*o); }}};
 }
 
 }  // namespace mtcal::cli

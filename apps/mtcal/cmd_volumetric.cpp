@@ -186,7 +186,7 @@ int run_volumetric(const VolumetricOptions& o) {
   std::optional<VolumetricAccuracy> box_va;
   JointBox box;
   if (!o.box.empty()) {
-    box = parse_box(m, o.box);
+    box = parse_box(m, o.box, "--box");
     box_map = sub_map(map, box.lo, box.hi);
     if (box_map->size() == 0) throw InputError({"--box", 0, ""}, "no configuration of the map lies inside the box");
     box_va = volumetric_accuracy(box_map->error);
@@ -451,7 +451,7 @@ int run_contributions(const ContributionOptions& o) {
   std::string mode;
   if (!o.at.empty()) {
     mode = "at";
-    a = parse_joint_values(m, o.at);
+    a = parse_joint_values(m, o.at, "--at");
     check_joints(m, a, "--at", !o.source.no_travel_check);
   } else if (!o.pair.empty()) {
     mode = "pair";
@@ -561,7 +561,7 @@ int run_diagonals(const DiagonalCommandOptions& o) {
   check_outputs(model_inputs(o.model), {o.out, o.report});
   const Machine m = load(o.model);
   const ErrorModel model(m);
-  JointBox box = parse_box(m, o.box);
+  JointBox box = parse_box(m, o.box, "--box");
   for (std::size_t k = 0; k < m.axes.size(); ++k)
     if (!box.named[k]) {
       if (m.axes[k].kind == AxisKind::Linear && (m.axes[k].letter == 'X' || m.axes[k].letter == 'Y' || m.axes[k].letter == 'Z'))

@@ -67,6 +67,16 @@ const CLI::Validator kFinite(
     },
     "FINITE");
 
+void rethrow_for_options(const InputError& e, const std::vector<std::pair<std::string, std::string>>& names) {
+  for (const auto& [from, to] : names)
+    if (e.where().file == from) {
+      SourceLocation where = e.where();
+      where.file = to;
+      throw InputError(where, std::string(e.what()).substr(e.where().describe().size() + 2));
+    }
+  throw;
+}
+
 std::vector<std::string> split_list(const std::string& s) {
   std::vector<std::string> out;
   std::size_t start = 0;
@@ -175,7 +185,7 @@ std::size_t grid_count(const std::vector<std::vector<double>>& values) {
 
 std::vector<std::vector<double>> checked_grid(const Machine& m, const std::string& spec, bool travel_check,
                                               std::size_t max_count) {
-  auto values = parse_grid(m, spec);
+  auto values = parse_grid(m, spec, "--grid");
   std::size_t count = 1;
   for (const auto& v : values) {
     if (count > max_count / v.size())

@@ -12,6 +12,7 @@
 
 #include "mtcal/io/json.hpp"
 #include "mtcal/model/machine.hpp"
+#include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {
 
@@ -51,6 +52,12 @@ Configurations read_configurations(const Machine& m, const std::string& path, bo
 std::vector<std::vector<double>> checked_grid(const Machine& m, const std::string& spec, bool travel_check,
                                               std::size_t max_count = 4'000'000'000);
 std::size_t grid_count(const std::vector<std::vector<double>>& values);
+
+// Called in a catch block of an InputError: when the library located it in one of its parameters
+// (names[i].first, e.g. "step"), rethrows it located in the option that gave the value
+// (names[i].second, e.g. "--step"), message unchanged; otherwise rethrows it as it is.
+[[noreturn]] void rethrow_for_options(const InputError& e,
+                                      const std::vector<std::pair<std::string, std::string>>& names);
 
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& s);

@@ -52,7 +52,7 @@ int run_eval(const ModelOptions& mo, const std::string& at, const std::string& p
   if (!at.empty()) {
     if (!out.empty()) throw InputError({"--out", 0, ""}, "--out goes with --points or --grid, not --at");
     if (!report.empty()) throw InputError({"--report", 0, ""}, "--report goes with --points or --grid, not --at");
-    const auto q = parse_joint_values(m, at);
+    const auto q = parse_joint_values(m, at, "--at");
     check_joints(m, q, "--at", !no_travel_check);
     const VolumetricError e = model.evaluate(q);
     if (!e.translation.allFinite() || !e.rotation.allFinite())
@@ -249,7 +249,7 @@ int run_effects(const ModelOptions& mo, const std::string& at, const std::string
   // About the nominal machine the effects are the errors' definitions (exact zeros where an
   // error has no effect); about the actual machine they include second-order cross terms.
   if (around == "nominal") m.clear_errors();
-  const auto q = parse_joint_values(m, at);
+  const auto q = parse_joint_values(m, at, "--at");
   check_joints(m, q, "--at", !no_travel_check);
   const std::vector<std::string> wanted = split_list(only_errors);
   for (const auto& w : wanted) {
@@ -419,6 +419,8 @@ int main(int argc, char** argv) {
     return rc;
   } catch (const std::exception& e) {
     std::string msg = e.what();
+    // Every command that checks configurations against the travels can be told not to.
+    if (msg.find(" is outside the travel [") != std::string::npos) msg += " (use --no-travel-check to evaluate anyway)";
     for (auto& c : msg)
       if (c == '\n') c = ' ';
     std::cerr << "mtcal: error: " << msg << "\n";

@@ -33,8 +33,7 @@ void check_joints(const Machine& m, const std::vector<double>& q, const std::str
     const double tol = 1e-9 * std::max(1.0, std::abs(ax.travel->max - ax.travel->min));
     if (!(q[k] >= ax.travel->min - tol && q[k] <= ax.travel->max + tol)) {
       throw InputError({where, 0, std::string(1, ax.letter)},
-                       fmt::format("{}={:g} {} is outside the travel [{:g}, {:g}] of axis {} "
-                                   "(use --no-travel-check to evaluate anyway)",
+                       fmt::format("{}={:g} {} is outside the travel [{:g}, {:g}] of axis {}",
                                    ax.letter, q[k] / f, joint_unit_name(ax), ax.travel->min / f,
                                    ax.travel->max / f, ax.letter));
     }
