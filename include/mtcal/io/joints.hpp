@@ -15,12 +15,8 @@ namespace mtcal {
 // offending item) for unknown letters, repeats or non-numbers.
 std::vector<double> parse_joint_values(const Machine& m, std::string_view spec, std::string_view where);
 
-// A box of joint values: "X=0:500,Y=-200:200,B=30" (lo:hi, or one value for lo = hi). Axes not
-// named span everything (lo = -inf, hi = +inf, named false). Internal units, chain order.
-struct JointBox {
-  std::vector<double> lo, hi;
-  std::vector<bool> named;
-};
+// A box of joint values (JointBox): "X=0:500,Y=-200:200,B=30" (lo:hi, or one value for lo = hi).
+// Axes not named span everything (lo = -inf, hi = +inf, named false).
 JointBox parse_box(const Machine& m, std::string_view spec, std::string_view where);
 
 // The inverse of parse_joint_values: "X=100,B=30" for every axis, in user units (%g), joined
