@@ -1,6 +1,7 @@
 // mtcal command line: a thin layer that parses options, calls the library and prints results.
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <unistd.h>
@@ -129,12 +130,19 @@ int run_eval(const EvalOptions& o) {
   return o.at.empty() ? run_eval_stream(o, m) : run_eval_at(o, m);
 }
 
-int run_errors(const ModelOptions& mo, bool as_json, bool nonzero, const std::string& report) {
-  check_outputs(model_inputs(mo), {report});
-  const Machine m = load(mo);
-  const auto listed = listed_parameters(m, nonzero);
-  if (!report.empty()) write_parameters_report(report, m, listed, m.parameter_count(), nonzero, {command_line(), mo.params, "", ""});
-  if (as_json) {
+struct ErrorsOptions {
+  ModelOptions model;
+  std::string report;
+  bool json_out = false, nonzero = false;
+};
+
+int run_errors(const ErrorsOptions& o) {
+  check_outputs(model_inputs(o.model), {o.report});
+  const Machine m = load(o.model);
+  const auto listed = listed_parameters(m, o.nonzero);
+  if (!o.report.empty())
+    write_parameters_report(o.report, m, listed, m.parameter_count(), o.nonzero, {command_line(), o.model.params, "", ""});
+  if (o.json_out) {
     std::cout << to_json(m, std::span<const ErrorParameter>(listed)).dump(2) << "\n";
     return 0;
   }
@@ -167,119 +175,107 @@ void print_effects(std::span<const ErrorEffect> effects) {
   }
 }
 
-int run_effects(const ModelOptions& mo, const std::string& at, const std::string& only_errors,
-                const std::string& around, bool as_json, bool no_travel_check, const std::string& report) {
-  check_outputs(model_inputs(mo), {report});
-  Machine m = load(mo);
+struct EffectsOptions {
+  ModelOptions model;
+  std::string at, errors, around = "nominal", report;
+  bool json_out = false, no_travel_check = false;
+};
+
+int run_effects(const EffectsOptions& o) {
+  check_outputs(model_inputs(o.model), {o.report});
+  Machine m = load(o.model);
   // About the nominal machine the effects are the errors' definitions (exact zeros where an
   // error has no effect); about the actual machine they include second-order cross terms.
-  if (around == "nominal") m.clear_errors();
-  const auto q = parse_joint_values(m, at, "--at");
-  check_joints(m, q, "--at", !no_travel_check);
-  const auto wanted = wanted_errors(m, only_errors);
+  if (o.around == "nominal") m.clear_errors();
+  const auto q = parse_joint_values(m, o.at, "--at");
+  check_joints(m, q, "--at", !o.no_travel_check);
+  const auto wanted = wanted_errors(m, o.errors);
   const auto effects = single_error_effects(m, q, wanted);
-  if (!report.empty()) write_effects_report(report, m, q, around, effects, {command_line(), mo.params, "", ""});
-  if (as_json)
-    std::cout << to_json(m, q, around, effects).dump(2) << "\n";
+  if (!o.report.empty()) write_effects_report(o.report, m, q, o.around, effects, {command_line(), o.model.params, "", ""});
+  if (o.json_out)
+    std::cout << to_json(m, q, o.around, effects).dump(2) << "\n";
   else
     print_effects(effects);
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  set_command_line(argc, argv);
-  CLI::App app{"mtcal - geometric accuracy of CNC machine tools: error models, evaluation, "
-               "identification and compensation"};
-  app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
-  app.require_subcommand(1);
-
-  EvalOptions eo;
+Command add_eval_command(CLI::App& app) {
+  auto o = std::make_shared<EvalOptions>();
   auto* eval = app.add_subcommand("eval", "Volumetric error (dx dy dz in mm, rx ry rz in rad) of the tool "
                                           "relative to the workpiece at joint configurations");
-  add_model_options(eval, eo.model);
-  eval->add_option("--at", eo.at, "One configuration, e.g. \"X=100,Y=50,Z=-20,B=30,C=90\" (mm, deg; "
-                               "axes not named are 0)");
-  eval->add_option("--points", eo.points, "CSV of configurations: columns named by axis letters (mm, deg), "
-                                       "optional dirX ... = +1/-1 directions of motion");
-  eval->add_option("--grid", eo.grid, "Full grid, e.g. \"X=-300:300:7,B=-90:90:5\" (lo:hi:count per axis)");
-  eval->add_option("--out", eo.out, "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV");
-  eval->add_option("--report", eo.report, "Write an HTML report (error map, distribution, largest errors; "
-                                            "self-contained, opens offline) of a --points or --grid run");
-  eval->add_flag("--json", eo.json_out, "Machine-readable output (keys dx dy dz rx ry rz for --at)");
-  eval->add_flag("--no-travel-check", eo.no_travel_check, "Evaluate outside the axes' travel too");
-  eval->add_option("--threads", eo.threads, "Threads for batches (0: all cores)")->check(CLI::Range(0, 4096));
+  add_model_options(eval, o->model);
+  eval->add_option("--at", o->at, "One configuration, e.g. \"X=100,Y=50,Z=-20,B=30,C=90\" (mm, deg; "
+                                  "axes not named are 0)");
+  eval->add_option("--points", o->points, "CSV of configurations: columns named by axis letters (mm, deg), "
+                                          "optional dirX ... = +1/-1 directions of motion");
+  eval->add_option("--grid", o->grid, "Full grid, e.g. \"X=-300:300:7,B=-90:90:5\" (lo:hi:count per axis)");
+  eval->add_option("--out", o->out, "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV");
+  eval->add_option("--report", o->report, "Write an HTML report (error map, distribution, largest errors; "
+                                          "self-contained, opens offline) of a --points or --grid run");
+  eval->add_flag("--json", o->json_out, "Machine-readable output (keys dx dy dz rx ry rz for --at)");
+  eval->add_flag("--no-travel-check", o->no_travel_check, "Evaluate outside the axes' travel too");
+  eval->add_option("--threads", o->threads, "Threads for batches (0: all cores)")->check(CLI::Range(0, 4096));
+  return {eval, [o] { return run_eval(*o); }};
+}
 
-  ModelOptions err_model;
-  bool err_json = false, nonzero = false;
+Command add_errors_command(CLI::App& app) {
+  auto o = std::make_shared<ErrorsOptions>();
   auto* errors = app.add_subcommand("errors", "List every error parameter of a machine: name, kind, "
                                               "internal unit, value");
-  add_model_options(errors, err_model);
-  errors->add_flag("--json", err_json, "Machine-readable output");
-  errors->add_flag("--nonzero", nonzero, "Only parameters whose value is not zero");
-  std::string err_report;
-  errors->add_option("--report", err_report, "Write an HTML report of the parameters");
+  add_model_options(errors, o->model);
+  errors->add_flag("--json", o->json_out, "Machine-readable output");
+  errors->add_flag("--nonzero", o->nonzero, "Only parameters whose value is not zero");
+  errors->add_option("--report", o->report, "Write an HTML report of the parameters");
+  return {errors, [o] { return run_errors(*o); }};
+}
 
-  ModelOptions eff_model;
-  std::string eff_at, eff_errors;
-  bool eff_json = false, eff_no_travel = false;
+Command add_effects_command(CLI::App& app) {
+  auto o = std::make_shared<EffectsOptions>();
   auto* effects = app.add_subcommand(
       "effects", "Effect of each single error on the tool at one configuration: dx dy dz (um) and rx ry rz "
                  "(urad) per 1 um or 1 urad of the error (first-order sensitivity of the exact model)");
-  add_model_options(effects, eff_model);
-  effects->add_option("--at", eff_at, "The configuration, e.g. \"X=100,B=30\" (mm, deg; axes not named are 0)")
+  add_model_options(effects, o->model);
+  effects->add_option("--at", o->at, "The configuration, e.g. \"X=100,B=30\" (mm, deg; axes not named are 0)")
       ->required();
-  effects->add_option("--errors", eff_errors, "Only these errors, comma-separated (e.g. EXX,EC0Y,EX0C)");
-  std::string eff_around = "nominal";
-  effects->add_option("--around", eff_around,
+  effects->add_option("--errors", o->errors, "Only these errors, comma-separated (e.g. EXX,EC0Y,EX0C)");
+  effects->add_option("--around", o->around,
                       "Linearise about the error-free machine (nominal, the errors' definitions) or about the "
                       "machine with its errors (actual)")
       ->check(CLI::IsMember({"nominal", "actual"}))
       ->capture_default_str();
-  effects->add_flag("--json", eff_json, "Machine-readable output (keys error kind per dx dy dz rx ry rz)");
-  effects->add_flag("--no-travel-check", eff_no_travel, "Allow a configuration outside the travel");
-  std::string eff_report;
-  effects->add_option("--report", eff_report, "Write an HTML report of the effects");
+  effects->add_flag("--json", o->json_out, "Machine-readable output (keys error kind per dx dy dz rx ry rz)");
+  effects->add_flag("--no-travel-check", o->no_travel_check, "Allow a configuration outside the travel");
+  effects->add_option("--report", o->report, "Write an HTML report of the effects");
+  return {effects, [o] { return run_effects(*o); }};
+}
 
-  std::vector<Command> more = add_probing_commands(app);
-  for (auto& c : add_evaluation_commands(app)) more.push_back(std::move(c));
-  for (auto& c : add_compare_commands(app)) more.push_back(std::move(c));
-  for (auto& c : add_volumetric_commands(app)) more.push_back(std::move(c));
-  for (auto& c : add_toolpath_commands(app)) more.push_back(std::move(c));
-  for (auto& c : add_prediction_commands(app)) more.push_back(std::move(c));
-  for (auto& c : add_identification_commands(app)) more.push_back(std::move(c));
+// Every command, in the order of the help text.
+std::vector<Command> add_commands(CLI::App& app) {
+  std::vector<Command> all{add_eval_command(app), add_errors_command(app), add_effects_command(app)};
+  for (auto* add : {add_probing_commands, add_evaluation_commands, add_compare_commands, add_volumetric_commands,
+                    add_toolpath_commands, add_prediction_commands, add_identification_commands})
+    for (auto& c : add(app)) all.push_back(std::move(c));
+  return all;
+}
 
-  if (argc > 1 && argv[1][0] != '-') {
-    const std::string cmd = argv[1];
-    bool known = false;
-    for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == cmd;
-    if (!known) {
-      std::string names;
-      for (const auto* sub : app.get_subcommands({})) names += (names.empty() ? "" : ", ") + sub->get_name();
-      std::cerr << "mtcal: error: unknown command '" << cmd << "' (expected one of " << names << "; see 'mtcal --help')\n";
-      return 2;
-    }
+// A first argument that names no command: one line naming those there are, exit 2.
+bool unknown_command(CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return false;
+  const std::string cmd = argv[1];
+  std::string names;
+  for (const auto* sub : app.get_subcommands({})) {
+    if (sub->get_name() == cmd) return false;
+    names += (names.empty() ? "" : ", ") + sub->get_name();
   }
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    // Usage errors: one line, exit 2 (help goes to stdout only when asked for).
-    std::cerr << "mtcal: error: " << e.what() << " (see 'mtcal --help')\n";
-    return 2;
-  }
+  std::cerr << "mtcal: error: unknown command '" << cmd << "' (expected one of " << names << "; see 'mtcal --help')\n";
+  return true;
+}
+
+// Runs the parsed command; an error is one line on stderr and exit 1.
+int run_command(const std::vector<Command>& commands) {
   try {
     const int rc = [&] {
-      if (eval->parsed()) return run_eval(eo);
-      if (errors->parsed()) return run_errors(err_model, err_json, nonzero, err_report);
-      if (effects->parsed()) return run_effects(eff_model, eff_at, eff_errors, eff_around, eff_json, eff_no_travel, eff_report);
-      for (const auto& c : more)
+      for (const auto& c : commands)
         if (c.app->parsed()) return c.run();
       throw Error("no command");
     }();
@@ -295,5 +291,30 @@ int main(int argc, char** argv) {
     std::cerr << "mtcal: error: " << msg << "\n";
     return 1;
   }
-  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  set_command_line(argc, argv);
+  CLI::App app{"mtcal - geometric accuracy of CNC machine tools: error models, evaluation, "
+               "identification and compensation"};
+  app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
+  app.require_subcommand(1);
+  const std::vector<Command> commands = add_commands(app);
+  if (unknown_command(app, argc, argv)) return 2;
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // Usage errors: one line, exit 2 (help goes to stdout only when asked for).
+    std::cerr << "mtcal: error: " << e.what() << " (see 'mtcal --help')\n";
+    return 2;
+  }
+  return run_command(commands);
 }
