@@ -25,7 +25,7 @@ std::string grid(int n) {
 }
 
 const ErrorMap& map21() {
-  static const ErrorMap map = grid_error_map(ErrorModel(vmc()), parse_grid(vmc(), grid(21)));
+  static const ErrorMap map = grid_error_map(ErrorModel(vmc()), parse_grid(vmc(), grid(21), "bench grid"));
   return map;
 }
 
@@ -73,7 +73,7 @@ BENCHMARK(BM_PairHistogram_21cubed)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecon
 // Synthesis of the 101^3 grid and its exact VA (target <= 1 s); argument: threads.
 void BM_MapAndVA_101cubed(benchmark::State& state) {
   const ErrorModel model(vmc());
-  const auto values = parse_grid(vmc(), grid(101));
+  const auto values = parse_grid(vmc(), grid(101), "bench grid");
   for (auto _ : state) {
     const ErrorMap map = grid_error_map(model, values, {static_cast<int>(state.range(0))});
     benchmark::DoNotOptimize(volumetric_accuracy(map.error).va.value);
@@ -84,13 +84,13 @@ BENCHMARK(BM_MapAndVA_101cubed)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->
 // Its parts: synthesis alone and the exact VA alone.
 void BM_Map_101cubed(benchmark::State& state) {
   const ErrorModel model(vmc());
-  const auto values = parse_grid(vmc(), grid(101));
+  const auto values = parse_grid(vmc(), grid(101), "bench grid");
   for (auto _ : state) benchmark::DoNotOptimize(grid_error_map(model, values, {2}).error.data());
 }
 BENCHMARK(BM_Map_101cubed)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_VA_Exact_101cubed(benchmark::State& state) {
-  static const ErrorMap map = grid_error_map(ErrorModel(vmc()), parse_grid(vmc(), grid(101)));
+  static const ErrorMap map = grid_error_map(ErrorModel(vmc()), parse_grid(vmc(), grid(101), "bench grid"));
   VolumetricAccuracy r;
   for (auto _ : state) benchmark::DoNotOptimize((r = volumetric_accuracy(map.error)).va.value);
   state.counters["distances"] = static_cast<double>(r.distance_evaluations);

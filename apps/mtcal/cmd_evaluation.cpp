@@ -67,7 +67,7 @@ int run_ballbar_predict(const BallbarCliOptions& o) {
     throw InputError({"--predict", 0, ""}, "--predict needs --machine and --out");
   check_outputs(model_inputs(o.model), {o.out});
   const Machine m = load(o.model);
-  const auto centre = parse_joint_values(m, o.centre);
+  const auto centre = parse_joint_values(m, o.centre, "--centre");
   const auto t = predict_ballbar(m, o.plane, centre, o.radius, o.step_deg * std::numbers::pi / 180);
   write_ballbar_csv(o.out, t);
   std::cout << fmt::format("predicted {} samples of a {} mm circle in {} on {}: wrote {}\n", t.size(), o.radius,

@@ -135,9 +135,9 @@ int run_sim(const SimOptions& o) {
   ProbingSimulation sim;
   sim.axis = o.axis[0];
   // --angles lo:hi:count in deg, as a grid of that one axis.
-  const auto grid = parse_grid(m, o.axis + "=" + o.angles);
+  const auto grid = parse_grid(m, o.axis + "=" + o.angles, "--angles");
   sim.angles = grid[*k];
-  sim.held = o.hold.empty() ? std::vector<double>(m.axes.size(), 0.0) : parse_joint_values(m, o.hold);
+  sim.held = o.hold.empty() ? std::vector<double>(m.axes.size(), 0.0) : parse_joint_values(m, o.hold, "--hold");
   const auto parts = split_list(o.sphere);
   if (parts.size() != 3) throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + o.sphere + "'");
   for (int c = 0; c < 3; ++c) {

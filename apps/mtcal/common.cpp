@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "mtcal/io/csv.hpp"
+#include "mtcal/evaluation/error_stream.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
@@ -67,6 +67,16 @@ const CLI::Validator kFinite(
     },
     "FINITE");
 
+void rethrow_for_options(const InputError& e, const std::vector<std::pair<std::string, std::string>>& names) {
+  for (const auto& [from, to] : names)
+    if (e.where().file == from) {
+      SourceLocation where = e.where();
+      where.file = to;
+      throw InputError(where, std::string(e.what()).substr(e.where().describe().size() + 2));
+    }
+  throw;
+}
+
 std::vector<std::string> split_list(const std::string& s) {
   std::vector<std::string> out;
   std::size_t start = 0;
@@ -124,75 +134,11 @@ Machine load(const ModelOptions& o) {
 
 namespace mtcal::cli {
 
-Configurations read_configurations(const Machine& m, const std::string& path, bool travel_check) {
-  const CsvTable table = read_csv(path);
-  const std::size_t n = m.axes.size();
-  std::vector<int> qcol(n, -1), dcol(n, -1);
-  bool with_dir = false;
-  for (std::size_t k = 0; k < n; ++k) {
-    qcol[k] = table.column(std::string(1, m.axes[k].letter));
-    dcol[k] = table.column(std::string("dir") + m.axes[k].letter);
-    with_dir = with_dir || dcol[k] >= 0;
-  }
-  for (const auto& c : table.columns) {
-    bool known = false;
-    for (const auto& ax : m.axes) known = known || c == std::string(1, ax.letter) || c == std::string("dir") + ax.letter;
-    for (const char* k : kOutputKeys) known = known || c == k;  // an eval --out file reads back
-    if (!known)
-      throw InputError({path, 1, c}, "unknown column '" + c + "' (expected axis letters of " + m.topology.chain +
-                                         " and optional dir<axis>)");
-  }
-  if (std::all_of(qcol.begin(), qcol.end(), [](int c) { return c < 0; }))
-    throw InputError({path, 1, ""}, "no axis column (expected columns named by the axis letters of " +
-                                        m.topology.chain + "; axes without a column are at 0)");
-  Configurations out;
-  out.q.assign(table.rows.size() * n, 0.0);
-  if (with_dir) out.dir.assign(table.rows.size() * n, 0);
-  out.lines = table.lines;
-  for (std::size_t r = 0; r < table.rows.size(); ++r) {
-    std::vector<double> qr(n, 0.0);
-    for (std::size_t k = 0; k < n; ++k) {
-      if (qcol[k] >= 0) qr[k] = table.rows[r][qcol[k]] * joint_unit_factor(m.axes[k]);
-      if (dcol[k] >= 0) {
-        const double d = table.rows[r][dcol[k]];
-        if (d != 1 && d != -1 && d != 0)
-          throw InputError({path, table.lines[r], std::string("dir") + m.axes[k].letter},
-                           fmt::format("expected +1, -1 or 0, found {:g}", d));
-        out.dir[r * n + k] = static_cast<std::int8_t>(d);
-      }
-    }
-    check_joints(m, qr, fmt::format("{}:{}", path, table.lines[r]), travel_check);
-    std::copy(qr.begin(), qr.end(), out.q.begin() + static_cast<std::ptrdiff_t>(r * n));
-  }
-  return out;
-}
-
-std::size_t grid_count(const std::vector<std::vector<double>>& values) {
-  std::size_t count = 1;
-  for (const auto& v : values) count *= v.size();
-  return count;
-}
-
 std::vector<std::vector<double>> checked_grid(const Machine& m, const std::string& spec, bool travel_check,
                                               std::size_t max_count) {
-  auto values = parse_grid(m, spec);
-  std::size_t count = 1;
-  for (const auto& v : values) {
-    if (count > max_count / v.size())
-      throw InputError({"--grid", 0, ""}, fmt::format("more than {:g} configurations; use a coarser grid",
-                                                      static_cast<double>(max_count)));
-    count *= v.size();
-  }
-  const std::size_t n = m.axes.size();
-  std::vector<double> lo(n), hi(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    lo[k] = *std::min_element(values[k].begin(), values[k].end());
-    hi[k] = *std::max_element(values[k].begin(), values[k].end());
-  }
-  check_joints(m, lo, "--grid", travel_check);
-  check_joints(m, hi, "--grid", travel_check);
+  auto values = parse_grid(m, spec, "--grid");
+  check_grid(m, values, "--grid", travel_check, max_count);
   return values;
 }
-
 
 }  // namespace mtcal::cli

@@ -12,11 +12,9 @@
 
 #include "mtcal/io/json.hpp"
 #include "mtcal/model/machine.hpp"
+#include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {
-
-// Stable JSON keys and CSV columns of a volumetric error.
-inline constexpr const char* kOutputKeys[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
 
 struct ModelOptions {
   std::string machine;
@@ -38,19 +36,16 @@ std::vector<std::string> model_inputs(const ModelOptions& o);
 // CLI11 check: a finite number (CLI11's Range lets NaN through).
 extern const CLI::Validator kFinite;
 
-// Configurations read from a CSV file (columns named by axis letters, mm and deg, and optional
-// dir<axis> columns of +1/-1/0), every row checked before any work.
-struct Configurations {
-  std::vector<double> q;         // rows x axes, internal units
-  std::vector<std::int8_t> dir;  // rows x axes, or empty when the file has no dir column
-  std::vector<int> lines;        // file line of each row
-  std::size_t size(std::size_t axes) const { return axes ? q.size() / axes : 0; }
-};
-Configurations read_configurations(const Machine& m, const std::string& path, bool travel_check);
-// parse_grid with the count limited to max_count and the grid's corners checked against the travel.
+// The grid of option --grid (parse_grid), refused beyond max_count configurations and with its
+// corners checked against the travels (check_grid); errors located in "--grid".
 std::vector<std::vector<double>> checked_grid(const Machine& m, const std::string& spec, bool travel_check,
                                               std::size_t max_count = 4'000'000'000);
-std::size_t grid_count(const std::vector<std::vector<double>>& values);
+
+// Called in a catch block of an InputError: when the library located it in one of its parameters
+// (names[i].first, e.g. "step"), rethrows it located in the option that gave the value
+// (names[i].second, e.g. "--step"), message unchanged; otherwise rethrows it as it is.
+[[noreturn]] void rethrow_for_options(const InputError& e,
+                                      const std::vector<std::pair<std::string, std::string>>& names);
 
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& s);

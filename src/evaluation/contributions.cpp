@@ -32,6 +32,29 @@ std::vector<ErrorName> nonzero_errors(const Machine& m) {
   return out;
 }
 
+std::vector<ErrorEffect> single_error_effects(const Machine& m, std::span<const double> q,
+                                              std::span<const ErrorName> only) {
+  std::vector<ErrorEffect> out;
+  for (const auto& e : ErrorModel(m).error_sensitivities(q)) {
+    if (!only.empty() && std::find(only.begin(), only.end(), e.error) == only.end()) continue;
+    ErrorEffect r;
+    r.error = e.error;
+    r.rotational = is_rotation(e.error.component);
+    // d(out)/d(error) in internal units; 1 um = 1e-3 mm, 1 urad = 1e-6 rad.
+    const double per = r.rotational ? 1e-6 : 1e-3;
+    for (int c = 0; c < 6; ++c) r.effect[static_cast<std::size_t>(c)] = e.effect[c] * per / (c < 3 ? 1e-3 : 1e-6);
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<ErrorParameter> listed_parameters(const Machine& m, bool nonzero_only) {
+  std::vector<ErrorParameter> out;
+  for (auto& p : m.parameters())
+    if (!nonzero_only || p.value != 0.0) out.push_back(std::move(p));
+  return out;
+}
+
 Machine without_error(const Machine& m, const ErrorName& error) {
   Machine out = m;
   const auto params = m.parameters();

@@ -10,6 +10,12 @@
 
 namespace mtcal {
 
+double DiagonalProfile::largest_deviation() const {
+  double mx = 0;
+  for (double v : deviation) mx = std::max(mx, std::abs(v));
+  return mx;
+}
+
 namespace {
 
 DiagonalProfile run(const ErrorModel& model, std::string name, std::vector<double> start, std::vector<double> end,

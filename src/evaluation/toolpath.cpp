@@ -36,9 +36,9 @@ void ToolpathChunk::clear() {
 ToolpathInterpolator::ToolpathInterpolator(const Machine& machine, const ToolpathOptions& options)
     : options_(options) {
   if (!(std::isfinite(options.step) && options.step > 0))
-    throw InputError({"--step", 0, ""}, fmt::format("expected a step > 0 in mm, found {}", options.step));
+    throw InputError({"step", 0, ""}, fmt::format("expected a step > 0 in mm, found {}", options.step));
   if (!(std::isfinite(options.angle_step) && options.angle_step > 0))
-    throw InputError({"--angle-step", 0, ""}, fmt::format("expected an angle step > 0 in deg, found {}", options.angle_step));
+    throw InputError({"angle step", 0, ""}, fmt::format("expected an angle step > 0 in deg, found {}", options.angle_step));
   for (const Axis& ax : machine.axes) {
     slot_.push_back(program_slot(ax.letter));
     factor_.push_back(joint_unit_factor(ax));
@@ -78,9 +78,9 @@ bool ToolpathInterpolator::start(const GcodeMove& move) {
   const double parts = std::max({1.0, std::ceil(length_ / options_.step * (1 - 1e-12)),
                                  std::ceil(rotary / options_.angle_step * (1 - 1e-12))});
   if (!(parts <= kMaxPartsPerBlock))
-    throw InputError({"--step", move.line, ""},
+    throw InputError({"step", move.line, ""},
                      fmt::format("the block at line {} would need {:.3g} points (more than {:g}); expected a larger "
-                                 "--step or --angle-step", move.line, parts, kMaxPartsPerBlock));
+                                 "step or angle step", move.line, parts, kMaxPartsPerBlock));
   parts_ = static_cast<std::size_t>(parts);
   s0_ = s_;
   ++blocks_;
@@ -118,9 +118,9 @@ bool ToolpathInterpolator::fill(ToolpathChunk& chunk, std::size_t limit) {
 
 namespace {
 
-using MoveSource = std::function<bool(GcodeMove&)>;
+using NextMove = std::function<bool(GcodeMove&)>;
 
-ToolpathSummary simulate(const ErrorModel& model, const MoveSource& next, const std::string& source,
+ToolpathSummary simulate(const ErrorModel& model, const NextMove& next, const std::string& source,
                          const ToolpathOptions& options, const std::function<void(const ToolpathChunk&)>& sink) {
   const Machine& m = model.machine();
   const std::size_t n = m.axes.size();
@@ -198,10 +198,10 @@ ToolpathSummary simulate(const ErrorModel& model, const MoveSource& next, const 
 
 }  // namespace
 
-ToolpathSummary simulate_toolpath(const ErrorModel& model, GcodeReader& reader, const ToolpathOptions& options,
+ToolpathSummary simulate_toolpath(const ErrorModel& model, MoveSource& moves, const ToolpathOptions& options,
                                   const std::function<void(const ToolpathChunk&)>& sink) {
-  ToolpathSummary s = simulate(model, [&](GcodeMove& m) { return reader.next(m); }, reader.source(), options, sink);
-  s.counts = reader.counts();
+  ToolpathSummary s = simulate(model, [&](GcodeMove& m) { return moves.next(m); }, moves.source(), options, sink);
+  s.counts = moves.counts();
   return s;
 }
 

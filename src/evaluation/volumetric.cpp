@@ -221,7 +221,7 @@ ErrorMap grid_error_map(const ErrorModel& model, const std::vector<std::vector<d
   ErrorMap map;
   map.axes = n;
   map.q.resize(count * n);
-  // Mixed-radix index: the last axis of the chain varies fastest (as mtcal eval --grid).
+  // Mixed-radix index: the last axis of the chain varies fastest (as parse_grid and evaluate_stream order them).
   for (std::size_t i = 0; i < count; ++i) {
     std::size_t r = i;
     for (std::size_t k = n; k-- > 0;) {

@@ -11,7 +11,7 @@
 namespace mtcal {
 namespace {
 
-std::vector<std::pair<std::string, std::string>> items(std::string_view spec, const char* what) {
+std::vector<std::pair<std::string, std::string>> items(std::string_view spec, std::string_view what) {
   std::vector<std::pair<std::string, std::string>> out;
   std::size_t start = 0;
   while (start <= spec.size()) {
@@ -20,57 +20,57 @@ std::vector<std::pair<std::string, std::string>> items(std::string_view spec, co
     std::string item(spec.substr(start, end - start));
     auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw InputError({what, 0, item}, "expected AXIS=VALUE items separated by commas, found '" + item + "'");
+      throw InputError({std::string(what), 0, item}, "expected AXIS=VALUE items separated by commas, found '" + item + "'");
     out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
     start = end + 1;
   }
   return out;
 }
 
-double to_number(const std::string& s, const std::string& field, const char* what) {
+double to_number(const std::string& s, const std::string& field, std::string_view what) {
   const auto v = parse_number(s);
-  if (!v) throw InputError({what, 0, field}, "expected a number, found '" + s + "'");
+  if (!v) throw InputError({std::string(what), 0, field}, "expected a number, found '" + s + "'");
   return *v;
 }
 
-std::size_t axis_of(const Machine& m, const std::string& name, std::vector<bool>& seen, const char* what) {
+std::size_t axis_of(const Machine& m, const std::string& name, std::vector<bool>& seen, std::string_view what) {
   auto idx = name.size() == 1 ? m.axis_index(name[0]) : std::nullopt;
   if (!idx)
-    throw InputError({what, 0, name}, "axis '" + name + "' is not in topology " + m.topology.chain);
-  if (seen[*idx]) throw InputError({what, 0, name}, "axis '" + name + "' given twice");
+    throw InputError({std::string(what), 0, name}, "axis '" + name + "' is not in topology " + m.topology.chain);
+  if (seen[*idx]) throw InputError({std::string(what), 0, name}, "axis '" + name + "' given twice");
   seen[*idx] = true;
   return *idx;
 }
 
 }  // namespace
 
-std::vector<double> parse_joint_values(const Machine& m, std::string_view spec, const char* option) {
+std::vector<double> parse_joint_values(const Machine& m, std::string_view spec, std::string_view where) {
   std::vector<double> q(m.axes.size(), 0.0);
   std::vector<bool> seen(m.axes.size(), false);
-  for (const auto& [name, value] : items(spec, option)) {
-    const std::size_t k = axis_of(m, name, seen, option);
-    q[k] = to_number(value, name, option) * joint_unit_factor(m.axes[k]);
+  for (const auto& [name, value] : items(spec, where)) {
+    const std::size_t k = axis_of(m, name, seen, where);
+    q[k] = to_number(value, name, where) * joint_unit_factor(m.axes[k]);
   }
   return q;
 }
 
-JointBox parse_box(const Machine& m, std::string_view spec, const char* option) {
+JointBox parse_box(const Machine& m, std::string_view spec, std::string_view where) {
   const std::size_t n = m.axes.size();
   JointBox b{std::vector<double>(n, -INFINITY), std::vector<double>(n, INFINITY), std::vector<bool>(n, false)};
   std::vector<bool> seen(n, false);
-  for (const auto& [name, value] : items(spec, option)) {
-    const std::size_t k = axis_of(m, name, seen, option);
+  for (const auto& [name, value] : items(spec, where)) {
+    const std::size_t k = axis_of(m, name, seen, where);
     const double f = joint_unit_factor(m.axes[k]);
     const auto colon = value.find(':');
     if (colon == std::string::npos) {
-      b.lo[k] = b.hi[k] = to_number(value, name, option) * f;
+      b.lo[k] = b.hi[k] = to_number(value, name, where) * f;
     } else {
       if (value.find(':', colon + 1) != std::string::npos)
-        throw InputError({option, 0, name}, "expected lo:hi or a single value, found '" + value + "'");
-      b.lo[k] = to_number(value.substr(0, colon), name, option) * f;
-      b.hi[k] = to_number(value.substr(colon + 1), name, option) * f;
+        throw InputError({std::string(where), 0, name}, "expected lo:hi or a single value, found '" + value + "'");
+      b.lo[k] = to_number(value.substr(0, colon), name, where) * f;
+      b.hi[k] = to_number(value.substr(colon + 1), name, where) * f;
       if (b.lo[k] > b.hi[k])
-        throw InputError({option, 0, name}, "expected lo <= hi, found '" + value + "'");
+        throw InputError({std::string(where), 0, name}, "expected lo <= hi, found '" + value + "'");
     }
     b.named[k] = true;
   }
@@ -84,11 +84,11 @@ std::string format_joint_values(const Machine& m, const std::vector<double>& q, 
   return s;
 }
 
-std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view spec) {
+std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view spec, std::string_view where) {
   std::vector<std::vector<double>> g(m.axes.size(), std::vector<double>{0.0});
   std::vector<bool> seen(m.axes.size(), false);
-  for (const auto& [name, value] : items(spec, "--grid")) {
-    const std::size_t k = axis_of(m, name, seen, "--grid");
+  for (const auto& [name, value] : items(spec, where)) {
+    const std::size_t k = axis_of(m, name, seen, where);
     const double f = joint_unit_factor(m.axes[k]);
     std::vector<std::string> parts;
     std::size_t s = 0;
@@ -99,15 +99,15 @@ std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view s
       s = c + 1;
     }
     if (parts.size() == 1) {
-      g[k] = {to_number(parts[0], name, "--grid") * f};
+      g[k] = {to_number(parts[0], name, where) * f};
       continue;
     }
     if (parts.size() != 3)
-      throw InputError({"--grid", 0, name}, "expected lo:hi:count or a single value, found '" + value + "'");
-    const double lo = to_number(parts[0], name, "--grid"), hi = to_number(parts[1], name, "--grid");
-    const double cnt = to_number(parts[2], name, "--grid");
+      throw InputError({std::string(where), 0, name}, "expected lo:hi:count or a single value, found '" + value + "'");
+    const double lo = to_number(parts[0], name, where), hi = to_number(parts[1], name, where);
+    const double cnt = to_number(parts[2], name, where);
     if (cnt < 1 || cnt != std::floor(cnt) || cnt > 1e7)
-      throw InputError({"--grid", 0, name}, "expected a whole count from 1 to 1e7, found '" + parts[2] + "'");
+      throw InputError({std::string(where), 0, name}, "expected a whole count from 1 to 1e7, found '" + parts[2] + "'");
     const auto count = static_cast<std::size_t>(cnt);
     g[k].assign(count, lo * f);
     for (std::size_t i = 1; i < count; ++i) {

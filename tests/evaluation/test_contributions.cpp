@@ -22,8 +22,8 @@ TEST(Contributions, SquarenessHandCalculation) {
   Machine m = vmc();
   m.clear_errors();
   m.set_parameter("EC0Y", 20e-6);
-  const auto a = parse_joint_values(m, "X=0,Y=200,Z=-100");
-  const auto b = parse_joint_values(m, "X=0,Y=-200,Z=-100");
+  const auto a = parse_joint_values(m, "X=0,Y=200,Z=-100", "test");
+  const auto b = parse_joint_values(m, "X=0,Y=-200,Z=-100", "test");
   const auto r = contributions(m, a, {}, std::span<const double>(b));
   ASSERT_EQ(r.items.size(), 1u);
   EXPECT_EQ(r.items[0].error.str(), "EC0Y");
@@ -42,7 +42,7 @@ TEST(Contributions, LinearPositioningErrorAtAPoint) {
   Machine m = vmc();
   m.clear_errors();
   m.set_parameter("EXX.1", 1e-5);
-  const auto q = parse_joint_values(m, "X=300");
+  const auto q = parse_joint_values(m, "X=300", "test");
   const auto r = contributions(m, q);
   ASSERT_EQ(r.items.size(), 1u);
   EXPECT_EQ(r.items[0].error.str(), "EXX");
@@ -79,7 +79,7 @@ TEST(Contributions, ReversalTermsFollowTheDirections) {
   Machine m = vmc();
   m.clear_errors();
   m.set_parameter("EXX.b", 0.005);
-  const auto q = parse_joint_values(m, "X=100");
+  const auto q = parse_joint_values(m, "X=100", "test");
   const std::vector<std::int8_t> up{1, 0, 0}, down{-1, 0, 0};
   const auto r = contributions(m, q, up, std::span<const double>(q), down);
   ASSERT_EQ(r.items.size(), 1u);
@@ -90,7 +90,7 @@ TEST(Contributions, ReversalTermsFollowTheDirections) {
 
 TEST(Contributions, RemovingAnErrorRemovesItsContribution) {
   Machine m = vmc();
-  const auto q = parse_joint_values(m, "X=250,Y=-100,Z=-400");
+  const auto q = parse_joint_values(m, "X=250,Y=-100,Z=-400", "test");
   const auto r = contributions(m, q);
   ASSERT_FALSE(r.items.empty());
   const ErrorName top = r.items[0].error;

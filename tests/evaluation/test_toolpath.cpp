@@ -7,6 +7,7 @@
 #include <string>
 
 #include "mtcal/evaluation/toolpath.hpp"
+#include "mtcal/io/gcode.hpp"
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"

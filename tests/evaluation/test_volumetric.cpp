@@ -68,16 +68,16 @@ TEST(VolumetricAccuracy, EqualsBruteForceOnTenThousandPoints) {
 TEST(VolumetricAccuracy, EqualsBruteForceOnExampleErrorMaps) {
   // Structured sets: the error maps of the examples over 21 x 21 x 21 = 9261 points (Fletcher's grid).
   const Machine m3 = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml");
-  const ErrorMap map3 = grid_error_map(ErrorModel(m3), parse_grid(m3, "X=-400:400:21,Y=-250:250:21,Z=-500:0:21"));
+  const ErrorMap map3 = grid_error_map(ErrorModel(m3), parse_grid(m3, "X=-400:400:21,Y=-250:250:21,Z=-500:0:21", "test grid"));
   ASSERT_EQ(map3.size(), 9261u);
   expect_same_as_brute_force(map3.error, "vmc-3axis 21^3");
   const Machine m5 = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml");
-  const ErrorMap map5 = grid_error_map(ErrorModel(m5), parse_grid(m5, "X=-300:300:9,Y=0:500:9,Z=-400:0:9,B=0:90:3,C=0:270:4"));
+  const ErrorMap map5 = grid_error_map(ErrorModel(m5), parse_grid(m5, "X=-300:300:9,Y=0:500:9,Z=-400:0:9,B=0:90:3,C=0:270:4", "test grid"));
   expect_same_as_brute_force(map5.error, "hu40t with rotary axes");
   // A machine with only squareness errors maps the grid affinely: many collinear and coplanar vectors.
   Machine sq = m3;
   sq.keep_only({"EC0Y", "EB0Z", "EA0Z"});
-  const ErrorMap mapsq = grid_error_map(ErrorModel(sq), parse_grid(sq, "X=-400:400:11,Y=-250:250:11,Z=-500:0:11"));
+  const ErrorMap mapsq = grid_error_map(ErrorModel(sq), parse_grid(sq, "X=-400:400:11,Y=-250:250:11,Z=-500:0:11", "test grid"));
   expect_same_as_brute_force(mapsq.error, "squareness only");
 }
 
@@ -132,7 +132,7 @@ TEST(VolumetricAccuracy, DegenerateSets) {
 TEST(VolumetricAccuracy, SearchIsFarBelowAllPairs) {
   // The work on a real map: a 41^3 grid has 2.3e9 pairs; the search must compute a tiny part.
   const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml");
-  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:41,Y=-250:250:41,Z=-500:0:41"));
+  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:41,Y=-250:250:41,Z=-500:0:41", "test grid"));
   const auto r = volumetric_accuracy(map.error);
   EXPECT_LT(static_cast<double>(r.distance_evaluations), 1e-3 * r.pairs);
 }
@@ -140,7 +140,7 @@ TEST(VolumetricAccuracy, SearchIsFarBelowAllPairs) {
 TEST(ErrorMap, GridMatchesSingleEvaluationsAndOrder) {
   const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml");
   const ErrorModel model(m);
-  const auto values = parse_grid(m, "X=-100:100:3,Z=-50:0:2,C=0:90:2");
+  const auto values = parse_grid(m, "X=-100:100:3,Z=-50:0:2,C=0:90:2", "test grid");
   const ErrorMap map = grid_error_map(model, values);
   ASSERT_EQ(map.size(), 12u);
   // The last axis of the chain (wCBXfYZt: Z) varies fastest, then Y, X, B, C.
@@ -182,7 +182,7 @@ TEST(FletcherGrouping, MatchesLinearScanAndStaysCloseToExact) {
   // The hashed search must give the groups of the plain rule (first group, in creation order,
   // within the tolerance of the running mean), checked by a linear scan written here.
   const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml");
-  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:21,Y=-250:250:21,Z=-500:0:21"));
+  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:21,Y=-250:250:21,Z=-500:0:21", "test grid"));
   const double exact = volumetric_accuracy(map.error).va.value;
   std::size_t previous_kept = map.size() + 1;
   for (double tol : {0.05, 0.1, 0.2}) {
@@ -281,7 +281,7 @@ TEST(Histogram, QuantileHandCalculation) {
 
 TEST(ReducedVolume, BoxVaGrowsWithTheBoxAndEqualsTheFullVaAtOne) {
   const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml");
-  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:17,Y=-250:250:11,Z=-500:0:11"));
+  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:17,Y=-250:250:11,Z=-500:0:11", "test grid"));
   const double full = volumetric_accuracy(map.error).va.value;
   const std::vector<double> centre{0, 0, -250};
   const std::vector<double> fractions{0.1, 0.25, 0.5, 0.75, 1.0};

@@ -12,7 +12,7 @@ using namespace mtcal;
 
 TEST(Joints, ParsesValuesInUserUnitsAndDefaultsToZero) {
   const Machine m = mtcal::testing::nominal_machine("wCBXfYZt");
-  const auto q = parse_joint_values(m, "X=100,B=30,Z=-2.5");
+  const auto q = parse_joint_values(m, "X=100,B=30,Z=-2.5", "test");
   ASSERT_EQ(q.size(), 5u);
   EXPECT_EQ(q[0], 0.0);                                  // C not named
   EXPECT_DOUBLE_EQ(q[1], 30 * std::numbers::pi / 180);   // B in deg
@@ -23,23 +23,23 @@ TEST(Joints, ParsesValuesInUserUnitsAndDefaultsToZero) {
 
 TEST(Joints, GridsSpanTheirRangeInclusive) {
   const Machine m = mtcal::testing::nominal_machine("wXYfZt");
-  const auto g = parse_grid(m, "X=-100:100:5,Z=7");
+  const auto g = parse_grid(m, "X=-100:100:5,Z=7", "test grid");
   EXPECT_EQ(g[0], (std::vector<double>{-100, -50, 0, 50, 100}));
   EXPECT_EQ(g[1], (std::vector<double>{0}));
   EXPECT_EQ(g[2], (std::vector<double>{7}));
-  EXPECT_EQ(parse_grid(m, "Y=3:9:1")[1], (std::vector<double>{3}));
+  EXPECT_EQ(parse_grid(m, "Y=3:9:1", "test grid")[1], (std::vector<double>{3}));
 }
 
 TEST(Joints, RejectsBadSpecifications) {
   const Machine m = mtcal::testing::nominal_machine("wXYfZt");
   for (const char* s : {"", "X", "X=", "=1", "Q=1", "X=1,X=2", "X=abc", "XY=1", "X=1,,Y=2"})
-    EXPECT_THROW(parse_joint_values(m, s), InputError) << s;
+    EXPECT_THROW(parse_joint_values(m, s, "test"), InputError) << s;
   for (const char* s : {"X=1:2", "X=1:2:0", "X=1:2:2.5", "X=1:2:-3", "X=a:2:3", "X=1:2:3:4", "X=1:2:1e9"})
-    EXPECT_THROW(parse_grid(m, s), InputError) << s;
+    EXPECT_THROW(parse_grid(m, s, "test grid"), InputError) << s;
   // Extreme ends do not overflow into NaN, and the last value is exactly the upper end.
-  const auto g = parse_grid(m, "X=-1e308:1e308:3")[0];
+  const auto g = parse_grid(m, "X=-1e308:1e308:3", "test grid")[0];
   EXPECT_EQ(g, (std::vector<double>{-1e308, 0.0, 1e308}));
-  EXPECT_EQ(parse_grid(m, "X=0.1:0.7:7")[0].back(), 0.7);
+  EXPECT_EQ(parse_grid(m, "X=0.1:0.7:7", "test grid")[0].back(), 0.7);
 }
 
 TEST(Joints, TravelCheckNamesTheAxisAndItsLimits) {

@@ -1,6 +1,7 @@
 // Contribution of each error to a volumetric error or to a difference of two (Fletcher 2009, 4 and 5).
 #pragma once
 
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -38,6 +39,25 @@ ContributionAnalysis contributions(const Machine& m, std::span<const double> a, 
 // The value of an error at a configuration: a motion error's function at its axis's position
 // (and direction), a location or mounting error's constant. mm or rad.
 double error_value(const Machine& m, const ErrorName& error, std::span<const double> q, std::span<const std::int8_t> dir = {});
+
+// Effect of one error on the tool at a configuration, per 1 um of a translational error or per
+// 1 urad of a rotational one: dx dy dz in um, rx ry rz in urad (the exact model's first-order
+// sensitivity, workpiece frame).
+struct ErrorEffect {
+  ErrorName error;
+  bool rotational = false;  // per 1 urad; else per 1 um
+  std::array<double, 6> effect{};
+};
+// Effects of the machine's errors at q, in the order of Machine::parameters(); only those named
+// in `only` when it is not empty. About the machine as given: clear its errors first for the
+// errors' definitions (exact zeros where an error has no effect); with its errors the effects
+// include second-order cross terms.
+std::vector<ErrorEffect> single_error_effects(const Machine& m, std::span<const double> q,
+                                              std::span<const ErrorName> only = {});
+
+// The machine's parameters in Machine::parameters() order, only those with a non-zero value
+// when nonzero_only.
+std::vector<ErrorParameter> listed_parameters(const Machine& m, bool nonzero_only);
 
 // Every error of the machine that has a non-zero parameter, in Machine::parameters() order.
 std::vector<ErrorName> nonzero_errors(const Machine& m);

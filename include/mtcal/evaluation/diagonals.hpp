@@ -25,6 +25,8 @@ struct DiagonalProfile {
   std::vector<double> position;    // mm from the start, along the diagonal
   std::vector<double> deviation;   // mm
   double range = 0.0;              // max - min of the deviations, mm
+
+  double largest_deviation() const;  // max |deviation|, mm
 };
 
 // The 4 body diagonals (PPP, NPP, PNP, PPN: the signs of travel along the first, second and

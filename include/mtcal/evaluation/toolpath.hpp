@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mtcal/io/gcode.hpp"
+#include "mtcal/evaluation/motion_program.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/model/machine.hpp"
 
@@ -83,14 +83,14 @@ struct ToolpathSummary {
   int max_line = 0;                // its block's source line
   std::vector<double> max_at;      // its joints, internal units, chain order
   std::array<std::array<double, 2>, 6> range{};  // min, max of dx dy dz rx ry rz
-  GcodeCounts counts;              // of the reader
+  GcodeCounts counts;              // of the move source
 };
 
 // Reads, interpolates and evaluates a program in chunks of options.chunk points, calling sink
 // on each evaluated chunk (it is reused afterwards). Memory does not grow with the program.
 // Throws InputError (source:line) for a point outside an axis's travel when travel_check is on,
 // Error for a non-finite error.
-ToolpathSummary simulate_toolpath(const ErrorModel& model, GcodeReader& reader, const ToolpathOptions& options,
+ToolpathSummary simulate_toolpath(const ErrorModel& model, MoveSource& moves, const ToolpathOptions& options,
                                   const std::function<void(const ToolpathChunk&)>& sink = {});
 ToolpathSummary simulate_toolpath(const ErrorModel& model, const GcodeProgram& program,
                                   const ToolpathOptions& options,

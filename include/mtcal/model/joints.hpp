@@ -16,6 +16,13 @@ std::string_view joint_unit_name(const Axis& ax);
 // 30 deg reads 30 again after its trip through radians.
 double to_user_units(const Axis& ax, double q);
 
+// A box of joint values, internal units, chain order. An axis not named spans everything
+// (lo = -inf, hi = +inf, named false).
+struct JointBox {
+  std::vector<double> lo, hi;
+  std::vector<bool> named;
+};
+
 // Largest joint value accepted, in the user's unit (mm or deg): a kilometre, or 2800 turns.
 constexpr double kMaxJointValue = 1e6;
 

@@ -1,4 +1,4 @@
-#include "eval_report.hpp"
+#include "mtcal/report/error_map.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "mtcal/io/joints.hpp"
 #include "mtcal/report/report.hpp"
 
-namespace mtcal::cli {
+namespace mtcal {
 
 nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>& samples,
                                  const std::vector<PlotMark>& marks, bool join_marks) {
@@ -53,13 +53,17 @@ constexpr std::size_t kMagnitudes = 2'000'000;  // values behind the distributio
 constexpr std::size_t kLargest = 10;
 }  // namespace
 
-EvalReport::EvalReport(const ErrorModel& model, std::size_t count)
+ErrorStreamReport::ErrorStreamReport(const ErrorModel& model, std::size_t count)
     : model_(model),
       count_(count),
       stride_(std::max<std::size_t>(1, (count + kMapPoints - 1) / kMapPoints)),
       magnitude_stride_(std::max<std::size_t>(1, (count + kMagnitudes - 1) / kMagnitudes)) {}
 
-void EvalReport::add(std::size_t index, const double* q, const double* e) {
+void ErrorStreamReport::add(const ErrorChunk& c) {
+  for (std::size_t r = 0; r < c.size(); ++r) add(c.first + r, &c.q[r * c.axes], &c.error[r * 6]);
+}
+
+void ErrorStreamReport::add(std::size_t index, const double* q, const double* e) {
   const std::size_t n = model_.axis_count();
   const double t = std::hypot(e[0], e[1], e[2]);
   if (index % magnitude_stride_ == 0) magnitudes_.push_back(static_cast<float>(t * 1e3));
@@ -80,14 +84,13 @@ void EvalReport::add(std::size_t index, const double* q, const double* e) {
   }
 }
 
-void EvalReport::write(const std::string& path, const std::string& command, const std::string& points_file,
-                       const std::string& grid, const std::vector<std::string>& parameter_files) const {
+void ErrorStreamReport::write(const std::string& path, const ReportSources& sources) const {
   const Machine& m = model_.machine();
-  Report r("Volumetric error of " + m.name, command);
+  Report r("Volumetric error of " + m.name, sources.command);
   r.set_machine(m);
-  for (const auto& p : parameter_files) r.add_input("parameter file", p);
-  if (!points_file.empty()) r.add_input("configurations", points_file);
-  if (!grid.empty()) r.add_figure("grid", grid, "mm, deg");
+  for (const auto& p : sources.parameter_files) r.add_input("parameter file", p);
+  if (!sources.points_file.empty()) r.add_input("configurations", sources.points_file);
+  if (!sources.grid.empty()) r.add_figure("grid", sources.grid, "mm, deg");
   r.add_figure("configurations", fmt::format("{}", count_), "");
   r.add_figure("tool length", fmt::format("{:g}", m.tool.length), "mm");
   auto config_text = [&](const std::vector<double>& q) { return format_joint_values(m, q, ", "); };
@@ -148,4 +151,58 @@ void EvalReport::write(const std::string& path, const std::string& command, cons
   r.write(path);
 }
 
-}  // namespace mtcal::cli
+void write_parameters_report(const std::string& path, const Machine& m, std::span<const ErrorParameter> listed,
+                             std::size_t all, bool nonzero_only, const ReportSources& sources) {
+  Report r("Error parameters of " + m.name, sources.command);
+  r.set_machine(m);
+  for (const auto& p : sources.parameter_files) r.add_input("parameter file", p);
+  std::vector<std::vector<std::string>> rows;
+  nlohmann::json names = nlohmann::json::array(), values = names;
+  for (const auto& p : listed) {
+    rows.push_back({p.name, std::string(to_string(p.error.kind)), p.unit, fmt::format("{:.9g}", p.value)});
+    if (p.error.kind != ErrorKind::Motion && p.value != 0.0) {
+      names.push_back(p.name);
+      values.push_back(p.value * (is_rotation(p.error.component) ? 1e6 : 1e3));
+    }
+  }
+  r.add_figure("parameters", fmt::format("{} of {}", listed.size(), all), nonzero_only ? "(non-zero)" : "");
+  r.add_section("Location and mounting errors");
+  r.add_plot("Location and mounting errors (µm for translations, µrad for rotations)",
+             {{"data", {{{"type", "bar"}, {"x", names}, {"y", values}, {"name", "value"}}}},
+              {"layout", {{"yaxis", {{"title", {{"text", "µm or µrad"}}}}}}}});
+  r.add_section("Every parameter");
+  r.add_table("Parameters in internal units (mm, rad); motion-error coefficients per mm^i or rad^i",
+              {"name", "kind", "unit", "value"}, rows);
+  r.write(path);
+}
+
+void write_effects_report(const std::string& path, const Machine& m, std::span<const double> at,
+                          const std::string& around, std::span<const ErrorEffect> effects,
+                          const ReportSources& sources) {
+  std::vector<std::vector<std::string>> rows;
+  nlohmann::json bar_names = nlohmann::json::array(), bar_values = nlohmann::json::array();
+  for (const auto& e : effects) {
+    const auto& v = e.effect;
+    const std::string name = e.error.str();
+    rows.push_back({name, std::string(to_string(e.error.kind)), e.rotational ? "1 µrad" : "1 µm",
+                    fmt::format("{:.4g}", v[0]), fmt::format("{:.4g}", v[1]), fmt::format("{:.4g}", v[2]),
+                    fmt::format("{:.4g}", v[3]), fmt::format("{:.4g}", v[4]), fmt::format("{:.4g}", v[5])});
+    bar_names.push_back(name);
+    bar_values.push_back(std::hypot(v[0], v[1], v[2]));
+  }
+  Report r("Single-error effects on " + m.name, sources.command);
+  r.set_machine(m);
+  for (const auto& p : sources.parameter_files) r.add_input("parameter file", p);
+  r.add_figure("configuration", format_joint_values(m, std::vector<double>(at.begin(), at.end()), ", "), "mm, deg");
+  r.add_figure("tool length", fmt::format("{:g}", m.tool.length), "mm");
+  r.add_figure("linearised about", around, "machine");
+  r.add_section("Effect of each error on the tool point");
+  r.add_plot("Size of the tool-point displacement per 1 µm or 1 µrad of each error (µm)",
+             {{"data", {{{"type", "bar"}, {"x", bar_names}, {"y", bar_values}, {"name", "|(dx, dy, dz)|"}}}},
+              {"layout", {{"yaxis", {{"title", {{"text", "µm per µm or µrad"}}}}}}}});
+  r.add_table("Effect per 1 µm (translational errors) or 1 µrad (rotational errors), workpiece frame",
+              {"error", "kind", "per", "dx (µm)", "dy (µm)", "dz (µm)", "rx (µrad)", "ry (µrad)", "rz (µrad)"}, rows);
+  r.write(path);
+}
+
+}  // namespace mtcal

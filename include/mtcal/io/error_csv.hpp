@@ -1,0 +1,61 @@
+// CSV files of volumetric errors: configuration lists read, evaluated errors written (eval, volumetric, diagonals, toolpath).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mtcal/evaluation/diagonals.hpp"
+#include "mtcal/evaluation/error_stream.hpp"
+#include "mtcal/evaluation/toolpath.hpp"
+#include "mtcal/evaluation/volumetric.hpp"
+#include "mtcal/model/machine.hpp"
+
+namespace mtcal {
+
+class AtomicFile;
+
+// Stable names of a volumetric error's components: CSV columns and JSON keys.
+inline constexpr const char* kErrorKeys[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
+
+// Configurations from a CSV file: columns named by axis letters (mm, deg; axes without a column
+// at 0), optional dir<axis> columns of +1/-1/0, and the error columns of an evaluated file (read
+// and ignored, so that an output reads back). Every row is checked (check_joints, with the
+// travels when travel_check) before any work; errors name file, line and column.
+ConfigurationList read_configurations(const Machine& m, const std::string& path, bool travel_check);
+
+// Writes evaluated chunks of a stream as CSV: axis columns (mm, deg), dir<axis> columns when
+// the stream has directions, dx dy dz (mm) rx ry rz (rad). Replaces path only on commit().
+class ErrorStreamCsv {
+ public:
+  ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions);
+  ~ErrorStreamCsv();
+  void write(const ErrorChunk& chunk);
+  void commit();
+
+ private:
+  const Machine& machine_;
+  std::unique_ptr<AtomicFile> file_;
+};
+
+// An error map as CSV: axis columns (mm, deg), dir<axis> when the map has directions, dx dy dz (mm).
+void write_error_map_csv(const std::string& path, const Machine& m, const ErrorMap& map);
+
+// Diagonal displacement profiles as CSV: diagonal, position (mm), deviation (mm).
+void write_diagonals_csv(const std::string& path, const std::vector<DiagonalProfile>& diagonals);
+
+// Tool-path points as CSV: line, n, motion, s (mm), axes in chain order (mm, deg), dx dy dz
+// (mm), rx ry rz (rad). Replaces path only on commit().
+class ToolpathCsv {
+ public:
+  ToolpathCsv(const std::string& path, const Machine& m);
+  ~ToolpathCsv();
+  void write(const ToolpathChunk& chunk);
+  void commit();
+
+ private:
+  std::vector<double> inv_;  // internal unit -> user unit, per axis
+  std::unique_ptr<AtomicFile> file_;
+};
+
+}  // namespace mtcal
