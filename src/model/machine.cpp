@@ -135,7 +135,8 @@ void walk(M& m, Fn&& fn) {
   }
 }
 
-// What a valid parameter name looks like on this machine, with examples of its own names.
+}  // namespace
+
 std::string parameter_naming(const Machine& m) {
   std::string motion, location;
   walk(m, [&](const ErrorParameter& p, auto&&) {
@@ -148,8 +149,6 @@ std::string parameter_naming(const Machine& m) {
   if (!location.empty()) s += ", a location error such as " + location;
   return s + " or a mounting error such as EXt, EAw";
 }
-
-}  // namespace
 
 std::vector<ErrorParameter> Machine::parameters() const {
   std::vector<ErrorParameter> out;

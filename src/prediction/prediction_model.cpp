@@ -61,7 +61,7 @@ double component_raw(const PredictionModel& m, std::size_t i, const std::functio
   if (c.valid && (x < c.valid->first || x > c.valid->second)) {
     const std::string msg = fmt::format("{}: {} = {:g} is outside the validity range [{:g}, {:g}] of the model ({})",
                                         c.name, c.variable, x, c.valid->first, c.valid->second,
-                                        strict ? "refused by --strict" : "extrapolated");
+                                        strict ? "refused: strict validity" : "extrapolated");
     if (strict) throw InputError({where, 0, c.variable}, msg);
     warnings.push_back(msg);
   }

@@ -118,4 +118,8 @@ struct Machine {
   void clear_errors();
 };
 
+// What a valid parameter name looks like on this machine, with examples of its own names: the
+// expectation half of every "unknown parameter" message.
+std::string parameter_naming(const Machine& m);
+
 }  // namespace mtcal
