@@ -26,8 +26,8 @@ using mtcal::ErrorModel;
 using mtcal::Machine;
 
 constexpr std::size_t kBatch = 65536;
-constexpr std::size_t kChecked = 100;       // configurations checked against ErrorModel::evaluate
-constexpr double kTolerance = 1e-12;        // mm / rad
+constexpr std::size_t kChecked = 100;  // configurations checked against ErrorModel::evaluate
+constexpr double kTolerance = 1e-12;   // mm / rad
 constexpr std::uint64_t kConfigSeed = 20240601;
 constexpr std::uint64_t kErrorSeed = 7;
 
@@ -64,8 +64,7 @@ const Case* get_case(Which which, std::string& error) {
   if (!built[i]) {
     built[i] = true;
     try {
-      cases[i] = std::make_unique<Case>(which == Which::ThreeAxis ? three_axis_machine()
-                                                                  : five_axis_machine());
+      cases[i] = std::make_unique<Case>(which == Which::ThreeAxis ? three_axis_machine() : five_axis_machine());
     } catch (const std::exception& e) {
       errors[i] = e.what();
     }
@@ -130,8 +129,8 @@ void naive(benchmark::State& state, Which which) {
     const double d = std::max((ref.translation - nv.translation).cwiseAbs().maxCoeff(),
                               (ref.rotation - nv.rotation).cwiseAbs().maxCoeff());
     if (!(d <= kTolerance)) {  // also catches NaN
-      const std::string msg = "naive baseline differs from ErrorModel::evaluate at configuration " +
-                              std::to_string(i) + " by " + std::to_string(d);
+      const std::string msg = "naive baseline differs from ErrorModel::evaluate at configuration " + std::to_string(i) +
+                              " by " + std::to_string(d);
       state.SkipWithError(msg.c_str());
       return;
     }

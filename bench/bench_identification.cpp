@@ -14,7 +14,7 @@ namespace {
 
 using namespace mtcal;
 
-const std::vector<std::string> kLocation{"EC0Y", "EB0Z", "EA0Z", "EX0C", "EY0C", "EA0C", "EB0C",
+const std::vector<std::string> kLocation{"EC0Y", "EB0Z", "EA0Z", "EX0C", "EY0C",  "EA0C",  "EB0C",
                                          "EX0B", "EZ0B", "EA0B", "EC0B", "EXX.1", "EYY.1", "EZZ.1"};
 const std::vector<std::string> kNineteen{"EX0C", "EY0C", "EA0C", "EB0C", "EC0C", "EX0B", "EZ0B", "EA0B", "EB0B", "EC0B",
                                          "EX0X", "EB0X", "EC0X", "EY0Y", "EA0Y", "EC0Y", "EZ0Z", "EA0Z", "EB0Z"};

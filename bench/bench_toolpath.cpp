@@ -31,9 +31,17 @@ std::string generate_program() {
     if ((dx > 0 && x >= 150) || (dx < 0 && x <= 0)) dx = -dx;
     const double nx = x + dx;
     switch (i % 4) {
-      case 0: fmt::format_to(std::back_inserter(text), "N{} G1 X{:.3f} Y{:.3f} F1200\n", i + 3, nx, y + 0.3); y += 0.3; break;
-      case 1: fmt::format_to(std::back_inserter(text), "N{} G3 X{:.3f} Y{:.3f} I{:.3f} J0\n", i + 3, nx, y, dx / 2); break;
-      case 2: fmt::format_to(std::back_inserter(text), "N{} G1 X{:.3f} Y{:.3f}\n", i + 3, nx, y - 0.3); y -= 0.3; break;
+      case 0:
+        fmt::format_to(std::back_inserter(text), "N{} G1 X{:.3f} Y{:.3f} F1200\n", i + 3, nx, y + 0.3);
+        y += 0.3;
+        break;
+      case 1:
+        fmt::format_to(std::back_inserter(text), "N{} G3 X{:.3f} Y{:.3f} I{:.3f} J0\n", i + 3, nx, y, dx / 2);
+        break;
+      case 2:
+        fmt::format_to(std::back_inserter(text), "N{} G1 X{:.3f} Y{:.3f}\n", i + 3, nx, y - 0.3);
+        y -= 0.3;
+        break;
       default: fmt::format_to(std::back_inserter(text), "N{} G2 X{:.3f} Y{:.3f} R0.5\n", i + 3, nx, y); break;
     }
     x = nx;

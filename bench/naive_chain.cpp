@@ -23,8 +23,7 @@ Mat4 rot(const Eigen::Matrix3d& r) {
 
 // Exact error transform Trans(dx, dy, dz) Rz(c) Ry(b) Rx(a) of six components.
 Mat4 error_matrix(const std::array<double, 6>& e) {
-  const Eigen::Matrix3d r = (Eigen::AngleAxisd(e[5], Vec3::UnitZ()) *
-                             Eigen::AngleAxisd(e[4], Vec3::UnitY()) *
+  const Eigen::Matrix3d r = (Eigen::AngleAxisd(e[5], Vec3::UnitZ()) * Eigen::AngleAxisd(e[4], Vec3::UnitY()) *
                              Eigen::AngleAxisd(e[3], Vec3::UnitX()))
                                 .toRotationMatrix();
   return trans(Vec3(e[0], e[1], e[2])) * rot(r);
@@ -40,9 +39,7 @@ Mat4 rigid_inverse(const Mat4& m) {
 
 // Index of the location component that is the axis's zero position: the translation along a
 // linear axis, the rotation about a rotary one.
-int zero_component(const Axis& ax) {
-  return ax.kind == AxisKind::Linear ? ax.direction_axis : 3 + ax.direction_axis;
-}
+int zero_component(const Axis& ax) { return ax.kind == AxisKind::Linear ? ax.direction_axis : 3 + ax.direction_axis; }
 
 // Nominal motion of the axis by s: along or about its direction through the origin.
 Mat4 motion(const Axis& ax, double s) {
@@ -52,8 +49,8 @@ Mat4 motion(const Axis& ax, double s) {
 
 }  // namespace
 
-std::vector<Mat4> naive_chain(const Machine& m, std::span<const double> q,
-                              std::span<const std::int8_t> dir, bool errors) {
+std::vector<Mat4> naive_chain(const Machine& m, std::span<const double> q, std::span<const std::int8_t> dir,
+                              bool errors) {
   std::vector<Mat4> f;
   if (errors) f.push_back(rigid_inverse(error_matrix(m.workpiece_mounting)));
   f.push_back(trans(-m.workpiece.origin));
@@ -105,8 +102,7 @@ Mat4 naive_product(const std::vector<Mat4>& factors) {
   return t;
 }
 
-VolumetricError naive_evaluate(const Machine& m, std::span<const double> q,
-                               std::span<const std::int8_t> dir) {
+VolumetricError naive_evaluate(const Machine& m, std::span<const double> q, std::span<const std::int8_t> dir) {
   const Mat4 actual = naive_product(naive_chain(m, q, dir, true));
   const Mat4 nominal = naive_product(naive_chain(m, q, dir, false));
   const Eigen::Matrix3d dr = actual.block<3, 3>(0, 0) * nominal.block<3, 3>(0, 0).transpose();

@@ -20,14 +20,13 @@ namespace mtcal::bench {
 //   nominal: W^-1 prod_k [Trans(c) M(q) Trans(-c) Trans(r) Trans(-r)] S Trans(-l a)
 // (c: rotary axis point, 0 for linear axes; r: axis point; z: zero-position error; L: location
 // error without zero position; E_k: motion errors at q_k; E = Trans(d) Rz(c) Ry(b) Rx(a)).
-std::vector<Eigen::Matrix4d> naive_chain(const Machine& m, std::span<const double> q,
-                                         std::span<const std::int8_t> dir, bool errors);
+std::vector<Eigen::Matrix4d> naive_chain(const Machine& m, std::span<const double> q, std::span<const std::int8_t> dir,
+                                         bool errors);
 
 // Product of the factors in order.
 Eigen::Matrix4d naive_product(const std::vector<Eigen::Matrix4d>& factors);
 
 // Actual minus nominal tool point and rotation vector of R_actual R_nominal^T.
-VolumetricError naive_evaluate(const Machine& m, std::span<const double> q,
-                               std::span<const std::int8_t> dir);
+VolumetricError naive_evaluate(const Machine& m, std::span<const double> q, std::span<const std::int8_t> dir);
 
 }  // namespace mtcal::bench

@@ -20,7 +20,9 @@ int main(int argc, char** argv) {
   Machine m = mtcal::testing::nominal_machine("wCAYXfZt");
   for (int q = 0; q < 4; ++q) m.set_parameter(names[q], truth[q]);
   const auto axis = NominalRotaryAxis::from(m.axis('C'));
-  std::printf("| probe noise σ | estimator | RMS error EX0C µm | EY0C µm | EA0C µrad | EB0C µrad | mean reported u: EX0C µm | EA0C µrad |\n");
+  std::printf(
+      "| probe noise σ | estimator | RMS error EX0C µm | EY0C µm | EA0C µrad | EB0C µrad | mean reported u: EX0C µm | "
+      "EA0C µrad |\n");
   std::printf("|---:|---|---:|---:|---:|---:|---:|---:|\n");
   struct Level {
     double noise_um;
@@ -54,10 +56,9 @@ int main(int argc, char** argv) {
     for (int e = 0; e < 2; ++e) {
       const double n = trials;
       std::printf("| %.1f µm%s | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f |\n", noise_um,
-                  level.outlier ? " + one 25 µm outlier" : "",
-                  e == 0 ? "triples, 2σ rule" : "least squares", std::sqrt(se[e][0] / n) * 1e3,
-                  std::sqrt(se[e][1] / n) * 1e3, std::sqrt(se[e][2] / n) * 1e6, std::sqrt(se[e][3] / n) * 1e6,
-                  u_sum[e] / n * 1e3, ua_sum[e] / n * 1e6);
+                  level.outlier ? " + one 25 µm outlier" : "", e == 0 ? "triples, 2σ rule" : "least squares",
+                  std::sqrt(se[e][0] / n) * 1e3, std::sqrt(se[e][1] / n) * 1e3, std::sqrt(se[e][2] / n) * 1e6,
+                  std::sqrt(se[e][3] / n) * 1e6, u_sum[e] / n * 1e3, ua_sum[e] / n * 1e6);
     }
   }
   return 0;

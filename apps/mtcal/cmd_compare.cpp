@@ -34,7 +34,8 @@ std::string summary_text(const MethodComparison& c) {
       s.parameters, s.both_methods, s.overlap, s.overlap + s.no_overlap, s.with_correlation, kStrongCorrelation,
       s.strong_correlation, s.strong_positive, s.strong_negative);
   for (const auto& name : s.one_method_only) {
-    const auto p = std::find_if(c.parameters.begin(), c.parameters.end(), [&](const auto& x) { return x.name == name; });
+    const auto p =
+        std::find_if(c.parameters.begin(), c.parameters.end(), [&](const auto& x) { return x.name == name; });
     t += fmt::format("only {} measured {}\n", c.methods[p->stats[0].n > 0 ? 0 : 1], name);
   }
   return t;
@@ -82,8 +83,9 @@ std::vector<Command> add_compare_commands(CLI::App& app) {
   c->add_option("DATA", o->data,
                 "Long CSV with the header method,test,parameter,value: exactly two methods, one row per value")
       ->required();
-  c->add_flag("--json", o->json_out, "Machine-readable output: methods, parameters (mean, stdev, n keyed by method; "
-                                     "abs_diff, overlap, pearson_r), summary");
+  c->add_flag("--json", o->json_out,
+              "Machine-readable output: methods, parameters (mean, stdev, n keyed by method; "
+              "abs_diff, overlap, pearson_r), summary");
   c->add_option("--report", o->report, "Write an HTML report: bar chart of the means with ±1σ error bars, the table");
   return {{c, [o] { return run_compare(*o); }}};
 }

@@ -27,12 +27,13 @@ struct Iso2302Options {
 };
 
 void print_positioning(const PositioningEvaluation& e) {
-  std::cout << fmt::format("ISO 230-2: {} targets x {} runs per direction, unit {}\n", e.targets.size(), e.runs, e.unit);
+  std::cout << fmt::format("ISO 230-2: {} targets x {} runs per direction, unit {}\n", e.targets.size(), e.runs,
+                           e.unit);
   std::cout << fmt::format("{:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "target", "mean_up",
                            "mean_down", "B_i", "s_up", "s_down", "R_i", "mean");
   for (const auto& t : e.targets)
-    std::cout << fmt::format("{:>10g} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f}\n", t.target,
-                             t.mean_up, t.mean_down, t.reversal, t.s_up, t.s_down, t.R, t.mean);
+    std::cout << fmt::format("{:>10g} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f}\n",
+                             t.target, t.mean_up, t.mean_down, t.reversal, t.s_up, t.s_down, t.R, t.mean);
   std::cout << fmt::format("A {:.5f} (up {:.5f}, down {:.5f})   R {:.5f} (up {:.5f}, down {:.5f})\n", e.A, e.A_up,
                            e.A_down, e.R, e.R_up, e.R_down);
   std::cout << fmt::format("B {:.5f} (mean {:.5f})   E {:.5f} (up {:.5f}, down {:.5f})   M {:.5f}   [{}]\n", e.B,
@@ -84,20 +85,23 @@ void check_directions(const BallbarTrace& t, const BallbarOptions& bo) {
   };
   const bool cw = has(CircleDirection::CW), ccw = has(CircleDirection::CCW);
   if (cw != ccw)
-    throw InputError({t.source, 0, ""}, fmt::format("G(b) and H need both directions; the trace has only {} samples (use "
-                                                    "--direction to evaluate one)",
-                                                    cw ? "cw" : "ccw"));
+    throw InputError({t.source, 0, ""},
+                     fmt::format("G(b) and H need both directions; the trace has only {} samples (use "
+                                 "--direction to evaluate one)",
+                                 cw ? "cw" : "ccw"));
 }
 
-void print_ballbar(const BallbarCliOptions& o, const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis) {
+void print_ballbar(const BallbarCliOptions& o, const BallbarEvaluation& e,
+                   const std::optional<TraceDiagnosis>& diagnosis) {
   std::cout << fmt::format("ISO 230-4 circular test, plane {}, radius {:g} mm{}\n", o.plane, o.radius,
                            o.feed > 0 ? fmt::format(", feed {:g} mm/min", o.feed) : std::string());
   for (const auto& [name, d] : {std::pair{"CW ", e.cw}, std::pair{"CCW", e.ccw}})
     if (d)
-      std::cout << fmt::format("{}  G {:.2f} um (minimum zone {:.2f})  F max {:.2f} min {:.2f} um  ({} samples)\n", name,
-                               d->G * 1e3, d->G_minimum_zone * 1e3, d->F_max * 1e3, d->F_min * 1e3, d->points);
-  if (e.G_b) std::cout << fmt::format("G(b) {:.2f} um   H {:.2f} um   mean radial deviation {:.2f} um\n", *e.G_b * 1e3,
-                                      *e.H * 1e3, *e.F_mean_bidirectional * 1e3);
+      std::cout << fmt::format("{}  G {:.2f} um (minimum zone {:.2f})  F max {:.2f} min {:.2f} um  ({} samples)\n",
+                               name, d->G * 1e3, d->G_minimum_zone * 1e3, d->F_max * 1e3, d->F_min * 1e3, d->points);
+  if (e.G_b)
+    std::cout << fmt::format("G(b) {:.2f} um   H {:.2f} um   mean radial deviation {:.2f} um\n", *e.G_b * 1e3,
+                             *e.H * 1e3, *e.F_mean_bidirectional * 1e3);
   if (diagnosis) {
     std::cout << "diagnostics (least-squares fit of the trace model; share of the fitted trace):\n";
     for (const auto& term : diagnosis->terms)
@@ -138,25 +142,33 @@ int run_ballbar(const BallbarCliOptions& o) {
 
 std::vector<Command> add_evaluation_commands(CLI::App& app) {
   auto o = std::make_shared<Iso2302Options>();
-  auto* c = app.add_subcommand("iso230-2", "ISO 230-2 linear positioning: accuracy A, repeatability R, reversal B, "
-                                           "systematic and mean positioning errors E and M, per target and per axis");
-  c->add_option("file", o->file, "Measurements: CSV target,run,direction,measured (direction up/down or +/-), or "
-                                 "the key=value .dat form (TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT)")
+  auto* c = app.add_subcommand("iso230-2",
+                               "ISO 230-2 linear positioning: accuracy A, repeatability R, reversal B, "
+                               "systematic and mean positioning errors E and M, per target and per axis");
+  c->add_option("file", o->file,
+                "Measurements: CSV target,run,direction,measured (direction up/down or +/-), or "
+                "the key=value .dat form (TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT)")
       ->required();
   c->add_option("--unit", o->unit, "Unit of a CSV's values (a .dat file says its own)")->capture_default_str();
   c->add_option("--format", o->format, "Input format: auto (by .dat extension or content), csv or dat")
       ->check(CLI::IsMember({"auto", "csv", "dat"}))
       ->capture_default_str();
-  c->add_flag("--json", o->json_out, "Machine-readable output: A A_up A_down B B_mean R R_up R_down E E_up E_down M at "
-                                     "the top level (input unit), per-target values under targets");
+  c->add_flag("--json", o->json_out,
+              "Machine-readable output: A A_up A_down B B_mean R R_up R_down E E_up E_down M at "
+              "the top level (input unit), per-target values under targets");
   c->add_option("--report", o->report, "Write an HTML report: deviations with ±2s bands per direction, tables");
   auto b = std::make_shared<BallbarCliOptions>();
-  auto* bb = app.add_subcommand("ballbar", "ISO 230-4 circular test: G per direction (least-squares and minimum-zone "
-                                           "centres), G(b), H, F from a ballbar trace; or --predict the trace of a "
-                                           "machine model");
+  auto* bb = app.add_subcommand("ballbar",
+                                "ISO 230-4 circular test: G per direction (least-squares and minimum-zone "
+                                "centres), G(b), H, F from a ballbar trace; or --predict the trace of a "
+                                "machine model");
   bb->add_option("trace", b->trace, "Trace CSV direction,angle_deg,radius_mm (direction cw or ccw)");
-  bb->add_option("--radius", b->radius, "Nominal radius, mm")->check(CLI::PositiveNumber & kFinite)->capture_default_str();
-  bb->add_option("--plane", b->plane, "Test plane: XY, YZ or ZX")->check(CLI::IsMember({"XY", "YZ", "ZX"}))->capture_default_str();
+  bb->add_option("--radius", b->radius, "Nominal radius, mm")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  bb->add_option("--plane", b->plane, "Test plane: XY, YZ or ZX")
+      ->check(CLI::IsMember({"XY", "YZ", "ZX"}))
+      ->capture_default_str();
   bb->add_option("--feed", b->feed, "Feed, mm/min (recorded in the output)")->check(kFinite);
   bb->add_option("--overshoot-start", b->overshoot_start, "Degrees of travel ignored after each direction's start")
       ->check(CLI::Range(0.0, 180.0) & kFinite);
@@ -164,14 +176,16 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
       ->check(CLI::Range(0.0, 180.0) & kFinite);
   bb->add_option("--direction", b->direction, "Evaluate one direction only: cw or ccw (no G(b), no H)")
       ->check(CLI::IsMember({"cw", "ccw"}));
-  bb->add_flag("--json", b->json_out, "Machine-readable output: G_cw G_ccw G_b H F_max F_min F_mean_bidirectional "
-                                      "(mm), per direction under cw and ccw");
+  bb->add_flag("--json", b->json_out,
+               "Machine-readable output: G_cw G_ccw G_b H F_max F_min F_mean_bidirectional "
+               "(mm), per direction under cw and ccw");
   bb->add_option("--report", b->report, "Write an HTML report with the polar plot of both directions");
   bb->add_flag("--predict", b->predict, "Predict the trace of --machine instead of evaluating one");
   bb->add_option("--machine,-m", b->model.machine, "Machine file, with --predict");
   bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict");
   bb->add_option("--centre", b->centre, "Centre of the circle as joint values, e.g. \"X=0,Y=0,Z=-100\" (mm, deg)");
-  bb->add_option("--step-deg", b->step_deg, "Angle between predicted samples, deg")->check(CLI::Range(0.01, 10.0) & kFinite);
+  bb->add_option("--step-deg", b->step_deg, "Angle between predicted samples, deg")
+      ->check(CLI::Range(0.01, 10.0) & kFinite);
   bb->add_option("--out", b->out, "Trace CSV to write, with --predict");
   return {{c, [o] { return run_iso230_2(*o); }}, {bb, [b] { return run_ballbar(*b); }}};
 }

@@ -39,12 +39,15 @@ void add_estimate_options(CLI::App* c, EstimateOptions& e, bool required) {
                             "comma-separated or repeated; the artefact's ball centres and facet offsets always are")
                   ->delimiter(',');
   if (required) opt->required();
-  c->add_option("--scale-bar", e.scale_bars, "Calibrated distance between two balls: BALL:BALL:LENGTH (mm), e.g. 1:2:304.8; repeatable");
+  c->add_option("--scale-bar", e.scale_bars,
+                "Calibrated distance between two balls: BALL:BALL:LENGTH (mm), e.g. 1:2:304.8; repeatable");
   c->add_flag("--pretravel", e.pretravel, "Also estimate one probe pre-travel for all facet touches (mm)");
-  c->add_option("--sigma-um", e.sigma_um, "Standard deviation of a reading, um (weights; the uncertainties use the residuals)")
+  c->add_option("--sigma-um", e.sigma_um,
+                "Standard deviation of a reading, um (weights; the uncertainties use the residuals)")
       ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
-  c->add_option("--rank-tolerance", e.rank_tolerance, "Relative singular value below which a direction is unidentifiable")
+  c->add_option("--rank-tolerance", e.rank_tolerance,
+                "Relative singular value below which a direction is unidentifiable")
       ->check(CLI::Range(1e-15, 0.1))
       ->capture_default_str();
 }
@@ -68,11 +71,12 @@ void print_names(const char* label, const std::vector<std::string>& names) {
 }
 
 void print_identifiability(const Identifiability& id) {
-  std::cout << fmt::format("unknowns {} (machine parameters and the artefact's), rank {}; condition {} (all), {:.4g} "
-                           "(the identifiable ones)\n",
-                           id.columns.size(), id.rank,
-                           std::isfinite(id.condition) ? fmt::format("{:.4g}", id.condition) : std::string("infinite"),
-                           id.condition_identifiable);
+  std::cout << fmt::format(
+      "unknowns {} (machine parameters and the artefact's), rank {}; condition {} (all), {:.4g} "
+      "(the identifiable ones)\n",
+      id.columns.size(), id.rank,
+      std::isfinite(id.condition) ? fmt::format("{:.4g}", id.condition) : std::string("infinite"),
+      id.condition_identifiable);
   print_names("identifiable:", id.identifiable);
   print_names("NOT identifiable (excluded):", id.unidentifiable);
   for (const auto& d : id.null_directions) std::cout << "  cannot be separated: " << d << "\n";
@@ -103,15 +107,17 @@ int run_simulate(const SimulateOptions& o) {
   if (!o.out.empty()) AtomicFile check(o.out);
   const Simulation sim = simulate_probing(m, plan, so);
   if (!o.out.empty())
-    write_probing_csv(o.out, m, sim.measurements,
-                      fmt::format("Simulated by mtcal simulate: machine {}, plan {}, noise {:g} um, artefact error {:g} um, seed {}",
-                                  o.model.machine, o.plan, o.noise_um, o.artefact_um, o.seed));
+    write_probing_csv(
+        o.out, m, sim.measurements,
+        fmt::format("Simulated by mtcal simulate: machine {}, plan {}, noise {:g} um, artefact error {:g} um, seed {}",
+                    o.model.machine, o.plan, o.noise_um, o.artefact_um, o.seed));
   if (o.json_out) {
     std::cout << to_json(sim, o.noise_um, o.artefact_um, o.seed, o.out).dump(2) << "\n";
     return 0;
   }
-  std::cout << fmt::format("simulated {} probings ({} balls and facets) of {} on {}; noise {:g} um, artefact error {:g} um, seed {}\n",
-                           sim.measurements.records.size(), plan.features.size(), o.plan, m.name, o.noise_um, o.artefact_um, o.seed);
+  std::cout << fmt::format(
+      "simulated {} probings ({} balls and facets) of {} on {}; noise {:g} um, artefact error {:g} um, seed {}\n",
+      sim.measurements.records.size(), plan.features.size(), o.plan, m.name, o.noise_um, o.artefact_um, o.seed);
   if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
   return 0;
 }
@@ -132,8 +138,8 @@ void print_estimates(const IdentificationRun& run) {
   const IdentificationResult& r = run.result;
   const auto& mc = run.monte_carlo;
   const bool truth = run.deviation.has_value();  // an imposed machine was given
-  std::cout << fmt::format("{:<10} {:>14} {:>12} {:<8}{}{}\n", "parameter", "value", "u", "unit", mc ? "   u (Monte Carlo)" : "",
-                           truth ? "      imposed" : "");
+  std::cout << fmt::format("{:<10} {:>14} {:>12} {:<8}{}{}\n", "parameter", "value", "u", "unit",
+                           mc ? "   u (Monte Carlo)" : "", truth ? "      imposed" : "");
   for (std::size_t i = 0; i < r.parameters.size(); ++i) {
     const auto& p = r.parameters[i];
     std::cout << fmt::format("{:<10} {:>14.6g} {:>12.3g} {:<8}", p.name, p.value, p.u, p.unit);
@@ -146,16 +152,19 @@ void print_estimates(const IdentificationRun& run) {
 void print_identification(const IdentifyOptions& o, const IdentificationRun& run) {
   const IdentificationResult& r = run.result;
   const auto& mc = run.monte_carlo;
-  std::cout << fmt::format("{} residuals, {} unknowns, rank {}, condition {:.4g}; {} in {} iterations ({:.1f} ms)\n", r.residuals,
-                           r.unknowns, r.identifiability.rank, r.identifiability.condition, r.converged ? "converged" : "NOT converged",
-                           r.iterations, run.seconds * 1e3);
-  std::cout << fmt::format("residual rms: balls {:.3f} um, facets {:.3f} um, scale bars {:.3f} um; sigma0 {:.3g}\n", r.rms_ball * 1e3,
-                           r.rms_facet * 1e3, r.rms_scale_bar * 1e3, r.sigma0);
+  std::cout << fmt::format("{} residuals, {} unknowns, rank {}, condition {:.4g}; {} in {} iterations ({:.1f} ms)\n",
+                           r.residuals, r.unknowns, r.identifiability.rank, r.identifiability.condition,
+                           r.converged ? "converged" : "NOT converged", r.iterations, run.seconds * 1e3);
+  std::cout << fmt::format("residual rms: balls {:.3f} um, facets {:.3f} um, scale bars {:.3f} um; sigma0 {:.3g}\n",
+                           r.rms_ball * 1e3, r.rms_facet * 1e3, r.rms_scale_bar * 1e3, r.sigma0);
   print_estimates(run);
   for (const auto& u : r.identifiability.unidentifiable) std::cout << "NOT identifiable, excluded: " << u << "\n";
   for (const auto& d : r.identifiability.null_directions) std::cout << "  cannot be separated: " << d << "\n";
-  if (r.pretravel_estimated) std::cout << fmt::format("pre-travel {:.4f} um +- {:.4f}\n", r.pretravel * 1e3, r.pretravel_u * 1e3);
-  if (mc) std::cout << fmt::format("Monte Carlo: {} runs ({} failed) in {:.2f} s\n", mc->runs, mc->failed, run.monte_carlo_seconds);
+  if (r.pretravel_estimated)
+    std::cout << fmt::format("pre-travel {:.4f} um +- {:.4f}\n", r.pretravel * 1e3, r.pretravel_u * 1e3);
+  if (mc)
+    std::cout << fmt::format("Monte Carlo: {} runs ({} failed) in {:.2f} s\n", mc->runs, mc->failed,
+                             run.monte_carlo_seconds);
   if (run.va) {
     std::cout << fmt::format("VA of the identified model over {}: {:.3f} um", o.workspace, *run.va * 1e3);
     if (mc)
@@ -164,7 +173,8 @@ void print_identification(const IdentifyOptions& o, const IdentificationRun& run
     std::cout << "\n";
   }
   if (run.deviation)
-    std::cout << fmt::format("e_V against {}: max {:.4f} um, rms {:.4f} um\n", o.truth, run.deviation->max * 1e3, run.deviation->rms * 1e3);
+    std::cout << fmt::format("e_V against {}: max {:.4f} um, rms {:.4f} um\n", o.truth, run.deviation->max * 1e3,
+                             run.deviation->rms * 1e3);
   if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
 }
@@ -177,7 +187,7 @@ int run_identify(const IdentifyOptions& o) {
   const Machine prior = load(o.model);
   const ProbingPlan meas = read_probing_csv(prior, o.measurements);
   IdentificationOptions opt = to_options(o.est);
-  opt.loss = o.loss == "huber" ? IdentificationOptions::Loss::Huber
+  opt.loss = o.loss == "huber"    ? IdentificationOptions::Loss::Huber
              : o.loss == "cauchy" ? IdentificationOptions::Loss::Cauchy
                                   : IdentificationOptions::Loss::None;
   std::optional<Machine> truth;
@@ -195,7 +205,8 @@ int run_identify(const IdentifyOptions& o) {
   const IdentificationRun run = identify_and_assess(prior, meas, opt, ao);
   if (!o.out.empty()) write_identified_parameters(o.out, prior, run.result, o.measurements);
   if (!o.report.empty())
-    identification_report(prior, run, {o.model.params, o.measurements, o.truth, o.workspace}, command_line()).write(o.report);
+    identification_report(prior, run, {o.model.params, o.measurements, o.truth, o.workspace}, command_line())
+        .write(o.report);
   if (o.json_out) {
     std::cout << to_json(run, o.out, o.report).dump(2) << "\n";
     return 0;
@@ -236,8 +247,9 @@ SubsetOptions subset_options(const IdentifiabilityOptions& o) {
 
 void print_subsets(const SubsetAnalysis& a, std::size_t choose, double seconds) {
   const std::vector<std::string>& names = a.candidates;  // resolved: errors expanded, duplicates removed
-  std::cout << fmt::format("{} of the {} subsets of {} among {} candidates give a full-rank model ({:.3f} s, {} partial subsets pruned)\n",
-                           a.full_rank, a.examined, choose, names.size(), seconds, a.pruned);
+  std::cout << fmt::format(
+      "{} of the {} subsets of {} among {} candidates give a full-rank model ({:.3f} s, {} partial subsets pruned)\n",
+      a.full_rank, a.examined, choose, names.size(), seconds, a.pruned);
   for (const auto& s : a.subsets) {
     std::string line = fmt::format("  cond {:>10.4g}", s.condition);
     if (!std::isnan(s.residue)) line += fmt::format("  residue {:.4g}", s.residue);
@@ -245,7 +257,8 @@ void print_subsets(const SubsetAnalysis& a, std::size_t choose, double seconds) 
     for (std::size_t i : s.members) line += " " + (i < names.size() ? names[i] : std::to_string(i));
     std::cout << line << "\n";
   }
-  if (a.full_rank > a.subsets.size()) std::cout << fmt::format("  ... {} more (--list)\n", a.full_rank - a.subsets.size());
+  if (a.full_rank > a.subsets.size())
+    std::cout << fmt::format("  ... {} more (--list)\n", a.full_rank - a.subsets.size());
 }
 
 int run_identifiability(const IdentifiabilityOptions& o) {
@@ -253,7 +266,8 @@ int run_identifiability(const IdentifiabilityOptions& o) {
   const ProbingPlan plan = read_probing_csv(m, o.plan);
   IdentificationOptions opt = to_options(o.est);
   if (o.choose == 0) {
-    if (o.est.estimate.empty()) throw InputError({"--estimate", 0, ""}, "expected --estimate, or --candidates with --choose");
+    if (o.est.estimate.empty())
+      throw InputError({"--estimate", 0, ""}, "expected --estimate, or --candidates with --choose");
     const Identifiability id = identifiability(m, plan, opt);
     if (o.json_out)
       std::cout << to_json(id).dump(2) << "\n";
@@ -279,58 +293,76 @@ std::vector<Command> add_identification_commands(CLI::App& app) {
   std::vector<Command> out;
   {
     auto o = std::make_shared<SimulateOptions>();
-    auto* c = app.add_subcommand("simulate", "Virtual machine (Viprey 2015 fig. 4): the readings a machine gives for a probing "
-                                             "plan (balls and facets at indexations), with noise and an uncalibrated artefact");
+    auto* c = app.add_subcommand("simulate",
+                                 "Virtual machine (Viprey 2015 fig. 4): the readings a machine gives for a probing "
+                                 "plan (balls and facets at indexations), with noise and an uncalibrated artefact");
     add_model_options(c, o->model);
     c->add_option("--plan", o->plan, "Probing plan CSV (docs/identification.md)")->required();
-    c->add_option("--noise-um", o->noise_um, "Standard deviation of each reading, um")->check(CLI::NonNegativeNumber & kFinite)->capture_default_str();
-    c->add_option("--artefact-error-um", o->artefact_um, "Standard deviation of the features' true positions about the plan's, um")
+    c->add_option("--noise-um", o->noise_um, "Standard deviation of each reading, um")
+        ->check(CLI::NonNegativeNumber & kFinite)
+        ->capture_default_str();
+    c->add_option("--artefact-error-um", o->artefact_um,
+                  "Standard deviation of the features' true positions about the plan's, um")
         ->check(CLI::NonNegativeNumber & kFinite)
         ->capture_default_str();
     c->add_option("--seed", o->seed, "Random seed")->capture_default_str();
-    c->add_option("--scale-bar", o->scale_bars, "Make two balls exactly this far apart: BALL:BALL:LENGTH (mm); repeatable");
+    c->add_option("--scale-bar", o->scale_bars,
+                  "Make two balls exactly this far apart: BALL:BALL:LENGTH (mm); repeatable");
     c->add_option("--out", o->out, "Measurement CSV to write (the plan's columns plus the readings X, Y, Z)");
     c->add_flag("--json", o->json_out, "Machine-readable output: records residuals noise_um seed truth out");
     out.push_back({c, [o] { return run_simulate(*o); }});
   }
   {
     auto o = std::make_shared<IdentifyOptions>();
-    auto* c = app.add_subcommand("identify", "Identify machine parameters from probing measurements: nonlinear least squares on "
-                                             "the exact model (Ceres), rank, conditioning, uncertainties, what is not identifiable");
+    auto* c =
+        app.add_subcommand("identify",
+                           "Identify machine parameters from probing measurements: nonlinear least squares on "
+                           "the exact model (Ceres), rank, conditioning, uncertainties, what is not identifiable");
     add_model_options(c, o->model);
-    c->add_option("--measurements", o->measurements, "Measurement CSV (docs/identification.md), e.g. from mtcal simulate")->required();
+    c->add_option("--measurements", o->measurements,
+                  "Measurement CSV (docs/identification.md), e.g. from mtcal simulate")
+        ->required();
     add_estimate_options(c, o->est, true);
     c->add_option("--loss", o->loss, "Robust loss on each probing: none, huber or cauchy (scale 3 sigma)")
         ->check(CLI::IsMember({"none", "huber", "cauchy"}))
         ->capture_default_str();
-    c->add_option("--monte-carlo", o->monte_carlo, "Runs of re-drawn noise for Monte Carlo uncertainties")->check(CLI::Range(0, 1000000));
+    c->add_option("--monte-carlo", o->monte_carlo, "Runs of re-drawn noise for Monte Carlo uncertainties")
+        ->check(CLI::Range(0, 1000000));
     c->add_option("--seed", o->seed, "Seed of the Monte Carlo runs")->capture_default_str();
-    c->add_option("--workspace", o->workspace, "Grid for the identified model's VA (and its Monte Carlo spread), e.g. "
-                                               "\"X=-300:300:7,Y=-250:250:7,Z=-300:300:7,B=0:90:3\"");
-    c->add_option("--truth", o->truth, "The imposed machine (simulations): e_V, the identified model against it over --workspace");
+    c->add_option("--workspace", o->workspace,
+                  "Grid for the identified model's VA (and its Monte Carlo spread), e.g. "
+                  "\"X=-300:300:7,Y=-250:250:7,Z=-300:300:7,B=0:90:3\"");
+    c->add_option("--truth", o->truth,
+                  "The imposed machine (simulations): e_V, the identified model against it over --workspace");
     c->add_option("--threads", o->threads, "Threads for Monte Carlo (0: all cores)")->check(CLI::Range(0, 1024));
     c->add_option("--out", o->out, "Parameter file with the identified errors (mtcal eval --params ...)");
     c->add_option("--report", o->report, "Write an HTML report");
-    c->add_flag("--json", o->json_out, "Machine-readable output: parameters{value u} rank condition rms_um unidentifiable ...");
+    c->add_flag("--json", o->json_out,
+                "Machine-readable output: parameters{value u} rank condition rms_um unidentifiable ...");
     out.push_back({c, [o] { return run_identify(*o); }});
   }
   {
     auto o = std::make_shared<IdentifiabilityOptions>();
-    auto* c = app.add_subcommand("identifiability", "What a probing plan can identify: rank and singular values of the scaled "
-                                                    "Jacobian, unidentifiable combinations; or every full-rank subset of K "
-                                                    "candidate parameters (Viprey 2015)");
+    auto* c = app.add_subcommand("identifiability",
+                                 "What a probing plan can identify: rank and singular values of the scaled "
+                                 "Jacobian, unidentifiable combinations; or every full-rank subset of K "
+                                 "candidate parameters (Viprey 2015)");
     add_model_options(c, o->model);
     c->add_option("--plan", o->plan, "Probing plan or measurement CSV")->required();
     add_estimate_options(c, o->est, false);
     c->add_option("--candidates", o->candidates, "Candidate parameters for the subset analysis")->delimiter(',');
     c->add_option("--choose", o->choose, "Subset size K")->check(CLI::Range(1, 64));
-    c->add_option("--always", o->always, "Parameters in every subset (e.g. the tool mounting positions)")->delimiter(',');
+    c->add_option("--always", o->always, "Parameters in every subset (e.g. the tool mounting positions)")
+        ->delimiter(',');
     c->add_option("--list", o->list, "Subsets listed, best first")->capture_default_str();
-    c->add_option("--sort", o->sort, "Rank subsets by condition number, or by residue of estimation (measurements only)")
+    c->add_option("--sort", o->sort,
+                  "Rank subsets by condition number, or by residue of estimation (measurements only)")
         ->check(CLI::IsMember({"condition", "residue"}))
         ->capture_default_str();
     c->add_option("--threads", o->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
-    c->add_flag("--json", o->json_out, "Machine-readable output: rank singular_values unidentifiable ...; with --choose: count subsets[parameters condition]");
+    c->add_flag("--json", o->json_out,
+                "Machine-readable output: rank singular_values unidentifiable ...; with --choose: count "
+                "subsets[parameters condition]");
     out.push_back({c, [o] { return run_identifiability(*o); }});
   }
   return out;

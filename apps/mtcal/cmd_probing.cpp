@@ -48,10 +48,12 @@ void check_rotary_options(const RotaryOptions& o) {
     throw InputError({"--sphere-diameter", 0, ""}, "expected the sphere diameter (mm) with --contacts");
   check_outputs({o.contacts, o.centres, o.machine}, {o.out, o.report});
   if (!o.out.empty() && o.machine.empty())
-    throw InputError({"--out", 0, ""}, "--out needs --machine: the position errors are relative to the axis's nominal "
-                                       "point, which the machine file gives");
+    throw InputError({"--out", 0, ""},
+                     "--out needs --machine: the position errors are relative to the axis's nominal "
+                     "point, which the machine file gives");
   if (o.reject_sigma != 0 && o.reject_sigma < 1)
-    throw InputError({"--reject-sigma", 0, ""}, fmt::format("expected 0 (no rejection) or at least 1, found {:g}", o.reject_sigma));
+    throw InputError({"--reject-sigma", 0, ""},
+                     fmt::format("expected 0 (no rejection) or at least 1, found {:g}", o.reject_sigma));
 }
 
 void print_rotary(const RotaryAxisResult& r, const RotaryOptions& o) {
@@ -86,13 +88,14 @@ int run_rotary(const RotaryOptions& o) {
     machine = load_machine(o.machine);
     axis = NominalRotaryAxis::from(machine->axis(o.axis[0]));
   }
-  IndexedCentres centres =
-      o.contacts.empty() ? read_centres_csv(o.centres, o.axis[0])
-                         : centres_from_contacts(read_contacts_csv(o.contacts, o.axis[0]),
-                                                 SphereProbing{o.sphere_diameter, o.stylus_diameter, o.max_rms});
+  IndexedCentres centres = o.contacts.empty()
+                               ? read_centres_csv(o.centres, o.axis[0])
+                               : centres_from_contacts(read_contacts_csv(o.contacts, o.axis[0]),
+                                                       SphereProbing{o.sphere_diameter, o.stylus_diameter, o.max_rms});
   if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
   if (!o.report.empty()) AtomicFile check(o.report);
-  RotaryAxisOptions options{o.method != "lsq", o.method != "triples", TriplesOptions{o.reject_sigma, o.bins, o.threads}};
+  RotaryAxisOptions options{o.method != "lsq", o.method != "triples",
+                            TriplesOptions{o.reject_sigma, o.bins, o.threads}};
   if (options.triples && centres.centres.size() > kMaxTriplesCentres)
     throw InputError({centres.source, 0, ""},
                      fmt::format("{} indexations make too many triples for --method triples/both (at most {}); use "
@@ -101,9 +104,10 @@ int run_rotary(const RotaryOptions& o) {
   const RotaryAxisResult r = locate_rotary_axis(axis, std::move(centres), options);
   // A circle of centres far from perpendicular to the axis means the wrong axis or wrong data.
   if (r.tilt() > 0.1)
-    throw InputError({"--axis", 0, o.axis},
-                     fmt::format("the centres turn about a line {:.1f} deg from the nominal direction of {}: wrong --axis?",
-                                 r.tilt() * 180 / std::numbers::pi, o.axis));
+    throw InputError(
+        {"--axis", 0, o.axis},
+        fmt::format("the centres turn about a line {:.1f} deg from the nominal direction of {}: wrong --axis?",
+                    r.tilt() * 180 / std::numbers::pi, o.axis));
   if (!o.out.empty()) write_rotary_parameters(o.out, r);
   if (!o.report.empty()) write_rotary_report(o.report, command_line(), machine ? &*machine : nullptr, r, o.max_rms);
   if (o.json_out) {
@@ -142,7 +146,8 @@ int run_sim(const SimOptions& o) {
   if (parts.size() != 3) throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + o.sphere + "'");
   for (int c = 0; c < 3; ++c) {
     const auto v = parse_number(parts[static_cast<std::size_t>(c)]);
-    if (!v) throw InputError({"--sphere", 0, ""}, "expected a number, found '" + parts[static_cast<std::size_t>(c)] + "'");
+    if (!v)
+      throw InputError({"--sphere", 0, ""}, "expected a number, found '" + parts[static_cast<std::size_t>(c)] + "'");
     sim.sphere[c] = *v;
   }
   if (!(o.sphere_diameter > 0) || !(o.stylus_diameter >= 0) || !(o.noise >= 0) || !std::isfinite(o.bias))
@@ -154,8 +159,9 @@ int run_sim(const SimOptions& o) {
   if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
   const auto probed = simulate_probing(m, sim);
   write_contacts_csv(o.out, m.axes[*k], probed);
-  std::cout << fmt::format("simulated {} indexations of {} x 5 contacts on {} (noise {} mm, trigger bias {} mm): wrote {}\n",
-                           probed.size(), o.axis, m.name, o.noise, o.bias, o.out);
+  std::cout << fmt::format(
+      "simulated {} indexations of {} x 5 contacts on {} (noise {} mm, trigger bias {} mm): wrote {}\n", probed.size(),
+      o.axis, m.name, o.noise, o.bias, o.out);
   return 0;
 }
 
@@ -172,15 +178,18 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
                 "CSV of probe contacts: the axis's angle (deg, column named by its letter), recorded stylus-tip "
                 "centre x,y,z (mm), approach_x,approach_y,approach_z (direction of probe motion)");
   r->add_option("--centres", ro->centres, "CSV of sphere centres already known: the axis's angle (deg), x,y,z (mm)");
-  r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)")->check(kFinite);
+  r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)")
+      ->check(kFinite);
   r->add_option("--stylus-diameter", ro->stylus_diameter, "Stylus tip diameter, mm (with --contacts)")->check(kFinite);
-  r->add_option("--machine", ro->machine, "Machine file giving the axis's nominal point and direction (default: "
-                                          "through the origin along its letter's axis)");
+  r->add_option("--machine", ro->machine,
+                "Machine file giving the axis's nominal point and direction (default: "
+                "through the origin along its letter's axis)");
   r->add_option("--method", ro->method, "Estimator: triples, lsq or both")
       ->check(CLI::IsMember({"triples", "lsq", "both"}))
       ->capture_default_str();
-  r->add_option("--reject-sigma", ro->reject_sigma, "Triples farther than this many standard deviations are "
-                                                    "rejected (0: none)")
+  r->add_option("--reject-sigma", ro->reject_sigma,
+                "Triples farther than this many standard deviations are "
+                "rejected (0: none)")
       ->check(CLI::Range(0.0, 100.0) & kFinite)
       ->capture_default_str();
   r->add_option("--max-rms", ro->max_rms, "Largest rms distance (mm) of contacts from their sphere")
@@ -188,26 +197,35 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
       ->capture_default_str();
   r->add_option("--bins", ro->bins, "Histogram bins of the triples' distributions")->check(CLI::Range(1, 10000));
   r->add_option("--threads", ro->threads, "Threads for the triples (0: all cores)")->check(CLI::Range(0, 4096));
-  r->add_flag("--json", ro->json_out, "Machine-readable output: ISO names in mm and rad, '_u' uncertainty, "
-                                      "'_spread' spread, triples' histograms");
-  r->add_option("--out", ro->out, "Write the location errors as a parameter file (mtcal eval --params ...); with "
-                                  "--method both the least-squares values");
-  r->add_option("--report", ro->report, "Write an HTML report: both estimators, centres and circle, residuals, "
-                                        "the triples' distributions");
+  r->add_flag("--json", ro->json_out,
+              "Machine-readable output: ISO names in mm and rad, '_u' uncertainty, "
+              "'_spread' spread, triples' histograms");
+  r->add_option("--out", ro->out,
+                "Write the location errors as a parameter file (mtcal eval --params ...); with "
+                "--method both the least-squares values");
+  r->add_option("--report", ro->report,
+                "Write an HTML report: both estimators, centres and circle, residuals, "
+                "the triples' distributions");
 
   auto so = std::make_shared<SimOptions>();
-  auto* s = app.add_subcommand("probe-sim", "Simulated touch-probe contacts on a sphere at indexations of a rotary "
-                                            "axis of a machine model (5-point protocol), with noise and trigger bias");
+  auto* s = app.add_subcommand("probe-sim",
+                               "Simulated touch-probe contacts on a sphere at indexations of a rotary "
+                               "axis of a machine model (5-point protocol), with noise and trigger bias");
   add_model_options(s, so->model);  // the machine's errors (with --params, --only, --set) are what the probing sees
-  s->add_option("--axis", so->axis, "Rotary axis that carries the workpiece, turned between indexations")->capture_default_str();
+  s->add_option("--axis", so->axis, "Rotary axis that carries the workpiece, turned between indexations")
+      ->capture_default_str();
   s->add_option("--angles", so->angles, "Indexations lo:hi:count in deg")->capture_default_str();
   s->add_option("--hold", so->hold, "Other joints, e.g. \"A=0\" (mm, deg; not named: 0)");
   s->add_option("--sphere", so->sphere, "Sphere centre at zero indexation, machine coordinates x,y,z in mm")
       ->capture_default_str();
   s->add_option("--sphere-diameter", so->sphere_diameter, "mm")->check(kFinite)->capture_default_str();
   s->add_option("--stylus-diameter", so->stylus_diameter, "mm")->check(kFinite)->capture_default_str();
-  s->add_option("--noise", so->noise, "Standard deviation of each recorded coordinate, mm")->check(kFinite)->capture_default_str();
-  s->add_option("--trigger-bias", so->bias, "Probe pre-travel along the approach, mm")->check(kFinite)->capture_default_str();
+  s->add_option("--noise", so->noise, "Standard deviation of each recorded coordinate, mm")
+      ->check(kFinite)
+      ->capture_default_str();
+  s->add_option("--trigger-bias", so->bias, "Probe pre-travel along the approach, mm")
+      ->check(kFinite)
+      ->capture_default_str();
   s->add_option("--seed", so->seed, "Random seed of the noise")->capture_default_str();
   s->add_option("--out", so->out, "Contacts CSV to write (input of mtcal rotary-axis --contacts)")->required();
   return {{r, [ro] { return run_rotary(*ro); }}, {s, [so] { return run_sim(*so); }}};

@@ -36,7 +36,8 @@ GcodePosition parse_origin(const Machine& m, const std::string& spec) {
   std::array<bool, 6> seen{};
   for (const auto& item : split_list(spec)) {
     const auto eq = item.find('=');
-    if (eq != 1) throw InputError({"--origin", 0, item}, "expected AXIS=VALUE items separated by commas, found '" + item + "'");
+    if (eq != 1)
+      throw InputError({"--origin", 0, item}, "expected AXIS=VALUE items separated by commas, found '" + item + "'");
     const char letter = item[0];
     const auto slot = std::find(std::begin(kGcodeAxes), std::end(kGcodeAxes), letter) - std::begin(kGcodeAxes);
     if (slot == 6 || !m.axis_index(letter))
@@ -144,8 +145,9 @@ std::vector<Command> add_toolpath_commands(CLI::App& app) {
       "and the volumetric error of the tool relative to the workpiece at each (Fletcher 2009, 4.3). See "
       "docs/toolpath.md");
   add_model_options(c, o->model);
-  c->add_option("--gcode", o->gcode, "G-code program (RS274 subset, docs/toolpath.md); axis words only for the "
-                                     "machine's axes")
+  c->add_option("--gcode", o->gcode,
+                "G-code program (RS274 subset, docs/toolpath.md); axis words only for the "
+                "machine's axes")
       ->required();
   c->add_option("--step", o->step, "Largest X Y Z path length between points, mm (default 0.5)")->check(kFinite);
   c->add_option("--angle-step", o->angle_step, "Largest A B C motion between points, deg (default 0.5)")
@@ -163,8 +165,9 @@ std::vector<Command> add_toolpath_commands(CLI::App& app) {
   c->add_flag("--json", o->json_out,
               "Machine-readable summary: points, blocks, path_length, ignored_words, rapids_skipped, max_error "
               "{value, line, at}, range {dx: [min, max], ...}, out, report");
-  c->add_option("--report", o->report,
-                "Write an HTML report: the path in 3D coloured by |error| with the error vectors, the errors along the path");
+  c->add_option(
+      "--report", o->report,
+      "Write an HTML report: the path in 3D coloured by |error| with the error vectors, the errors along the path");
   return {{c, [o] { return run_toolpath_command(*o); }}};
 }
 

@@ -51,7 +51,8 @@ void add_map_options(CLI::App* c, MapSource& s) {
 }
 
 ErrorMap build_map(const Machine& m, const ErrorModel& model, const MapSource& s) {
-  if (!s.grid.empty() == !s.points.empty()) throw InputError({"--grid", 0, ""}, "expected exactly one of --grid, --points");
+  if (!s.grid.empty() == !s.points.empty())
+    throw InputError({"--grid", 0, ""}, "expected exactly one of --grid, --points");
   if (!s.grid.empty())
     return grid_error_map(model, checked_grid(m, s.grid, !s.no_travel_check, 200'000'000), {s.threads});
   return error_map(model, read_configurations(m, s.points, !s.no_travel_check), s.points, {s.threads});
@@ -62,7 +63,8 @@ ReportSources sources(const ModelOptions& model, const MapSource& s) {
 }
 
 void print_contributions(const ContributionAnalysis& c, std::size_t top) {
-  std::cout << fmt::format("  {:<6} {:>10} {:>10} {:>10} {:>11} {:>8}\n", "error", "dx um", "dy um", "dz um", "along um", "share");
+  std::cout << fmt::format("  {:<6} {:>10} {:>10} {:>10} {:>11} {:>8}\n", "error", "dx um", "dy um", "dz um",
+                           "along um", "share");
   for (std::size_t k = 0; k < c.items.size() && k < top; ++k) {
     const auto& it = c.items[k];
     std::cout << fmt::format("  {:<6} {:>10} {:>10} {:>10} {:>11} {:>7.1f}%\n", it.error.str(), um(it.effect.x()),
@@ -95,7 +97,8 @@ VolumetricRequest volumetric_request(const Machine& m, const VolumetricOptions& 
   if (r.histogram && o.histogram != "auto") {
     const auto v = parse_number(o.histogram);
     if (!v || *v < 1 || *v > 1e6 || *v != std::floor(*v))
-      throw InputError({"--histogram", 0, ""}, "expected a bin count from 1 to 1e6 or 'auto', found '" + o.histogram + "'");
+      throw InputError({"--histogram", 0, ""},
+                       "expected a bin count from 1 to 1e6 or 'auto', found '" + o.histogram + "'");
     r.histogram_bins = static_cast<std::size_t>(*v);
   }
   if (o.group_angle || o.group_magnitude) {
@@ -111,34 +114,39 @@ void print_volumetric(const VolumetricOptions& o, const Machine& m, const ErrorM
                       double t_map) {
   const VolumetricAccuracy& va = s.va;
   std::cout << fmt::format("machine        {} ({})\n", m.name, m.topology.chain);
-  std::cout << fmt::format("points         {} ({:.6g} pairs); map {:.3f} s, exact VA {:.4f} s ({} distances computed)\n",
-                           va.points, va.pairs, t_map, s.seconds_va, va.distance_evaluations);
-  std::cout << fmt::format("VA             {} um  from {}  to {}\n", um(va.va.value), format_joint_values(m, config(map, va.va.i)),
-                           format_joint_values(m, config(map, va.va.j)));
+  std::cout << fmt::format(
+      "points         {} ({:.6g} pairs); map {:.3f} s, exact VA {:.4f} s ({} distances computed)\n", va.points,
+      va.pairs, t_map, s.seconds_va, va.distance_evaluations);
+  std::cout << fmt::format("VA             {} um  from {}  to {}\n", um(va.va.value),
+                           format_joint_values(m, config(map, va.va.i)), format_joint_values(m, config(map, va.va.j)));
   for (int c = 0; c < 3; ++c) {
     const auto& p = va.component[static_cast<std::size_t>(c)];
-    std::cout << fmt::format("VA {}           {} um  from {}  to {}\n", "xyz"[c], um(p.value), format_joint_values(m, config(map, p.i)),
-                             format_joint_values(m, config(map, p.j)));
+    std::cout << fmt::format("VA {}           {} um  from {}  to {}\n", "xyz"[c], um(p.value),
+                             format_joint_values(m, config(map, p.i)), format_joint_values(m, config(map, p.j)));
   }
   std::cout << "contributions to the critical difference (first order, largest first):\n";
   print_contributions(s.critical, 8);
   if (s.box_va)
-    std::cout << fmt::format("box {}: {} points, VA {} um (x {}, y {}, z {})\n", o.box, s.box_va->points, um(s.box_va->va.value),
-                             um(s.box_va->component[0].value), um(s.box_va->component[1].value), um(s.box_va->component[2].value));
+    std::cout << fmt::format("box {}: {} points, VA {} um (x {}, y {}, z {})\n", o.box, s.box_va->points,
+                             um(s.box_va->va.value), um(s.box_va->component[0].value), um(s.box_va->component[1].value),
+                             um(s.box_va->component[2].value));
   for (const auto& b : s.scan)
     std::cout << fmt::format("box {:5.3f} of the map: {:>9} points, VA {} um\n", b.fraction, b.points, um(b.va.value));
   if (s.pairs) {
     const auto& h = s.pairs->histogram;
-    std::cout << fmt::format("pairs          mean {:.3f} um, 50% {:.3f}, 90% {:.3f}, 95% {:.3f}, 99% {:.3f} um ({} bins of {:.3f} um, {:.3f} s)\n",
-                             s.pairs->mean * 1e3, h.quantile(0.5) * 1e3, h.quantile(0.9) * 1e3, h.quantile(0.95) * 1e3,
-                             h.quantile(0.99) * 1e3, h.counts.size(), h.width * 1e3, s.seconds_histogram);
+    std::cout << fmt::format(
+        "pairs          mean {:.3f} um, 50% {:.3f}, 90% {:.3f}, 95% {:.3f}, 99% {:.3f} um ({} bins of {:.3f} um, "
+        "{:.3f} s)\n",
+        s.pairs->mean * 1e3, h.quantile(0.5) * 1e3, h.quantile(0.9) * 1e3, h.quantile(0.95) * 1e3,
+        h.quantile(0.99) * 1e3, h.counts.size(), h.width * 1e3, s.seconds_histogram);
   }
   if (s.grouping) {
     const auto& g = *s.grouping;
-    std::cout << fmt::format("grouping       angle {:g}, magnitude {:g}: {} groups, {} records kept, {:.6g} comparisons "
-                             "({:.1f}% fewer); VA {} um ({:+.3f}% of exact)\n",
-                             g.options.angle_tolerance, g.options.magnitude_tolerance, g.result.groups, g.result.kept.size(),
-                             g.result.comparisons, g.comparison_reduction_percent, um(g.result.va.value), g.difference_percent);
+    std::cout << fmt::format(
+        "grouping       angle {:g}, magnitude {:g}: {} groups, {} records kept, {:.6g} comparisons "
+        "({:.1f}% fewer); VA {} um ({:+.3f}% of exact)\n",
+        g.options.angle_tolerance, g.options.magnitude_tolerance, g.result.groups, g.result.kept.size(),
+        g.result.comparisons, g.comparison_reduction_percent, um(g.result.va.value), g.difference_percent);
   }
   if (!o.out.empty()) std::cout << "wrote          " << o.out << "\n";
   if (!o.report.empty()) std::cout << "report         " << o.report << "\n";
@@ -199,7 +207,9 @@ ContributionStudy contribution_study(const Machine& m, const ErrorModel& model, 
   if (!o.pair.empty()) {
     const auto semi = o.pair.find(';');
     if (semi == std::string::npos || o.pair.find(';', semi + 1) != std::string::npos)
-      throw InputError({"--pair", 0, ""}, "expected two configurations separated by ';', e.g. \"X=0,Y=0;X=500,Y=400\", found '" + o.pair + "'");
+      throw InputError({"--pair", 0, ""},
+                       "expected two configurations separated by ';', e.g. \"X=0,Y=0;X=500,Y=400\", found '" + o.pair +
+                           "'");
     auto b = parse_joint_values(m, o.pair.substr(0, semi), "--pair");
     auto a = parse_joint_values(m, o.pair.substr(semi + 1), "--pair");
     check_joints(m, b, "--pair", travel);
@@ -212,10 +222,12 @@ ContributionStudy contribution_study(const Machine& m, const ErrorModel& model, 
 void print_contribution_study(const ContributionOptions& o, const Machine& m, const ContributionStudy& s) {
   const ContributionAnalysis& c = s.analysis;
   if (s.b.empty())
-    std::cout << fmt::format("error at {}: ({}, {}, {}) um\n", format_joint_values(m, s.a), um(c.exact.x()), um(c.exact.y()), um(c.exact.z()));
+    std::cout << fmt::format("error at {}: ({}, {}, {}) um\n", format_joint_values(m, s.a), um(c.exact.x()),
+                             um(c.exact.y()), um(c.exact.z()));
   else
-    std::cout << fmt::format("difference e(to) - e(from), from {} to {}: ({}, {}, {}) um, |.| {} um\n", format_joint_values(m, s.b),
-                             format_joint_values(m, s.a), um(c.exact.x()), um(c.exact.y()), um(c.exact.z()), um(c.exact.norm()));
+    std::cout << fmt::format("difference e(to) - e(from), from {} to {}: ({}, {}, {}) um, |.| {} um\n",
+                             format_joint_values(m, s.b), format_joint_values(m, s.a), um(c.exact.x()), um(c.exact.y()),
+                             um(c.exact.z()), um(c.exact.norm()));
   if (s.va) std::cout << fmt::format("VA {} um: that is the critical pair of the map\n", um(s.va->va.value));
   print_contributions(c, o.top);
   if (!s.what_if.empty()) {
@@ -265,9 +277,11 @@ JointBox diagonal_box(const Machine& m, const DiagonalCommandOptions& o) {
   JointBox box = parse_box(m, o.box, "--box");
   for (std::size_t k = 0; k < m.axes.size(); ++k)
     if (!box.named[k]) {
-      if (m.axes[k].kind == AxisKind::Linear && (m.axes[k].letter == 'X' || m.axes[k].letter == 'Y' || m.axes[k].letter == 'Z'))
+      if (m.axes[k].kind == AxisKind::Linear &&
+          (m.axes[k].letter == 'X' || m.axes[k].letter == 'Y' || m.axes[k].letter == 'Z'))
         throw InputError({"--box", 0, std::string(1, m.axes[k].letter)},
-                         fmt::format("expected a range lo:hi for {} (the box's linear axes), found none", m.axes[k].letter));
+                         fmt::format("expected a range lo:hi for {} (the box's linear axes), found none",
+                                     m.axes[k].letter));
       box.lo[k] = box.hi[k] = 0.0;
     }
   check_joints(m, box.lo, "--box", !o.no_travel_check);
@@ -276,7 +290,8 @@ JointBox diagonal_box(const Machine& m, const DiagonalCommandOptions& o) {
 }
 
 void print_diagonals(const DiagonalCommandOptions& o, const std::vector<DiagonalProfile>& diagonals) {
-  std::cout << fmt::format("{:<16} {:>10} {:>12} {:>12} {:>12}\n", "diagonal", "length mm", "range um", "end um", "max |d| um");
+  std::cout << fmt::format("{:<16} {:>10} {:>12} {:>12} {:>12}\n", "diagonal", "length mm", "range um", "end um",
+                           "max |d| um");
   for (const auto& d : diagonals)
     std::cout << fmt::format("{:<16} {:>10.1f} {:>12} {:>12} {:>12}\n", d.name, d.length, um(d.range),
                              um(d.deviation.back()), um(d.largest_deviation()));
@@ -293,7 +308,8 @@ int run_diagonals(const DiagonalCommandOptions& o) {
   if (!o.out.empty()) AtomicFile probe(o.out);
   const auto diagonals = diagonal_displacements(model, box.lo, box.hi, {o.points, !o.no_face});
   if (!o.out.empty()) write_diagonals_csv(o.out, diagonals);
-  if (!o.report.empty()) write_diagonals_report(o.report, m, diagonals, o.box, {command_line(), o.model.params, "", ""});
+  if (!o.report.empty())
+    write_diagonals_report(o.report, m, diagonals, o.box, {command_line(), o.model.params, "", ""});
   if (!o.json_out) {
     print_diagonals(o, diagonals);
     return 0;
@@ -312,55 +328,70 @@ std::vector<Command> add_volumetric_commands(CLI::App& app) {
   {
     auto o = std::make_shared<VolumetricOptions>();
     auto* c = app.add_subcommand(
-        "volumetric", "Volumetric accuracy (Fletcher 2009): the exact largest difference between the error vectors of "
-                      "any two points of a grid or list of configurations, per component too, with the critical pair "
-                      "and what makes it; optional pair histogram, reduced volumes and Fletcher's grouping");
+        "volumetric",
+        "Volumetric accuracy (Fletcher 2009): the exact largest difference between the error vectors of "
+        "any two points of a grid or list of configurations, per component too, with the critical pair "
+        "and what makes it; optional pair histogram, reduced volumes and Fletcher's grouping");
     add_model_options(c, o->model);
     add_map_options(c, o->source);
-    c->add_option("--box", o->box, "Also the VA of a sub-box of the map, e.g. \"X=0:250,Y=0:200\" (lo:hi; axes not named: all)");
+    c->add_option("--box", o->box,
+                  "Also the VA of a sub-box of the map, e.g. \"X=0:250,Y=0:200\" (lo:hi; axes not named: all)");
     c->add_option("--box-scan", o->box_scan, "VA of N boxes centred on --centre, sides 1/N, 2/N .. 1 of the map's")
         ->check(CLI::Range(1, 1000));
     c->add_option("--centre", o->centre, "Centre of the --box-scan boxes (default: the middle of the map)");
-    c->add_option("--histogram", o->histogram, "Histogram of |e_i - e_j| over all pairs and of |e_i|: a bin count or 'auto'");
-    c->add_option("--group-angle", o->group_angle, "Fletcher's grouping: angle tolerance (sum of unit-vector component "
-                                                   "differences; default 0.1 when only --group-magnitude is given)")
+    c->add_option("--histogram", o->histogram,
+                  "Histogram of |e_i - e_j| over all pairs and of |e_i|: a bin count or 'auto'");
+    c->add_option("--group-angle", o->group_angle,
+                  "Fletcher's grouping: angle tolerance (sum of unit-vector component "
+                  "differences; default 0.1 when only --group-magnitude is given)")
         ->check(kFinite);
-    c->add_option("--group-magnitude", o->group_magnitude, "Fletcher's grouping: magnitude tolerance (default 0.9)")->check(kFinite);
+    c->add_option("--group-magnitude", o->group_magnitude, "Fletcher's grouping: magnitude tolerance (default 0.9)")
+        ->check(kFinite);
     c->add_option("--out", o->out, "Write the error map as CSV: axis columns (mm, deg), dx, dy, dz (mm)");
-    c->add_option("--report", o->report, "Write an HTML report: critical pair, error map, contributions, distributions");
-    c->add_flag("--json", o->json_out, "Machine-readable output: points pairs va va_x va_y va_z critical_pair ... (mm)");
+    c->add_option("--report", o->report,
+                  "Write an HTML report: critical pair, error map, contributions, distributions");
+    c->add_flag("--json", o->json_out,
+                "Machine-readable output: points pairs va va_x va_y va_z critical_pair ... (mm)");
     out.push_back({c, [o] { return run_volumetric(*o); }});
   }
   {
     auto o = std::make_shared<ContributionOptions>();
     auto* c = app.add_subcommand(
-        "contributions", "Contribution of every error (first order, ranked, um and %) to the error at a configuration, "
-                         "to the difference of two, or to a map's critical pair with the exact VA gained by removing "
-                         "each error (Fletcher 2009, 5)");
+        "contributions",
+        "Contribution of every error (first order, ranked, um and %) to the error at a configuration, "
+        "to the difference of two, or to a map's critical pair with the exact VA gained by removing "
+        "each error (Fletcher 2009, 5)");
     add_model_options(c, o->model);
     add_map_options(c, o->source);
     c->add_option("--at", o->at, "One configuration, e.g. \"X=100,Y=50,Z=-20\" (mm, deg)");
-    c->add_option("--pair", o->pair, "Two configurations FROM;TO, e.g. \"X=0,Y=0,Z=0;X=500,Y=400,Z=-300\": e(TO) - e(FROM)");
+    c->add_option("--pair", o->pair,
+                  "Two configurations FROM;TO, e.g. \"X=0,Y=0,Z=0;X=500,Y=400,Z=-300\": e(TO) - e(FROM)");
     c->add_option("--top", o->top, "Errors listed")->check(CLI::Range(1, 100000))->capture_default_str();
     c->add_flag("--no-what-if", o->no_what_if, "With --grid/--points: skip the VA with each error removed");
     c->add_option("--report", o->report, "Write an HTML report");
-    c->add_flag("--json", o->json_out, "Machine-readable output: exact first_order residual items[error effect along share] (mm)");
+    c->add_flag("--json", o->json_out,
+                "Machine-readable output: exact first_order residual items[error effect along share] (mm)");
     out.push_back({c, [o] { return run_contributions(*o); }});
   }
   {
     auto o = std::make_shared<DiagonalCommandOptions>();
-    auto* c = app.add_subcommand("diagonals", "ISO 230-6 diagonal displacement tests simulated on the model: the 4 body "
-                                              "diagonals and 12 face diagonals of a box, error along each and its range");
+    auto* c = app.add_subcommand("diagonals",
+                                 "ISO 230-6 diagonal displacement tests simulated on the model: the 4 body "
+                                 "diagonals and 12 face diagonals of a box, error along each and its range");
     add_model_options(c, o->model);
-    c->add_option("--box", o->box, "The box, e.g. \"X=0:500,Y=0:400,Z=-300:0\" (mm; rotary axes as single values, "
-                                   "default 0)")
+    c->add_option("--box", o->box,
+                  "The box, e.g. \"X=0:500,Y=0:400,Z=-300:0\" (mm; rotary axes as single values, "
+                  "default 0)")
         ->required();
-    c->add_option("--points", o->points, "Targets per diagonal, ends included")->check(CLI::Range(2, 1000000))->capture_default_str();
+    c->add_option("--points", o->points, "Targets per diagonal, ends included")
+        ->check(CLI::Range(2, 1000000))
+        ->capture_default_str();
     c->add_flag("--no-face", o->no_face, "Body diagonals only");
     c->add_flag("--no-travel-check", o->no_travel_check, "Allow a box outside the axes' travels");
     c->add_option("--out", o->out, "Write CSV: diagonal, position (mm), deviation (mm)");
     c->add_option("--report", o->report, "Write an HTML report with the deviation curves");
-    c->add_flag("--json", o->json_out, "Machine-readable output: diagonals[name from to length direction range position deviation] (mm)");
+    c->add_flag("--json", o->json_out,
+                "Machine-readable output: diagonals[name from to length direction range position deviation] (mm)");
     out.push_back({c, [o] { return run_diagonals(*o); }});
   }
   return out;

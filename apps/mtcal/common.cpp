@@ -90,8 +90,7 @@ std::vector<std::string> split_list(const std::string& s) {
 }
 
 void add_model_options(CLI::App* cmd, ModelOptions& o) {
-  cmd->add_option("--machine,-m", o.machine, "Machine file (YAML, see docs/machine-file.md)")
-      ->required();
+  cmd->add_option("--machine,-m", o.machine, "Machine file (YAML, see docs/machine-file.md)")->required();
   cmd->add_option("--params", o.params,
                   "Parameter file(s) whose errors replace the machine's (e.g. from mtcal rotary-axis --out); "
                   "repeatable, applied in order before --only and --set");
@@ -120,8 +119,7 @@ Machine load(const ModelOptions& o) {
   }
   for (const auto& s : o.set) {
     auto eq = s.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
+    if (eq == std::string::npos || eq == 0) throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
     const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
     const auto v = parse_number(value);
     if (!v) throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");

@@ -88,8 +88,10 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
   const ErrorModel model(m);
   ConfigurationList list;
   GridValues grid;
-  if (!o.points.empty()) list = read_configurations(m, o.points, !o.no_travel_check);
-  else grid = checked_grid(m, o.grid, !o.no_travel_check);
+  if (!o.points.empty())
+    list = read_configurations(m, o.points, !o.no_travel_check);
+  else
+    grid = checked_grid(m, o.grid, !o.no_travel_check);
   const auto source = o.points.empty() ? ConfigurationSource::grid(grid) : ConfigurationSource::list(list);
   std::optional<ErrorStreamCsv> file;
   if (!o.out.empty()) file.emplace(o.out, m, source.has_directions());
@@ -100,10 +102,13 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
   }
   StreamOptions so{o.threads, std::size_t{1} << 20, {}};
   so.progress = stream_progress(source.size(), so.chunk);
-  const StreamSummary summary = evaluate_stream(model, source, [&](const ErrorChunk& c) {
-    if (report) report->add(c);
-    if (file) file->write(c);
-  }, so);
+  const StreamSummary summary = evaluate_stream(
+      model, source,
+      [&](const ErrorChunk& c) {
+        if (report) report->add(c);
+        if (file) file->write(c);
+      },
+      so);
   if (so.progress) std::cerr << "\r" << std::string(60, ' ') << "\r" << std::flush;
   if (file) file->commit();
   if (report) report->write(o.report, {command_line(), o.model.params, o.points, o.grid});
@@ -141,7 +146,8 @@ int run_errors(const ErrorsOptions& o) {
   const Machine m = load(o.model);
   const auto listed = listed_parameters(m, o.nonzero);
   if (!o.report.empty())
-    write_parameters_report(o.report, m, listed, m.parameter_count(), o.nonzero, {command_line(), o.model.params, "", ""});
+    write_parameters_report(o.report, m, listed, m.parameter_count(), o.nonzero,
+                            {command_line(), o.model.params, "", ""});
   if (o.json_out) {
     std::cout << to_json(m, std::span<const ErrorParameter>(listed)).dump(2) << "\n";
     return 0;
@@ -191,7 +197,8 @@ int run_effects(const EffectsOptions& o) {
   check_joints(m, q, "--at", !o.no_travel_check);
   const auto wanted = wanted_errors(m, o.errors);
   const auto effects = single_error_effects(m, q, wanted);
-  if (!o.report.empty()) write_effects_report(o.report, m, q, o.around, effects, {command_line(), o.model.params, "", ""});
+  if (!o.report.empty())
+    write_effects_report(o.report, m, q, o.around, effects, {command_line(), o.model.params, "", ""});
   if (o.json_out)
     std::cout << to_json(m, q, o.around, effects).dump(2) << "\n";
   else
@@ -201,17 +208,21 @@ int run_effects(const EffectsOptions& o) {
 
 Command add_eval_command(CLI::App& app) {
   auto o = std::make_shared<EvalOptions>();
-  auto* eval = app.add_subcommand("eval", "Volumetric error (dx dy dz in mm, rx ry rz in rad) of the tool "
-                                          "relative to the workpiece at joint configurations");
+  auto* eval = app.add_subcommand("eval",
+                                  "Volumetric error (dx dy dz in mm, rx ry rz in rad) of the tool "
+                                  "relative to the workpiece at joint configurations");
   add_model_options(eval, o->model);
-  eval->add_option("--at", o->at, "One configuration, e.g. \"X=100,Y=50,Z=-20,B=30,C=90\" (mm, deg; "
-                                  "axes not named are 0)");
-  eval->add_option("--points", o->points, "CSV of configurations: columns named by axis letters (mm, deg), "
-                                          "optional dirX ... = +1/-1 directions of motion");
+  eval->add_option("--at", o->at,
+                   "One configuration, e.g. \"X=100,Y=50,Z=-20,B=30,C=90\" (mm, deg; "
+                   "axes not named are 0)");
+  eval->add_option("--points", o->points,
+                   "CSV of configurations: columns named by axis letters (mm, deg), "
+                   "optional dirX ... = +1/-1 directions of motion");
   eval->add_option("--grid", o->grid, "Full grid, e.g. \"X=-300:300:7,B=-90:90:5\" (lo:hi:count per axis)");
   eval->add_option("--out", o->out, "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV");
-  eval->add_option("--report", o->report, "Write an HTML report (error map, distribution, largest errors; "
-                                          "self-contained, opens offline) of a --points or --grid run");
+  eval->add_option("--report", o->report,
+                   "Write an HTML report (error map, distribution, largest errors; "
+                   "self-contained, opens offline) of a --points or --grid run");
   eval->add_flag("--json", o->json_out, "Machine-readable output (keys dx dy dz rx ry rz for --at)");
   eval->add_flag("--no-travel-check", o->no_travel_check, "Evaluate outside the axes' travel too");
   eval->add_option("--threads", o->threads, "Threads for batches (0: all cores)")->check(CLI::Range(0, 4096));
@@ -220,8 +231,9 @@ Command add_eval_command(CLI::App& app) {
 
 Command add_errors_command(CLI::App& app) {
   auto o = std::make_shared<ErrorsOptions>();
-  auto* errors = app.add_subcommand("errors", "List every error parameter of a machine: name, kind, "
-                                              "internal unit, value");
+  auto* errors = app.add_subcommand("errors",
+                                    "List every error parameter of a machine: name, kind, "
+                                    "internal unit, value");
   add_model_options(errors, o->model);
   errors->add_flag("--json", o->json_out, "Machine-readable output");
   errors->add_flag("--nonzero", o->nonzero, "Only parameters whose value is not zero");
@@ -231,16 +243,18 @@ Command add_errors_command(CLI::App& app) {
 
 Command add_effects_command(CLI::App& app) {
   auto o = std::make_shared<EffectsOptions>();
-  auto* effects = app.add_subcommand(
-      "effects", "Effect of each single error on the tool at one configuration: dx dy dz (um) and rx ry rz "
-                 "(urad) per 1 um or 1 urad of the error (first-order sensitivity of the exact model)");
+  auto* effects =
+      app.add_subcommand("effects",
+                         "Effect of each single error on the tool at one configuration: dx dy dz (um) and rx ry rz "
+                         "(urad) per 1 um or 1 urad of the error (first-order sensitivity of the exact model)");
   add_model_options(effects, o->model);
   effects->add_option("--at", o->at, "The configuration, e.g. \"X=100,B=30\" (mm, deg; axes not named are 0)")
       ->required();
   effects->add_option("--errors", o->errors, "Only these errors, comma-separated (e.g. EXX,EC0Y,EX0C)");
-  effects->add_option("--around", o->around,
-                      "Linearise about the error-free machine (nominal, the errors' definitions) or about the "
-                      "machine with its errors (actual)")
+  effects
+      ->add_option("--around", o->around,
+                   "Linearise about the error-free machine (nominal, the errors' definitions) or about the "
+                   "machine with its errors (actual)")
       ->check(CLI::IsMember({"nominal", "actual"}))
       ->capture_default_str();
   effects->add_flag("--json", o->json_out, "Machine-readable output (keys error kind per dx dy dz rx ry rz)");
@@ -297,8 +311,9 @@ int run_command(const std::vector<Command>& commands) {
 
 int main(int argc, char** argv) {
   set_command_line(argc, argv);
-  CLI::App app{"mtcal - geometric accuracy of CNC machine tools: error models, evaluation, "
-               "identification and compensation"};
+  CLI::App app{
+      "mtcal - geometric accuracy of CNC machine tools: error models, evaluation, "
+      "identification and compensation"};
   app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
   app.require_subcommand(1);
   const std::vector<Command> commands = add_commands(app);

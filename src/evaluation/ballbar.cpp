@@ -63,14 +63,17 @@ std::array<double, 2> minimum_zone_centre(const std::vector<Xy>& p, std::array<d
   s[1][0] += size;
   s[2][1] += size;
   std::array<double, 3> f;
-  for (int i = 0; i < 3; ++i) f[static_cast<std::size_t>(i)] = zone(p, s[static_cast<std::size_t>(i)][0], s[static_cast<std::size_t>(i)][1]);
+  for (int i = 0; i < 3; ++i)
+    f[static_cast<std::size_t>(i)] = zone(p, s[static_cast<std::size_t>(i)][0], s[static_cast<std::size_t>(i)][1]);
   for (int it = 0; it < 2000; ++it) {
     std::array<std::size_t, 3> o = {0, 1, 2};
     std::sort(o.begin(), o.end(), [&](std::size_t a, std::size_t b) { return f[a] < f[b]; });
     const auto best = s[o[0]], mid = s[o[1]], worst = s[o[2]];
     if (std::abs(f[o[2]] - f[o[0]]) < 1e-15 && std::hypot(worst[0] - best[0], worst[1] - best[1]) < 1e-12) break;
     const std::array<double, 2> c = {(best[0] + mid[0]) / 2, (best[1] + mid[1]) / 2};
-    auto at = [&](double t) { return std::array<double, 2>{c[0] + t * (worst[0] - c[0]), c[1] + t * (worst[1] - c[1])}; };
+    auto at = [&](double t) {
+      return std::array<double, 2>{c[0] + t * (worst[0] - c[0]), c[1] + t * (worst[1] - c[1])};
+    };
     const auto r = at(-1.0);
     const double fr = zone(p, r[0], r[1]);
     if (fr < f[o[0]]) {
@@ -122,18 +125,20 @@ std::vector<TracePoint> trimmed(const std::vector<TracePoint>& all, CircleDirect
 CircularDeviation deviation(const std::vector<TracePoint>& t, const BallbarOptions& o, const std::string& source,
                             const char* name) {
   if (t.size() < 8)
-    throw InputError({source, 0, ""}, fmt::format("the {} path has {} samples after the overshoot is removed; at least 8 "
-                                                  "are needed",
-                                                  name, t.size()));
+    throw InputError({source, 0, ""},
+                     fmt::format("the {} path has {} samples after the overshoot is removed; at least 8 "
+                                 "are needed",
+                                 name, t.size()));
   std::vector<double> a;
   for (const auto& s : t) a.push_back(wrap(s.angle));
   std::sort(a.begin(), a.end());
   double gap = a.front() + 2 * kPi - a.back();
   for (std::size_t i = 1; i < a.size(); ++i) gap = std::max(gap, a[i] - a[i - 1]);
   if (gap > 30 * kDeg)
-    throw InputError({source, 0, ""}, fmt::format("the {} path leaves a gap of {:.0f} deg: a circular test goes round the "
-                                                  "whole circle (at most 30 deg between samples)",
-                                                  name, gap / kDeg));
+    throw InputError({source, 0, ""},
+                     fmt::format("the {} path leaves a gap of {:.0f} deg: a circular test goes round the "
+                                 "whole circle (at most 30 deg between samples)",
+                                 name, gap / kDeg));
   const auto p = points_of(t);
   CircularDeviation d;
   d.points = t.size();
@@ -161,7 +166,8 @@ CircularDeviation deviation(const std::vector<TracePoint>& t, const BallbarOptio
 // Radius of a path at angle a, by linear interpolation between its samples round the circle.
 double radius_at(const std::vector<std::pair<double, double>>& sorted, double a) {
   a = wrap(a);
-  const auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(a, -std::numeric_limits<double>::infinity()));
+  const auto it =
+      std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(a, -std::numeric_limits<double>::infinity()));
   const auto& hi = it == sorted.end() ? sorted.front() : *it;
   const auto& lo = it == sorted.begin() ? sorted.back() : *(it - 1);
   double span = hi.first - lo.first, off = a - lo.first;
@@ -173,7 +179,8 @@ double radius_at(const std::vector<std::pair<double, double>>& sorted, double a)
 
 }  // namespace
 
-BallbarEvaluation evaluate_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& o, const std::string& source) {
+BallbarEvaluation evaluate_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& o,
+                                   const std::string& source) {
   if (!(o.nominal_radius > 0)) throw InputError({source, 0, ""}, "expected a nominal radius > 0");
   const auto cw = trimmed(trace, CircleDirection::CW, o), ccw = trimmed(trace, CircleDirection::CCW, o);
   BallbarEvaluation e;
@@ -186,9 +193,10 @@ BallbarEvaluation evaluate_ballbar(const std::vector<TracePoint>& trace, const B
     return e;
   }
   if (cw.empty() || ccw.empty())
-    throw InputError({source, 0, ""}, fmt::format("G(b) and H need both directions; the trace has only {} samples (evaluate "
-                                                  "one direction only)",
-                                                  cw.empty() ? "ccw" : "cw"));
+    throw InputError({source, 0, ""},
+                     fmt::format("G(b) and H need both directions; the trace has only {} samples (evaluate "
+                                 "one direction only)",
+                                 cw.empty() ? "ccw" : "cw"));
   e.cw = deviation(cw, o, source, "cw");
   e.ccw = deviation(ccw, o, source, "ccw");
   std::vector<TracePoint> both = cw;
@@ -212,8 +220,9 @@ TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const Ball
                                 const std::string& source) {
   const auto cw = trimmed(trace, CircleDirection::CW, o), ccw = trimmed(trace, CircleDirection::CCW, o);
   if (cw.size() < 8 || ccw.size() < 8)
-    throw InputError({source, 0, ""}, "the diagnostic fit needs both directions (squareness and servo mismatch differ "
-                                      "only in how they change with the direction)");
+    throw InputError({source, 0, ""},
+                     "the diagnostic fit needs both directions (squareness and servo mismatch differ "
+                     "only in how they change with the direction)");
   const std::string a1(1, plane.size() == 2 ? plane[0] : 'X'), a2(1, plane.size() == 2 ? plane[1] : 'Y');
   const double R = o.nominal_radius;
   constexpr double tau = 5 * kDeg;  // decay of a reversal spike
@@ -221,16 +230,24 @@ TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const Ball
     std::string name, unit;
     double scale;  // value in its unit = coefficient * scale
   };
-  const std::vector<Column> cols = {
-      {"centre offset " + a1, "um", 1e3},       {"centre offset " + a2, "um", 1e3},
-      {"radius offset", "um", 1e3},             {"scaling mismatch " + a1 + a2, "um/m", 1e6},
-      {"squareness " + a1 + a2, "um/m", 1e6},   {"servo mismatch " + a1 + a2, "um/m", 1e6},
-      {"backlash " + a1, "um", 1e3},            {"backlash " + a2, "um", 1e3},
-      {"reversal spike " + a1, "um", 1e3},      {"reversal spike " + a2, "um", 1e3},
-      {"straightness " + a1 + " (bow in " + a2 + ")", "um", 1e3},
-      {"straightness " + a2 + " (bow in " + a1 + ")", "um", 1e3},
-      {"cyclic cos 4a", "um", 1e3}, {"cyclic sin 4a", "um", 1e3}, {"cyclic cos 5a", "um", 1e3},
-      {"cyclic sin 5a", "um", 1e3}, {"cyclic cos 6a", "um", 1e3}, {"cyclic sin 6a", "um", 1e3}};
+  const std::vector<Column> cols = {{"centre offset " + a1, "um", 1e3},
+                                    {"centre offset " + a2, "um", 1e3},
+                                    {"radius offset", "um", 1e3},
+                                    {"scaling mismatch " + a1 + a2, "um/m", 1e6},
+                                    {"squareness " + a1 + a2, "um/m", 1e6},
+                                    {"servo mismatch " + a1 + a2, "um/m", 1e6},
+                                    {"backlash " + a1, "um", 1e3},
+                                    {"backlash " + a2, "um", 1e3},
+                                    {"reversal spike " + a1, "um", 1e3},
+                                    {"reversal spike " + a2, "um", 1e3},
+                                    {"straightness " + a1 + " (bow in " + a2 + ")", "um", 1e3},
+                                    {"straightness " + a2 + " (bow in " + a1 + ")", "um", 1e3},
+                                    {"cyclic cos 4a", "um", 1e3},
+                                    {"cyclic sin 4a", "um", 1e3},
+                                    {"cyclic cos 5a", "um", 1e3},
+                                    {"cyclic sin 5a", "um", 1e3},
+                                    {"cyclic cos 6a", "um", 1e3},
+                                    {"cyclic sin 6a", "um", 1e3}};
   std::vector<TracePoint> all = cw;
   all.insert(all.end(), ccw.begin(), ccw.end());
   const Eigen::Index n = static_cast<Eigen::Index>(all.size()), p = static_cast<Eigen::Index>(cols.size());
@@ -254,13 +271,15 @@ TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const Ball
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const auto sv = svd.singularValues();
   if (!(sv[p - 1] > 1e-9 * sv[0]))
-    throw InputError({source, 0, ""}, "the trace does not separate the diagnostic terms (too few samples round the circle)");
+    throw InputError({source, 0, ""},
+                     "the trace does not separate the diagnostic terms (too few samples round the circle)");
   const Eigen::VectorXd x = svd.solve(b);
   const Eigen::VectorXd r = b - A * x;
   TraceDiagnosis out;
   out.dof = static_cast<int>(n - p);
   const double sigma2 = out.dof > 0 ? r.squaredNorm() / out.dof : 0.0;
-  const Eigen::MatrixXd cov = sigma2 * svd.matrixV() * sv.cwiseAbs2().cwiseInverse().asDiagonal() * svd.matrixV().transpose();
+  const Eigen::MatrixXd cov =
+      sigma2 * svd.matrixV() * sv.cwiseAbs2().cwiseInverse().asDiagonal() * svd.matrixV().transpose();
   const Eigen::VectorXd fitted = A * x;
   const double fitted_rms = std::sqrt(fitted.squaredNorm() / static_cast<double>(n));
   out.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(n)) * 1e3;
@@ -278,7 +297,9 @@ std::vector<TracePoint> predict_ballbar(const Machine& m, const std::string& pla
   if (plane != "XY" && plane != "YZ" && plane != "ZX")
     throw ModelError("expected the plane XY, YZ or ZX, found '" + plane + "'");
   const auto a1 = m.axis_index(plane[0]), a2 = m.axis_index(plane[1]);
-  if (!a1 || !a2) throw ModelError("plane " + plane + " needs linear axes " + plane[0] + " and " + plane[1] + " in " + m.topology.chain);
+  if (!a1 || !a2)
+    throw ModelError("plane " + plane + " needs linear axes " + plane[0] + " and " + plane[1] + " in " +
+                     m.topology.chain);
   if (centre.size() != m.axes.size()) throw ModelError("expected one centre value per axis");
   if (!(radius > 0) || !(step > 0) || step > 0.5) throw ModelError("expected a radius > 0 and a step in (0, 0.5] rad");
   const ErrorModel model(m);

@@ -6,7 +6,6 @@
 #include <map>
 #include <tuple>
 
-
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -81,7 +80,8 @@ MethodComparison compare_methods(const ComparisonData& data) {
     std::vector<double> pa, pb;
     for (const auto& [test, value] : s.by_method[0]) {
       const auto& other = s.by_method[1];
-      const auto hit = std::find_if(other.begin(), other.end(), [&test = test](const auto& tv) { return tv.first == test; });
+      const auto hit =
+          std::find_if(other.begin(), other.end(), [&test = test](const auto& tv) { return tv.first == test; });
       if (hit == other.end()) continue;
       pa.push_back(value);
       pb.push_back(hit->second);

@@ -9,16 +9,18 @@
 
 namespace mtcal {
 
-double error_value(const Machine& m, const ErrorName& error, std::span<const double> q, std::span<const std::int8_t> dir) {
+double error_value(const Machine& m, const ErrorName& error, std::span<const double> q,
+                   std::span<const std::int8_t> dir) {
   const int c = index_of(error.component);
   switch (error.kind) {
     case ErrorKind::Mounting:
-      return error.body == 't' ? m.tool_mounting[static_cast<std::size_t>(c)] : m.workpiece_mounting[static_cast<std::size_t>(c)];
-    case ErrorKind::Location:
-      return m.axis(error.body).location[static_cast<std::size_t>(c)];
+      return error.body == 't' ? m.tool_mounting[static_cast<std::size_t>(c)]
+                               : m.workpiece_mounting[static_cast<std::size_t>(c)];
+    case ErrorKind::Location: return m.axis(error.body).location[static_cast<std::size_t>(c)];
     case ErrorKind::Motion: {
       const std::size_t k = *m.axis_index(error.body);
-      if (k >= q.size()) throw ModelError(fmt::format("error_value: {} joint values for {} axes", q.size(), m.axes.size()));
+      if (k >= q.size())
+        throw ModelError(fmt::format("error_value: {} joint values for {} axes", q.size(), m.axes.size()));
       return m.axes[k].motion[static_cast<std::size_t>(c)].value(q[k], dir.empty() ? 0 : dir[k]);
     }
   }
@@ -75,11 +77,13 @@ ContributionAnalysis contributions(const Machine& m, std::span<const double> a, 
   const auto sa = nominal.error_sensitivities(a, dir_a);
   r.exact = actual.evaluate(a, dir_a).translation;
   std::vector<Vec3> effect(sa.size());
-  for (std::size_t k = 0; k < sa.size(); ++k) effect[k] = sa[k].effect.head<3>() * error_value(m, sa[k].error, a, dir_a);
+  for (std::size_t k = 0; k < sa.size(); ++k)
+    effect[k] = sa[k].effect.head<3>() * error_value(m, sa[k].error, a, dir_a);
   if (b) {
     const auto sb = nominal.error_sensitivities(*b, dir_b);
     r.exact -= actual.evaluate(*b, dir_b).translation;
-    for (std::size_t k = 0; k < sb.size(); ++k) effect[k] -= sb[k].effect.head<3>() * error_value(m, sb[k].error, *b, dir_b);
+    for (std::size_t k = 0; k < sb.size(); ++k)
+      effect[k] -= sb[k].effect.head<3>() * error_value(m, sb[k].error, *b, dir_b);
   }
   const double norm = r.exact.norm();
   const Vec3 u = norm > 0 ? Vec3(r.exact / norm) : Vec3::Zero();

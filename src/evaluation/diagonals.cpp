@@ -63,8 +63,9 @@ std::vector<DiagonalProfile> diagonal_displacements(const ErrorModel& model, std
   std::array<std::size_t, 3> lin{};
   for (int c = 0; c < 3; ++c) {
     const auto k = m.axis_index("XYZ"[c]);
-    if (!k) throw InputError({"box", 0, ""}, fmt::format("diagonal tests need linear axes X, Y and Z; {} has no {}",
-                                                         m.topology.chain, "XYZ"[c]));
+    if (!k)
+      throw InputError({"box", 0, ""}, fmt::format("diagonal tests need linear axes X, Y and Z; {} has no {}",
+                                                   m.topology.chain, "XYZ"[c]));
     if (!(lo[*k] < hi[*k]))
       throw InputError({"box", 0, std::string(1, "XYZ"[c])},
                        fmt::format("expected a range lo < hi for {}, found {:g} to {:g} mm", "XYZ"[c], lo[*k], hi[*k]));
@@ -73,7 +74,9 @@ std::vector<DiagonalProfile> diagonal_displacements(const ErrorModel& model, std
   const std::vector<double> base(lo.begin(), lo.end());
   auto corner = [&](std::array<int, 3> at_hi) {  // at_hi[c]: 1 for hi, 0 for lo
     std::vector<double> q = base;
-    for (int c = 0; c < 3; ++c) q[lin[static_cast<std::size_t>(c)]] = at_hi[static_cast<std::size_t>(c)] ? hi[lin[static_cast<std::size_t>(c)]] : lo[lin[static_cast<std::size_t>(c)]];
+    for (int c = 0; c < 3; ++c)
+      q[lin[static_cast<std::size_t>(c)]] = at_hi[static_cast<std::size_t>(c)] ? hi[lin[static_cast<std::size_t>(c)]]
+                                                                               : lo[lin[static_cast<std::size_t>(c)]];
     return q;
   };
   std::vector<DiagonalProfile> out;

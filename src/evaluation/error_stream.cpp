@@ -71,8 +71,8 @@ StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource
                               const std::function<void(const ErrorChunk&)>& sink, const StreamOptions& options) {
   const std::size_t n = source.axes(), count = source.size();
   if (n != model.axis_count())
-    throw ModelError(fmt::format("evaluate_stream: configurations of {} axes for a machine with {} axes", n,
-                                 model.axis_count()));
+    throw ModelError(
+        fmt::format("evaluate_stream: configurations of {} axes for a machine with {} axes", n, model.axis_count()));
   const bool with_dir = source.has_directions();
   const std::size_t chunk = std::max<std::size_t>(1, options.chunk);
   const std::size_t rows = std::min(count, chunk);
@@ -91,9 +91,10 @@ StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource
     for (std::size_t r = 0; r < len; ++r) {
       const double* e = &res[r * 6];
       if (!std::all_of(e, e + 6, [](double v) { return std::isfinite(v); }))
-        throw Error(fmt::format("the model gives a non-finite error at configuration {} of {} (check the "
-                                "machine's error values)",
-                                first + r + 1, count));
+        throw Error(
+            fmt::format("the model gives a non-finite error at configuration {} of {} (check the "
+                        "machine's error values)",
+                        first + r + 1, count));
       const double t = std::hypot(e[0], e[1], e[2]), a = std::hypot(e[3], e[4], e[5]);
       if (t > bt) bt = t, sum.max_translation.at.assign(&q[r * n], &q[r * n] + n);
       if (a > br) br = a, sum.max_rotation.at.assign(&q[r * n], &q[r * n] + n);

@@ -35,9 +35,10 @@ PositioningEvaluation evaluate_positioning(const PositioningRuns& in) {
       throw InputError({source, 0, ""}, fmt::format("target {:g} lacks runs in the {} direction (ISO 230-2 needs both)",
                                                     in.targets[i], in.up[i].empty() ? "up (+)" : "down (-)"));
     if (in.up[i].size() != n || in.down[i].size() != n)
-      throw InputError({source, 0, ""}, fmt::format("unequal run counts: target {:g} has {} up and {} down runs, "
-                                                    "target {:g} has {} up",
-                                                    in.targets[i], in.up[i].size(), in.down[i].size(), in.targets[0], n));
+      throw InputError({source, 0, ""},
+                       fmt::format("unequal run counts: target {:g} has {} up and {} down runs, "
+                                   "target {:g} has {} up",
+                                   in.targets[i], in.up[i].size(), in.down[i].size(), in.targets[0], n));
   }
   if (n < 2) throw InputError({source, 0, ""}, fmt::format("expected at least 2 runs per direction, found {}", n));
 

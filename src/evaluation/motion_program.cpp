@@ -33,9 +33,10 @@ PlaneAxes plane_axes(GcodePlane p) {
 }
 
 double path_length(const GcodeMove& m) {
-  if (!m.is_arc()) return std::sqrt((m.end[0] - m.start[0]) * (m.end[0] - m.start[0]) +
-                                    (m.end[1] - m.start[1]) * (m.end[1] - m.start[1]) +
-                                    (m.end[2] - m.start[2]) * (m.end[2] - m.start[2]));
+  if (!m.is_arc())
+    return std::sqrt((m.end[0] - m.start[0]) * (m.end[0] - m.start[0]) +
+                     (m.end[1] - m.start[1]) * (m.end[1] - m.start[1]) +
+                     (m.end[2] - m.start[2]) * (m.end[2] - m.start[2]));
   const PlaneAxes pa = plane_axes(m.plane);
   const auto u = static_cast<std::size_t>(pa.u), v = static_cast<std::size_t>(pa.v), w = static_cast<std::size_t>(pa.w);
   const double r0 = std::hypot(m.start[u] - m.centre[u], m.start[v] - m.centre[v]);

@@ -33,12 +33,12 @@ void ToolpathChunk::clear() {
   error.clear();
 }
 
-ToolpathInterpolator::ToolpathInterpolator(const Machine& machine, const ToolpathOptions& options)
-    : options_(options) {
+ToolpathInterpolator::ToolpathInterpolator(const Machine& machine, const ToolpathOptions& options) : options_(options) {
   if (!(std::isfinite(options.step) && options.step > 0))
     throw InputError({"step", 0, ""}, fmt::format("expected a step > 0 in mm, found {}", options.step));
   if (!(std::isfinite(options.angle_step) && options.angle_step > 0))
-    throw InputError({"angle step", 0, ""}, fmt::format("expected an angle step > 0 in deg, found {}", options.angle_step));
+    throw InputError({"angle step", 0, ""},
+                     fmt::format("expected an angle step > 0 in deg, found {}", options.angle_step));
   for (const Axis& ax : machine.axes) {
     slot_.push_back(program_slot(ax.letter));
     factor_.push_back(joint_unit_factor(ax));
@@ -75,12 +75,13 @@ bool ToolpathInterpolator::start(const GcodeMove& move) {
   if (length_ == 0 && rotary == 0) return false;
   // ceil with a hair of slack, so that a length of exactly k steps is not cut into k + 1 parts
   // by its rounding.
-  const double parts = std::max({1.0, std::ceil(length_ / options_.step * (1 - 1e-12)),
-                                 std::ceil(rotary / options_.angle_step * (1 - 1e-12))});
+  const double parts = std::max(
+      {1.0, std::ceil(length_ / options_.step * (1 - 1e-12)), std::ceil(rotary / options_.angle_step * (1 - 1e-12))});
   if (!(parts <= kMaxPartsPerBlock))
     throw InputError({"step", move.line, ""},
                      fmt::format("the block at line {} would need {:.3g} points (more than {:g}); expected a larger "
-                                 "step or angle step", move.line, parts, kMaxPartsPerBlock));
+                                 "step or angle step",
+                                 move.line, parts, kMaxPartsPerBlock));
   parts_ = static_cast<std::size_t>(parts);
   s0_ = s_;
   ++blocks_;
@@ -153,8 +154,9 @@ ToolpathSummary simulate(const ErrorModel& model, const NextMove& next, const st
       for (std::size_t k = 0; k < n; ++k) {
         const double q = chunk.q[i * n + k];
         if (!(q >= lo[k] && q <= hi[k]))
-          check_joints(m, std::vector<double>(chunk.q.begin() + static_cast<std::ptrdiff_t>(i * n),
-                                              chunk.q.begin() + static_cast<std::ptrdiff_t>((i + 1) * n)),
+          check_joints(m,
+                       std::vector<double>(chunk.q.begin() + static_cast<std::ptrdiff_t>(i * n),
+                                           chunk.q.begin() + static_cast<std::ptrdiff_t>((i + 1) * n)),
                        fmt::format("{}:{}", source, chunk.line[i]), options.travel_check);
       }
     chunk.error.resize(len * 6);
@@ -163,8 +165,10 @@ ToolpathSummary simulate(const ErrorModel& model, const NextMove& next, const st
       const double* e = &chunk.error[i * 6];
       for (std::size_t c = 0; c < 6; ++c) {
         if (!std::isfinite(e[c]))
-          throw Error(fmt::format("{}:{}: the model gives a non-finite error at a point of this block (check the "
-                                  "machine's error values)", source, chunk.line[i]));
+          throw Error(
+              fmt::format("{}:{}: the model gives a non-finite error at a point of this block (check the "
+                          "machine's error values)",
+                          source, chunk.line[i]));
         sum.range[c][0] = std::min(sum.range[c][0], e[c]);
         sum.range[c][1] = std::max(sum.range[c][1], e[c]);
       }
@@ -200,7 +204,8 @@ ToolpathSummary simulate(const ErrorModel& model, const NextMove& next, const st
 
 ToolpathSummary simulate_toolpath(const ErrorModel& model, MoveSource& moves, const ToolpathOptions& options,
                                   const std::function<void(const ToolpathChunk&)>& sink) {
-  ToolpathSummary s = simulate(model, [&](GcodeMove& m) { return moves.next(m); }, moves.source(), options, sink);
+  ToolpathSummary s = simulate(
+      model, [&](GcodeMove& m) { return moves.next(m); }, moves.source(), options, sink);
   s.counts = moves.counts();
   return s;
 }
@@ -220,7 +225,8 @@ ToolpathSummary simulate_toolpath(const ErrorModel& model, const GcodeProgram& p
   return s;
 }
 
-ToolpathChunk interpolate_toolpath(const Machine& machine, const GcodeProgram& program, const ToolpathOptions& options) {
+ToolpathChunk interpolate_toolpath(const Machine& machine, const GcodeProgram& program,
+                                   const ToolpathOptions& options) {
   ToolpathInterpolator interp(machine, options);
   ToolpathChunk out;
   for (const GcodeMove& m : program.moves)

@@ -23,9 +23,10 @@ constexpr std::size_t kChunk = std::size_t{1} << 18;  // configurations per batc
 void check_finite(const double* e, std::size_t index, std::size_t count) {
   for (int c = 0; c < 6; ++c)
     if (!std::isfinite(e[c]))
-      throw Error(fmt::format("the model gives a non-finite error at configuration {} of {} (check the "
-                              "machine's error values)",
-                              index + 1, count));
+      throw Error(
+          fmt::format("the model gives a non-finite error at configuration {} of {} (check the "
+                      "machine's error values)",
+                      index + 1, count));
 }
 
 // Evaluates map.q in chunks into map.error (translations only; rotations are not part of VA).
@@ -96,7 +97,8 @@ class FarthestPair {
       }
       // Most promising last, so it is taken first: the bound rises quickly and prunes more.
       for (int k = 1; k < count; ++k)  // insertion sort of at most 3
-        for (int m = k; m > 0 && children[m].bound < children[m - 1].bound; --m) std::swap(children[m], children[m - 1]);
+        for (int m = k; m > 0 && children[m].bound < children[m - 1].bound; --m)
+          std::swap(children[m], children[m - 1]);
       for (int k = 0; k < count; ++k)
         if (children[k].bound > best2) stack.push_back(children[k]);
     }
@@ -170,7 +172,7 @@ class FarthestPair {
 // A good first pair: the extremes along 13 directions (axes, face and body diagonals), then
 // steps to the farthest point from the current pair's ends until none is farther.
 void lower_bound(std::span<const Vec3> e, double& best2, std::size_t& bi, std::size_t& bj, std::uint64_t& evaluations) {
-  static const double dirs[13][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1},
+  static const double dirs[13][3] = {{1, 0, 0}, {0, 1, 0},  {0, 0, 1}, {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1},
                                      {0, 1, 1}, {0, 1, -1}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
   std::vector<std::size_t> ext;
   for (const auto& d : dirs) {
@@ -210,7 +212,8 @@ ErrorMap grid_error_map(const ErrorModel& model, const std::vector<std::vector<d
                         const BatchOptions& options) {
   const std::size_t n = model.axis_count();
   if (axis_values.size() != n)
-    throw ModelError(fmt::format("grid_error_map: {} axes of values for a machine with {} axes", axis_values.size(), n));
+    throw ModelError(
+        fmt::format("grid_error_map: {} axes of values for a machine with {} axes", axis_values.size(), n));
   std::size_t count = 1;
   for (const auto& v : axis_values) {
     if (v.empty()) throw ModelError("grid_error_map: an axis has no values");
@@ -419,8 +422,8 @@ namespace {
 // histogram so that equal consecutive bins do not wait on each other.
 MTCAL_KERNEL_CLONES
 void pair_row(const double* x, const double* y, const double* z, std::size_t i, std::size_t n, double scale,
-              std::uint32_t last, double* d, std::uint32_t* bin, std::uint64_t* counts4, std::size_t bins,
-              double& sum, double& min) {
+              std::uint32_t last, double* d, std::uint32_t* bin, std::uint64_t* counts4, std::size_t bins, double& sum,
+              double& min) {
   const double xi = x[i], yi = y[i], zi = z[i];
   constexpr std::size_t kBlock = 512;
   for (std::size_t j0 = i + 1; j0 < n; j0 += kBlock) {
@@ -449,14 +452,17 @@ void pair_row(const double* x, const double* y, const double* z, std::size_t i, 
 }  // namespace
 
 Distribution pair_distribution(std::span<const Vec3> e, std::size_t bins, double upper, int threads) {
-  if (bins == 0 || bins > 1'000'000) throw InputError({"histogram bins", 0, ""}, fmt::format("expected 1 to 1e6 bins, found {}", bins));
+  if (bins == 0 || bins > 1'000'000)
+    throw InputError({"histogram bins", 0, ""}, fmt::format("expected 1 to 1e6 bins, found {}", bins));
   for (const Vec3& v : e)
-    if (!v.allFinite()) throw InputError({"pair distribution", 0, ""}, "expected finite error vectors, found a non-finite one");
+    if (!v.allFinite())
+      throw InputError({"pair distribution", 0, ""}, "expected finite error vectors, found a non-finite one");
   const VolumetricAccuracy va = volumetric_accuracy(e);
   if (upper == 0.0) upper = va.va.value;
   if (!(upper >= va.va.value) || !std::isfinite(upper))
     throw InputError({"histogram range", 0, ""},
-                     fmt::format("expected an upper bound >= the largest difference {:.9g} mm, found {:.9g}", va.va.value, upper));
+                     fmt::format("expected an upper bound >= the largest difference {:.9g} mm, found {:.9g}",
+                                 va.va.value, upper));
   const std::size_t n = e.size();
   Distribution r;
   r.count = n < 2 ? 0 : static_cast<std::uint64_t>(n) * (n - 1) / 2;
@@ -483,7 +489,8 @@ Distribution pair_distribution(std::span<const Vec3> e, std::size_t bins, double
     for (std::size_t k = t + 1; k <= tasks; ++k) start[k] = n - 1;
   }
   // Each worker keeps 4 copies of the histogram: at most 1 GiB of them in all.
-  const std::size_t workers = std::min(worker_count(threads, tasks), std::max<std::size_t>(1, (std::size_t{1} << 30) / (32 * bins)));
+  const std::size_t workers =
+      std::min(worker_count(threads, tasks), std::max<std::size_t>(1, (std::size_t{1} << 30) / (32 * bins)));
   std::vector<std::vector<std::uint64_t>> counts(workers, std::vector<std::uint64_t>(4 * bins, 0));
   std::vector<double> task_sum(tasks, 0.0), task_min(tasks, std::numeric_limits<double>::infinity());
   parallel_for(tasks, static_cast<int>(workers), [&](std::size_t t, std::size_t w) {
@@ -507,7 +514,8 @@ Distribution pair_distribution(std::span<const Vec3> e, std::size_t bins, double
 }
 
 Distribution value_distribution(std::span<const double> values, std::size_t bins) {
-  if (bins == 0 || bins > 1'000'000) throw InputError({"histogram bins", 0, ""}, fmt::format("expected 1 to 1e6 bins, found {}", bins));
+  if (bins == 0 || bins > 1'000'000)
+    throw InputError({"histogram bins", 0, ""}, fmt::format("expected 1 to 1e6 bins, found {}", bins));
   Distribution r;
   r.count = values.size();
   r.histogram.counts.assign(bins, 0);
@@ -532,10 +540,12 @@ std::vector<BoxVa> va_versus_box_size(const ErrorMap& map, std::span<const doubl
   if (centre.size() != n) throw ModelError("va_versus_box_size: centre and map differ in axes");
   std::vector<double> lo(n, std::numeric_limits<double>::infinity()), hi(n, -std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < map.size(); ++i)
-    for (std::size_t k = 0; k < n; ++k) lo[k] = std::min(lo[k], map.q[i * n + k]), hi[k] = std::max(hi[k], map.q[i * n + k]);
+    for (std::size_t k = 0; k < n; ++k)
+      lo[k] = std::min(lo[k], map.q[i * n + k]), hi[k] = std::max(hi[k], map.q[i * n + k]);
   std::vector<BoxVa> out;
   for (double f : fractions) {
-    if (!(f > 0 && f <= 1)) throw InputError({"box fractions", 0, ""}, fmt::format("expected fractions in (0, 1], found {:g}", f));
+    if (!(f > 0 && f <= 1))
+      throw InputError({"box fractions", 0, ""}, fmt::format("expected fractions in (0, 1], found {:g}", f));
     BoxVa b;
     b.fraction = f;
     b.lo.resize(n), b.hi.resize(n);

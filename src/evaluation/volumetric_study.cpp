@@ -24,7 +24,8 @@ std::vector<double> map_centre(const ErrorMap& map) {
   std::vector<double> centre(map.axes);
   for (std::size_t k = 0; k < map.axes; ++k) {
     double lo = INFINITY, hi = -INFINITY;
-    for (std::size_t i = 0; i < map.size(); ++i) lo = std::min(lo, map.q[i * map.axes + k]), hi = std::max(hi, map.q[i * map.axes + k]);
+    for (std::size_t i = 0; i < map.size(); ++i)
+      lo = std::min(lo, map.q[i * map.axes + k]), hi = std::max(hi, map.q[i * map.axes + k]);
     centre[k] = 0.5 * (lo + hi);
   }
   return centre;
@@ -32,7 +33,8 @@ std::vector<double> map_centre(const ErrorMap& map) {
 
 }  // namespace
 
-ErrorMap error_map(const ErrorModel& model, ConfigurationList list, const std::string& where, const BatchOptions& options) {
+ErrorMap error_map(const ErrorModel& model, ConfigurationList list, const std::string& where,
+                   const BatchOptions& options) {
   if (list.q.empty()) throw InputError({where, 0, ""}, "expected at least one configuration, found none");
   return error_map(model, std::move(list.q), list.dir, options);
 }
@@ -47,8 +49,9 @@ VolumetricStudy study_volumetric(const Machine& m, const ErrorMap& map, const Vo
   s.va = volumetric_accuracy(map.error);
   s.seconds_va = seconds_since(t0);
   const VolumetricAccuracy& va = s.va;
-  s.critical = contributions(m, map.configuration(va.va.j), map.direction(va.va.j),
-                             std::optional<std::span<const double>>(map.configuration(va.va.i)), map.direction(va.va.i));
+  s.critical =
+      contributions(m, map.configuration(va.va.j), map.direction(va.va.j),
+                    std::optional<std::span<const double>>(map.configuration(va.va.i)), map.direction(va.va.i));
 
   // Reduced volume.
   if (request.box) {

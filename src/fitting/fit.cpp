@@ -200,8 +200,7 @@ std::optional<Eigen::Vector4d> kasa_sphere(const MatrixXd& y) {
 }
 
 // Residuals |y - c| - R and their Jacobian with respect to c (and R when free).
-void sphere_residuals(const MatrixXd& y, const Vector3d& c, double R, bool free_radius, VectorXd& r,
-                      MatrixXd* J) {
+void sphere_residuals(const MatrixXd& y, const Vector3d& c, double R, bool free_radius, VectorXd& r, MatrixXd* J) {
   const Index n = y.rows();
   r.resize(n);
   if (J) J->resize(n, free_radius ? 4 : 3);
@@ -432,8 +431,7 @@ std::optional<LineFit> fit_line(std::span<const Point3> points) {
     const double dist = (y - t * u).norm();
     residuals[static_cast<std::size_t>(m)] = dist;
     ssr += dist * dist;
-    for (int a = 0; a < 2; ++a)
-      J.row(2 * m + a) << -t * e[a].dot(ti), -t * e[a].dot(tj), -e[a](i), -e[a](j);
+    for (int a = 0; a < 2; ++a) J.row(2 * m + a) << -t * e[a].dot(ti), -t * e[a].dot(tj), -e[a](i), -e[a](j);
   }
   const int dof = 2 * static_cast<int>(n) - 4;
   auto cov = covariance(J, dof > 0 ? ssr / dof : 0.0, dof);
@@ -465,8 +463,8 @@ std::optional<CircleFit> fit_circle(std::span<const Point3> points) {
   inv_scale << 1.0 / scale, 1.0 / scale, 1.0 / scale, 1.0, 1.0, 1.0 / scale;
   auto eval = [&](const CircleState& st, VectorXd& r, MatrixXd* J) { circle_residuals(cl->y, st, r, J); };
   int iterations = 0;
-  auto sol = gauss_newton(s, eval, advance_circle, inv_scale,
-                          2.0 * static_cast<double>(n) * std::pow(1e-14 * scale, 2), iterations);
+  auto sol = gauss_newton(s, eval, advance_circle, inv_scale, 2.0 * static_cast<double>(n) * std::pow(1e-14 * scale, 2),
+                          iterations);
   if (!sol || !(sol->r > 0.0)) return std::nullopt;
   // Fix the sign before the final Jacobian so that local steps and the reported normal agree.
   if (sol->N(largest_component(sol->N)) < 0) {

@@ -8,8 +8,8 @@
 
 namespace mtcal {
 
-IdentificationRun identify_and_assess(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options,
-                                      const AssessmentOptions& a) {
+IdentificationRun identify_and_assess(const Machine& prior, const ProbingPlan& measurements,
+                                      const IdentificationOptions& options, const AssessmentOptions& a) {
   using Clock = std::chrono::steady_clock;
   IdentificationRun run;
   run.features = measurements.features;
@@ -33,7 +33,8 @@ IdentificationRun identify_and_assess(const Machine& prior, const ProbingPlan& m
     run.deviation = model_deviation(r.machine, *a.truth, a.workspace);
     for (const auto& p : r.parameters) run.imposed.push_back(a.truth->parameter(*a.truth->parameter_index(p.name)));
   }
-  if (!a.workspace.empty()) run.va = volumetric_accuracy(grid_error_map(ErrorModel(r.machine), a.workspace).error).va.value;
+  if (!a.workspace.empty())
+    run.va = volumetric_accuracy(grid_error_map(ErrorModel(r.machine), a.workspace).error).va.value;
   return run;
 }
 

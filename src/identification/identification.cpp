@@ -40,7 +40,8 @@ std::array<std::size_t, 3> linear_axes(const Machine& m) {
 
 // d p / d (X, Y, Z) of the nominal tool point at q: constant in the linear axes at fixed rotary
 // values (the nominal chain is affine in them), so one difference per axis is exact.
-Eigen::Matrix3d linear_jacobian(const ErrorModel& nominal, const std::vector<double>& q, const std::array<std::size_t, 3>& lin) {
+Eigen::Matrix3d linear_jacobian(const ErrorModel& nominal, const std::vector<double>& q,
+                                const std::array<std::size_t, 3>& lin) {
   Eigen::Matrix3d A;
   const Vec3 p0 = nominal.nominal_pose(q).t;
   for (int c = 0; c < 3; ++c) {
@@ -67,7 +68,8 @@ void solve_position(const ErrorModel& model, bool actual, std::vector<double>& q
 
 // The probing axis of a facet touch: the linear axis whose motion is most nearly along the
 // normal, and its direction when approaching against the normal (n . p decreasing).
-std::pair<std::size_t, std::int8_t> probing_axis(const Eigen::Matrix3d& A, const Vec3& normal, const std::array<std::size_t, 3>& lin) {
+std::pair<std::size_t, std::int8_t> probing_axis(const Eigen::Matrix3d& A, const Vec3& normal,
+                                                 const std::array<std::size_t, 3>& lin) {
   const Vec3 along = A.transpose() * normal;
   int c = 0;
   for (int k = 1; k < 3; ++k)
@@ -120,7 +122,8 @@ ProbingPlan simulate_readings(const Machine& truth, const ProbingPlan& plan, con
     }
     const auto [k, sign] = probing_axis(A, f.normal, lin);
     r.dir[k] = sign;
-    const double slope = f.normal.dot(A.col(static_cast<Eigen::Index>(std::find(lin.begin(), lin.end(), k) - lin.begin())));
+    const double slope =
+        f.normal.dot(A.col(static_cast<Eigen::Index>(std::find(lin.begin(), lin.end(), k) - lin.begin())));
     const double plane = artefact.offset[r.feature] - pretravel;
     for (int it = 0;; ++it) {
       const double g = f.normal.dot(actual.actual_pose(r.q, r.dir).t) - plane;
@@ -136,7 +139,8 @@ ProbingPlan simulate_readings(const Machine& truth, const ProbingPlan& plan, con
 }  // namespace
 
 Simulation simulate_probing(const Machine& truth, const ProbingPlan& plan, const SimulationOptions& o) {
-  if (!(o.noise >= 0) || !std::isfinite(o.noise)) throw InputError({"noise", 0, ""}, fmt::format("expected a noise >= 0 mm, found {:g}", o.noise));
+  if (!(o.noise >= 0) || !std::isfinite(o.noise))
+    throw InputError({"noise", 0, ""}, fmt::format("expected a noise >= 0 mm, found {:g}", o.noise));
   if (!(o.artefact_error >= 0) || !std::isfinite(o.artefact_error))
     throw InputError({"artefact error", 0, ""}, fmt::format("expected >= 0 mm, found {:g}", o.artefact_error));
   std::mt19937_64 rng(o.seed);
@@ -154,7 +158,8 @@ Simulation simulate_probing(const Machine& truth, const ProbingPlan& plan, const
   }
   for (const auto& sb : o.scale_bars) {
     const auto a = plan.feature_index(sb.ball_a), b = plan.feature_index(sb.ball_b);
-    if (!a || !b || plan.features[*a].kind != ProbeFeature::Kind::Ball || plan.features[*b].kind != ProbeFeature::Kind::Ball || *a == *b)
+    if (!a || !b || plan.features[*a].kind != ProbeFeature::Kind::Ball ||
+        plan.features[*b].kind != ProbeFeature::Kind::Ball || *a == *b)
       throw InputError({sb.source, 0, sb.ball_a + ":" + sb.ball_b}, "expected two different balls of the plan");
     const Vec3 d = sim.truth.ball[*b] - sim.truth.ball[*a];
     sim.truth.ball[*b] = sim.truth.ball[*a] + d.normalized() * sb.length;
@@ -212,7 +217,8 @@ ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::
   }
   {
     Eigen::MatrixXd K(S.rows(), static_cast<Eigen::Index>(a.kept.size()));
-    for (std::size_t i = 0; i < a.kept.size(); ++i) K.col(static_cast<Eigen::Index>(i)) = S.col(static_cast<Eigen::Index>(a.kept[i]));
+    for (std::size_t i = 0; i < a.kept.size(); ++i)
+      K.col(static_cast<Eigen::Index>(i)) = S.col(static_cast<Eigen::Index>(a.kept[i]));
     if (K.cols() > 0) {
       const Eigen::JacobiSVD<Eigen::MatrixXd> ks(K);
       a.kept_condition = ks.singularValues()[0] / ks.singularValues()[K.cols() - 1];
@@ -220,12 +226,15 @@ ColumnAnalysis analyse_columns(const Eigen::MatrixXd& J, const std::vector<std::
   }
   for (std::size_t j : a.dropped) {
     Eigen::MatrixXd K(J.rows(), static_cast<Eigen::Index>(a.kept.size()));
-    for (std::size_t i = 0; i < a.kept.size(); ++i) K.col(static_cast<Eigen::Index>(i)) = J.col(static_cast<Eigen::Index>(a.kept[i]));
-    a.combination.push_back(K.size() ? Eigen::VectorXd(K.colPivHouseholderQr().solve(J.col(static_cast<Eigen::Index>(j))))
-                                     : Eigen::VectorXd());
+    for (std::size_t i = 0; i < a.kept.size(); ++i)
+      K.col(static_cast<Eigen::Index>(i)) = J.col(static_cast<Eigen::Index>(a.kept[i]));
+    a.combination.push_back(K.size()
+                                ? Eigen::VectorXd(K.colPivHouseholderQr().solve(J.col(static_cast<Eigen::Index>(j))))
+                                : Eigen::VectorXd());
     Eigen::VectorXd w(static_cast<Eigen::Index>(a.kept.size()));
     const double own = scale[static_cast<Eigen::Index>(j)];
-    for (std::size_t i = 0; i < a.kept.size(); ++i) w[static_cast<Eigen::Index>(i)] = own > 0 ? scale[static_cast<Eigen::Index>(a.kept[i])] / own : 0.0;
+    for (std::size_t i = 0; i < a.kept.size(); ++i)
+      w[static_cast<Eigen::Index>(i)] = own > 0 ? scale[static_cast<Eigen::Index>(a.kept[i])] / own : 0.0;
     a.weight.push_back(w);
   }
   return a;
@@ -276,7 +285,8 @@ Identifiability make_identifiability(const ProbingModel& pm, const Eigen::Matrix
   for (std::size_t j : a.kept) kept_names.push_back(out.columns[j]);
   const std::size_t k = pm.parameters().size();
   for (std::size_t j = 0; j < k; ++j)
-    (std::find(a.kept.begin(), a.kept.end(), j) != a.kept.end() ? out.identifiable : out.unidentifiable).push_back(out.columns[j]);
+    (std::find(a.kept.begin(), a.kept.end(), j) != a.kept.end() ? out.identifiable : out.unidentifiable)
+        .push_back(out.columns[j]);
   for (std::size_t d = 0; d < a.dropped.size(); ++d) {
     const std::size_t j = a.dropped[d];
     if (j >= k && j != pm.pretravel_column()) {
@@ -289,13 +299,13 @@ Identifiability make_identifiability(const ProbingModel& pm, const Eigen::Matrix
   return out;
 }
 
-
 void check_enough(const ProbingModel& pm, const std::string& source) {
   // Strictly more: with as many residuals as unknowns nothing is left to estimate the noise from.
   if (pm.residuals() <= pm.unknowns())
-    throw InputError({source, 0, ""}, fmt::format("too few measurements: {} residuals for {} unknowns (machine parameters, "
-                                                  "ball centres, facet offsets); expected more residuals than unknowns",
-                                                  pm.residuals(), pm.unknowns()));
+    throw InputError({source, 0, ""},
+                     fmt::format("too few measurements: {} residuals for {} unknowns (machine parameters, "
+                                 "ball centres, facet offsets); expected more residuals than unknowns",
+                                 pm.residuals(), pm.unknowns()));
 }
 
 class RecordCost : public ceres::CostFunction {
@@ -351,7 +361,8 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
                                    const std::vector<std::size_t>* fixed_params, const Eigen::VectorXd* start) {
   if (!meas.measured)
     throw InputError({meas.source, 0, ""}, "expected measurements (columns X, Y, Z with the readings), found a plan");
-  const std::vector<std::size_t> requested = fixed_params ? *fixed_params : detail::parameter_indices(prior, o.estimate, o.estimate_source);
+  const std::vector<std::size_t> requested =
+      fixed_params ? *fixed_params : detail::parameter_indices(prior, o.estimate, o.estimate_source);
   IdentificationResult res;
   std::vector<std::size_t> params = requested;
   bool pretravel = o.estimate_pretravel;
@@ -363,7 +374,8 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
     nominal_machine.clear_errors();
     // At the nominal targets, not the readings: the readings carry the machine's errors (up to
     // 1e-4 of the travel), which would turn exact equivalences into near ones.
-    const ProbingModel pm0(nominal_machine, plan_targets(nominal_machine, meas), requested, o.scale_bars, o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+    const ProbingModel pm0(nominal_machine, plan_targets(nominal_machine, meas), requested, o.scale_bars,
+                           o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
     check_enough(pm0, meas.source);
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
@@ -411,9 +423,12 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
     const std::size_t size = pm.block_size(b);
     for (std::size_t i = 0; i < size; ++i) {
       const double v = r[static_cast<Eigen::Index>(row + i)] * pm.sigma(b);
-      if (pm.is_ball_block(b)) sb += v * v, ++nb;
-      else if (pm.is_facet_block(b)) sf += v * v, ++nf;
-      else ss += v * v, ++ns;
+      if (pm.is_ball_block(b))
+        sb += v * v, ++nb;
+      else if (pm.is_facet_block(b))
+        sf += v * v, ++nf;
+      else
+        ss += v * v, ++ns;
     }
     row += size;
   }
@@ -444,8 +459,11 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   res.correlation = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
   for (std::size_t i = 0; i < k; ++i)
     for (std::size_t j = 0; j < k; ++j) {
-      const double d = std::sqrt(cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) * cov(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)));
-      if (i != j) res.correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) / d;
+      const double d = std::sqrt(cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) *
+                                 cov(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)));
+      if (i != j)
+        res.correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
+            cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) / d;
     }
   res.artefact = pm.artefact(s.x.data());
   if (pm.has_pretravel()) {
@@ -461,17 +479,18 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
 
 Identifiability identifiability(const Machine& machine, const ProbingPlan& plan, const IdentificationOptions& o) {
   Machine m = machine;
-  m.clear_errors();  // structural: see identify_with
+  m.clear_errors();                             // structural: see identify_with
   const ProbingPlan p = plan_targets(m, plan);  // measurements too: see identify_with
-  const ProbingModel pm(m, p, detail::parameter_indices(m, o.estimate, o.estimate_source), o.scale_bars, o.estimate_pretravel,
-                        o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+  const ProbingModel pm(m, p, detail::parameter_indices(m, o.estimate, o.estimate_source), o.scale_bars,
+                        o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
   pm.evaluate(pm.initial(), r, &J);
   return make_identifiability(pm, J, o.rank_tolerance);
 }
 
-IdentificationResult identify(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options) {
+IdentificationResult identify(const Machine& prior, const ProbingPlan& measurements,
+                              const IdentificationOptions& options) {
   return identify_with(prior, measurements, options, nullptr, nullptr);
 }
 
@@ -479,11 +498,14 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
                              const IdentificationResult& result, const MonteCarloOptions& mc) {
   MonteCarloResult out;
   out.runs = mc.runs;
-  const auto params = detail::parameter_indices(prior, [&] {
-    std::vector<std::string> names;
-    for (const auto& p : result.parameters) names.push_back(p.name);
-    return names;
-  }(), o.estimate_source);
+  const auto params = detail::parameter_indices(
+      prior,
+      [&] {
+        std::vector<std::string> names;
+        for (const auto& p : result.parameters) names.push_back(p.name);
+        return names;
+      }(),
+      o.estimate_source);
   const std::size_t k = params.size();
   // The readings' noise: given, or estimated from the fit without bias: sigma0 (which divides by
   // m - n) times each kind's assumed standard deviation.
@@ -491,8 +513,8 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
   const double noise_facet = mc.noise > 0 ? mc.noise : result.sigma0 * o.sigma_facet;
   IdentificationOptions run_options = o;
   run_options.estimate_pretravel = result.pretravel_estimated;
-  const ProbingModel pm(prior, measurements, params, o.scale_bars, result.pretravel_estimated, o.sigma_ball, o.sigma_facet,
-                        o.sigma_scale_bar);
+  const ProbingModel pm(prior, measurements, params, o.scale_bars, result.pretravel_estimated, o.sigma_ball,
+                        o.sigma_facet, o.sigma_scale_bar);
   // The solution vector of the identification, as the start of every run.
   Eigen::VectorXd x0 = pm.initial();
   for (std::size_t i = 0; i < k; ++i) x0[static_cast<Eigen::Index>(i)] = result.parameters[i].value;
@@ -517,8 +539,9 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
       // Parametric bootstrap: the readings the identified machine gives against the fitted
       // artefact, with fresh noise; one seed per run, so results do not depend on the threads.
       std::mt19937_64 rng(mc.seed * 1000003ULL + run);
-      const ProbingPlan meas = simulate_readings(result.machine, measurements, result.artefact,
-                                                 pm.has_pretravel() ? result.pretravel : 0.0, noise_ball, noise_facet, rng);
+      const ProbingPlan meas =
+          simulate_readings(result.machine, measurements, result.artefact, pm.has_pretravel() ? result.pretravel : 0.0,
+                            noise_ball, noise_facet, rng);
       const IdentificationResult r = identify_with(prior, meas, run_options, &params, &x0);
       for (std::size_t j = 0; j < k; ++j) out.samples[run][j] = r.parameters[j].value;
       if (!mc.workspace.empty()) {
@@ -538,7 +561,8 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
   std::size_t good = 0;
   for (std::size_t run = 0; run < mc.runs; ++run) good += ok[run] != 0;
   out.failed = mc.runs - good;
-  if (good == 0) throw Error("every Monte Carlo run failed" + (first_error.empty() ? std::string() : ": " + first_error));
+  if (good == 0)
+    throw Error("every Monte Carlo run failed" + (first_error.empty() ? std::string() : ": " + first_error));
   for (std::size_t j = 0; j < k; ++j) {
     double s = 0, s2 = 0;
     for (std::size_t run = 0; run < mc.runs; ++run)
@@ -550,7 +574,8 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
     out.stdev[j] = good > 1 ? std::sqrt(s2 / static_cast<double>(good - 1)) : 0.0;
   }
   if (!mc.workspace.empty()) {
-    out.va_identified = volumetric_accuracy(grid_error_map(ErrorModel(result.machine), mc.workspace, {1}).error).va.value;
+    out.va_identified =
+        volumetric_accuracy(grid_error_map(ErrorModel(result.machine), mc.workspace, {1}).error).va.value;
     double s = 0, s2 = 0;
     for (std::size_t run = 0; run < mc.runs; ++run)
       if (ok[run]) s += va[run];
@@ -573,8 +598,10 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
   return out;
 }
 
-ModelDeviation model_deviation(const Machine& identified, const Machine& truth, const std::vector<std::vector<double>>& workspace) {
-  const ErrorMap a = grid_error_map(ErrorModel(identified), workspace), b = grid_error_map(ErrorModel(truth), workspace);
+ModelDeviation model_deviation(const Machine& identified, const Machine& truth,
+                               const std::vector<std::vector<double>>& workspace) {
+  const ErrorMap a = grid_error_map(ErrorModel(identified), workspace),
+                 b = grid_error_map(ErrorModel(truth), workspace);
   ModelDeviation d;
   double s2 = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {

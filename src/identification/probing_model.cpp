@@ -8,7 +8,8 @@
 
 namespace mtcal::detail {
 
-std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<std::string>& names, const std::string& option) {
+std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<std::string>& names,
+                                           const std::string& option) {
   std::vector<std::size_t> out;
   const auto params = m.parameters();
   auto add = [&](std::size_t i) {
@@ -31,12 +32,18 @@ std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<s
 }
 
 ProbingModel::ProbingModel(const Machine& base, const ProbingPlan& plan, std::vector<std::size_t> parameters,
-                           const std::vector<ScaleBar>& scale_bars, bool pretravel, double sigma_ball, double sigma_facet,
-                           double sigma_scale_bar)
-    : base_(base), plan_(plan), params_(std::move(parameters)), pretravel_(pretravel), sb_(sigma_ball), sf_(sigma_facet),
+                           const std::vector<ScaleBar>& scale_bars, bool pretravel, double sigma_ball,
+                           double sigma_facet, double sigma_scale_bar)
+    : base_(base),
+      plan_(plan),
+      params_(std::move(parameters)),
+      pretravel_(pretravel),
+      sb_(sigma_ball),
+      sf_(sigma_facet),
       ss_(sigma_scale_bar) {
   for (double s : {sb_, sf_, ss_})
-    if (!(s > 0) || !std::isfinite(s)) throw InputError({"sigma", 0, ""}, fmt::format("expected a standard deviation > 0 mm, found {:g}", s));
+    if (!(s > 0) || !std::isfinite(s))
+      throw InputError({"sigma", 0, ""}, fmt::format("expected a standard deviation > 0 mm, found {:g}", s));
   n_ = params_.size();
   col_.assign(plan_.features.size(), 0);
   std::vector<bool> used(plan_.features.size(), false);
@@ -53,13 +60,16 @@ ProbingModel::ProbingModel(const Machine& base, const ProbingPlan& plan, std::ve
         throw InputError({sb.source, 0, id}, "expected a ball of the measurements, found no ball '" + id + "'");
     if (*a == *b) throw InputError({sb.source, 0, sb.ball_a}, "a scale bar needs two different balls");
     for (const auto& [id, idx] : {std::pair{sb.ball_a, *a}, std::pair{sb.ball_b, *b}})
-      if (!used[idx]) throw InputError({sb.source, 0, id}, "ball '" + id + "' of the scale bar is never probed in these measurements");
+      if (!used[idx])
+        throw InputError({sb.source, 0, id},
+                         "ball '" + id + "' of the scale bar is never probed in these measurements");
     bars_.push_back({*a, *b, sb.length});
   }
   if (pretravel_) {
     bool facet = false;
     for (const auto& r : plan_.records) facet = facet || plan_.features[r.feature].kind == ProbeFeature::Kind::Facet;
-    if (!facet) throw InputError({"pre-travel", 0, ""}, "pre-travel is estimated from facet touches; the measurements have none");
+    if (!facet)
+      throw InputError({"pre-travel", 0, ""}, "pre-travel is estimated from facet touches; the measurements have none");
     pre_col_ = n_++;
   }
   m_ = plan_.residual_count() + bars_.size();
@@ -87,7 +97,8 @@ std::vector<std::string> ProbingModel::names() const {
     if (!used[f]) continue;
     const auto& feat = plan_.features[f];
     if (feat.kind == ProbeFeature::Kind::Ball)
-      for (int c = 0; c < 3; ++c) out[col_[f] + static_cast<std::size_t>(c)] = fmt::format("ball {} {}", feat.id, "xyz"[c]);
+      for (int c = 0; c < 3; ++c)
+        out[col_[f] + static_cast<std::size_t>(c)] = fmt::format("ball {} {}", feat.id, "xyz"[c]);
     else
       out[col_[f]] = "facet " + feat.id;
   }
@@ -167,7 +178,8 @@ void ProbingModel::block(const double* x, std::size_t b, double* r, double* J) c
     for (int k = 0; k < 3; ++k) r[k] = (p[k] - c[k]) / sb_;
     if (!J) return;
     for (std::size_t k = 0; k < 3; ++k) {
-      for (std::size_t i = 0; i < params_.size(); ++i) J[k * n_ + i] = full_(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(params_[i])) / sb_;
+      for (std::size_t i = 0; i < params_.size(); ++i)
+        J[k * n_ + i] = full_(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(params_[i])) / sb_;
       J[k * n_ + col_[rec.feature] + k] = -1.0 / sb_;
     }
     return;

@@ -72,6 +72,7 @@ class ProbingModel {
 
 // Machine parameter indices for names (parameters or errors, Machine::parameter_index first);
 // InputError for an unknown name, duplicates removed, order kept.
-std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<std::string>& names, const std::string& option);
+std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<std::string>& names,
+                                           const std::string& option);
 
 }  // namespace mtcal::detail

@@ -21,9 +21,9 @@ namespace {
 // forward substitution; a pivot below the tolerance means column j lies (numerically) in the
 // span of the set, so the set with j and every superset of it is deficient: skipped.
 struct Search {
-  const Eigen::MatrixXd& G;   // Gram matrix of unit columns: fixed (0..f-1), then candidates
-  const Eigen::VectorXd& c;   // S^T r0 (first-order residue), or empty
-  double r0_2;                // |r0|^2
+  const Eigen::MatrixXd& G;  // Gram matrix of unit columns: fixed (0..f-1), then candidates
+  const Eigen::VectorXd& c;  // S^T r0 (first-order residue), or empty
+  double r0_2;               // |r0|^2
   std::size_t f, k;
   double tol;
   std::vector<ParameterSubset> found;
@@ -36,8 +36,10 @@ struct Search {
   bool push(std::size_t j) {
     const auto s = static_cast<Eigen::Index>(set.size());
     Eigen::VectorXd g(s);
-    for (Eigen::Index i = 0; i < s; ++i) g[i] = G(static_cast<Eigen::Index>(set[static_cast<std::size_t>(i)]), static_cast<Eigen::Index>(j));
-    const Eigen::VectorXd l = s ? Eigen::VectorXd(L.topLeftCorner(s, s).triangularView<Eigen::Lower>().solve(g)) : Eigen::VectorXd();
+    for (Eigen::Index i = 0; i < s; ++i)
+      g[i] = G(static_cast<Eigen::Index>(set[static_cast<std::size_t>(i)]), static_cast<Eigen::Index>(j));
+    const Eigen::VectorXd l =
+        s ? Eigen::VectorXd(L.topLeftCorner(s, s).triangularView<Eigen::Lower>().solve(g)) : Eigen::VectorXd();
     const double p2 = G(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)) - l.squaredNorm();
     // sigma_min <= the distance of a column from the span of the others (the pivot).
     if (!(p2 > tol * tol)) return false;
@@ -64,7 +66,8 @@ struct Search {
     Eigen::MatrixXd Gs(s, s);
     for (Eigen::Index a = 0; a < s; ++a)
       for (Eigen::Index b = 0; b < s; ++b)
-        Gs(a, b) = G(static_cast<Eigen::Index>(set[static_cast<std::size_t>(a)]), static_cast<Eigen::Index>(set[static_cast<std::size_t>(b)]));
+        Gs(a, b) = G(static_cast<Eigen::Index>(set[static_cast<std::size_t>(a)]),
+                     static_cast<Eigen::Index>(set[static_cast<std::size_t>(b)]));
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Gs, Eigen::EigenvaluesOnly);
     const double lmin = std::max(0.0, eig.eigenvalues()[0]), lmax = eig.eigenvalues()[s - 1];
     if (!(lmin > tol * tol * lmax)) {
@@ -126,9 +129,12 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
       throw InputError({o.candidates_source, 0, m.parameters()[c].name}, "a candidate is also in " + o.always_source);
   if (cand.empty()) throw InputError({o.candidates_source, 0, ""}, "expected candidate parameters, found none");
   if (o.by_residue && !plan.measured)
-    throw InputError({o.by_residue_source, 0, ""}, "ranking by residue needs measurements (a file with the readings X, Y, Z)");
+    throw InputError({o.by_residue_source, 0, ""},
+                     "ranking by residue needs measurements (a file with the readings X, Y, Z)");
   if (o.choose < 1 || o.choose > cand.size())
-    throw InputError({o.choose_source, 0, ""}, fmt::format("expected a subset size from 1 to {} (the candidates), found {}", cand.size(), o.choose));
+    throw InputError({o.choose_source, 0, ""},
+                     fmt::format("expected a subset size from 1 to {} (the candidates), found {}", cand.size(),
+                                 o.choose));
   if (!(o.rank_tolerance >= 1e-7 && o.rank_tolerance < 1))
     throw InputError({o.rank_tolerance_source, 0, ""},
                      fmt::format("expected a tolerance from 1e-7 to 1 for the subset analysis (its normal-matrix test "
@@ -136,7 +142,8 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
                                  o.rank_tolerance));
   std::vector<std::size_t> params = always;
   params.insert(params.end(), cand.begin(), cand.end());
-  const detail::ProbingModel pm(m, p, params, mo.scale_bars, mo.estimate_pretravel, mo.sigma_ball, mo.sigma_facet, mo.sigma_scale_bar);
+  const detail::ProbingModel pm(m, p, params, mo.scale_bars, mo.estimate_pretravel, mo.sigma_ball, mo.sigma_facet,
+                                mo.sigma_scale_bar);
   Eigen::VectorXd r0;
   Eigen::MatrixXd J;
   pm.evaluate(pm.initial(), r0, &J);
@@ -147,13 +154,15 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   const std::size_t f = fixed.size(), n = cand.size();
   Eigen::MatrixXd S(J.rows(), static_cast<Eigen::Index>(f + n));
   for (std::size_t j = 0; j < f; ++j) S.col(static_cast<Eigen::Index>(j)) = J.col(static_cast<Eigen::Index>(fixed[j]));
-  for (std::size_t j = 0; j < n; ++j) S.col(static_cast<Eigen::Index>(f + j)) = J.col(static_cast<Eigen::Index>(always.size() + j));
+  for (std::size_t j = 0; j < n; ++j)
+    S.col(static_cast<Eigen::Index>(f + j)) = J.col(static_cast<Eigen::Index>(always.size() + j));
   const auto names = pm.names();
   for (Eigen::Index j = 0; j < S.cols(); ++j) {
     const double norm = S.col(j).norm();
     if (norm == 0) {
       if (static_cast<std::size_t>(j) < f)
-        throw InputError({o.always_source, 0, ""}, "'" + names[fixed[static_cast<std::size_t>(j)]] + "' has no effect on the measurements");
+        throw InputError({o.always_source, 0, ""},
+                         "'" + names[fixed[static_cast<std::size_t>(j)]] + "' has no effect on the measurements");
       continue;  // a candidate with no effect: every subset holding it is deficient
     }
     S.col(j) /= norm;
@@ -163,8 +172,8 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   Eigen::VectorXd c;
   double r0_2 = 0;
   if (plan.measured) {
-    const detail::ProbingModel measured(m, plan, params, mo.scale_bars, mo.estimate_pretravel, mo.sigma_ball, mo.sigma_facet,
-                                        mo.sigma_scale_bar);
+    const detail::ProbingModel measured(m, plan, params, mo.scale_bars, mo.estimate_pretravel, mo.sigma_ball,
+                                        mo.sigma_facet, mo.sigma_scale_bar);
     measured.evaluate(measured.initial(), r0, nullptr);
     c = -(S.transpose() * r0);
     r0_2 = r0.squaredNorm();
@@ -177,14 +186,17 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
     Search base{G, c, r0_2, f, 0, o.rank_tolerance, {}, 0, 0, {}, {}, {}};
     for (std::size_t j = 0; j < f; ++j)
       if (!base.push(j))
-        throw InputError({o.always_source, 0, ""}, "the artefact unknowns and the parameters in every subset are already not "
-                                                "identifiable together (at '" + names[fixed[j]] + "'); see mtcal identifiability");
+        throw InputError({o.always_source, 0, ""},
+                         "the artefact unknowns and the parameters in every subset are already not "
+                         "identifiable together (at '" +
+                             names[fixed[j]] + "'); see mtcal identifiability");
   }
   // One task per leading candidate; each search owns its factor.
   const std::size_t tasks = n - o.choose + 1;
   std::vector<Search> results;
   results.reserve(tasks);
-  for (std::size_t t = 0; t < tasks; ++t) results.push_back(Search{G, c, r0_2, f, o.choose, o.rank_tolerance, {}, 0, 0, {}, {}, {}});
+  for (std::size_t t = 0; t < tasks; ++t)
+    results.push_back(Search{G, c, r0_2, f, o.choose, o.rank_tolerance, {}, 0, 0, {}, {}, {}});
   parallel_for(tasks, o.threads, [&](std::size_t t, std::size_t) {
     Search& s = results[t];
     for (std::size_t j = 0; j < f; ++j) s.push(j);

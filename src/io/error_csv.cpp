@@ -24,7 +24,8 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
   }
   for (const auto& c : table.columns) {
     bool known = false;
-    for (const auto& ax : m.axes) known = known || c == std::string(1, ax.letter) || c == std::string("dir") + ax.letter;
+    for (const auto& ax : m.axes)
+      known = known || c == std::string(1, ax.letter) || c == std::string("dir") + ax.letter;
     for (const char* k : kErrorKeys) known = known || c == k;  // an evaluated file reads back
     if (!known)
       throw InputError({path, 1, c}, "unknown column '" + c + "' (expected axis letters of " + m.topology.chain +
@@ -74,7 +75,8 @@ void ErrorStreamCsv::write(const ErrorChunk& c) {
   fmt::memory_buffer buf;
   for (std::size_t r = 0; r < c.size(); ++r) {
     for (std::size_t k = 0; k < n; ++k)
-      fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "", to_user_units(machine_.axes[k], c.q[r * n + k]));
+      fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "",
+                     to_user_units(machine_.axes[k], c.q[r * n + k]));
     if (!c.dir.empty())
       for (std::size_t k = 0; k < n; ++k) fmt::format_to(std::back_inserter(buf), ",{}", c.dir[r * n + k]);
     for (int e = 0; e < 6; ++e) fmt::format_to(std::back_inserter(buf), ",{:.9e}", c.error[r * 6 + e]);
@@ -98,7 +100,8 @@ void write_error_map_csv(const std::string& path, const Machine& m, const ErrorM
     for (std::size_t k = 0; k < n; ++k)
       fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "", to_user_units(m.axes[k], map.q[i * n + k]));
     for (const std::int8_t d : map.direction(i)) fmt::format_to(std::back_inserter(buf), ",{}", d);
-    fmt::format_to(std::back_inserter(buf), ",{:.9e},{:.9e},{:.9e}\n", map.error[i].x(), map.error[i].y(), map.error[i].z());
+    fmt::format_to(std::back_inserter(buf), ",{:.9e},{:.9e},{:.9e}\n", map.error[i].x(), map.error[i].y(),
+                   map.error[i].z());
     if (buf.size() > (1u << 20)) out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size())), buf.clear();
   }
   out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));

@@ -41,7 +41,9 @@ Json to_json(const Machine& m, std::span<const double> at, const std::string& ar
              std::span<const ErrorEffect> effects) {
   Json arr = Json::array();
   for (const auto& e : effects) {
-    Json j{{"error", e.error.str()}, {"kind", std::string(to_string(e.error.kind))}, {"per", e.rotational ? "urad" : "um"}};
+    Json j{{"error", e.error.str()},
+           {"kind", std::string(to_string(e.error.kind))},
+           {"per", e.rotational ? "urad" : "um"}};
     for (int c = 0; c < 6; ++c) j[kErrorKeys[c]] = e.effect[static_cast<std::size_t>(c)];
     arr.push_back(j);
   }

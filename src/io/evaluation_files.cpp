@@ -101,9 +101,12 @@ PositioningRuns read_positioning_csv(const std::string& path, const std::string&
     if (run != std::floor(run)) throw InputError({path, lineno, "run"}, "expected a whole run number");
     const std::string& d = cells[c[2]];
     int dir = 0;
-    if (d == "up" || d == "+") dir = 1;
-    else if (d == "down" || d == "-") dir = -1;
-    else throw InputError({path, lineno, "direction"}, "expected up, down, + or -, found '" + d + "'");
+    if (d == "up" || d == "+")
+      dir = 1;
+    else if (d == "down" || d == "-")
+      dir = -1;
+    else
+      throw InputError({path, lineno, "direction"}, "expected up, down, + or -, found '" + d + "'");
     if (!data.count(target)) order.push_back(target);
     auto& runs = data[target][dir];
     if (runs.count(static_cast<long>(run)))
@@ -148,7 +151,8 @@ PositioningRuns read_positioning_dat(const std::string& path) {
     if (key == "CYCLES" || key == "POSITIONS") continue;  // implied by the data
     std::smatch m;
     if (!std::regex_match(key, m, indexed))
-      throw InputError({path, lineno, key}, "unknown key '" + key + "' (expected TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT)");
+      throw InputError({path, lineno, key},
+                       "unknown key '" + key + "' (expected TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT)");
     const auto v = parse_number(value);
     if (!v) throw InputError({path, lineno, key}, "expected a number, found '" + value + "'");
     const long i = std::stol(m[2]);
@@ -176,9 +180,11 @@ PositioningRuns read_positioning_dat(const std::string& path) {
     r.down.push_back(down);
   }
   for (const auto& [i, runs] : fwd)
-    if (!targets.count(i)) throw InputError({path, 0, fmt::format("REF_DATA_FWD[{},...]", i)}, "no TGT_DATA for this target");
+    if (!targets.count(i))
+      throw InputError({path, 0, fmt::format("REF_DATA_FWD[{},...]", i)}, "no TGT_DATA for this target");
   for (const auto& [i, runs] : bwd)
-    if (!targets.count(i)) throw InputError({path, 0, fmt::format("REF_DATA_BWD[{},...]", i)}, "no TGT_DATA for this target");
+    if (!targets.count(i))
+      throw InputError({path, 0, fmt::format("REF_DATA_BWD[{},...]", i)}, "no TGT_DATA for this target");
   return r;
 }
 
@@ -201,9 +207,12 @@ BallbarTrace read_ballbar_csv(const std::string& path) {
     const int lineno = t.lines[r];
     TracePoint p;
     const std::string d = lower(cells[c[0]]);
-    if (d == "cw") p.direction = CircleDirection::CW;
-    else if (d == "ccw") p.direction = CircleDirection::CCW;
-    else throw InputError({path, lineno, "direction"}, "expected cw or ccw, found '" + cells[c[0]] + "'");
+    if (d == "cw")
+      p.direction = CircleDirection::CW;
+    else if (d == "ccw")
+      p.direction = CircleDirection::CCW;
+    else
+      throw InputError({path, lineno, "direction"}, "expected cw or ccw, found '" + cells[c[0]] + "'");
     const auto a = parse_number(cells[c[1]]);
     if (!a) throw InputError({path, lineno, "angle_deg"}, "expected a number, found '" + cells[c[1]] + "'");
     const auto radius = parse_number(cells[c[2]]);
@@ -227,7 +236,6 @@ std::string ballbar_csv(const std::vector<TracePoint>& trace) {
 void write_ballbar_csv(const std::string& path, const std::vector<TracePoint>& trace) {
   write_file_atomically(path, ballbar_csv(trace));
 }
-
 
 ComparisonData parse_comparison_csv(const std::string& text, const std::string& source) {
   // Spreadsheets often start their CSV exports with a UTF-8 byte order mark.
@@ -253,15 +261,16 @@ ComparisonData parse_comparison_csv(const std::string& text, const std::string& 
       if (sorted_cells != sorted_expected)
         throw InputError({source, lineno, ""},
                          "expected the header 'method,test,parameter,value' (columns in any order, no others), "
-                         "found '" + join(cells) + "'");
+                         "found '" +
+                             join(cells) + "'");
       for (std::size_t k = 0; k < kColumns.size(); ++k)
         col[k] = static_cast<std::size_t>(std::find(cells.begin(), cells.end(), kColumns[k]) - cells.begin());
       ncols = cells.size();
       continue;
     }
     if (cells.size() != ncols)
-      throw InputError({source, lineno, ""},
-                       fmt::format("expected {} cells (method, test, parameter, value), found {}", ncols, cells.size()));
+      throw InputError({source, lineno, ""}, fmt::format("expected {} cells (method, test, parameter, value), found {}",
+                                                         ncols, cells.size()));
     for (std::size_t k = 0; k < 3; ++k)
       if (cells[col[k]].empty()) throw InputError({source, lineno, kColumns[k]}, "empty cell (expected a name)");
     const std::string& method = cells[col[0]];

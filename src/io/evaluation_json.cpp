@@ -16,25 +16,46 @@ Json or_null(const std::optional<T>& v) {
 
 Json to_json(const PositioningEvaluation& e) {
   Json j;
-  for (const auto& [k, v] : std::initializer_list<std::pair<const char*, double>>{
-           {"A", e.A}, {"A_up", e.A_up}, {"A_down", e.A_down}, {"B", e.B}, {"B_mean", e.B_mean}, {"R", e.R},
-           {"R_up", e.R_up}, {"R_down", e.R_down}, {"E", e.E}, {"E_up", e.E_up}, {"E_down", e.E_down}, {"M", e.M}})
+  for (const auto& [k, v] : std::initializer_list<std::pair<const char*, double>>{{"A", e.A},
+                                                                                  {"A_up", e.A_up},
+                                                                                  {"A_down", e.A_down},
+                                                                                  {"B", e.B},
+                                                                                  {"B_mean", e.B_mean},
+                                                                                  {"R", e.R},
+                                                                                  {"R_up", e.R_up},
+                                                                                  {"R_down", e.R_down},
+                                                                                  {"E", e.E},
+                                                                                  {"E_up", e.E_up},
+                                                                                  {"E_down", e.E_down},
+                                                                                  {"M", e.M}})
     j[k] = v;
   j["unit"] = e.unit;
   j["runs"] = e.runs;
   Json ts = Json::array();
   for (const auto& t : e.targets)
-    ts.push_back({{"target", t.target}, {"mean_up", t.mean_up}, {"mean_down", t.mean_down}, {"mean", t.mean},
-                  {"B", t.reversal}, {"s_up", t.s_up}, {"s_down", t.s_down}, {"R_up", t.R_up},
-                  {"R_down", t.R_down}, {"R", t.R}});
+    ts.push_back({{"target", t.target},
+                  {"mean_up", t.mean_up},
+                  {"mean_down", t.mean_down},
+                  {"mean", t.mean},
+                  {"B", t.reversal},
+                  {"s_up", t.s_up},
+                  {"s_down", t.s_down},
+                  {"R_up", t.R_up},
+                  {"R_down", t.R_down},
+                  {"R", t.R}});
   j["targets"] = ts;
   return j;
 }
 
 Json to_json(const CircularDeviation& d) {
-  return {{"points", d.points}, {"G", d.G}, {"G_minimum_zone", d.G_minimum_zone},
-          {"centre", {d.centre_x, d.centre_y}}, {"minimum_zone_centre", {d.mz_centre_x, d.mz_centre_y}},
-          {"F_max", d.F_max}, {"F_min", d.F_min}, {"F_mean", d.F_mean}};
+  return {{"points", d.points},
+          {"G", d.G},
+          {"G_minimum_zone", d.G_minimum_zone},
+          {"centre", {d.centre_x, d.centre_y}},
+          {"minimum_zone_centre", {d.mz_centre_x, d.mz_centre_y}},
+          {"F_max", d.F_max},
+          {"F_min", d.F_min},
+          {"F_mean", d.F_mean}};
 }
 
 Json to_json(const TraceDiagnosis& d) {

@@ -14,8 +14,7 @@ namespace mtcal {
 
 std::string read_text_file(const std::string& path, const std::string& what) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw InputError({path, 0, ""}, "is a directory; expected a " + what);
+  if (std::filesystem::is_directory(path, ec)) throw InputError({path, 0, ""}, "is a directory; expected a " + what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError({path, 0, ""}, "cannot open " + what);
   std::ostringstream ss;

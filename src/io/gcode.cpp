@@ -103,13 +103,13 @@ bool GcodeReader::read_block() {
         i = line_end;
         continue;
       }
-      if (!is_letter(c))
-        fail(column(i), fmt::format("expected a word (a letter and a number), found {}", shown(c)));
+      if (!is_letter(c)) fail(column(i), fmt::format("expected a word (a letter and a number), found {}", shown(c)));
       if (closed_) fail(column(i), "a word after the closing '%' (expected the end of the program)");
       const char letter = upper(c);
       const int col = column(i);
       if (!std::strchr("GMSTNFXYZABCIJKR", letter))
-        fail(col, fmt::format("unsupported word '{}' (expected G, M, S, T, N, F, X, Y, Z, A, B, C, I, J, K or R)", letter));
+        fail(col,
+             fmt::format("unsupported word '{}' (expected G, M, S, T, N, F, X, Y, Z, A, B, C, I, J, K or R)", letter));
       if (axis_slot(letter) >= 0 && !allowed_[static_cast<std::size_t>(letter - 'A')])
         fail(col, fmt::format("axis word '{}' for an axis this machine does not have (its axes: {})", letter,
                               options_.axes));
@@ -130,7 +130,8 @@ bool GcodeReader::read_block() {
         std::size_t e = num;
         while (e < line_end && e - num < 12 && !is_blank(base[e]) && base[e] != '(' && base[e] != ';') ++e;
         fail(col, fmt::format("expected a number after '{}', found {}", letter,
-                              e == num ? std::string("the end of the block") : "'" + std::string(base + num, e - num) + "'"));
+                              e == num ? std::string("the end of the block")
+                                       : "'" + std::string(base + num, e - num) + "'"));
       }
       if (k < line_end && (base[k] == 'e' || base[k] == 'E') && k + 1 < line_end &&
           (is_digit(base[k + 1]) || base[k + 1] == '+' || base[k + 1] == '-'))
@@ -141,7 +142,8 @@ bool GcodeReader::read_block() {
       const char* first = base[num] == '+' ? base + mantissa : base + num;
       const auto [end, ec] = std::from_chars(first, base + k, v, std::chars_format::fixed);
       if (ec != std::errc() || end != base + k || !std::isfinite(v))
-        fail(col, fmt::format("expected a finite number after '{}', found '{}'", letter, std::string(base + num, k - num)));
+        fail(col,
+             fmt::format("expected a finite number after '{}', found '{}'", letter, std::string(base + num, k - num)));
       words_.push_back({letter, v, col});
       i = k;
     }
@@ -187,23 +189,37 @@ bool GcodeReader::apply_block(GcodeMove& move) {
         const double code = w.value;
         if (!(code >= 0 && code <= 999 && code == std::floor(code)))
           fail(w.column, fmt::format("unsupported G code G{} (expected G0 G1 G2 G3 G17 G18 G19 G20 G21 G90 G91, or the "
-                                     "ignored G40 G49 G80 G94)", code));
+                                     "ignored G40 G49 G80 G94)",
+                                     code));
         const int g = static_cast<int>(code);
         switch (g) {
-          case 0: case 1: case 2: case 3: group(motion, motion_col, g, w, "motion"); break;
-          case 17: case 18: case 19: group(plane, plane_col, g, w, "plane"); break;
-          case 20: case 21: group(units, units_col, g, w, "unit"); break;
-          case 90: case 91: group(distance, distance_col, g, w, "distance mode"); break;
+          case 0:
+          case 1:
+          case 2:
+          case 3: group(motion, motion_col, g, w, "motion"); break;
+          case 17:
+          case 18:
+          case 19: group(plane, plane_col, g, w, "plane"); break;
+          case 20:
+          case 21: group(units, units_col, g, w, "unit"); break;
+          case 90:
+          case 91: group(distance, distance_col, g, w, "distance mode"); break;
           // Cutter radius and tool length compensation off, canned cycle off, feed per minute:
           // the states this reader assumes anyway.
-          case 40: case 49: case 80: case 94: ++counts_.ignored_words; break;
+          case 40:
+          case 49:
+          case 80:
+          case 94: ++counts_.ignored_words; break;
           default:
             fail(w.column, fmt::format("unsupported G code G{} (expected G0 G1 G2 G3 G17 G18 G19 G20 G21 G90 G91, or "
-                                       "the ignored G40 G49 G80 G94)", g));
+                                       "the ignored G40 G49 G80 G94)",
+                                       g));
         }
         break;
       }
-      case 'M': case 'S': case 'T': ++counts_.ignored_words; break;
+      case 'M':
+      case 'S':
+      case 'T': ++counts_.ignored_words; break;
       case 'N':
         once(n_col, w);
         if (!(w.value >= 0 && w.value == std::floor(w.value) && w.value < 1e15))
@@ -220,7 +236,9 @@ bool GcodeReader::apply_block(GcodeMove& move) {
         r = w.value;
         if (!first_arc_col) first_arc_col = w.column;
         break;
-      case 'I': case 'J': case 'K': {
+      case 'I':
+      case 'J':
+      case 'K': {
         const auto s = static_cast<std::size_t>(w.letter - 'I');
         once(ijk_col[s], w);
         ijk[s] = w.value;
@@ -249,13 +267,13 @@ bool GcodeReader::apply_block(GcodeMove& move) {
     fail(first_arc_col, fmt::format("I, J, K and R go with G2 or G3, found them with {}",
                                     motion_ < 0 ? std::string("no motion mode") : fmt::format("G{}", motion_)));
   if (has_ijk && r_col) {
-    const int ijk_first = *std::min_element(ijk_col.begin(), ijk_col.end(), [](int a, int b) {
-      return (a ? a : 1 << 30) < (b ? b : 1 << 30);
-    });
+    const int ijk_first = *std::min_element(ijk_col.begin(), ijk_col.end(),
+                                            [](int a, int b) { return (a ? a : 1 << 30) < (b ? b : 1 << 30); });
     fail(std::max(r_col, ijk_first), "R and I/J/K in one block (expected the arc's centre one way: I J K or R)");
   }
   if (first_axis_col && motion_ < 0)
-    fail(first_axis_col, "axis word with no motion mode in effect (expected G0, G1, G2 or G3 in this or an earlier block)");
+    fail(first_axis_col,
+         "axis word with no motion mode in effect (expected G0, G1, G2 or G3 in this or an earlier block)");
 
   const bool arc = motion_ == 2 || motion_ == 3;
   if (!first_axis_col && !(arc && (has_ijk || r_col))) return false;
@@ -280,10 +298,10 @@ bool GcodeReader::apply_block(GcodeMove& move) {
 
   if (arc) {
     const PlaneAxes pa = plane_axes(plane_);
-    const auto u = static_cast<std::size_t>(pa.u), v = static_cast<std::size_t>(pa.v), w = static_cast<std::size_t>(pa.w);
+    const auto u = static_cast<std::size_t>(pa.u), v = static_cast<std::size_t>(pa.v),
+               w = static_cast<std::size_t>(pa.w);
     const int at = motion_col ? motion_col : (first_axis_col ? first_axis_col : first_arc_col);
-    if (!has_ijk && !r_col)
-      fail(at, fmt::format("arc (G{}) with no centre (expected I J K offsets or R)", motion_));
+    if (!has_ijk && !r_col) fail(at, fmt::format("arc (G{}) with no centre (expected I J K offsets or R)", motion_));
     const double su = position_[u], sv = position_[v], eu = end[u], ev = end[v];
     const double chord = std::hypot(eu - su, ev - sv);
     const bool ccw = motion_ == 3;
@@ -291,16 +309,16 @@ bool GcodeReader::apply_block(GcodeMove& move) {
     if (has_ijk) {
       // RS274NGC: I J K are offsets of the centre from the start along X Y Z, whatever G90/G91.
       if (ijk_col[w])
-        fail(ijk_col[w], fmt::format("'{}' is no centre offset in the {} plane (expected {} and {})", static_cast<char>('I' + w),
-                                     to_string(plane_), static_cast<char>('I' + u), static_cast<char>('I' + v)));
+        fail(ijk_col[w],
+             fmt::format("'{}' is no centre offset in the {} plane (expected {} and {})", static_cast<char>('I' + w),
+                         to_string(plane_), static_cast<char>('I' + u), static_cast<char>('I' + v)));
       if (!ijk_col[u] && !ijk_col[v])
         fail(at, fmt::format("arc (G{}) with no centre in the {} plane (expected {} or {})", motion_, to_string(plane_),
                              static_cast<char>('I' + u), static_cast<char>('I' + v)));
       cu = su + ijk[u] * scale;
       cv = sv + ijk[v] * scale;
       const double r0 = std::hypot(su - cu, sv - cv), r1 = std::hypot(eu - cu, ev - cv);
-      if (!(r0 > kSamePoint))
-        fail(first_arc_col, "the arc's centre is its start point (expected a radius > 0)");
+      if (!(r0 > kSamePoint)) fail(first_arc_col, "the arc's centre is its start point (expected a radius > 0)");
       const double tol = std::max(kArcRadiusTolerance, kArcRadiusRelative * std::max(r0, r1));
       if (!(std::abs(r0 - r1) <= tol))
         fail(first_arc_col, fmt::format("the arc's start radius {} mm and end radius {} mm differ by {} mm (expected "
@@ -310,8 +328,8 @@ bool GcodeReader::apply_block(GcodeMove& move) {
       if (chord <= kSamePoint) {
         sweep = ccw ? kTwoPi : -kTwoPi;
       } else {
-        const double a = std::atan2((su - cu) * (ev - cv) - (sv - cv) * (eu - cu),
-                                    (su - cu) * (eu - cu) + (sv - cv) * (ev - cv));
+        const double a =
+            std::atan2((su - cu) * (ev - cv) - (sv - cv) * (eu - cu), (su - cu) * (eu - cu) + (sv - cv) * (ev - cv));
         sweep = ccw ? (a <= 0 ? a + kTwoPi : a) : (a >= 0 ? a - kTwoPi : a);
       }
       move.sweep = sweep;

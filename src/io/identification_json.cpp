@@ -28,7 +28,8 @@ Json artefact_json(const std::vector<ProbeFeature>& features, const ArtefactStat
   return {{"balls", balls}, {"facets", facets}};
 }
 
-Json to_json(const Simulation& sim, double noise_um, double artefact_error_um, std::uint64_t seed, const std::string& out) {
+Json to_json(const Simulation& sim, double noise_um, double artefact_error_um, std::uint64_t seed,
+             const std::string& out) {
   Json j;
   j["records"] = sim.measurements.records.size();
   j["residuals"] = sim.measurements.residual_count();

@@ -20,7 +20,8 @@ std::vector<std::pair<std::string, std::string>> items(std::string_view spec, st
     std::string item(spec.substr(start, end - start));
     auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw InputError({std::string(what), 0, item}, "expected AXIS=VALUE items separated by commas, found '" + item + "'");
+      throw InputError({std::string(what), 0, item},
+                       "expected AXIS=VALUE items separated by commas, found '" + item + "'");
     out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
     start = end + 1;
   }

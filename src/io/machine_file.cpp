@@ -37,8 +37,7 @@ SourceLocation at(const YAML::Node& n, const Ctx& ctx) {
 const char* an(Dimension d) { return d == Dimension::Length ? "a length" : "an angle"; }
 
 // A unit of the expected dimension; ratios (um/m ...) only where with_ratios (error values).
-Unit checked_unit(const std::string& name, const YAML::Node& n, const Ctx& ctx, Dimension expected,
-                  bool with_ratios) {
+Unit checked_unit(const std::string& name, const YAML::Node& n, const Ctx& ctx, Dimension expected, bool with_ratios) {
   auto u = find_unit(name);
   if (!u)
     ctx.fail(n, fmt::format("unknown unit '{}' (expected {} unit: {})", name, an(expected),
@@ -60,8 +59,7 @@ double quantity(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
     auto e = entries(n, ctx, {"value", "unit", "description"});
     if (!e.count("value")) ctx.fail(n, "missing key 'value'");
     if (!e.count("unit")) ctx.fail(n, fmt::format("missing key 'unit' ({} unit)", an(expected)));
-    return number(e["value"], ctx.child("value")) *
-           unit(e["unit"], ctx.child("unit"), expected, true).to_internal;
+    return number(e["value"], ctx.child("value")) * unit(e["unit"], ctx.child("unit"), expected, true).to_internal;
   }
   const char* example = expected == Dimension::Length ? "12 um" : "25 urad";
   if (!n.IsScalar())
@@ -90,11 +88,9 @@ Direction parse_direction(const YAML::Node& n, const Ctx& ctx) {
   ctx.fail(n, "expected a direction '+x', '-x', '+y', '-y', '+z' or '-z', found '" + s + "'");
 }
 
-MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax, Component comp,
-                            double length_scale, double angle_scale) {
-  auto e = entries(n, ctx,
-                   {"unit", "argument_unit", "polynomial", "reversal", "table", "fourier",
-                    "description"});
+MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax, Component comp, double length_scale,
+                            double angle_scale) {
+  auto e = entries(n, ctx, {"unit", "argument_unit", "polynomial", "reversal", "table", "fourier", "description"});
   const Dimension value_dim = is_rotation(comp) ? Dimension::Angle : Dimension::Length;
   if (!e.count("unit"))
     ctx.fail(n, fmt::format("missing key 'unit' (the unit of the error values, {} unit)", an(value_dim)));
@@ -103,13 +99,13 @@ MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax,
   double as = ax.kind == AxisKind::Linear ? length_scale : angle_scale;
   if (e.count("argument_unit")) {
     if (e.count("fourier"))
-      ctx.child("argument_unit").fail(e["argument_unit"], "a Fourier series takes the angle itself; 'argument_unit' has no meaning there");
+      ctx.child("argument_unit")
+          .fail(e["argument_unit"], "a Fourier series takes the angle itself; 'argument_unit' has no meaning there");
     as = unit(e["argument_unit"], ctx.child("argument_unit"), arg_dim, false).to_internal;
   }
 
   const int forms = static_cast<int>(e.count("polynomial") + e.count("table") + e.count("fourier"));
-  if (forms != 1)
-    ctx.fail(n, fmt::format("expected exactly one of 'polynomial', 'table', 'fourier', found {}", forms));
+  if (forms != 1) ctx.fail(n, fmt::format("expected exactly one of 'polynomial', 'table', 'fourier', found {}", forms));
   const double reversal = e.count("reversal") ? number(e["reversal"], ctx.child("reversal")) * vs : 0.0;
 
   if (e.count("polynomial")) {
@@ -118,8 +114,7 @@ MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax,
     if (c.empty() || c.size() > 4)
       pc.fail(e["polynomial"], fmt::format("expected 1 to 4 coefficients [E0, E1, E2, E3], found {}", c.size()));
     Polynomial p;
-    for (std::size_t i = 0; i < c.size(); ++i)
-      p.coefficients[i] = c[i] * vs / std::pow(as, static_cast<double>(i));
+    for (std::size_t i = 0; i < c.size(); ++i) p.coefficients[i] = c[i] * vs / std::pow(as, static_cast<double>(i));
     p.reversal = reversal;
     return MotionFunction(p);
   }
@@ -133,18 +128,19 @@ MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax,
     Table tab;
     tab.positions = numbers(t["positions"], tc.child("positions"));
     if (tab.positions.size() < 2)
-      tc.child("positions").fail(t["positions"], fmt::format("expected at least 2 positions, found {}", tab.positions.size()));
+      tc.child("positions")
+          .fail(t["positions"], fmt::format("expected at least 2 positions, found {}", tab.positions.size()));
     for (std::size_t i = 1; i < tab.positions.size(); ++i)
       if (!(tab.positions[i] > tab.positions[i - 1]))
-        tc.child("positions").fail(t["positions"],
-                                   fmt::format("positions must increase strictly; position {} ({}) follows {}",
-                                               i, tab.positions[i], tab.positions[i - 1]));
+        tc.child("positions")
+            .fail(t["positions"], fmt::format("positions must increase strictly; position {} ({}) follows {}", i,
+                                              tab.positions[i], tab.positions[i - 1]));
     for (auto& x : tab.positions) x *= as;
     auto read_values = [&](const char* key, std::vector<double>& out) {
       out = numbers(t[key], tc.child(key));
       if (out.size() != tab.positions.size())
-        tc.child(key).fail(t[key], fmt::format("expected {} values (one per position), found {}",
-                                               tab.positions.size(), out.size()));
+        tc.child(key).fail(t[key], fmt::format("expected {} values (one per position), found {}", tab.positions.size(),
+                                               out.size()));
       for (auto& v : out) v *= vs;
     };
     read_values("forward", tab.forward);
@@ -152,8 +148,8 @@ MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax,
     return MotionFunction(tab);
   }
   if (ax.kind != AxisKind::Rotary)
-    ctx.child("fourier").fail(e["fourier"], "a Fourier series is for rotary axes; axis " +
-                                                std::string(1, ax.letter) + " is linear");
+    ctx.child("fourier").fail(e["fourier"],
+                              "a Fourier series is for rotary axes; axis " + std::string(1, ax.letter) + " is linear");
   Ctx fc = ctx.child("fourier");
   auto f = entries(e["fourier"], fc, {"constant", "cos", "sin"});
   Fourier four;
@@ -183,16 +179,17 @@ void read_errors(MachineBuilder& b, const YAML::Node& node, const Ctx& ec, doubl
 
 Machine build(const YAML::Node& root, const std::string& file) {
   Ctx ctx{file, ""};
-  auto top = entries(root, ctx,
-                     {"mtcal_machine", "name", "description", "topology", "units", "axes", "tool",
-                      "workpiece", "errors"});
+  auto top =
+      entries(root, ctx,
+              {"mtcal_machine", "name", "description", "topology", "units", "axes", "tool", "workpiece", "errors"});
   if (!top.count("mtcal_machine"))
     ctx.fail(root, fmt::format("missing key 'mtcal_machine' (the format version, {})", kFormatVersion));
   {
     Ctx vc = ctx.child("mtcal_machine");
     double v = number(top["mtcal_machine"], vc);
     if (v != kFormatVersion)
-      vc.fail(top["mtcal_machine"], fmt::format("unsupported format version {} (this mtcal reads {})", v, kFormatVersion));
+      vc.fail(top["mtcal_machine"],
+              fmt::format("unsupported format version {} (this mtcal reads {})", v, kFormatVersion));
   }
   MachineBuilder b;
   b.source(file);
@@ -230,7 +227,8 @@ Machine build(const YAML::Node& root, const std::string& file) {
       const Direction d = parse_direction(e["direction"], kc.child("direction"));
       b.axis_direction(letter, d.axis, d.sign, at(e["direction"], kc.child("direction")));
     }
-    if (e.count("point")) b.axis_point(letter, vec3(e["point"], kc.child("point"), ls), at(e["point"], kc.child("point")));
+    if (e.count("point"))
+      b.axis_point(letter, vec3(e["point"], kc.child("point"), ls), at(e["point"], kc.child("point")));
   }
   for (char letter : topology.axes)
     if (!axes.count(std::string(1, letter)))
@@ -305,7 +303,8 @@ void apply_parameters(Machine& m, std::string_view yaml_text, const std::string&
     Ctx vc = ctx.child("mtcal_parameters");
     const double version = number(top["mtcal_parameters"], vc);
     if (version != kFormatVersion)
-      vc.fail(top["mtcal_parameters"], fmt::format("unsupported format version {} (this mtcal reads {})", version, kFormatVersion));
+      vc.fail(top["mtcal_parameters"],
+              fmt::format("unsupported format version {} (this mtcal reads {})", version, kFormatVersion));
     if (top.count("description")) text(top["description"], ctx.child("description"));
     double ls = 1.0, as = std::numbers::pi / 180.0;
     if (top.count("units")) {
@@ -326,9 +325,7 @@ void load_parameters(Machine& m, const std::string& path) {
   apply_parameters(m, read_text_file(path, "parameter file"), path);
 }
 
-Machine load_machine(const std::string& path) {
-  return parse_machine(read_text_file(path, "machine file"), path);
-}
+Machine load_machine(const std::string& path) { return parse_machine(read_text_file(path, "machine file"), path); }
 
 namespace {
 std::string num(double v) { return fmt::format("{:.17g}", v); }
@@ -412,7 +409,8 @@ std::string to_yaml(const Machine& m) {
   y += "errors:\n";
   for (const auto& ax : m.axes) {
     for (int c = 0; c < 6; ++c)
-      if (ax.motion_given[c] || !ax.motion[c].is_zero()) y += error_yaml(m, {ErrorKind::Motion, static_cast<Component>(c), ax.letter});
+      if (ax.motion_given[c] || !ax.motion[c].is_zero())
+        y += error_yaml(m, {ErrorKind::Motion, static_cast<Component>(c), ax.letter});
     for (int c = 0; c < 6; ++c)
       if (ax.allows_location(static_cast<Component>(c)) && ax.location[c] != 0.0)
         y += error_yaml(m, {ErrorKind::Location, static_cast<Component>(c), ax.letter});

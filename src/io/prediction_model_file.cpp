@@ -25,21 +25,26 @@ YAML::Node get(const Entries& e, const std::string& key) { return e[key]; }
 // form + parameters (by name) or coefficients (polynomial c0..c3).
 Model parse_model(const Entries& e, const YAML::Node& n, const Ctx& ctx) {
   const YAML::Node fn = get(e, "form");
-  if (!fn.IsDefined()) ctx.fail(n, "missing key 'form' (polynomial, exp_approach, stretched_exp, logistic_ln, gompertz, saturation, power)");
+  if (!fn.IsDefined())
+    ctx.fail(n,
+             "missing key 'form' (polynomial, exp_approach, stretched_exp, logistic_ln, gompertz, saturation, power)");
   const std::string fs = text(fn, ctx.child("form"));
   const auto form = model_form_from_string(fs);
   if (!form)
-    ctx.child("form").fail(fn, "unknown model form '" + fs +
-                                   "' (expected polynomial, exp_approach, stretched_exp, logistic_ln, gompertz, saturation, power)");
+    ctx.child("form").fail(
+        fn, "unknown model form '" + fs +
+                "' (expected polynomial, exp_approach, stretched_exp, logistic_ln, gompertz, saturation, power)");
   Model m;
   m.spec.form = *form;
   if (*form == ModelForm::Polynomial) {
     const YAML::Node cn = get(e, "coefficients");
     if (!cn.IsDefined()) ctx.fail(n, "a polynomial needs 'coefficients: [c0, c1, c2, c3]'");
-    if (get(e, "parameters").IsDefined()) ctx.child("parameters").fail(get(e, "parameters"), "a polynomial takes 'coefficients', not 'parameters'");
+    if (get(e, "parameters").IsDefined())
+      ctx.child("parameters").fail(get(e, "parameters"), "a polynomial takes 'coefficients', not 'parameters'");
     auto c = numbers(cn, ctx.child("coefficients"));
     if (c.empty() || c.size() > 4)
-      ctx.child("coefficients").fail(cn, fmt::format("expected 1 to 4 coefficients [c0, c1, c2, c3], found {}", c.size()));
+      ctx.child("coefficients")
+          .fail(cn, fmt::format("expected 1 to 4 coefficients [c0, c1, c2, c3], found {}", c.size()));
     m.spec.degree = std::max(1, static_cast<int>(c.size()) - 1);
     c.resize(static_cast<std::size_t>(m.spec.degree) + 1, 0.0);
     m.p = c;
@@ -70,7 +75,8 @@ Model parse_model(const Entries& e, const YAML::Node& n, const Ctx& ctx) {
 ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::vector<ErrorComponent>& earlier) {
   const auto e = entries(n, ctx,
                          {"name", "axis", "variable", "form", "parameters", "coefficients", "stages", "speed_variable",
-                          "of", "scale", "times", "ramp", "valid", "source", "description"}, false);
+                          "of", "scale", "times", "ramp", "valid", "source", "description"},
+                         false);
   ErrorComponent c;
   c.line = n.Mark().line + 1;
   const YAML::Node nn = get(e, "name");
@@ -79,19 +85,24 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
   if (c.name.empty() || c.name.find_first_of(" ,\t") != std::string::npos)
     ctx.child("name").fail(nn, "expected a name without spaces or commas, found '" + c.name + "'");
   for (const auto& o : earlier)
-    if (o.name == c.name) ctx.child("name").fail(nn, fmt::format("component '{}' is defined twice (first on line {})", c.name, o.line));
+    if (o.name == c.name)
+      ctx.child("name").fail(nn, fmt::format("component '{}' is defined twice (first on line {})", c.name, o.line));
   const Ctx cc = ctx.child(c.name);
   const YAML::Node an = get(e, "axis");
-  if (!an.IsDefined()) cc.fail(n, "missing key 'axis' (x, y, z, or none for a component that is listed but not summed)");
+  if (!an.IsDefined())
+    cc.fail(n, "missing key 'axis' (x, y, z, or none for a component that is listed but not summed)");
   const std::string a = text(an, cc.child("axis"));
-  if (a == "x" || a == "y" || a == "z") c.axis = a[0];
-  else if (a != "none") cc.child("axis").fail(an, "expected x, y, z or none, found '" + a + "'");
+  if (a == "x" || a == "y" || a == "z")
+    c.axis = a[0];
+  else if (a != "none")
+    cc.child("axis").fail(an, "expected x, y, z or none, found '" + a + "'");
   if (auto s = get(e, "source"); s.IsDefined()) c.source = text(s, cc.child("source"));
   if (auto s = get(e, "scale"); s.IsDefined()) c.scale = number(s, cc.child("scale"));
   if (auto s = get(e, "times"); s.IsDefined()) c.times = text(s, cc.child("times"));
   if (auto s = get(e, "speed_variable"); s.IsDefined()) c.speed_variable = text(s, cc.child("speed_variable"));
 
-  const bool has_model = get(e, "form").IsDefined() || get(e, "parameters").IsDefined() || get(e, "coefficients").IsDefined();
+  const bool has_model =
+      get(e, "form").IsDefined() || get(e, "parameters").IsDefined() || get(e, "coefficients").IsDefined();
   const bool has_stages = get(e, "stages").IsDefined();
   const bool has_of = get(e, "of").IsDefined();
   if (has_model + has_stages + has_of != 1)
@@ -116,7 +127,8 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
   if (has_stages) {
     const YAML::Node sn = get(e, "stages");
     const Ctx sc = cc.child("stages");
-    if (!sn.IsSequence() || sn.size() < 2) sc.fail(sn, "expected a list of at least 2 stages {speed, form, ...}, found " + describe(sn));
+    if (!sn.IsSequence() || sn.size() < 2)
+      sc.fail(sn, "expected a list of at least 2 stages {speed, form, ...}, found " + describe(sn));
     for (std::size_t i = 0; i < sn.size(); ++i) {
       const Ctx ic = sc.child(std::to_string(i));
       const auto se = entries(sn[i], ic, {"speed", "form", "parameters", "coefficients", "source"}, false);
@@ -124,9 +136,11 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
       const YAML::Node sp = get(se, "speed");
       if (!sp.IsDefined()) ic.fail(sn[i], "missing key 'speed' (rpm)");
       st.speed = number(sp, ic.child("speed"));
-      if (st.speed <= 0) ic.child("speed").fail(sp, fmt::format("expected a spindle speed > 0 rpm, found {:g}", st.speed));
+      if (st.speed <= 0)
+        ic.child("speed").fail(sp, fmt::format("expected a spindle speed > 0 rpm, found {:g}", st.speed));
       if (!c.stages.empty() && st.speed <= c.stages.back().speed)
-        ic.child("speed").fail(sp, fmt::format("expected stages in increasing speed, found {:g} after {:g}", st.speed, c.stages.back().speed));
+        ic.child("speed").fail(sp, fmt::format("expected stages in increasing speed, found {:g} after {:g}", st.speed,
+                                               c.stages.back().speed));
       st.model = parse_model(se, sn[i], ic);
       if (auto s = get(se, "source"); s.IsDefined()) st.source = text(s, ic.child("source"));
       c.stages.push_back(st);
@@ -150,8 +164,7 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
   if (auto vn = get(e, "valid"); vn.IsDefined()) {
     if (has_of) cc.child("valid").fail(vn, "'valid' belongs to the component named by 'of'");
     const auto v = numbers(vn, cc.child("valid"));
-    if (v.size() != 2 || !(v[0] <= v[1]))
-      cc.child("valid").fail(vn, "expected [low, high] with low <= high");
+    if (v.size() != 2 || !(v[0] <= v[1])) cc.child("valid").fail(vn, "expected [low, high] with low <= high");
     c.valid = std::make_pair(v[0], v[1]);
   }
   // Parameters outside a form's domain over the range the component is evaluated on (its
@@ -177,12 +190,15 @@ PredictionModel parse_prediction_model(const std::string& text_in, const std::st
     throw InputError({source, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
   }
   const Ctx ctx{source, ""};
-  if (!root.IsMap()) ctx.fail(root, "expected a prediction model (a map with 'mtcal_prediction_model' and 'components'), found " + describe(root));
+  if (!root.IsMap())
+    ctx.fail(root, "expected a prediction model (a map with 'mtcal_prediction_model' and 'components'), found " +
+                       describe(root));
   const auto e = entries(root, ctx, {"mtcal_prediction_model", "name", "description", "units", "components"}, false);
   const YAML::Node vn = get(e, "mtcal_prediction_model");
   if (!vn.IsDefined()) ctx.fail(root, "missing key 'mtcal_prediction_model' (the format version, 1)");
   if (number(vn, ctx.child("mtcal_prediction_model")) != kFormatVersion)
-    ctx.child("mtcal_prediction_model").fail(vn, fmt::format("expected format version {}, found {}", kFormatVersion, vn.Scalar()));
+    ctx.child("mtcal_prediction_model")
+        .fail(vn, fmt::format("expected format version {}, found {}", kFormatVersion, vn.Scalar()));
   PredictionModel m;
   m.file = source;
   if (auto n = get(e, "name"); n.IsDefined()) m.name = text(n, ctx.child("name"));
@@ -194,11 +210,13 @@ PredictionModel parse_prediction_model(const std::string& text_in, const std::st
         {"error", "mm"}, {"distance", "mm"}, {"time", "min"}, {"feed", "mm/min"}, {"speed", "rpm"}};
     for (const auto& [k, want] : fixed)
       if (auto n = get(ue, k); n.IsDefined() && text(n, ctx.child("units").child(k)) != want)
-        ctx.child("units").child(k).fail(n, fmt::format("expected '{}' (the only unit mtcal reads here), found '{}'", want, n.Scalar()));
+        ctx.child("units").child(k).fail(n, fmt::format("expected '{}' (the only unit mtcal reads here), found '{}'",
+                                                        want, n.Scalar()));
   }
   const YAML::Node cn = get(e, "components");
   if (!cn.IsDefined()) ctx.fail(root, "missing key 'components'");
-  if (!cn.IsSequence() || cn.size() == 0) ctx.child("components").fail(cn, "expected a non-empty list of components, found " + describe(cn));
+  if (!cn.IsSequence() || cn.size() == 0)
+    ctx.child("components").fail(cn, "expected a non-empty list of components, found " + describe(cn));
   for (std::size_t i = 0; i < cn.size(); ++i)
     m.components.push_back(parse_component(cn[i], ctx.child("components"), m.components));
   return m;

@@ -12,7 +12,8 @@ namespace mtcal {
 
 PredictionPoints read_prediction_points(const std::string& path) {
   const CsvTable c = read_csv(path);
-  if (c.rows.empty()) throw InputError({path, 0, "rows"}, "expected at least one point (a row after the header), found none");
+  if (c.rows.empty())
+    throw InputError({path, 0, "rows"}, "expected at least one point (a row after the header), found none");
   return {c.columns, c.rows, c.lines, path};
 }
 
@@ -27,14 +28,16 @@ PredictionPoints points_from_gcode(const GcodeProgram& prog, const std::string& 
       minutes += path_length(m) / rapid_feed;
       continue;
     }
-    if (m.feed <= 0) throw InputError({source, m.line, "F"}, "a cutting move before any F word: no feed to predict with");
+    if (m.feed <= 0)
+      throw InputError({source, m.line, "F"}, "a cutting move before any F word: no feed to predict with");
     minutes += path_length(m) / m.feed;
     t.rows.push_back({double(m.line), m.end[0], m.end[1], m.end[2], minutes, speed, m.feed, std::abs(m.end[0]),
                       std::abs(m.end[1]), std::abs(m.end[2])});
     t.lines.push_back(m.line);
   }
   if (t.rows.empty())
-    throw InputError({source, 0, ""}, "the program has no cutting move (G1, G2, G3): nothing to predict (rapids give no points)");
+    throw InputError({source, 0, ""},
+                     "the program has no cutting move (G1, G2, G3): nothing to predict (rapids give no points)");
   return t;
 }
 
@@ -54,7 +57,8 @@ std::string prediction_csv(const PredictionRun& run, const PredictionModel& m) {
 
 std::string compensation_csv(const PredictionRun& run) {
   std::string out = "step,offset_x,offset_y,offset_z\n";
-  for (const auto& c : run.compensation) out += fmt::format("{:g},{:.9g},{:.9g},{:.9g}\n", c.step, c.offset[0], c.offset[1], c.offset[2]);
+  for (const auto& c : run.compensation)
+    out += fmt::format("{:g},{:.9g},{:.9g},{:.9g}\n", c.step, c.offset[0], c.offset[1], c.offset[2]);
   return out;
 }
 

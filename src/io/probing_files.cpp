@@ -112,8 +112,8 @@ std::string rotary_parameters_yaml(const RotaryAxisResult& result) {
                               result.centres.centres.size(), result.centres.source);
   y += "mtcal_parameters: 1\nerrors:\n";
   for (std::size_t q = 0; q < 4; ++q)
-    y += fmt::format("  {}: {{value: {:.17g}, unit: {}}}  # +- {:.3g} (standard uncertainty)\n", names[q],
-                     use.value[q], q < 2 ? "mm" : "rad", use.uncertainty[q]);
+    y += fmt::format("  {}: {{value: {:.17g}, unit: {}}}  # +- {:.3g} (standard uncertainty)\n", names[q], use.value[q],
+                     q < 2 ? "mm" : "rad", use.uncertainty[q]);
   return y;
 }
 

@@ -43,7 +43,8 @@ Json to_json(const RotaryAxisResult& r) {
     for (std::size_t q = 0; q < kRotaryQuantities; ++q) {
       kept[names[q]] = tri.kept[q];
       mean_all[names[q]] = tri.mean_all[q];
-      hist[names[q]] = {{"low", tri.histograms[q].low}, {"high", tri.histograms[q].high},
+      hist[names[q]] = {{"low", tri.histograms[q].low},
+                        {"high", tri.histograms[q].high},
                         {"counts", tri.histograms[q].counts}};
     }
     t["kept"] = kept;

@@ -18,16 +18,19 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
   const TextTable t = parse_text_csv(text, source);
   for (char c : {'X', 'Y', 'Z'})
     if (!m.axis_index(c))
-      throw InputError({source, 0, ""}, fmt::format("probing plans need linear axes X, Y and Z; {} has no {}", m.topology.chain, c));
-  std::vector<std::string> allowed{"indexation", "feature", "kind", "x", "y", "z", "nx", "ny", "nz", "dirX", "dirY", "dirZ", "X", "Y", "Z"};
+      throw InputError({source, 0, ""},
+                       fmt::format("probing plans need linear axes X, Y and Z; {} has no {}", m.topology.chain, c));
+  std::vector<std::string> allowed{"indexation", "feature", "kind", "x",    "y", "z", "nx", "ny",
+                                   "nz",         "dirX",    "dirY", "dirZ", "X", "Y", "Z"};
   for (const auto& ax : m.axes)
     if (ax.kind == AxisKind::Rotary) allowed.push_back(std::string(1, ax.letter));
   for (const auto& c : t.columns)
     if (std::find(allowed.begin(), allowed.end(), c) == allowed.end())
-      throw InputError({source, t.header_line, c},
-                       fmt::format("unknown column '{}' (expected indexation, the rotary axes of {}, feature, kind, x, y, z, "
-                                   "nx, ny, nz, dirX, dirY, dirZ and, in a measurement, X, Y, Z)",
-                                   c, m.topology.chain));
+      throw InputError(
+          {source, t.header_line, c},
+          fmt::format("unknown column '{}' (expected indexation, the rotary axes of {}, feature, kind, x, y, z, "
+                      "nx, ny, nz, dirX, dirY, dirZ and, in a measurement, X, Y, Z)",
+                      c, m.topology.chain));
   for (const char* c : {"indexation", "feature", "kind", "x", "y", "z"})
     if (t.column(c) < 0) throw InputError({source, t.header_line, ""}, fmt::format("missing column '{}'", c));
   const int readings = (t.column("X") >= 0) + (t.column("Y") >= 0) + (t.column("Z") >= 0);
@@ -71,7 +74,8 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
     const Vec3 nrm(number("nx", true), number("ny", true), number("nz", true));
     if (f.kind == ProbeFeature::Kind::Facet) {
       if (std::abs(nrm.norm() - 1.0) > 1e-6)
-        throw InputError({source, line, "nx"}, fmt::format("expected a facet's unit normal, found length {:g}", nrm.norm()));
+        throw InputError({source, line, "nx"},
+                         fmt::format("expected a facet's unit normal, found length {:g}", nrm.norm()));
       f.normal = nrm.normalized();  // accepted within 1e-6 of unit length; used exactly unit
     } else if (!nrm.isZero(0.0)) {
       throw InputError({source, line, "nx"}, "a ball has no normal: leave nx, ny, nz empty or 0");
@@ -80,7 +84,8 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
     if (const auto known = plan.feature_index(f.id)) {
       const auto& g = plan.features[*known];
       if (g.kind != f.kind || g.position != f.position || g.normal != f.normal)
-        throw InputError({source, line, "feature"}, "feature '" + f.id + "' has a different kind or geometry than on an earlier row");
+        throw InputError({source, line, "feature"},
+                         "feature '" + f.id + "' has a different kind or geometry than on an earlier row");
       fi = *known;
     } else {
       fi = plan.features.size();
@@ -107,7 +112,8 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
       if (d != 0 && d != 1 && d != -1)
         throw InputError({source, line, "dir" + letter}, fmt::format("expected -1, 0 or +1, found {:g}", d));
       if (f.kind == ProbeFeature::Kind::Ball && d != 0)
-        throw InputError({source, line, "dir" + letter}, "a ball centre has no direction of motion: leave dir empty or 0");
+        throw InputError({source, line, "dir" + letter},
+                         "a ball centre has no direction of motion: leave dir empty or 0");
       rec.dir[k] = static_cast<std::int8_t>(d);
     }
     check_joints(m, rec.q, fmt::format("{}:{}", source, line), false);
@@ -159,7 +165,8 @@ ScaleBar parse_scale_bar(const std::string& spec, const std::string& where) {
     throw InputError({where, 0, spec}, "expected BALL:BALL:LENGTH (mm), e.g. 1:2:304.8, found '" + spec + "'");
   ScaleBar s{trim(spec.substr(0, c1)), trim(spec.substr(c1 + 1, c2 - c1 - 1)), 0.0, where};
   const auto len = parse_number(spec.substr(c2 + 1));
-  if (!len || *len <= 0) throw InputError({where, 0, spec}, "expected a length > 0 mm, found '" + spec.substr(c2 + 1) + "'");
+  if (!len || *len <= 0)
+    throw InputError({where, 0, spec}, "expected a length > 0 mm, found '" + spec.substr(c2 + 1) + "'");
   s.length = *len;
   return s;
 }

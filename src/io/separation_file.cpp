@@ -13,7 +13,8 @@
 namespace mtcal {
 namespace {
 
-std::optional<double> cell(const TextTable& t, std::size_t row, std::size_t col, const std::string& source, bool required) {
+std::optional<double> cell(const TextTable& t, std::size_t row, std::size_t col, const std::string& source,
+                           bool required) {
   const std::string s = trim(t.rows[row][col]);
   if (s.empty()) {
     if (required) throw InputError({source, t.lines[row], t.columns[col]}, "expected a number, found an empty cell");
@@ -49,11 +50,14 @@ std::vector<PositionObservation> read_position_observations(const TextTable& t, 
     const std::string f = n.substr(4);
     const char ax = f.empty() ? 0 : static_cast<char>(std::toupper(static_cast<unsigned char>(f[0])));
     if (ax != 'X' && ax != 'Y' && ax != 'Z')
-      throw InputError({source, t.header_line, n}, "expected a feature name starting with X, Y or Z after 'cmm_', found '" + f + "'");
+      throw InputError({source, t.header_line, n},
+                       "expected a feature name starting with X, Y or Z after 'cmm_', found '" + f + "'");
     pairs.emplace_back(c, need(t, "probe_" + f, source));
     axes.push_back(ax);
   }
-  if (pairs.empty()) throw InputError({source, t.header_line, ""}, "expected columns cmm_<feature> and probe_<feature> (e.g. cmm_Y1, probe_Y1)");
+  if (pairs.empty())
+    throw InputError({source, t.header_line, ""},
+                     "expected columns cmm_<feature> and probe_<feature> (e.g. cmm_Y1, probe_Y1)");
   std::vector<PositionObservation> out;
   // The distance of a step and axis is read from its first observation's row only (the thesis
   // gives it once per step): later rows' d_<axis> cells are not read.
@@ -88,13 +92,15 @@ std::vector<PositionObservation> read_position_observations(const TextTable& t, 
 }
 
 std::vector<DimensionRecord> read_dimension_table(const TextTable& t, const std::string& source) {
-  const auto idx = t.require_columns({"workpiece", "step", "axis", "nominal", "measured", "e_pf", "e_pt", "e_pos"}, source);
+  const auto idx =
+      t.require_columns({"workpiece", "step", "axis", "nominal", "measured", "e_pf", "e_pt", "e_pos"}, source);
   std::vector<DimensionRecord> out;
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     DimensionRecord d;
     d.line = t.lines[r];
     d.workpiece = trim(t.rows[r][idx[0]]);
-    if (d.workpiece.empty()) throw InputError({source, d.line, "workpiece"}, "expected a workpiece name, found an empty cell");
+    if (d.workpiece.empty())
+      throw InputError({source, d.line, "workpiece"}, "expected a workpiece name, found an empty cell");
     d.step = step_of(t, r, idx[1], source);
     const std::string ax = trim(t.rows[r][idx[2]]);
     if (ax != "X" && ax != "Y") throw InputError({source, d.line, "axis"}, "expected X or Y, found '" + ax + "'");
@@ -106,7 +112,8 @@ std::vector<DimensionRecord> read_dimension_table(const TextTable& t, const std:
     d.e_pos = cell(t, r, idx[7], source, false);
     for (const auto& o : out)
       if (o.workpiece == d.workpiece && o.step == d.step && o.axis == d.axis)
-        throw InputError({source, d.line, "workpiece"}, fmt::format("{} step {} {} is given twice (first on line {})", d.workpiece, d.step, d.axis, o.line));
+        throw InputError({source, d.line, "workpiece"}, fmt::format("{} step {} {} is given twice (first on line {})",
+                                                                    d.workpiece, d.step, d.axis, o.line));
     out.push_back(d);
   }
   return out;
@@ -122,7 +129,8 @@ std::vector<DimensionRecord> read_dimension_table(const std::string& path) {
 
 std::string separation_csv(const PositionSeparation& s) {
   std::string csv = "axis,step,distance,e_pos,count\n";
-  for (const auto& p : s.steps) csv += fmt::format("{},{},{:g},{:.9g},{}\n", p.axis, p.step, p.distance, p.e_pos, p.count);
+  for (const auto& p : s.steps)
+    csv += fmt::format("{},{},{:g},{:.9g},{}\n", p.axis, p.step, p.distance, p.e_pos, p.count);
   return csv;
 }
 

@@ -16,20 +16,37 @@ Json to_json(const ContributionAnalysis& c, std::size_t top) {
   Json items = Json::array();
   for (std::size_t k = 0; k < c.items.size() && k < top; ++k) {
     const auto& it = c.items[k];
-    items.push_back({{"error", it.error.str()}, {"effect", vec3_json(it.effect)}, {"along", it.along}, {"share", it.share}});
+    items.push_back(
+        {{"error", it.error.str()}, {"effect", vec3_json(it.effect)}, {"along", it.along}, {"share", it.share}});
   }
-  return {{"exact", vec3_json(c.exact)}, {"first_order", vec3_json(c.first_order)}, {"residual", c.residual}, {"items", items}};
+  return {{"exact", vec3_json(c.exact)},
+          {"first_order", vec3_json(c.first_order)},
+          {"residual", c.residual},
+          {"items", items}};
 }
 
 Json to_json(const Distribution& d) {
   const auto& h = d.histogram;
-  return {{"count", d.count},        {"mean", d.mean},          {"min", d.min},          {"max", d.max},
-          {"bins", h.counts.size()}, {"bin_width", h.width},    {"lo", h.lo},            {"counts", h.counts},
-          {"p50", h.quantile(0.5)},  {"p90", h.quantile(0.9)},  {"p95", h.quantile(0.95)}, {"p99", h.quantile(0.99)}};
+  return {{"count", d.count},
+          {"mean", d.mean},
+          {"min", d.min},
+          {"max", d.max},
+          {"bins", h.counts.size()},
+          {"bin_width", h.width},
+          {"lo", h.lo},
+          {"counts", h.counts},
+          {"p50", h.quantile(0.5)},
+          {"p90", h.quantile(0.9)},
+          {"p95", h.quantile(0.95)},
+          {"p99", h.quantile(0.99)}};
 }
 
 Json to_json(const Machine& m, const BoxVa& b) {
-  return {{"fraction", b.fraction}, {"lo", joint_json(m, b.lo)}, {"hi", joint_json(m, b.hi)}, {"points", b.points}, {"va", b.va.value}};
+  return {{"fraction", b.fraction},
+          {"lo", joint_json(m, b.lo)},
+          {"hi", joint_json(m, b.hi)},
+          {"points", b.points},
+          {"va", b.va.value}};
 }
 
 Json to_json(const GroupingComparison& g, const VolumetricAccuracy& exact) {
@@ -64,9 +81,10 @@ Json to_json(const Machine& m, const ErrorMap& map, const VolumetricStudy& s, do
   if (s.box_va) {
     const JointBox& box = *s.box;
     const VolumetricAccuracy& b = *s.box_va;
-    j["box"] = {{"lo", joint_json(m, box.lo)}, {"hi", joint_json(m, box.hi)}, {"points", b.points}, {"va", b.va.value},
-                {"va_x", b.component[0].value}, {"va_y", b.component[1].value}, {"va_z", b.component[2].value},
-                {"critical_pair", to_json(m, *s.box_map, b.va)}};
+    j["box"] = {{"lo", joint_json(m, box.lo)},  {"hi", joint_json(m, box.hi)},
+                {"points", b.points},           {"va", b.va.value},
+                {"va_x", b.component[0].value}, {"va_y", b.component[1].value},
+                {"va_z", b.component[2].value}, {"critical_pair", to_json(m, *s.box_map, b.va)}};
     // Unnamed axes span everything: JSON has no infinity, so they are left out.
     for (auto* side : {&j["box"]["lo"], &j["box"]["hi"]})
       for (std::size_t k = 0; k < m.axes.size(); ++k)

@@ -58,7 +58,7 @@ class Entries {
 // Checks that a map has only known keys (any key if known is empty), each once. With
 // null_is_empty, a section with nothing after its key reads as an empty map.
 inline Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_list<std::string_view> known,
-                                bool null_is_empty = true) {
+                       bool null_is_empty = true) {
   Entries out;
   if (null_is_empty && n.IsDefined() && n.IsNull()) return out;
   if (!n.IsMap()) ctx.fail(n, "expected a map, found " + describe(n));

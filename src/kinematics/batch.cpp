@@ -29,8 +29,8 @@ ErrorModel::Program::Program(const Machine& m)
     };
     for (std::size_t i = 0; i < ch.size(); ++i) {
       const Factor& f = ch[i];
-      const bool motion = f.kind == Factor::Kind::Slot && f.slot >= 2 && f.slot % 2 == 0 &&
-                          f.slot != detail::tool_slot(m.axes.size());
+      const bool motion =
+          f.kind == Factor::Kind::Slot && f.slot >= 2 && f.slot % 2 == 0 && f.slot != detail::tool_slot(m.axes.size());
       if (f.kind == Factor::Kind::Joint) {
         flush();
         ops.push_back({Op::Kind::Joint, Affine{}, f.axis});
@@ -40,8 +40,7 @@ ErrorModel::Program::Program(const Machine& m)
           continue;  // error-free axis: nothing to apply (and exact zeros for a zero machine)
         flush();
         ops.push_back({Op::Kind::Motion, Affine{}, (f.slot - 2) / 2});
-      } else if (f.kind == Factor::Kind::Const || values[i].R != Mat3::Identity() ||
-                 values[i].t != Vec3::Zero()) {
+      } else if (f.kind == Factor::Kind::Const || values[i].R != Mat3::Identity() || values[i].t != Vec3::Zero()) {
         // Error-free slots are skipped so that a machine without errors runs exactly the nominal
         // program and its error comes out as exact zeros rather than rounding residue.
         acc = acc * values[i];
@@ -154,19 +153,19 @@ template <class Get>
   const double k = (x * kTwoOverPi + kShift) - kShift;
   const double r = ((x - k * kPio2_1) - k * kPio2_2) - k * kPio2_3;
   const double z = r * r;
-  const double sp = r + r * z * (-1.66666666666666324348e-01 +
-                                 z * (8.33333333332248946124e-03 +
-                                      z * (-1.98412698298579493134e-04 +
-                                           z * (2.75573137070700676789e-06 +
-                                                z * (-2.50507602534068634195e-08 +
-                                                     z * 1.58969099521155010221e-10)))));
+  const double sp = r + r * z *
+                            (-1.66666666666666324348e-01 +
+                             z * (8.33333333332248946124e-03 +
+                                  z * (-1.98412698298579493134e-04 +
+                                       z * (2.75573137070700676789e-06 +
+                                            z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)))));
   const double cp = 1.0 - 0.5 * z +
-                    z * z * (4.16666666666666019037e-02 +
-                             z * (-1.38888888888741095749e-03 +
-                                  z * (2.48015872894767294178e-05 +
-                                       z * (-2.75573143513906633035e-07 +
-                                            z * (2.08757232129817482790e-09 +
-                                                 z * -1.13596475577881948265e-11)))));
+                    z * z *
+                        (4.16666666666666019037e-02 +
+                         z * (-1.38888888888741095749e-03 +
+                              z * (2.48015872894767294178e-05 +
+                                   z * (-2.75573143513906633035e-07 +
+                                        z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
   // Quadrant m = k mod 4 in {-2, -1, 0, 1, 2} (-2 and 2 are the same quadrant).
   const double m = k - 4.0 * ((k * 0.25 + kShift) - kShift);
   const bool odd = m == 1.0 || m == -1.0;
@@ -209,9 +208,8 @@ struct AxisLanes {
 // Runs a program (actual or nominal) on a block; only the actual one has motion-error ops and
 // applies the zero positions. A function, not a lambda: lambdas do not inherit the kernel's
 // target_clones, always-inlined functions do.
-[[gnu::always_inline]] inline void run_program(const ErrorModel::Program& prog, const Machine& m,
-                                             const AxisLanes* ax, const std::vector<Op>& ops, Block& B,
-                                             bool actual) {
+[[gnu::always_inline]] inline void run_program(const ErrorModel::Program& prog, const Machine& m, const AxisLanes* ax,
+                                               const std::vector<Op>& ops, Block& B, bool actual) {
   set_identity(B);
   for (const Op& op : ops) {
     if (op.kind == Op::Kind::Const) {
@@ -246,8 +244,8 @@ struct AxisLanes {
 }
 
 MTCAL_KERNEL_CLONES
-void run_block(const ErrorModel::Program& prog, const Machine& m, const double* q,
-               const std::int8_t* dir, std::size_t count, double* out) {
+void run_block(const ErrorModel::Program& prog, const Machine& m, const double* q, const std::int8_t* dir,
+               std::size_t count, double* out) {
   const std::size_t n = prog.axes.size();
   AxisLanes ax[6];
   for (std::size_t k = 0; k < n; ++k) {
@@ -320,8 +318,7 @@ void run_block(const ErrorModel::Program& prog, const Machine& m, const double* 
 
 }  // namespace
 
-ErrorModel::ErrorModel(const Machine& machine)
-    : machine_(machine), program_(std::make_unique<Program>(machine_)) {
+ErrorModel::ErrorModel(const Machine& machine) : machine_(machine), program_(std::make_unique<Program>(machine_)) {
   if (machine_.axes.size() > 6) throw ModelError("at most 6 axes are supported");
 }
 ErrorModel::~ErrorModel() = default;
@@ -336,8 +333,8 @@ ErrorModel& ErrorModel::operator=(const ErrorModel& o) {
 ErrorModel::ErrorModel(ErrorModel&&) noexcept = default;
 ErrorModel& ErrorModel::operator=(ErrorModel&&) noexcept = default;
 
-void ErrorModel::evaluate_batch(std::span<const double> q, std::span<const std::int8_t> dir,
-                                std::span<double> out, const BatchOptions& options) const {
+void ErrorModel::evaluate_batch(std::span<const double> q, std::span<const std::int8_t> dir, std::span<double> out,
+                                const BatchOptions& options) const {
   const std::size_t n = axis_count();
   if (q.size() % n != 0)
     throw ModelError("joint array of " + std::to_string(q.size()) + " values is not a multiple of " +
@@ -354,8 +351,8 @@ void ErrorModel::evaluate_batch(std::span<const double> q, std::span<const std::
     for (std::size_t b = b0; b < b1; ++b) {
       const std::size_t first = b * kLanes;
       const std::size_t len = std::min<std::size_t>(kLanes, count - first);
-      run_block(*program_, machine_, q.data() + first * n, dir.empty() ? nullptr : dir.data() + first * n,
-                len, out.data() + first * 6);
+      run_block(*program_, machine_, q.data() + first * n, dir.empty() ? nullptr : dir.data() + first * n, len,
+                out.data() + first * 6);
     }
   };
   std::size_t threads = worker_count(options.threads, blocks);

@@ -82,8 +82,8 @@ std::vector<Factor> build_chain(const Machine& m, bool errors) {
   return f;
 }
 
-void bind_chain(const Machine& m, const std::vector<Factor>& chain, bool errors,
-                std::span<const double> q, std::span<const std::int8_t> dir, std::span<Affine> values) {
+void bind_chain(const Machine& m, const std::vector<Factor>& chain, bool errors, std::span<const double> q,
+                std::span<const std::int8_t> dir, std::span<Affine> values) {
   assert(q.size() == m.axes.size() && values.size() == chain.size());
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const Factor& fa = chain[i];
@@ -99,8 +99,7 @@ void bind_chain(const Machine& m, const std::vector<Factor>& chain, bool errors,
   }
 }
 
-Error6 slot_errors(const Machine& m, int slot, std::span<const double> q,
-                   std::span<const std::int8_t> dir) {
+Error6 slot_errors(const Machine& m, int slot, std::span<const double> q, std::span<const std::int8_t> dir) {
   const std::size_t n = m.axes.size();
   if (slot == workpiece_slot()) return m.workpiece_mounting;
   if (slot == tool_slot(n)) return m.tool_mounting;

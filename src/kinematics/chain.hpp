@@ -47,12 +47,11 @@ std::vector<Factor> build_chain(const Machine& m, bool errors);
 
 // Values of every factor at one configuration; values.size() == chain.size(). With errors ==
 // false (nominal chain) the zero positions are not applied.
-void bind_chain(const Machine& m, const std::vector<Factor>& chain, bool errors,
-                std::span<const double> q, std::span<const std::int8_t> dir, std::span<Affine> values);
+void bind_chain(const Machine& m, const std::vector<Factor>& chain, bool errors, std::span<const double> q,
+                std::span<const std::int8_t> dir, std::span<Affine> values);
 
 // The six error values of a slot at one configuration (location slots without zero position).
-Error6 slot_errors(const Machine& m, int slot, std::span<const double> q,
-                   std::span<const std::int8_t> dir);
+Error6 slot_errors(const Machine& m, int slot, std::span<const double> q, std::span<const std::int8_t> dir);
 
 // Product of the values.
 Affine multiply(std::span<const Affine> values);

@@ -14,11 +14,11 @@ namespace {
 
 void check_sizes(const Machine& m, std::span<const double> q, std::span<const std::int8_t> dir) {
   if (q.size() != m.axes.size())
-    throw ModelError("expected " + std::to_string(m.axes.size()) + " joint values for topology " +
-                     m.topology.chain + ", found " + std::to_string(q.size()));
+    throw ModelError("expected " + std::to_string(m.axes.size()) + " joint values for topology " + m.topology.chain +
+                     ", found " + std::to_string(q.size()));
   if (!dir.empty() && dir.size() != m.axes.size())
-    throw ModelError("expected " + std::to_string(m.axes.size()) +
-                     " directions of motion, found " + std::to_string(dir.size()));
+    throw ModelError("expected " + std::to_string(m.axes.size()) + " directions of motion, found " +
+                     std::to_string(dir.size()));
 }
 
 Vec3 vee(const Mat3& A) {
@@ -33,8 +33,7 @@ VolumetricError volumetric_error(const Affine& actual, const Affine& nominal) {
   Mat3 dR;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      dR(i, j) = actual.R(i, 0) * nominal.R(j, 0) + actual.R(i, 1) * nominal.R(j, 1) +
-                 actual.R(i, 2) * nominal.R(j, 2);
+      dR(i, j) = actual.R(i, 0) * nominal.R(j, 0) + actual.R(i, 1) * nominal.R(j, 1) + actual.R(i, 2) * nominal.R(j, 2);
   return {actual.t - nominal.t, rotation_vector(dR)};
 }
 
@@ -98,8 +97,7 @@ void ErrorModel::slot_jacobian(std::span<const double> q, std::span<const std::i
       const Axis& ax = m.axes[fa.axis];
       const int col = 6 * detail::location_slot(fa.axis) + detail::zero_position_component(ax);
       // The joint runs at q + sign * E_0 (zero position E_0 in the machine axis's sense).
-      add(col, ws.prefix[i],
-          detail::joint_motion_derivative(ax, q[fa.axis] + detail::zero_position(ax)),
+      add(col, ws.prefix[i], detail::joint_motion_derivative(ax, q[fa.axis] + detail::zero_position(ax)),
           ws.suffix[i + 1], ax.direction_sign);
       continue;
     }
@@ -107,8 +105,7 @@ void ErrorModel::slot_jacobian(std::span<const double> q, std::span<const std::i
     const Error6 e = detail::slot_errors(m, fa.slot, q, dir);
     for (int c = 0; c < 6; ++c) {
       // A location slot's zero position acts through the joint (handled above).
-      if (fa.slot % 2 == 1 &&
-          c == detail::zero_position_component(m.axes[static_cast<std::size_t>((fa.slot - 1) / 2)]))
+      if (fa.slot % 2 == 1 && c == detail::zero_position_component(m.axes[static_cast<std::size_t>((fa.slot - 1) / 2)]))
         continue;
       const auto d = error_transform_derivative(e, c);
       const int col = 6 * fa.slot + c;
@@ -120,12 +117,10 @@ void ErrorModel::slot_jacobian(std::span<const double> q, std::span<const std::i
       }
     }
   }
-
 }
 
 void ErrorModel::jacobian(std::span<const double> q, std::span<const std::int8_t> dir,
-                          Eigen::Ref<Eigen::Matrix<double, 6, Eigen::Dynamic>> J,
-                          JacobianWorkspace& ws) const {
+                          Eigen::Ref<Eigen::Matrix<double, 6, Eigen::Dynamic>> J, JacobianWorkspace& ws) const {
   check_sizes(machine_, q, dir);
   const Machine& m = machine_;
   const std::size_t n = m.axes.size();
@@ -168,12 +163,13 @@ std::vector<ErrorSensitivity> ErrorModel::error_sensitivities(std::span<const do
       out.push_back({{ErrorKind::Motion, static_cast<Component>(c), ax.letter}, G.col(6 * detail::motion_slot(k) + c)});
     for (int c = 0; c < 6; ++c)
       if (ax.allows_location(static_cast<Component>(c)))
-        out.push_back({{ErrorKind::Location, static_cast<Component>(c), ax.letter},
-                       G.col(6 * detail::location_slot(k) + c)});
+        out.push_back(
+            {{ErrorKind::Location, static_cast<Component>(c), ax.letter}, G.col(6 * detail::location_slot(k) + c)});
   }
   for (char body : {'t', 'w'}) {
     const int s = body == 't' ? detail::tool_slot(n) : detail::workpiece_slot();
-    for (int c = 0; c < 6; ++c) out.push_back({{ErrorKind::Mounting, static_cast<Component>(c), body}, G.col(6 * s + c)});
+    for (int c = 0; c < 6; ++c)
+      out.push_back({{ErrorKind::Mounting, static_cast<Component>(c), body}, G.col(6 * s + c)});
   }
   return out;
 }

@@ -6,13 +6,12 @@
 
 namespace mtcal {
 
-VolumetricError first_order_error(const Machine& m, std::span<const double> q,
-                                  std::span<const std::int8_t> dir) {
+VolumetricError first_order_error(const Machine& m, std::span<const double> q, std::span<const std::int8_t> dir) {
   const std::size_t n = m.axes.size();
   for (const auto& ax : m.axes)
     if (ax.kind != AxisKind::Linear)
-      throw ModelError("the first-order sum model is for machines with linear axes only; " +
-                       m.topology.chain + " has rotary axis " + std::string(1, ax.letter));
+      throw ModelError("the first-order sum model is for machines with linear axes only; " + m.topology.chain +
+                       " has rotary axis " + std::string(1, ax.letter));
   if (q.size() != n) throw ModelError("expected " + std::to_string(n) + " joint values");
   auto split = [](const std::array<double, 6>& e, Vec3& d, Vec3& eps) {
     d = Vec3(e[0], e[1], e[2]);

@@ -13,16 +13,16 @@ struct ErrorModel::Program {
   struct Op {
     enum class Kind { Const, Joint, Motion };
     Kind kind = Kind::Const;
-    Affine value;  // Const
-    int axis = -1; // Joint, Motion
+    Affine value;   // Const
+    int axis = -1;  // Joint, Motion
   };
   struct AxisInfo {
     bool rotary = false;
-    int coord = 0;       // machine axis of the nominal direction
-    double sign = 1.0;   // direction sign
-    double zero = 0.0;   // zero position error (internal units)
-    double cos_zero = 1.0, sin_zero = 0.0;  // of sign * zero, rotary axes
-    bool polynomial = true;  // every motion error is a polynomial: vectorised path
+    int coord = 0;                                // machine axis of the nominal direction
+    double sign = 1.0;                            // direction sign
+    double zero = 0.0;                            // zero position error (internal units)
+    double cos_zero = 1.0, sin_zero = 0.0;        // of sign * zero, rotary axes
+    bool polynomial = true;                       // every motion error is a polynomial: vectorised path
     std::array<std::array<double, 5>, 6> poly{};  // c0 c1 c2 c3 reversal per component
   };
 

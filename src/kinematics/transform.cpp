@@ -39,9 +39,7 @@ Mat3 axis_rotation(int axis, double angle) {
   }
 }
 
-Affine error_transform(const Error6& e) {
-  return {rz(e[5]) * ry(e[4]) * rx(e[3]), Vec3(e[0], e[1], e[2])};
-}
+Affine error_transform(const Error6& e) { return {rz(e[5]) * ry(e[4]) * rx(e[3]), Vec3(e[0], e[1], e[2])}; }
 
 AffineDerivative error_transform_derivative(const Error6& e, int j) {
   AffineDerivative d;

@@ -11,9 +11,7 @@
 
 namespace mtcal {
 
-double joint_unit_factor(const Axis& ax) {
-  return ax.kind == AxisKind::Linear ? 1.0 : std::numbers::pi / 180.0;
-}
+double joint_unit_factor(const Axis& ax) { return ax.kind == AxisKind::Linear ? 1.0 : std::numbers::pi / 180.0; }
 std::string_view joint_unit_name(const Axis& ax) { return ax.kind == AxisKind::Linear ? "mm" : "deg"; }
 
 double to_user_units(const Axis& ax, double q) {
@@ -33,9 +31,8 @@ void check_joints(const Machine& m, const std::vector<double>& q, const std::str
     const double tol = 1e-9 * std::max(1.0, std::abs(ax.travel->max - ax.travel->min));
     if (!(q[k] >= ax.travel->min - tol && q[k] <= ax.travel->max + tol)) {
       throw InputError({where, 0, std::string(1, ax.letter)},
-                       fmt::format("{}={:g} {} is outside the travel [{:g}, {:g}] of axis {}",
-                                   ax.letter, q[k] / f, joint_unit_name(ax), ax.travel->min / f,
-                                   ax.travel->max / f, ax.letter));
+                       fmt::format("{}={:g} {} is outside the travel [{:g}, {:g}] of axis {}", ax.letter, q[k] / f,
+                                   joint_unit_name(ax), ax.travel->min / f, ax.travel->max / f, ax.letter));
     }
   }
 }

@@ -13,8 +13,7 @@ Topology Topology::parse(std::string_view chain) {
     throw ModelError("topology '" + std::string(chain) + "': " + what +
                      " (expected w<axes>f<axes>t read from workpiece to tool, e.g. wCBXfYZt)");
   };
-  if (chain.size() < 3 || chain.front() != 'w' || chain.back() != 't')
-    fail("must start with 'w' and end with 't'");
+  if (chain.size() < 3 || chain.front() != 'w' || chain.back() != 't') fail("must start with 'w' and end with 't'");
   Topology t;
   t.chain = std::string(chain);
   int frames = 0, linear = 0, rotary = 0;
@@ -32,8 +31,7 @@ Topology Topology::parse(std::string_view chain) {
     } else {
       fail(std::string("unknown character '") + c + "' at position " + std::to_string(i + 1));
     }
-    if (std::find(t.axes.begin(), t.axes.end(), c) != t.axes.end())
-      fail(std::string("axis '") + c + "' appears twice");
+    if (std::find(t.axes.begin(), t.axes.end(), c) != t.axes.end()) fail(std::string("axis '") + c + "' appears twice");
     t.axes.push_back(c);
   }
   if (frames != 1) fail("needs exactly one 'f' (the machine frame)");
@@ -96,12 +94,12 @@ void walk(M& m, Fn&& fn) {
       auto& f = ax.motion[c];
       for (std::size_t i = 0; i < f.parameter_count(); ++i) {
         ErrorParameter p{en.str() + "." + f.parameter_suffix(i), en,
-                         unit_for(is_rotation(comp), ax.kind == AxisKind::Rotary,
-                                  f.argument_power(i)),
-                         f.parameter(i)};
+                         unit_for(is_rotation(comp), ax.kind == AxisKind::Rotary, f.argument_power(i)), f.parameter(i)};
         if (!fn(p, [&f, i](double v) {
-              if constexpr (writable) f.set_parameter(i, v);
-              else (void)f, (void)i;  // read-only walk: the setter is never called (clang: unused capture)
+              if constexpr (writable)
+                f.set_parameter(i, v);
+              else
+                (void)f, (void)i;  // read-only walk: the setter is never called (clang: unused capture)
             }))
           return;
       }
@@ -113,8 +111,10 @@ void walk(M& m, Fn&& fn) {
       ErrorParameter p{en.str(), en, unit_for(is_rotation(comp), false, 0), ax.location[c]};
       auto* slot = &ax.location[c];
       if (!fn(p, [slot](double v) {
-            if constexpr (writable) *slot = v;
-            else (void)slot;
+            if constexpr (writable)
+              *slot = v;
+            else
+              (void)slot;
           }))
         return;
     }
@@ -127,8 +127,10 @@ void walk(M& m, Fn&& fn) {
       ErrorParameter p{en.str(), en, unit_for(is_rotation(comp), false, 0), arr[c]};
       auto* slot = &arr[c];
       if (!fn(p, [slot](double v) {
-            if constexpr (writable) *slot = v;
-            else (void)slot;
+            if constexpr (writable)
+              *slot = v;
+            else
+              (void)slot;
           }))
         return;
     }
@@ -217,12 +219,12 @@ void Machine::keep_only(const std::vector<std::string>& names) {
   std::set<std::string> errors, params;
   for (const auto& n : names) {
     if (n.find('.') != std::string::npos) {
-      if (!parameter_index(n)) throw ModelError("unknown parameter '" + n + "' for machine '" + name + "' (" + parameter_naming(*this) + ")");
+      if (!parameter_index(n))
+        throw ModelError("unknown parameter '" + n + "' for machine '" + name + "' (" + parameter_naming(*this) + ")");
       params.insert(n);
     } else {
       auto en = ErrorName::parse(n);
-      if (!en || !has_error(*en))
-        throw ModelError("unknown error name '" + n + "' for topology " + topology.chain);
+      if (!en || !has_error(*en)) throw ModelError("unknown error name '" + n + "' for topology " + topology.chain);
       errors.insert(n);
     }
   }

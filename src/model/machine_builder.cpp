@@ -42,7 +42,8 @@ std::optional<std::string> motion_problem(const MotionFunction& f, AxisKind kind
                            t->positions[i - 1]);
     }
     if (t->forward.size() != t->positions.size())
-      return fmt::format("expected {} forward values (one per position), found {}", t->positions.size(), t->forward.size());
+      return fmt::format("expected {} forward values (one per position), found {}", t->positions.size(),
+                         t->forward.size());
     if (!t->backward.empty() && t->backward.size() != t->positions.size())
       return fmt::format("expected {} backward values (one per position), found {}", t->positions.size(),
                          t->backward.size());
@@ -113,7 +114,8 @@ MachineBuilder& MachineBuilder::axis_kind(char letter, AxisKind kind, const Sour
   return *this;
 }
 
-MachineBuilder& MachineBuilder::axis_direction(char letter, int direction_axis, double sign, const SourceLocation& where) {
+MachineBuilder& MachineBuilder::axis_direction(char letter, int direction_axis, double sign,
+                                               const SourceLocation& where) {
   Axis& ax = axis(letter, where);
   const int own = direction_of_letter(letter);
   const char c = static_cast<char>('x' + own);
@@ -258,11 +260,13 @@ void validate(const Machine& m) {
   const SourceLocation none;
   const Topology t = Topology::parse(m.topology.chain);  // its message names the topology
   if (t.axes != m.topology.axes || t.frame_index != m.topology.frame_index)
-    throw ModelError(fmt::format("topology '{}': its axes or frame position differ from those of the chain ({} "
-                                 "axes, {} of them between w and f)",
-                                 m.topology.chain, t.axes.size(), t.frame_index));
+    throw ModelError(
+        fmt::format("topology '{}': its axes or frame position differ from those of the chain ({} "
+                    "axes, {} of them between w and f)",
+                    m.topology.chain, t.axes.size(), t.frame_index));
   if (m.axes.size() != t.axes.size())
-    throw ModelError(fmt::format("axes: {} given, but topology {} has {}", m.axes.size(), m.topology.chain, t.axes.size()));
+    throw ModelError(
+        fmt::format("axes: {} given, but topology {} has {}", m.axes.size(), m.topology.chain, t.axes.size()));
   for (std::size_t i = 0; i < m.axes.size(); ++i) {
     const Axis& ax = m.axes[i];
     const char L = t.axes[i];
@@ -277,7 +281,8 @@ void validate(const Machine& m) {
     if (ax.direction_axis != direction_of_letter(L)) {
       const char c = static_cast<char>('x' + direction_of_letter(L));
       fail(none, item,
-           fmt::format("direction along machine {}, but axis {} {} machine {}", static_cast<char>('x' + ax.direction_axis), L,
+           fmt::format("direction along machine {}, but axis {} {} machine {}",
+                       static_cast<char>('x' + ax.direction_axis), L,
                        ax.kind == AxisKind::Linear ? "moves along" : "turns about", c));
     }
     if (ax.direction_sign != 1.0 && ax.direction_sign != -1.0)
@@ -287,7 +292,8 @@ void validate(const Machine& m) {
            fmt::format("moves_workpiece is {}, but in topology {} it {} the workpiece", ax.moves_workpiece,
                        m.topology.chain, i < t.frame_index ? "moves" : "does not move"));
     if (!finite(ax.point)) fail(none, item + " point", "expected finite coordinates");
-    if (ax.travel && (!std::isfinite(ax.travel->min) || !std::isfinite(ax.travel->max) || !(ax.travel->min < ax.travel->max)))
+    if (ax.travel &&
+        (!std::isfinite(ax.travel->min) || !std::isfinite(ax.travel->max) || !(ax.travel->min < ax.travel->max)))
       fail(none, item + " travel", fmt::format("[{}, {}]: expected min < max", ax.travel->min, ax.travel->max));
     for (int c = 0; c < 6; ++c) {
       const auto comp = static_cast<Component>(c);

@@ -43,59 +43,55 @@ std::pair<double, double> direction_weights(const Table& t, int dir) {
 }  // namespace
 
 double MotionFunction::value(double q, int dir) const {
-  return std::visit(
-      Overloaded{
-          [&](const Polynomial& p) {
-            const auto& c = p.coefficients;
-            return ((c[3] * q + c[2]) * q + c[1]) * q + c[0] + p.reversal * dir;
-          },
-          [&](const Table& t) {
-            Bracket b = bracket(t.positions, q);
-            auto [wf, wb] = direction_weights(t, dir);
-            double v = wf * (b.w0 * t.forward[b.i0] + b.w1 * t.forward[b.i0 + 1]);
-            if (wb != 0.0) v += wb * (b.w0 * t.backward[b.i0] + b.w1 * t.backward[b.i0 + 1]);
-            return v;
-          },
-          [&](const Fourier& f) {
-            double v = f.constant + f.reversal * dir;
-            for (std::size_t k = 0; k < f.cos_terms.size(); ++k)
-              v += f.cos_terms[k] * std::cos(static_cast<double>(k + 1) * q);
-            for (std::size_t k = 0; k < f.sin_terms.size(); ++k)
-              v += f.sin_terms[k] * std::sin(static_cast<double>(k + 1) * q);
-            return v;
-          },
-      },
-      form_);
+  return std::visit(Overloaded{
+                        [&](const Polynomial& p) {
+                          const auto& c = p.coefficients;
+                          return ((c[3] * q + c[2]) * q + c[1]) * q + c[0] + p.reversal * dir;
+                        },
+                        [&](const Table& t) {
+                          Bracket b = bracket(t.positions, q);
+                          auto [wf, wb] = direction_weights(t, dir);
+                          double v = wf * (b.w0 * t.forward[b.i0] + b.w1 * t.forward[b.i0 + 1]);
+                          if (wb != 0.0) v += wb * (b.w0 * t.backward[b.i0] + b.w1 * t.backward[b.i0 + 1]);
+                          return v;
+                        },
+                        [&](const Fourier& f) {
+                          double v = f.constant + f.reversal * dir;
+                          for (std::size_t k = 0; k < f.cos_terms.size(); ++k)
+                            v += f.cos_terms[k] * std::cos(static_cast<double>(k + 1) * q);
+                          for (std::size_t k = 0; k < f.sin_terms.size(); ++k)
+                            v += f.sin_terms[k] * std::sin(static_cast<double>(k + 1) * q);
+                          return v;
+                        },
+                    },
+                    form_);
 }
 
 std::size_t MotionFunction::parameter_count() const {
   return std::visit(Overloaded{
                         [](const Polynomial&) -> std::size_t { return 5; },
                         [](const Table& t) { return t.forward.size() + t.backward.size(); },
-                        [](const Fourier& f) {
-                          return 2 + f.cos_terms.size() + f.sin_terms.size();
-                        },
+                        [](const Fourier& f) { return 2 + f.cos_terms.size() + f.sin_terms.size(); },
                     },
                     form_);
 }
 
 std::string MotionFunction::parameter_suffix(std::size_t i) const {
-  return std::visit(
-      Overloaded{
-          [&](const Polynomial&) { return i < 4 ? std::to_string(i) : std::string("b"); },
-          [&](const Table& t) {
-            return i < t.forward.size() ? "f" + std::to_string(i)
-                                        : "b" + std::to_string(i - t.forward.size());
-          },
-          [&](const Fourier& f) {
-            if (i == 0) return std::string("c0");
-            if (i <= f.cos_terms.size()) return "c" + std::to_string(i);
-            if (i <= f.cos_terms.size() + f.sin_terms.size())
-              return "s" + std::to_string(i - f.cos_terms.size());
-            return std::string("b");
-          },
-      },
-      form_);
+  return std::visit(Overloaded{
+                        [&](const Polynomial&) { return i < 4 ? std::to_string(i) : std::string("b"); },
+                        [&](const Table& t) {
+                          return i < t.forward.size() ? "f" + std::to_string(i)
+                                                      : "b" + std::to_string(i - t.forward.size());
+                        },
+                        [&](const Fourier& f) {
+                          if (i == 0) return std::string("c0");
+                          if (i <= f.cos_terms.size()) return "c" + std::to_string(i);
+                          if (i <= f.cos_terms.size() + f.sin_terms.size())
+                            return "s" + std::to_string(i - f.cos_terms.size());
+                          return std::string("b");
+                        },
+                    },
+                    form_);
 }
 
 int MotionFunction::argument_power(std::size_t i) const {
@@ -119,8 +115,7 @@ auto& parameter_ref(Form& form, std::size_t i) {
             } else {
               if (i == 0) return &p.constant;
               if (i <= p.cos_terms.size()) return &p.cos_terms[i - 1];
-              if (i <= p.cos_terms.size() + p.sin_terms.size())
-                return &p.sin_terms[i - 1 - p.cos_terms.size()];
+              if (i <= p.cos_terms.size() + p.sin_terms.size()) return &p.sin_terms[i - 1 - p.cos_terms.size()];
               return &p.reversal;
             }
           },

@@ -53,15 +53,16 @@ double component_raw(const PredictionModel& m, std::size_t i, const std::functio
                      const std::vector<double>* raw_before) {
   const ErrorComponent& c = m.components[i];
   if (!c.of.empty()) {
-    const auto it = std::find_if(m.components.begin(), m.components.end(), [&](const ErrorComponent& o) { return o.name == c.of; });
+    const auto it =
+        std::find_if(m.components.begin(), m.components.end(), [&](const ErrorComponent& o) { return o.name == c.of; });
     const auto k = static_cast<std::size_t>(it - m.components.begin());
     return raw_before ? (*raw_before)[k] : component_raw(m, k, lookup, strict, where, warnings, nullptr);
   }
   const double x = lookup(c.variable);
   if (c.valid && (x < c.valid->first || x > c.valid->second)) {
-    const std::string msg = fmt::format("{}: {} = {:g} is outside the validity range [{:g}, {:g}] of the model ({})",
-                                        c.name, c.variable, x, c.valid->first, c.valid->second,
-                                        strict ? "refused: strict validity" : "extrapolated");
+    const std::string msg =
+        fmt::format("{}: {} = {:g} is outside the validity range [{:g}, {:g}] of the model ({})", c.name, c.variable, x,
+                    c.valid->first, c.valid->second, strict ? "refused: strict validity" : "extrapolated");
     if (strict) throw InputError({where, 0, c.variable}, msg);
     warnings.push_back(msg);
   }
@@ -73,14 +74,15 @@ double component_raw(const PredictionModel& m, std::size_t i, const std::functio
     // a spindle at rest or a negative speed has no thermal stage.
     const double speed = lookup(c.speed_variable);
     if (!(speed > 0.0) || !std::isfinite(speed))
-      throw InputError({where, 0, c.speed_variable},
-                       fmt::format("{}: expected a spindle speed {} > 0 rpm for the speed stages (eq. 3.7-3.10), found {:g}",
-                                   c.name, c.speed_variable, speed));
+      throw InputError(
+          {where, 0, c.speed_variable},
+          fmt::format("{}: expected a spindle speed {} > 0 rpm for the speed stages (eq. 3.7-3.10), found {:g}", c.name,
+                      c.speed_variable, speed));
     raw = evaluate_stages(c.stages, speed, x);
   }
   if (!std::isfinite(raw))
-    throw InputError({where, 0, c.variable},
-                     fmt::format("{}: the model is undefined at {} = {:g} (line {} of {})", c.name, c.variable, x, c.line, m.file));
+    throw InputError({where, 0, c.variable}, fmt::format("{}: the model is undefined at {} = {:g} (line {} of {})",
+                                                         c.name, c.variable, x, c.line, m.file));
   return raw;
 }
 
@@ -99,7 +101,8 @@ ComponentValue evaluate_component(const PredictionModel& m, const std::string& n
   const ErrorComponent* c = m.find(name);
   if (!c) throw InputError({m.file, 0, name}, "the model has no component '" + name + "'");
   ComponentValue v;
-  v.raw = component_raw(m, static_cast<std::size_t>(c - m.components.data()), lookup, strict, where, v.warnings, nullptr);
+  v.raw =
+      component_raw(m, static_cast<std::size_t>(c - m.components.data()), lookup, strict, where, v.warnings, nullptr);
   v.value = scaled(*c, v.raw, lookup);
   return v;
 }
@@ -132,7 +135,8 @@ int PredictionPoints::column(const std::string& name) const {
 std::vector<std::string> components_reading(const PredictionModel& m, const std::string& v) {
   std::vector<std::string> users;
   for (const auto& c : m.components)
-    if (c.variable == v || c.times == v || (c.ramp && c.ramp->variable == v) || (!c.stages.empty() && c.speed_variable == v))
+    if (c.variable == v || c.times == v || (c.ramp && c.ramp->variable == v) ||
+        (!c.stages.empty() && c.speed_variable == v))
       users.push_back(c.name);
   return users;
 }
@@ -145,9 +149,11 @@ std::vector<std::string> missing_variables(const PredictionModel& m, const Predi
   return out;
 }
 
-std::vector<CompensationOffset> compensation_offsets(const PredictionPoints& points, const std::vector<PointPrediction>& predictions) {
+std::vector<CompensationOffset> compensation_offsets(const PredictionPoints& points,
+                                                     const std::vector<PointPrediction>& predictions) {
   const int step_col = points.column("step");
-  if (step_col < 0) throw InputError({points.source, 0, "step"}, "compensation offsets per step need a 'step' column in the points");
+  if (step_col < 0)
+    throw InputError({points.source, 0, "step"}, "compensation offsets per step need a 'step' column in the points");
   std::vector<std::pair<double, std::array<double, 4>>> sums;  // step, sum x y z, count
   for (std::size_t r = 0; r < points.rows.size() && r < predictions.size(); ++r) {
     const double s = points.rows[r][static_cast<std::size_t>(step_col)];
@@ -167,7 +173,8 @@ PredictionRun predict_points(const PredictionModel& m, const PredictionPoints& p
   for (const auto& v : missing_variables(m, points, constants)) {
     std::string users;
     for (const auto& u : components_reading(m, v)) users += (users.empty() ? "" : ", ") + u;
-    throw InputError({points.source, 0, v}, fmt::format("missing column '{}' needed by {} (give it as a column or as a constant)", v, users));
+    throw InputError({points.source, 0, v},
+                     fmt::format("missing column '{}' needed by {} (give it as a column or as a constant)", v, users));
   }
   PredictionRun run;
   run.points = points;
@@ -177,7 +184,8 @@ PredictionRun predict_points(const PredictionModel& m, const PredictionPoints& p
       return c >= 0 ? points.rows[r][static_cast<std::size_t>(c)] : constants.at(name);
     };
     run.predictions.push_back(predict_point(m, lookup, strict, fmt::format("{}:{}", points.source, points.lines[r])));
-    for (const auto& w : run.predictions.back().warnings) run.warnings.push_back(fmt::format("line {}: {}", points.lines[r], w));
+    for (const auto& w : run.predictions.back().warnings)
+      run.warnings.push_back(fmt::format("line {}: {}", points.lines[r], w));
   }
   if (compensation) run.compensation = compensation_offsets(points, run.predictions);
   return run;

@@ -16,10 +16,13 @@ void require(bool ok, const char* field, const std::string& what) {
 }
 
 void check_tool(const EndMill& t) {
-  require(t.diameter > 0 && std::isfinite(t.diameter), "diameter", fmt::format("expected a tool diameter > 0 mm, found {:g}", t.diameter));
+  require(t.diameter > 0 && std::isfinite(t.diameter), "diameter",
+          fmt::format("expected a tool diameter > 0 mm, found {:g}", t.diameter));
   require(t.teeth >= 1 && t.teeth <= 32, "teeth", fmt::format("expected 1 to 32 teeth, found {}", t.teeth));
-  require(t.helix_deg >= 0 && t.helix_deg < 80, "helix", fmt::format("expected a helix angle in [0, 80) deg, found {:g}", t.helix_deg));
-  require(t.overhang > 0 && std::isfinite(t.overhang), "overhang", fmt::format("expected an overhang > 0 mm, found {:g}", t.overhang));
+  require(t.helix_deg >= 0 && t.helix_deg < 80, "helix",
+          fmt::format("expected a helix angle in [0, 80) deg, found {:g}", t.helix_deg));
+  require(t.overhang > 0 && std::isfinite(t.overhang), "overhang",
+          fmt::format("expected an overhang > 0 mm, found {:g}", t.overhang));
   require(t.flute_length > 0 && t.flute_length <= t.overhang, "flute_length",
           fmt::format("expected a flute length in (0, overhang = {:g}] mm, found {:g}", t.overhang, t.flute_length));
   require(t.flute_diameter_ratio > 0 && t.flute_diameter_ratio <= 1, "flute_diameter_ratio",
@@ -36,8 +39,10 @@ MillingForces milling_forces(const EndMill& tool, const CuttingCoefficients& k, 
   require(cut.radial_depth > 0 && cut.radial_depth <= tool.diameter, "radial_depth",
           fmt::format("expected a radial depth in (0, D = {:g}] mm, found {:g}", tool.diameter, cut.radial_depth));
   require(cut.axial_depth > 0 && cut.axial_depth <= tool.flute_length, "axial_depth",
-          fmt::format("expected an axial depth in (0, flute length = {:g}] mm, found {:g}", tool.flute_length, cut.axial_depth));
-  require(cut.feed > 0 && std::isfinite(cut.feed), "feed", fmt::format("expected a feed > 0 mm/min, found {:g}", cut.feed));
+          fmt::format("expected an axial depth in (0, flute length = {:g}] mm, found {:g}", tool.flute_length,
+                      cut.axial_depth));
+  require(cut.feed > 0 && std::isfinite(cut.feed), "feed",
+          fmt::format("expected a feed > 0 mm/min, found {:g}", cut.feed));
   require(cut.spindle_speed > 0 && std::isfinite(cut.spindle_speed), "spindle_speed",
           fmt::format("expected a spindle speed > 0 rpm, found {:g}", cut.spindle_speed));
   require(samples >= 8 && slices >= 1, "samples", "expected at least 8 samples and 1 slice");
@@ -100,7 +105,8 @@ double program_generated_error(const EndMill& tool, const CuttingCoefficients& k
 }
 
 Calibration calibrate_process_error(const EndMill& tool, const CuttingCoefficients& k, CutConditions cut,
-                                    std::span<const double> feeds, std::span<const double> measured, const ModelSpec& spec) {
+                                    std::span<const double> feeds, std::span<const double> measured,
+                                    const ModelSpec& spec) {
   Calibration c;
   for (double F : feeds) {
     cut.feed = F;
@@ -123,7 +129,8 @@ ProcessErrorStudy process_error_study(const EndMill& tool, const CuttingCoeffici
   out.cut = cut;
   if (spec && measured.size() != feeds.size())
     throw InputError({"measured process errors", 0, ""},
-                     fmt::format("expected one measured process error per feed ({}), found {}", feeds.size(), measured.size()));
+                     fmt::format("expected one measured process error per feed ({}), found {}", feeds.size(),
+                                 measured.size()));
   for (double F : feeds) {
     CutConditions c = cut;
     c.feed = F;

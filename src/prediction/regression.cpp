@@ -31,10 +31,13 @@ struct FormName {
   ModelForm form;
   std::string_view name;
 };
-constexpr FormName kForms[] = {
-    {ModelForm::Polynomial, "polynomial"}, {ModelForm::ExpApproach, "exp_approach"},
-    {ModelForm::StretchedExp, "stretched_exp"}, {ModelForm::LogisticLn, "logistic_ln"},
-    {ModelForm::Gompertz, "gompertz"}, {ModelForm::Saturation, "saturation"}, {ModelForm::Power, "power"}};
+constexpr FormName kForms[] = {{ModelForm::Polynomial, "polynomial"},
+                               {ModelForm::ExpApproach, "exp_approach"},
+                               {ModelForm::StretchedExp, "stretched_exp"},
+                               {ModelForm::LogisticLn, "logistic_ln"},
+                               {ModelForm::Gompertz, "gompertz"},
+                               {ModelForm::Saturation, "saturation"},
+                               {ModelForm::Power, "power"}};
 
 std::size_t parameter_count(const ModelSpec& s) {
   switch (s.form) {
@@ -105,17 +108,19 @@ T eval_nonlinear(ModelForm f, const T* p, double x) {
 
 void check_data(const ModelSpec& spec, std::span<const double> x, std::span<const double> y) {
   if (x.size() != y.size())
-    throw InputError({"", 0, "y"}, fmt::format("expected as many y as x values, found {} x and {} y", x.size(), y.size()));
+    throw InputError({"", 0, "y"},
+                     fmt::format("expected as many y as x values, found {} x and {} y", x.size(), y.size()));
   const std::size_t p = parameter_count(spec);
   if (x.size() < p)
     throw InputError({"", 0, "x"}, fmt::format("{} has {} parameters: expected at least {} points, found {}",
-                                                spec.label(), p, p, x.size()));
+                                               spec.label(), p, p, x.size()));
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (!std::isfinite(x[i]) || !std::isfinite(y[i]))
-      throw InputError({"", 0, std::isfinite(x[i]) ? "y" : "x"}, fmt::format("point {}: expected finite values", i + 1));
+      throw InputError({"", 0, std::isfinite(x[i]) ? "y" : "x"},
+                       fmt::format("point {}: expected finite values", i + 1));
     if (x[i] < domain_lower_bound(spec.form))
-      throw InputError({"", 0, "x"}, fmt::format("point {}: {} needs x >= 0, found {}", i + 1,
-                                                  to_string(spec.form), x[i]));
+      throw InputError({"", 0, "x"},
+                       fmt::format("point {}: {} needs x >= 0, found {}", i + 1, to_string(spec.form), x[i]));
   }
 }
 
@@ -219,8 +224,9 @@ std::vector<std::pair<double, std::vector<double>>> grid_starts(ModelForm f, std
       for (double s : logspace(-2, 0.5, 11)) scales.push_back(-s);
       for (double s : scales) {
         const double c = s / X;
-        add({ones, column([&](double t) { return -std::exp(-c * t); })},
-            [&](const Eigen::VectorXd& ab) { return std::vector<double>{ab(0), ab(1), c}; });
+        add({ones, column([&](double t) { return -std::exp(-c * t); })}, [&](const Eigen::VectorXd& ab) {
+          return std::vector<double>{ab(0), ab(1), c};
+        });
       }
       break;
     }
@@ -229,7 +235,9 @@ std::vector<std::pair<double, std::vector<double>>> grid_starts(ModelForm f, std
         for (double s : logspace(-2, 2, 25)) {
           const double c = s / std::pow(X, d);
           add({ones, column([&](double t) { return std::exp(-c * pow_nonneg(t, d)); })},
-              [&](const Eigen::VectorXd& ab) { return std::vector<double>{ab(0), ab(1), c, d}; });
+              [&](const Eigen::VectorXd& ab) {
+                return std::vector<double>{ab(0), ab(1), c, d};
+              });
         }
       break;
     case ModelForm::LogisticLn:
@@ -237,15 +245,18 @@ std::vector<std::pair<double, std::vector<double>>> grid_starts(ModelForm f, std
         for (double x0 : logspace(-2, 1, 31)) {
           const double t0 = x0 * X;
           add({ones, column([&](double t) { return t == 0.0 ? -1.0 : -1.0 / (1.0 + std::exp(k * std::log(t / t0))); })},
-              [&](const Eigen::VectorXd& ab) { return std::vector<double>{ab(0), ab(1), k, t0}; });
+              [&](const Eigen::VectorXd& ab) {
+                return std::vector<double>{ab(0), ab(1), k, t0};
+              });
         }
       break;
     case ModelForm::Gompertz:
       for (double s : logspace(-1, 2, 25))
         for (int j = -5; j <= 15; ++j) {
           const double c = s / X, b = c * X * j / 10.0;
-          add({column([&](double t) { return std::exp(-std::exp(b - c * t)); })},
-              [&](const Eigen::VectorXd& a) { return std::vector<double>{a(0), b, c}; });
+          add({column([&](double t) { return std::exp(-std::exp(b - c * t)); })}, [&](const Eigen::VectorXd& a) {
+            return std::vector<double>{a(0), b, c};
+          });
         }
       break;
     case ModelForm::Saturation: {
@@ -253,8 +264,9 @@ std::vector<std::pair<double, std::vector<double>>> grid_starts(ModelForm f, std
       for (double s : logspace(-3, 2, 41)) {
         const double b = s * X;
         if (b + xmin <= 0.0) continue;
-        add({column([&](double t) { return t / (b + t); })},
-            [&](const Eigen::VectorXd& a) { return std::vector<double>{a(0), b}; });
+        add({column([&](double t) { return t / (b + t); })}, [&](const Eigen::VectorXd& a) {
+          return std::vector<double>{a(0), b};
+        });
       }
       break;
     }
@@ -262,8 +274,9 @@ std::vector<std::pair<double, std::vector<double>>> grid_starts(ModelForm f, std
       for (int j = -40; j <= 60; ++j) {
         const double b = j / 20.0;
         if (b <= 0.0 && has_zero) continue;
-        add({column([&](double t) { return pow_nonneg(t, b); })},
-            [&](const Eigen::VectorXd& a) { return std::vector<double>{a(0), b}; });
+        add({column([&](double t) { return pow_nonneg(t, b); })}, [&](const Eigen::VectorXd& a) {
+          return std::vector<double>{a(0), b};
+        });
       }
       break;
     case ModelForm::Polynomial: break;
@@ -297,8 +310,7 @@ std::vector<bool> at_lower_bound(const Model& m, std::span<const double> x) {
   std::vector<bool> at(m.p.size(), false);
   if (m.spec.form == ModelForm::Polynomial) return at;
   const std::vector<double> lo = lower_bounds(m.spec.form, x);
-  for (std::size_t k = 0; k < m.p.size(); ++k)
-    at[k] = std::isfinite(lo[k]) && m.p[k] <= lo[k] + 1e-6 * std::abs(lo[k]);
+  for (std::size_t k = 0; k < m.p.size(); ++k) at[k] = std::isfinite(lo[k]) && m.p[k] <= lo[k] + 1e-6 * std::abs(lo[k]);
   return at;
 }
 
@@ -477,10 +489,12 @@ Core fit_core(const ModelSpec& spec, std::span<const double> x, std::span<const 
     if (!limit.empty()) {
       std::string ps;
       const auto names = parameter_names(spec);
-      for (std::size_t k = 0; k < names.size(); ++k) ps += fmt::format("{}{} = {:.4g}", k ? ", " : "", names[k], failed->p[k]);
-      c.message = fmt::format("no interior optimum: the least squares run to the limit {}; Levenberg-Marquardt stopped at {} with "
-                              "RSS {:.6g}, which the form approaches but never attains",
-                              limit, ps, best_failed);
+      for (std::size_t k = 0; k < names.size(); ++k)
+        ps += fmt::format("{}{} = {:.4g}", k ? ", " : "", names[k], failed->p[k]);
+      c.message = fmt::format(
+          "no interior optimum: the least squares run to the limit {}; Levenberg-Marquardt stopped at {} with "
+          "RSS {:.6g}, which the form approaches but never attains",
+          limit, ps, best_failed);
     }
   }
   return c;
@@ -533,23 +547,29 @@ double domain_lower_bound(ModelForm f) {
 }
 
 std::string parameter_domain_problem(const Model& m, double x_low) {
-  if (m.p.size() != parameter_count(m.spec)) return fmt::format("expected {} parameters, found {}", parameter_count(m.spec), m.p.size());
+  if (m.p.size() != parameter_count(m.spec))
+    return fmt::format("expected {} parameters, found {}", parameter_count(m.spec), m.p.size());
   switch (m.spec.form) {
     case ModelForm::LogisticLn:
-      if (!(m.p[3] > 0.0)) return fmt::format("logistic_ln needs x0 > 0 (ln(x / x0) is undefined otherwise), found x0 = {:g}", m.p[3]);
+      if (!(m.p[3] > 0.0))
+        return fmt::format("logistic_ln needs x0 > 0 (ln(x / x0) is undefined otherwise), found x0 = {:g}", m.p[3]);
       break;
     case ModelForm::Saturation:
-      if (!(m.p[1] > 0.0)) return fmt::format("saturation a x / (b + x) needs b > 0 (a pole at x = -b otherwise), found b = {:g}", m.p[1]);
+      if (!(m.p[1] > 0.0))
+        return fmt::format("saturation a x / (b + x) needs b > 0 (a pole at x = -b otherwise), found b = {:g}", m.p[1]);
       if (x_low <= -m.p[1])
-        return fmt::format("saturation a x / (b + x) has a pole at x = {:g}, inside the range x >= {:g}", -m.p[1], x_low);
+        return fmt::format("saturation a x / (b + x) has a pole at x = {:g}, inside the range x >= {:g}", -m.p[1],
+                           x_low);
       break;
     case ModelForm::StretchedExp:
       if (!(m.p[3] > 0.0))
-        return fmt::format("stretched_exp needs d > 0 (x^d with d <= 0 is singular or constant at x = 0), found d = {:g}", m.p[3]);
+        return fmt::format(
+            "stretched_exp needs d > 0 (x^d with d <= 0 is singular or constant at x = 0), found d = {:g}", m.p[3]);
       break;
     case ModelForm::Power:
       if (m.p[1] < 0.0 && x_low <= 0.0)
-        return fmt::format("power a x^b with b = {:g} < 0 is undefined at x = 0: give b >= 0 or a 'valid' range above 0", m.p[1]);
+        return fmt::format(
+            "power a x^b with b = {:g} < 0 is undefined at x = 0: give b >= 0 or a 'valid' range above 0", m.p[1]);
       break;
     default: break;
   }
@@ -623,8 +643,9 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
   for (double v : y) tss += (v - ymean) * (v - ymean);
   r.r_squared = tss > 0.0 ? 1.0 - r.rss / tss : kNaN;
   const double dn = static_cast<double>(n), dp = static_cast<double>(np);
-  r.aicc = (dn - dp - 1.0 > 0.0 && r.rss > 0.0) ? dn * std::log(r.rss / dn) + 2.0 * dp + 2.0 * dp * (dp + 1.0) / (dn - dp - 1.0)
-                                                : kNaN;
+  r.aicc = (dn - dp - 1.0 > 0.0 && r.rss > 0.0)
+               ? dn * std::log(r.rss / dn) + 2.0 * dp + 2.0 * dp * (dp + 1.0) / (dn - dp - 1.0)
+               : kNaN;
   r.backward = backward_prediction(r.model, x, y);
 
   // Covariance sigma^2 (J^T J)^-1 over the parameters inside their bounds (a parameter on a
@@ -645,8 +666,10 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
   for (std::size_t k = 0; k < np; ++k) {
     if (r.at_bound[k]) continue;  // flagged as such; its own column says nothing at the bound
     const double nk = J.col(static_cast<Eigen::Index>(k)).norm();
-    if (!(nk > 0.0) || !std::isfinite(nk) || nk * scale[k] <= negligible) r.identified[k] = false;
-    else free.push_back(static_cast<Eigen::Index>(k));
+    if (!(nk > 0.0) || !std::isfinite(nk) || nk * scale[k] <= negligible)
+      r.identified[k] = false;
+    else
+      free.push_back(static_cast<Eigen::Index>(k));
   }
   const auto nf = static_cast<Eigen::Index>(free.size());
   bool full_rank = true;
@@ -662,12 +685,14 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
     const double emax = es.eigenvalues().maxCoeff();
     full_rank = d.minCoeff() > 0.0 && emax > 0.0 && es.eigenvalues().minCoeff() > 1e-12 * emax;
     if (!full_rank)
-      for (Eigen::Index c = 0; c < nf; ++c) r.identified[static_cast<std::size_t>(free[static_cast<std::size_t>(c)])] = false;
+      for (Eigen::Index c = 0; c < nf; ++c)
+        r.identified[static_cast<std::size_t>(free[static_cast<std::size_t>(c)])] = false;
     // The covariance of the free parameters is that of the model with the bound ones fixed; with
     // a parameter not identified it does not exist (J^T J singular).
     const bool all_identified = std::all_of(r.identified.begin(), r.identified.end(), [](bool b) { return b; });
     if (full_rank && all_identified && r.dof > 0) {
-      const Eigen::MatrixXd inv = es.eigenvectors() * es.eigenvalues().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
+      const Eigen::MatrixXd inv =
+          es.eigenvectors() * es.eigenvalues().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
       const Eigen::MatrixXd cov = d.asDiagonal() * inv * d.asDiagonal() * (r.rss / r.dof);
       for (Eigen::Index a = 0; a < nf; ++a) {
         const auto i = static_cast<std::size_t>(free[static_cast<std::size_t>(a)]);

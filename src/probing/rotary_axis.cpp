@@ -165,8 +165,8 @@ struct Sums {
 struct KeptSums {
   std::array<double, kRotaryQuantities> s{}, s2{};
   std::array<std::size_t, kRotaryQuantities> kept{};
-  std::vector<double> point_sum;          // [centre * 6 + quantity]
-  std::vector<std::size_t> point_count;   // [centre * 6 + quantity]
+  std::vector<double> point_sum;         // [centre * 6 + quantity]
+  std::vector<std::size_t> point_count;  // [centre * 6 + quantity]
   std::array<std::vector<std::size_t>, kRotaryQuantities> hist;
 };
 
@@ -286,7 +286,8 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
       total.s[m] += s.s[m];
       total.s2[m] += s.s2[m];
       total.kept[m] += s.kept[m];
-      for (int b = 0; b < bins; ++b) total.hist[m][static_cast<std::size_t>(b)] += s.hist[m][static_cast<std::size_t>(b)];
+      for (int b = 0; b < bins; ++b)
+        total.hist[m][static_cast<std::size_t>(b)] += s.hist[m][static_cast<std::size_t>(b)];
     }
     for (std::size_t x = 0; x < n * kRotaryQuantities; ++x) {
       total.point_sum[x] += s.point_sum[x];
@@ -326,8 +327,8 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
   e.rejected_share.assign(n, 0.0);
   for (std::size_t c = 0; c < n; ++c)
     for (std::size_t m = 0; m < 4; ++m)
-      e.rejected_share[c] = std::max(
-          e.rejected_share[c], 1.0 - static_cast<double>(total.point_count[c * kRotaryQuantities + m]) / through);
+      e.rejected_share[c] = std::max(e.rejected_share[c],
+                                     1.0 - static_cast<double>(total.point_count[c * kRotaryQuantities + m]) / through);
   // The axis line of the triples' estimate, for plotting and merging.
   const auto [point, direction] = line_from_location(axis, e.value);
   e.axis_point = point;
@@ -337,8 +338,9 @@ TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::ve
   const int k = axis.direction_axis;
   const double ti = std::hypot(direction[(k + 1) % 3], direction[(k + 2) % 3]);
   e.value[5] = std::atan2(ti, direction[k]);
-  e.uncertainty[5] = e.value[5] > 0 ? std::hypot(e.value[2] * e.uncertainty[2], e.value[3] * e.uncertainty[3]) / e.value[5]
-                                    : std::hypot(e.uncertainty[2], e.uncertainty[3]);
+  e.uncertainty[5] = e.value[5] > 0
+                         ? std::hypot(e.value[2] * e.uncertainty[2], e.value[3] * e.uncertainty[3]) / e.value[5]
+                         : std::hypot(e.uncertainty[2], e.uncertainty[3]);
   return e;
 }
 

@@ -31,9 +31,10 @@ IndexedCentres centres_from_contacts(const ContactSet& set, const SphereProbing&
   for (const auto& c : set.contacts) {
     if (groups.empty() || groups.back().angle != c.angle_deg) {
       if (seen.count(c.angle_deg))
-        throw InputError({set.source, c.line, axis},
-                         fmt::format("{}={:g} was probed already (from line {}); keep each indexation's contacts together",
-                                     axis, c.angle_deg, seen[c.angle_deg]));
+        throw InputError(
+            {set.source, c.line, axis},
+            fmt::format("{}={:g} was probed already (from line {}); keep each indexation's contacts together", axis,
+                        c.angle_deg, seen[c.angle_deg]));
       seen[c.angle_deg] = c.line;
       groups.push_back({c.angle_deg, c.line, {}});
     }

@@ -18,10 +18,12 @@ std::vector<Point3> five_point_approaches() {
 SphereCentre sphere_centre(const std::vector<ProbeContact>& contacts, const SphereProbing& probing,
                            const std::string& where) {
   if (!(probing.sphere_diameter > 0) || !(probing.stylus_diameter >= 0))
-    throw InputError({where, 0, ""}, fmt::format("expected a sphere diameter > 0 and a stylus diameter >= 0, found {} and {}",
-                                                 probing.sphere_diameter, probing.stylus_diameter));
+    throw InputError({where, 0, ""},
+                     fmt::format("expected a sphere diameter > 0 and a stylus diameter >= 0, found {} and {}",
+                                 probing.sphere_diameter, probing.stylus_diameter));
   if (contacts.size() < 3)
-    throw InputError({where, 0, ""}, fmt::format("expected at least 3 contacts on the sphere, found {}", contacts.size()));
+    throw InputError({where, 0, ""},
+                     fmt::format("expected at least 3 contacts on the sphere, found {}", contacts.size()));
   const double reach = 0.5 * (probing.sphere_diameter + probing.stylus_diameter);  // tip centre to sphere centre
   std::vector<Point3> pts;
   Point3 hint = Point3::Zero();
@@ -85,7 +87,9 @@ std::vector<ProbedIndexation> simulate_probing(const Machine& m, const ProbingSi
                      "' is not one in " + m.topology.chain);
   int linear = 0;
   for (const auto& ax : m.axes) linear += ax.kind == AxisKind::Linear ? 1 : 0;
-  if (linear != 3) throw ModelError("probing simulation needs three linear axes, " + m.topology.chain + " has " + std::to_string(linear));
+  if (linear != 3)
+    throw ModelError("probing simulation needs three linear axes, " + m.topology.chain + " has " +
+                     std::to_string(linear));
   const std::size_t n = m.axes.size();
   std::vector<double> base = sim.held.empty() ? std::vector<double>(n, 0.0) : sim.held;
   if (base.size() != n) throw ModelError(fmt::format("expected {} held joint values, found {}", n, base.size()));

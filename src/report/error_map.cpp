@@ -22,10 +22,21 @@ nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>
     w.push_back(s.error.z() * 1e3);
     text.push_back(format_joint_values(m, s.q, ", "));
   }
-  nlohmann::json cones = {{"type", "cone"}, {"x", x}, {"y", y}, {"z", z}, {"u", u}, {"v", v}, {"w", w},
-                          {"text", text}, {"sizemode", "scaled"}, {"sizeref", 1.2}, {"anchor", "tail"},
-                          {"colorscale", "Viridis"}, {"colorbar", {{"title", {{"text", "µm"}}}}},
-                          {"hovertemplate", "%{text}<br>|e| %{norm:.2f} µm<extra></extra>"}, {"name", "error"}};
+  nlohmann::json cones = {{"type", "cone"},
+                          {"x", x},
+                          {"y", y},
+                          {"z", z},
+                          {"u", u},
+                          {"v", v},
+                          {"w", w},
+                          {"text", text},
+                          {"sizemode", "scaled"},
+                          {"sizeref", 1.2},
+                          {"anchor", "tail"},
+                          {"colorscale", "Viridis"},
+                          {"colorbar", {{"title", {{"text", "µm"}}}}},
+                          {"hovertemplate", "%{text}<br>|e| %{norm:.2f} µm<extra></extra>"},
+                          {"name", "error"}};
   nlohmann::json data = nlohmann::json::array({cones});
   if (!marks.empty()) {
     nlohmann::json mx = nlohmann::json::array(), my = mx, mz = mx, label = mx;
@@ -35,16 +46,24 @@ nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>
       mz.push_back(mk.nominal.z());
       label.push_back(mk.label);
     }
-    data.push_back({{"type", "scatter3d"}, {"mode", join_marks ? "lines+markers+text" : "markers+text"}, {"x", mx},
-                    {"y", my}, {"z", mz}, {"marker", {{"size", 8}, {"color", "red"}}},
-                    {"line", {{"color", "red"}, {"width", 4}}}, {"text", label}, {"name", "marked"}});
+    data.push_back({{"type", "scatter3d"},
+                    {"mode", join_marks ? "lines+markers+text" : "markers+text"},
+                    {"x", mx},
+                    {"y", my},
+                    {"z", mz},
+                    {"marker", {{"size", 8}, {"color", "red"}}},
+                    {"line", {{"color", "red"}, {"width", 4}}},
+                    {"text", label},
+                    {"name", "marked"}});
   }
   return {{"data", data},
-          {"layout", {{"scene", {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
-                                 {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
-                                 {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
-                                 {"aspectmode", "data"}}},
-                      {"showlegend", false}}}};
+          {"layout",
+           {{"scene",
+             {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
+              {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
+              {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
+              {"aspectmode", "data"}}},
+            {"showlegend", false}}}};
 }
 
 namespace {
@@ -68,7 +87,8 @@ void ErrorStreamReport::add(std::size_t index, const double* q, const double* e)
   const double t = std::hypot(e[0], e[1], e[2]);
   if (index % magnitude_stride_ == 0) magnitudes_.push_back(static_cast<float>(t * 1e3));
   const bool sample = index % stride_ == 0;
-  const bool large = largest_.size() < kLargest || t > std::hypot(largest_.back().e[0], largest_.back().e[1], largest_.back().e[2]);
+  const bool large =
+      largest_.size() < kLargest || t > std::hypot(largest_.back().e[0], largest_.back().e[1], largest_.back().e[2]);
   if (!sample && !large) return;
   Sample s;
   s.q.assign(q, q + n);
@@ -100,14 +120,16 @@ void ErrorStreamReport::write(const std::string& path, const ReportSources& sour
                  "µm at " + config_text(top.q));
   }
   if (stride_ > 1)
-    r.add_warning(fmt::format("The error map shows every {}th of the {} configurations ({} cones); the largest "
-                              "errors and the figures above use all of them.",
-                              stride_, count_, samples_.size()));
+    r.add_warning(
+        fmt::format("The error map shows every {}th of the {} configurations ({} cones); the largest "
+                    "errors and the figures above use all of them.",
+                    stride_, count_, samples_.size()));
 
   r.add_section("Error map");
-  r.add_paragraph("Each cone is the translational error of the tool relative to the workpiece (dx, dy, dz) at the "
-                  "nominal tool point, in the workpiece frame; colour and size show its magnitude in µm. The red "
-                  "marker is the configuration with the largest error.");
+  r.add_paragraph(
+      "Each cone is the translational error of the tool relative to the workpiece (dx, dy, dz) at the "
+      "nominal tool point, in the workpiece frame; colour and size show its magnitude in µm. The red "
+      "marker is the configuration with the largest error.");
   std::vector<ConeSample> cones;
   for (const auto& s : samples_) cones.push_back({s.q, s.nominal, Vec3(s.e[0], s.e[1], s.e[2])});
   std::vector<PlotMark> marks;
@@ -129,19 +151,21 @@ void ErrorStreamReport::write(const std::string& path, const ReportSources& sour
     centres.push_back((b + 0.5) * hi / bins);
     cnt.push_back(counts[static_cast<std::size_t>(b)]);
   }
-  r.add_plot(magnitude_stride_ > 1 ? fmt::format("Magnitude of the translational error, every {}th configuration",
-                                                 magnitude_stride_)
-                                   : std::string("Magnitude of the translational error over all configurations"),
+  r.add_plot(magnitude_stride_ > 1
+                 ? fmt::format("Magnitude of the translational error, every {}th configuration", magnitude_stride_)
+                 : std::string("Magnitude of the translational error over all configurations"),
              {{"data", {{{"type", "bar"}, {"x", centres}, {"y", cnt}, {"name", "configurations"}}}},
-              {"layout", {{"xaxis", {{"title", {{"text", "|(dx, dy, dz)| (µm)"}}}}},
-                          {"yaxis", {{"title", {{"text", "configurations"}}}}},
-                          {"bargap", 0.02}}}});
+              {"layout",
+               {{"xaxis", {{"title", {{"text", "|(dx, dy, dz)| (µm)"}}}}},
+                {"yaxis", {{"title", {{"text", "configurations"}}}}},
+                {"bargap", 0.02}}}});
 
   r.add_section("Largest errors");
   std::vector<std::vector<std::string>> rows;
   for (const auto& s : largest_)
     rows.push_back({config_text(s.q), fmt::format("{:.3f}", s.e[0] * 1e3), fmt::format("{:.3f}", s.e[1] * 1e3),
-                    fmt::format("{:.3f}", s.e[2] * 1e3), fmt::format("{:.3f}", std::hypot(s.e[0], s.e[1], s.e[2]) * 1e3),
+                    fmt::format("{:.3f}", s.e[2] * 1e3),
+                    fmt::format("{:.3f}", std::hypot(s.e[0], s.e[1], s.e[2]) * 1e3),
                     fmt::format("{:.2f}", s.e[3] * 1e6), fmt::format("{:.2f}", s.e[4] * 1e6),
                     fmt::format("{:.2f}", s.e[5] * 1e6)});
   r.add_table("The configurations with the largest translational errors (workpiece frame)",

@@ -36,8 +36,9 @@ void write_positioning_report(const std::string& path, const std::string& comman
   if (e.runs < 5) r.add_warning(fmt::format("ISO 230-2 asks for 5 runs per direction; this has {}.", e.runs));
 
   r.add_section("Deviations");
-  r.add_paragraph("Mean positional deviation per target and direction (x̄↑ up, x̄↓ down) with the ±2s bands that "
-                  "define the accuracy A, and every run's deviation as a point.");
+  r.add_paragraph(
+      "Mean positional deviation per target and direction (x̄↑ up, x̄↓ down) with the ±2s bands that "
+      "define the accuracy A, and every run's deviation as a point.");
   json x = json::array(), up = x, dn = x, up_hi = x, up_lo = x, dn_hi = x, dn_lo = x, mean = x;
   json rx_up = x, ry_up = x, rx_dn = x, ry_dn = x;
   for (std::size_t i = 0; i < e.targets.size(); ++i) {
@@ -54,28 +55,60 @@ void write_positioning_report(const std::string& path, const std::string& comman
     for (double v : runs.down[i]) rx_dn.push_back(t.target), ry_dn.push_back(v - t.target);
   }
   auto band = [&](const json& lo, const json& hi, const char* colour, const char* name) {
-    return json::array({json{{"type", "scatter"}, {"mode", "lines"}, {"x", x}, {"y", lo}, {"line", {{"width", 0}}},
-                             {"showlegend", false}, {"hoverinfo", "skip"}},
-                        json{{"type", "scatter"}, {"mode", "lines"}, {"x", x}, {"y", hi}, {"fill", "tonexty"},
-                             {"fillcolor", colour}, {"line", {{"width", 0}}}, {"name", name}}});
+    return json::array({json{{"type", "scatter"},
+                             {"mode", "lines"},
+                             {"x", x},
+                             {"y", lo},
+                             {"line", {{"width", 0}}},
+                             {"showlegend", false},
+                             {"hoverinfo", "skip"}},
+                        json{{"type", "scatter"},
+                             {"mode", "lines"},
+                             {"x", x},
+                             {"y", hi},
+                             {"fill", "tonexty"},
+                             {"fillcolor", colour},
+                             {"line", {{"width", 0}}},
+                             {"name", name}}});
   };
   json data = json::array();
   for (auto& t : band(up_lo, up_hi, "rgba(31,119,180,0.2)", "x̄↑ ± 2s↑")) data.push_back(t);
   for (auto& t : band(dn_lo, dn_hi, "rgba(214,39,40,0.2)", "x̄↓ ± 2s↓")) data.push_back(t);
-  data.push_back({{"type", "scatter"}, {"mode", "lines+markers"}, {"x", x}, {"y", up}, {"name", "x̄↑ (up)"},
+  data.push_back({{"type", "scatter"},
+                  {"mode", "lines+markers"},
+                  {"x", x},
+                  {"y", up},
+                  {"name", "x̄↑ (up)"},
                   {"line", {{"color", "rgb(31,119,180)"}}}});
-  data.push_back({{"type", "scatter"}, {"mode", "lines+markers"}, {"x", x}, {"y", dn}, {"name", "x̄↓ (down)"},
+  data.push_back({{"type", "scatter"},
+                  {"mode", "lines+markers"},
+                  {"x", x},
+                  {"y", dn},
+                  {"name", "x̄↓ (down)"},
                   {"line", {{"color", "rgb(214,39,40)"}}}});
-  data.push_back({{"type", "scatter"}, {"mode", "lines"}, {"x", x}, {"y", mean}, {"name", "x̄ (bidirectional)"},
+  data.push_back({{"type", "scatter"},
+                  {"mode", "lines"},
+                  {"x", x},
+                  {"y", mean},
+                  {"name", "x̄ (bidirectional)"},
                   {"line", {{"color", "black"}, {"dash", "dot"}}}});
-  data.push_back({{"type", "scatter"}, {"mode", "markers"}, {"x", rx_up}, {"y", ry_up}, {"name", "runs up"},
+  data.push_back({{"type", "scatter"},
+                  {"mode", "markers"},
+                  {"x", rx_up},
+                  {"y", ry_up},
+                  {"name", "runs up"},
                   {"marker", {{"size", 4}, {"color", "rgb(31,119,180)"}}}});
-  data.push_back({{"type", "scatter"}, {"mode", "markers"}, {"x", rx_dn}, {"y", ry_dn}, {"name", "runs down"},
+  data.push_back({{"type", "scatter"},
+                  {"mode", "markers"},
+                  {"x", rx_dn},
+                  {"y", ry_dn},
+                  {"name", "runs down"},
                   {"marker", {{"size", 4}, {"color", "rgb(214,39,40)"}}}});
   r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + u + ")",
              {{"data", data},
-              {"layout", {{"xaxis", {{"title", {{"text", "target (" + u + ")"}}}}},
-                          {"yaxis", {{"title", {{"text", "deviation (" + u + ")"}}}}}}}});
+              {"layout",
+               {{"xaxis", {{"title", {{"text", "target (" + u + ")"}}}}},
+                {"yaxis", {{"title", {{"text", "deviation (" + u + ")"}}}}}}}});
 
   r.add_section("Per target");
   std::vector<std::vector<std::string>> rows;
@@ -108,8 +141,9 @@ void write_ballbar_report(const std::string& path, const std::string& command, c
   if (e.H) r.add_figure("H", fmt::format("{:.2f}", *e.H * 1e3), "µm");
   r.add_figure("F max / min", fmt::format("{:.2f} / {:.2f}", e.F_max * 1e3, e.F_min * 1e3), "µm");
   r.add_section("Trace");
-  r.add_paragraph("Radial deviation of the bar from the nominal radius (µm), magnified round the circle, for both "
-                  "directions, as ballbar software shows it.");
+  r.add_paragraph(
+      "Radial deviation of the bar from the nominal radius (µm), magnified round the circle, for both "
+      "directions, as ballbar software shows it.");
   json data = json::array();
   for (CircleDirection d : {CircleDirection::CW, CircleDirection::CCW}) {
     json th = json::array(), rr = json::array();
@@ -118,7 +152,10 @@ void write_ballbar_report(const std::string& path, const std::string& command, c
         th.push_back(s.angle * 180 / std::numbers::pi);
         rr.push_back((s.radius - radius) * 1e3);
       }
-    data.push_back({{"type", "scatterpolar"}, {"mode", "lines"}, {"theta", th}, {"r", rr},
+    data.push_back({{"type", "scatterpolar"},
+                    {"mode", "lines"},
+                    {"theta", th},
+                    {"r", rr},
                     {"name", d == CircleDirection::CW ? "CW" : "CCW"}});
   }
   const double lo = std::floor(e.F_min * 1e3) - 1, hi = std::ceil(e.F_max * 1e3) + 1;
@@ -130,15 +167,16 @@ void write_ballbar_report(const std::string& path, const std::string& command, c
     if (d)
       rows.push_back({name, fmt::format("{}", d->points), fmt::format("{:.3f}", d->G * 1e3),
                       fmt::format("{:.3f}", d->G_minimum_zone * 1e3), fmt::format("{:.3f}", d->F_max * 1e3),
-                      fmt::format("{:.3f}", d->F_min * 1e3), fmt::format("{:.3f}, {:.3f}", d->centre_x * 1e3, d->centre_y * 1e3)});
-  r.add_table("ISO 230-4 per direction (µm)", {"direction", "samples", "G", "G minimum zone", "F max", "F min",
-                                              "least-squares centre (µm)"},
-              rows);
+                      fmt::format("{:.3f}", d->F_min * 1e3),
+                      fmt::format("{:.3f}, {:.3f}", d->centre_x * 1e3, d->centre_y * 1e3)});
+  r.add_table("ISO 230-4 per direction (µm)",
+              {"direction", "samples", "G", "G minimum zone", "F max", "F min", "least-squares centre (µm)"}, rows);
   if (diagnosis) {
     r.add_section("Diagnostics");
-    r.add_paragraph(fmt::format("Least-squares fit of a physical model of the trace (docs/evaluations.md); the share is "
-                                "each term's RMS over the RMS of the fitted trace. What the model leaves: {:.3f} µm rms.",
-                                diagnosis->residual_rms));
+    r.add_paragraph(
+        fmt::format("Least-squares fit of a physical model of the trace (docs/evaluations.md); the share is "
+                    "each term's RMS over the RMS of the fitted trace. What the model leaves: {:.3f} µm rms.",
+                    diagnosis->residual_rms));
     json names = json::array(), shares = json::array();
     std::vector<std::vector<std::string>> drows;
     for (const auto& term : diagnosis->terms) {
@@ -160,16 +198,19 @@ void write_comparison_report(const std::string& path, const std::string& command
   const auto& s = c.summary;
   Report r(fmt::format("Method comparison: {} and {}", c.methods[0], c.methods[1]), command);
   r.add_input("data", c.source);
-  r.add_figure("parameters", fmt::format("{}", s.parameters), fmt::format("({} measured by both methods)", s.both_methods));
+  r.add_figure("parameters", fmt::format("{}", s.parameters),
+               fmt::format("({} measured by both methods)", s.both_methods));
   r.add_figure("mean ± 1σ bands overlap", fmt::format("{} of {}", s.overlap, s.overlap + s.no_overlap), "parameters");
-  r.add_figure(fmt::format("|Pearson r| ≥ {:g}", kStrongCorrelation), fmt::format("{} of {}", s.strong_correlation, s.with_correlation),
+  r.add_figure(fmt::format("|Pearson r| ≥ {:g}", kStrongCorrelation),
+               fmt::format("{} of {}", s.strong_correlation, s.with_correlation),
                fmt::format("parameters ({} positive, {} negative)", s.strong_positive, s.strong_negative));
   for (const auto& p : c.parameters) {
     if (p.stats[0].n == 0 || p.stats[1].n == 0)
       r.add_warning(fmt::format("{} was measured by {} only: no difference, overlap or correlation.", p.name,
                                 c.methods[p.stats[0].n > 0 ? 0 : 1]));
     else if (p.stats[0].n < 2 || p.stats[1].n < 2)
-      r.add_warning(fmt::format("{} has fewer than two tests for one method: no standard deviation, no overlap.", p.name));
+      r.add_warning(
+          fmt::format("{} has fewer than two tests for one method: no standard deviation, no overlap.", p.name));
   }
 
   r.add_section("Means of both methods");
@@ -181,7 +222,10 @@ void write_comparison_report(const std::string& path, const std::string& command
       y.push_back(p.stats[k].mean ? nlohmann::json(*p.stats[k].mean) : nlohmann::json(nullptr));
       e.push_back(p.stats[k].stdev.value_or(0.0));
     }
-    data.push_back({{"type", "bar"}, {"name", c.methods[k]}, {"x", x}, {"y", y},
+    data.push_back({{"type", "bar"},
+                    {"name", c.methods[k]},
+                    {"x", x},
+                    {"y", y},
                     {"error_y", {{"type", "data"}, {"array", e}, {"visible", true}}}});
   }
   r.add_plot("Mean of each parameter per method, with ±1 sample standard deviation as error bars (in the data's units)",
@@ -189,9 +233,10 @@ void write_comparison_report(const std::string& path, const std::string& command
               {"layout", {{"barmode", "group"}, {"yaxis", {{"title", {{"text", "mean (data's units)"}}}}}}}});
 
   r.add_section("Every parameter");
-  r.add_paragraph("Standard deviations are sample standard deviations (n − 1). The ±1σ bands overlap when "
-                  "|difference of means| ≤ σ₁ + σ₂. Pearson r pairs the tests of the same name and needs at least "
-                  "three pairs in which both methods vary.");
+  r.add_paragraph(
+      "Standard deviations are sample standard deviations (n − 1). The ±1σ bands overlap when "
+      "|difference of means| ≤ σ₁ + σ₂. Pearson r pairs the tests of the same name and needs at least "
+      "three pairs in which both methods vary.");
   std::vector<std::vector<std::string>> rows;
   for (const auto& p : c.parameters)
     rows.push_back({p.name, fmt::format("{}", p.stats[0].n), num(p.stats[0].mean), num(p.stats[0].stdev),
@@ -200,8 +245,8 @@ void write_comparison_report(const std::string& path, const std::string& command
   const std::string& a = c.methods[0];
   const std::string& b = c.methods[1];
   r.add_table("Statistics per parameter (values in the data's units)",
-              {"parameter", "n " + a, "mean " + a, "stdev " + a, "n " + b, "mean " + b, "stdev " + b,
-               "|difference|", "±1σ overlap", "Pearson r", "paired tests"},
+              {"parameter", "n " + a, "mean " + a, "stdev " + a, "n " + b, "mean " + b, "stdev " + b, "|difference|",
+               "±1σ overlap", "Pearson r", "paired tests"},
               rows);
   r.write(path);
 }

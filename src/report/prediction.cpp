@@ -16,27 +16,36 @@ std::string fit_parameters_text(const FitResult& f) {
   const auto names = parameter_names(f.model.spec);
   for (std::size_t k = 0; k < names.size(); ++k) {
     std::string note;
-    if (k < f.at_bound.size() && f.at_bound[k]) note = " (at bound)";
-    else if (k < f.identified.size() && !f.identified[k]) note = " (not identifiable)";
-    else if (std::isfinite(f.stddev[k])) note = "±" + significant6(f.stddev[k]);
+    if (k < f.at_bound.size() && f.at_bound[k])
+      note = " (at bound)";
+    else if (k < f.identified.size() && !f.identified[k])
+      note = " (not identifiable)";
+    else if (std::isfinite(f.stddev[k]))
+      note = "±" + significant6(f.stddev[k]);
     s += fmt::format("{}{}={}{}", s.empty() ? "" : " ", names[k], significant6(f.model.p[k]), note);
   }
   return s;
 }
 
-Report regression_report(const ModelComparison& c, std::span<const double> x, std::span<const double> y, const std::string& file,
-                         const std::string& x_name, const std::string& y_name, const std::string& command) {
+Report regression_report(const ModelComparison& c, std::span<const double> x, std::span<const double> y,
+                         const std::string& file, const std::string& x_name, const std::string& y_name,
+                         const std::string& command) {
   const FitResult& bb = c.fits[c.by_backward[0]];
   const FitResult& bl = c.fits[c.by_loocv[0]];
   Report r("Regression: " + y_name + " vs " + x_name, command);
   r.add_input("data", file);
   r.add_figure("points", fmt::format("{}", x.size()), "");
-  r.add_figure("best by backward prediction (sec. 3.8)", bb.model.spec.label(), fmt::format("mean |diff| {}", significant6(bb.backward.mean)));
-  r.add_figure("best by leave-one-out", bl.model.spec.label(), bl.loocv_rmse ? "RMSE " + significant6(*bl.loocv_rmse) : "");
+  r.add_figure("best by backward prediction (sec. 3.8)", bb.model.spec.label(),
+               fmt::format("mean |diff| {}", significant6(bb.backward.mean)));
+  r.add_figure("best by leave-one-out", bl.model.spec.label(),
+               bl.loocv_rmse ? "RMSE " + significant6(*bl.loocv_rmse) : "");
   for (const auto& s : c.skipped) r.add_warning(s.spec.label() + " not fitted: " + s.reason);
   r.add_section("Data and fitted models");
   nlohmann::json data = nlohmann::json::array();
-  data.push_back({{"type", "scatter"}, {"mode", "markers"}, {"name", "data"}, {"x", std::vector<double>(x.begin(), x.end())},
+  data.push_back({{"type", "scatter"},
+                  {"mode", "markers"},
+                  {"name", "data"},
+                  {"x", std::vector<double>(x.begin(), x.end())},
                   {"y", std::vector<double>(y.begin(), y.end())}});
   const double lo = *std::min_element(x.begin(), x.end()), hi = *std::max_element(x.begin(), x.end());
   for (const auto& f : c.fits) {
@@ -51,17 +60,21 @@ Report regression_report(const ModelComparison& c, std::span<const double> x, st
     data.push_back({{"type", "scatter"}, {"mode", "lines"}, {"name", f.model.spec.label()}, {"x", cxv}, {"y", cyv}});
   }
   r.add_plot("Data and every fitted model",
-             {{"data", data}, {"layout", {{"xaxis", {{"title", {{"text", x_name}}}}}, {"yaxis", {{"title", {{"text", y_name}}}}}}}});
+             {{"data", data},
+              {"layout", {{"xaxis", {{"title", {{"text", x_name}}}}}, {"yaxis", {{"title", {{"text", y_name}}}}}}}});
   r.add_section("Criteria");
-  r.add_paragraph("Backward-prediction error (Yaqoob 2017 section 3.8, Table 5.8): |y - f(x)| at the measured points of "
-                  "the model fitted to all of them; ranked by its mean. It is an in-sample criterion and favours models "
-                  "with more parameters; the leave-one-out RMSE predicts each point from a refit without it.");
+  r.add_paragraph(
+      "Backward-prediction error (Yaqoob 2017 section 3.8, Table 5.8): |y - f(x)| at the measured points of "
+      "the model fitted to all of them; ranked by its mean. It is an in-sample criterion and favours models "
+      "with more parameters; the leave-one-out RMSE predicts each point from a refit without it.");
   std::vector<std::vector<std::string>> rows;
   for (const auto& f : c.fits)
-    rows.push_back({f.model.spec.label(), fit_parameters_text(f), significant6(f.rss), significant6(f.r_squared), significant6(f.backward.mean), significant6(f.backward.max),
+    rows.push_back({f.model.spec.label(), fit_parameters_text(f), significant6(f.rss), significant6(f.r_squared),
+                    significant6(f.backward.mean), significant6(f.backward.max),
                     f.loocv_rmse ? significant6(*f.loocv_rmse) : "-", significant6(f.aicc)});
   r.add_table("Fitted models (parameters ± standard uncertainty)",
-              {"model", "parameters", "RSS", "R²", "mean backward |diff|", "max backward |diff|", "LOO RMSE", "AICc"}, rows);
+              {"model", "parameters", "RSS", "R²", "mean backward |diff|", "max backward |diff|", "LOO RMSE", "AICc"},
+              rows);
   return r;
 }
 
@@ -83,15 +96,21 @@ Report prediction_report(const PredictionRun& run, const PredictionModel& m, con
     for (std::size_t r = 0; r < preds.size(); ++r) idx.push_back(static_cast<double>(r + 1));
     std::vector<double> total;
     for (const auto& p : preds) total.push_back(p.e[a]);
-    data.push_back({{"type", "scatter"}, {"mode", "lines+markers"}, {"name", fmt::format("total e{}", ax)}, {"x", idx}, {"y", total}});
+    data.push_back({{"type", "scatter"},
+                    {"mode", "lines+markers"},
+                    {"name", fmt::format("total e{}", ax)},
+                    {"x", idx},
+                    {"y", total}});
     for (std::size_t k = 0; k < m.components.size(); ++k) {
       if (m.components[k].axis != ax) continue;
       std::vector<double> v;
       for (const auto& p : preds) v.push_back(p.values[k]);
       data.push_back({{"type", "scatter"}, {"mode", "lines"}, {"name", m.components[k].name}, {"x", idx}, {"y", v}});
     }
-    rep.add_plot(fmt::format("Predicted {} error per point (mm), as the sum of its components (Figs. 6.4-6.5)", static_cast<char>('X' + a)),
-                 {{"data", data}, {"layout", {{"xaxis", {{"title", {{"text", "point"}}}}}, {"yaxis", {{"title", {{"text", "mm"}}}}}}}});
+    rep.add_plot(fmt::format("Predicted {} error per point (mm), as the sum of its components (Figs. 6.4-6.5)",
+                             static_cast<char>('X' + a)),
+                 {{"data", data},
+                  {"layout", {{"xaxis", {{"title", {{"text", "point"}}}}}, {"yaxis", {{"title", {{"text", "mm"}}}}}}}});
   }
   rep.add_section("Every component (mm; tilts in rad)");
   std::vector<std::string> cols = {"point"};

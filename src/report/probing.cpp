@@ -46,13 +46,17 @@ void write_rotary_report(const std::string& path, const std::string& command, co
   for (std::size_t q = 0; q < 4; ++q) {
     const auto [f, unit] = display(q);
     r.add_figure(names[q], fmt::format("{:.3f} ± {:.3f}", best->value[q] * f, best->uncertainty[q] * f),
-                 std::string(unit) + (lsq ? " (least squares, standard uncertainty)" : " (triples, standard uncertainty)"));
+                 std::string(unit) +
+                     (lsq ? " (least squares, standard uncertainty)" : " (triples, standard uncertainty)"));
   }
   if (tri) {
-    const double kept = static_cast<double>(tri->kept[0]) / static_cast<double>(std::max<std::size_t>(1, tri->triples - tri->degenerate));
+    const double kept = static_cast<double>(tri->kept[0]) /
+                        static_cast<double>(std::max<std::size_t>(1, tri->triples - tri->degenerate));
     if (kept < 0.8)
-      r.add_warning(fmt::format("The {:g}-sigma rule rejected {:.0f} % of the triples for {}: look for outlying "
-                                "centres (dirt on the sphere, a missed trigger).", result.reject_sigma, 100 * (1 - kept), names[0]));
+      r.add_warning(
+          fmt::format("The {:g}-sigma rule rejected {:.0f} % of the triples for {}: look for outlying "
+                      "centres (dirt on the sphere, a missed trigger).",
+                      result.reject_sigma, 100 * (1 - kept), names[0]));
     if (tri->degenerate > 0)
       r.add_warning(fmt::format("{} triples of centres were collinear and skipped.", tri->degenerate));
     // Centres whose triples are rejected far more often than the others' are likely outliers.
@@ -62,16 +66,19 @@ void write_rotary_report(const std::string& path, const std::string& command, co
     const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
     for (std::size_t i = 0; i < share.size(); ++i)
       if (share[i] > 0.2 && share[i] > 3 * median)
-        r.add_warning(fmt::format("The triples through the centre at {}={:g} deg were rejected {:.0f} % of the time "
-                                  "(median {:.0f} %): an outlying measurement?",
-                                  axis.letter, centres[i].angle / kDeg, 100 * share[i], 100 * median));
+        r.add_warning(
+            fmt::format("The triples through the centre at {}={:g} deg were rejected {:.0f} % of the time "
+                        "(median {:.0f} %): an outlying measurement?",
+                        axis.letter, centres[i].angle / kDeg, 100 * share[i], 100 * median));
   }
   for (std::size_t i = 0; i < details.size(); ++i)
     if (details[i].rms > 0.5 * max_rms)
       r.add_warning(fmt::format("The contacts at {}={:g} deg lie {:.4f} mm rms from their sphere (limit {} mm).",
                                 axis.letter, centres[i].angle / kDeg, details[i].rms, max_rms));
   if (best->value[5] > 1e-3) r.add_warning("The axis is tilted by more than 1 mrad from its nominal direction.");
-  if (!u_known) r.add_warning("Only 3 indexations: the circle passes exactly through them; there is no redundancy and no uncertainty.");
+  if (!u_known)
+    r.add_warning(
+        "Only 3 indexations: the circle passes exactly through them; there is no redundancy and no uncertainty.");
 
   r.add_section("Location errors");
   std::vector<std::vector<std::string>> rows;
@@ -87,11 +94,12 @@ void write_rotary_report(const std::string& path, const std::string& command, co
     for (const auto& c : cells(lsq)) row.push_back(c);
     rows.push_back(row);
   }
-  r.add_table("Both estimators (ISO 230-7 names; uncertainty = standard uncertainty; spread = scatter of the "
-              "samples used)",
-              {"quantity", "unit", "triples value", "triples u", "triples spread", "least-squares value",
-               "least-squares u", "least-squares spread"},
-              rows);
+  r.add_table(
+      "Both estimators (ISO 230-7 names; uncertainty = standard uncertainty; spread = scatter of the "
+      "samples used)",
+      {"quantity", "unit", "triples value", "triples u", "triples spread", "least-squares value", "least-squares u",
+       "least-squares spread"},
+      rows);
 
   r.add_section("Sphere centres");
   nlohmann::json cx = nlohmann::json::array(), cy = cx, cz = cx, ct = cx;
@@ -102,8 +110,14 @@ void write_rotary_report(const std::string& path, const std::string& command, co
     ct.push_back(fmt::format("{}={:g} deg", axis.letter, c.angle / kDeg));
   }
   nlohmann::json data = nlohmann::json::array();
-  data.push_back({{"type", "scatter3d"}, {"mode", "markers"}, {"x", cx}, {"y", cy}, {"z", cz}, {"text", ct},
-                  {"name", "sphere centres"}, {"marker", {{"size", 4}}}});
+  data.push_back({{"type", "scatter3d"},
+                  {"mode", "markers"},
+                  {"x", cx},
+                  {"y", cy},
+                  {"z", cz},
+                  {"text", ct},
+                  {"name", "sphere centres"},
+                  {"marker", {{"size", 4}}}});
   std::optional<CircleFit> circle;
   if (lsq) {
     circle = lsq->circle;
@@ -123,11 +137,17 @@ void write_rotary_report(const std::string& path, const std::string& command, co
       ly.push_back(p.y());
       lz.push_back(p.z());
     }
-    data.push_back({{"type", "scatter3d"}, {"mode", "lines"}, {"x", lx}, {"y", ly}, {"z", lz}, {"name", "fitted circle"}});
+    data.push_back(
+        {{"type", "scatter3d"}, {"mode", "lines"}, {"x", lx}, {"y", ly}, {"z", lz}, {"name", "fitted circle"}});
     const Point3 a0 = circle->centre - 0.5 * circle->radius * circle->normal;
     const Point3 a1 = circle->centre + 0.5 * circle->radius * circle->normal;
-    data.push_back({{"type", "scatter3d"}, {"mode", "lines"}, {"x", {a0.x(), a1.x()}}, {"y", {a0.y(), a1.y()}},
-                    {"z", {a0.z(), a1.z()}}, {"name", "measured axis"}, {"line", {{"width", 6}}}});
+    data.push_back({{"type", "scatter3d"},
+                    {"mode", "lines"},
+                    {"x", {a0.x(), a1.x()}},
+                    {"y", {a0.y(), a1.y()}},
+                    {"z", {a0.z(), a1.z()}},
+                    {"name", "measured axis"},
+                    {"line", {{"width", 6}}}});
   }
   r.add_plot("Sphere centres at each indexation (mm, machine coordinates), the least-squares circle and the axis",
              {{"data", data}, {"layout", {{"scene", {{"aspectmode", "data"}}}}}});
@@ -139,15 +159,17 @@ void write_rotary_report(const std::string& path, const std::string& command, co
     }
     r.add_plot("Radial deviation of each centre from the least-squares circle (µm)",
                {{"data", {{{"type", "bar"}, {"x", ang}, {"y", rad}, {"name", "radial deviation"}}}},
-                {"layout", {{"xaxis", {{"title", {{"text", std::string(1, axis.letter) + " (deg)"}}}}},
-                            {"yaxis", {{"title", {{"text", "µm"}}}}}}}});
+                {"layout",
+                 {{"xaxis", {{"title", {{"text", std::string(1, axis.letter) + " (deg)"}}}}},
+                  {"yaxis", {{"title", {{"text", "µm"}}}}}}}});
   }
   if (tri) {
     r.add_section("Triples' distributions");
-    r.add_paragraph(fmt::format("Every one of the {} triples of centres gives a circle and so a value of each "
-                                "quantity (Cubas & Yeh 2022); values beyond {:g} standard deviations are rejected "
-                                "before averaging. {} triples were collinear.",
-                                tri->triples, result.reject_sigma, tri->degenerate));
+    r.add_paragraph(
+        fmt::format("Every one of the {} triples of centres gives a circle and so a value of each "
+                    "quantity (Cubas & Yeh 2022); values beyond {:g} standard deviations are rejected "
+                    "before averaging. {} triples were collinear.",
+                    tri->triples, result.reject_sigma, tri->degenerate));
     for (std::size_t q = 0; q < 4; ++q) {
       const auto [f, unit] = display(q);
       const auto& h = tri->histograms[q];
@@ -157,12 +179,18 @@ void write_rotary_report(const std::string& path, const std::string& command, co
       r.add_plot(fmt::format("{}: distribution over the triples ({}); kept {} of {}", names[q], unit, tri->kept[q],
                              tri->triples - tri->degenerate),
                  {{"data", {{{"type", "bar"}, {"x", xs}, {"y", h.counts}, {"name", names[q]}}}},
-                  {"layout", {{"xaxis", {{"title", {{"text", names[q] + " (" + unit + ")"}}}}},
-                              {"yaxis", {{"title", {{"text", "triples"}}}}},
-                              {"bargap", 0.02},
-                              {"shapes", {{{"type", "line"}, {"x0", tri->value[q] * f}, {"x1", tri->value[q] * f},
-                                           {"y0", 0}, {"y1", 1}, {"yref", "paper"},
-                                           {"line", {{"color", "red"}}}}}}}}});
+                  {"layout",
+                   {{"xaxis", {{"title", {{"text", names[q] + " (" + unit + ")"}}}}},
+                    {"yaxis", {{"title", {{"text", "triples"}}}}},
+                    {"bargap", 0.02},
+                    {"shapes",
+                     {{{"type", "line"},
+                       {"x0", tri->value[q] * f},
+                       {"x1", tri->value[q] * f},
+                       {"y0", 0},
+                       {"y1", 1},
+                       {"yref", "paper"},
+                       {"line", {{"color", "red"}}}}}}}}});
     }
   }
   r.write(path);

@@ -58,7 +58,8 @@ void write_toolpath_report(const std::string& file, const ErrorModel& model, con
   r.set_machine(m);
   r.add_input("G-code program", o.program);
   for (const auto& f : sources.parameter_files) r.add_input("parameter file", f);
-  r.add_figure("points", fmt::format("{}", sum.points), fmt::format("along {} blocks, every ≤ {:g} mm", sum.blocks, o.step));
+  r.add_figure("points", fmt::format("{}", sum.points),
+               fmt::format("along {} blocks, every ≤ {:g} mm", sum.blocks, o.step));
   r.add_figure("path length", fmt::format("{:.3f}", sum.path_length), o.skip_rapids ? "mm (rapids left out)" : "mm");
   if (sum.points)
     r.add_figure("largest |(dx, dy, dz)|", fmt::format("{:.3f}", sum.max_error * 1e3),
@@ -72,9 +73,10 @@ void write_toolpath_report(const std::string& file, const ErrorModel& model, con
   if (!o.directions) r.add_warning("Evaluated without directions of motion: reversal terms are zero.");
 
   r.add_section("Error along the path");
-  r.add_paragraph("The path is the nominal tool point in the workpiece frame (mm), coloured by the translational "
-                  "error |(dx, dy, dz)| in µm; red lines show the error vectors (dx, dy, dz), magnified, at evenly spaced points. "
-                  "Fletcher et al. 2009, section 4.3.");
+  r.add_paragraph(
+      "The path is the nominal tool point in the workpiece frame (mm), coloured by the translational "
+      "error |(dx, dy, dz)| in µm; red lines show the error vectors (dx, dy, dz), magnified, at evenly spaced points. "
+      "Fletcher et al. 2009, section 4.3.");
   nlohmann::json x = nlohmann::json::array(), y = x, z = x, mag = x, text = x;
   std::vector<Vec3> pts(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -87,9 +89,18 @@ void write_toolpath_report(const std::string& file, const ErrorModel& model, con
     mag.push_back(um);
     text.push_back(fmt::format("line {}, s {:.3f} mm<br>|e| {:.2f} µm", p.line_[i], p.s_[i], um));
   }
-  nlohmann::json path = {{"type", "scatter3d"}, {"mode", "lines"}, {"x", x}, {"y", y}, {"z", z}, {"text", text},
-                         {"line", {{"width", 5}, {"color", mag}, {"colorscale", "Viridis"}, {"showscale", true},
-                                   {"colorbar", {{"title", {{"text", "|e| µm"}}}}}}},
+  nlohmann::json path = {{"type", "scatter3d"},
+                         {"mode", "lines"},
+                         {"x", x},
+                         {"y", y},
+                         {"z", z},
+                         {"text", text},
+                         {"line",
+                          {{"width", 5},
+                           {"color", mag},
+                           {"colorscale", "Viridis"},
+                           {"showscale", true},
+                           {"colorbar", {{"title", {{"text", "|e| µm"}}}}}}},
                          {"hovertemplate", "%{text}<extra></extra>"},
                          {"name", "path"}};
   // Error vectors as line segments from the path, the largest a twentieth of the path's extent
@@ -113,17 +124,25 @@ void write_toolpath_report(const std::string& file, const ErrorModel& model, con
     ay.insert(ay.end(), {pts[i].y(), tip.y(), nullptr});
     az.insert(az.end(), {pts[i].z(), tip.z(), nullptr});
   }
-  nlohmann::json arrows = {{"type", "scatter3d"}, {"mode", "lines"}, {"x", ax}, {"y", ay}, {"z", az},
-                           {"line", {{"width", 2}, {"color", "firebrick"}}}, {"hoverinfo", "skip"},
+  nlohmann::json arrows = {{"type", "scatter3d"},
+                           {"mode", "lines"},
+                           {"x", ax},
+                           {"y", ay},
+                           {"z", az},
+                           {"line", {{"width", 2}, {"color", "firebrick"}}},
+                           {"hoverinfo", "skip"},
                            {"name", "error vectors"}};
   r.add_plot(fmt::format("Tool path (mm, workpiece frame) coloured by |error| (µm), with the error vectors (red, "
-                         "1 µm drawn as {:.3g} mm)", scale),
+                         "1 µm drawn as {:.3g} mm)",
+                         scale),
              {{"data", {path, arrows}},
-              {"layout", {{"scene", {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
-                                     {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
-                                     {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
-                                     {"aspectmode", "data"}}},
-                          {"showlegend", false}}}});
+              {"layout",
+               {{"scene",
+                 {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
+                  {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
+                  {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
+                  {"aspectmode", "data"}}},
+                {"showlegend", false}}}});
 
   nlohmann::json s = nlohmann::json::array();
   std::array<nlohmann::json, 3> comp{nlohmann::json::array(), nlohmann::json::array(), nlohmann::json::array()};
@@ -135,20 +154,25 @@ void write_toolpath_report(const std::string& file, const ErrorModel& model, con
   const char* names[3] = {"dX", "dY", "dZ"};
   for (std::size_t c = 0; c < 3; ++c)
     traces.push_back({{"type", "scattergl"}, {"mode", "lines"}, {"x", s}, {"y", comp[c]}, {"name", names[c]}});
-  traces.push_back({{"type", "scattergl"}, {"mode", "lines"}, {"x", s}, {"y", mag}, {"name", "|e|"},
+  traces.push_back({{"type", "scattergl"},
+                    {"mode", "lines"},
+                    {"x", s},
+                    {"y", mag},
+                    {"name", "|e|"},
                     {"line", {{"color", "black"}}}});
   r.add_plot("Error components and magnitude (µm) along the path (mm), as Fletcher 2009's figure 7",
              {{"data", traces},
-              {"layout", {{"xaxis", {{"title", {{"text", "path length (mm)"}}}}},
-                          {"yaxis", {{"title", {{"text", "error (µm)"}}}}}}}});
+              {"layout",
+               {{"xaxis", {{"title", {{"text", "path length (mm)"}}}}},
+                {"yaxis", {{"title", {{"text", "error (µm)"}}}}}}}});
 
   r.add_section("Ranges");
   std::vector<std::vector<std::string>> rows;
   for (std::size_t c = 0; c < 6; ++c)
     rows.push_back({kErrorKeys[c], kRangeUnits[c], fmt::format("{:.6g}", sum.range[c][0]),
                     fmt::format("{:.6g}", sum.range[c][1])});
-  r.add_table("Smallest and largest value of each error component over every point", {"component", "unit", "min", "max"},
-              rows);
+  r.add_table("Smallest and largest value of each error component over every point",
+              {"component", "unit", "min", "max"}, rows);
   r.write(file);
 }
 

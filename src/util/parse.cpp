@@ -12,8 +12,7 @@ std::optional<double> parse_number(std::string_view text) {
   }
   if (text.empty()) return std::nullopt;
   double v = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v,
-                                         std::chars_format::general);
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v, std::chars_format::general);
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) return std::nullopt;
   return v;
 }

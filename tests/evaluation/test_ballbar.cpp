@@ -70,11 +70,14 @@ TEST(Ballbar, OvalAndReversalHandCalculation) {
   // Squareness-like oval e sin 2a (centred, so G = 2e about any near-centre) and a constant
   // difference h between the directions (H = G(b) = h).
   const double e = 0.004, h = 0.003;
-  const auto oval = evaluate_ballbar(trace([&](double a, CircleDirection) { return R + e * std::sin(2 * a); }), nominal(R));
+  const auto oval =
+      evaluate_ballbar(trace([&](double a, CircleDirection) { return R + e * std::sin(2 * a); }), nominal(R));
   EXPECT_NEAR(oval.ccw->G, 2 * e, 1e-9);
   EXPECT_NEAR(oval.ccw->G_minimum_zone, 2 * e, 1e-9);
-  const auto rev = evaluate_ballbar(
-      trace([&](double, CircleDirection d) { return R + (d == CircleDirection::CW ? h / 2 : -h / 2); }), nominal(R));
+  const auto rev = evaluate_ballbar(trace([&](double, CircleDirection d) {
+                                      return R + (d == CircleDirection::CW ? h / 2 : -h / 2);
+                                    }),
+                                    nominal(R));
   EXPECT_NEAR(*rev.H, h, 1e-12);
   EXPECT_NEAR(*rev.G_b, h, 1e-9);
   EXPECT_NEAR(rev.cw->G, 0.0, 1e-12);

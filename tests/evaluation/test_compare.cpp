@@ -36,9 +36,10 @@ TEST(Compare, HandComputedMeanStdevDifferenceAndCorrelation) {
   // A: 1, 2, 4 -> mean 7/3, squares of deviations 16/9 + 1/9 + 25/9 = 14/3, stdev sqrt(7/3).
   // B: 2, 1, 3 -> mean 2, stdev 1. Cross products: 0 + 1/3 + 5/3 = 2, so
   // r = 2 / sqrt(14/3 * 2) = 0.6546537; |difference| 1/3 <= sqrt(7/3) + 1: the bands overlap.
-  const auto c = compare_text("method,test,parameter,value\n"
-                              "A,t1,P,1\nA,t2,P,2\nA,t3,P,4\n"
-                              "B,t1,P,2\nB,t2,P,1\nB,t3,P,3\n");
+  const auto c = compare_text(
+      "method,test,parameter,value\n"
+      "A,t1,P,1\nA,t2,P,2\nA,t3,P,4\n"
+      "B,t1,P,2\nB,t2,P,1\nB,t3,P,3\n");
   ASSERT_EQ(c.methods[0], "A");
   ASSERT_EQ(c.methods[1], "B");
   const auto& p = param(c, "P");
@@ -56,12 +57,14 @@ TEST(Compare, HandComputedMeanStdevDifferenceAndCorrelation) {
 TEST(Compare, OverlapBothWaysAndTouching) {
   // A: 0, 1, 2 (mean 1, stdev 1). Apart: B 3, 4, 5 (mean 4, stdev 1), |3| > 1 + 1. Touching:
   // B 2, 3, 4 (mean 3, stdev 1), |2| = 1 + 1 counts as overlapping (the bands share a point).
-  const auto apart = compare_text("method,test,parameter,value\nA,1,P,0\nA,2,P,1\nA,3,P,2\nB,1,P,3\nB,2,P,4\nB,3,P,5\n");
+  const auto apart =
+      compare_text("method,test,parameter,value\nA,1,P,0\nA,2,P,1\nA,3,P,2\nB,1,P,3\nB,2,P,4\nB,3,P,5\n");
   EXPECT_DOUBLE_EQ(*param(apart, "P").abs_diff, 3.0);
   EXPECT_FALSE(*param(apart, "P").overlap);
   EXPECT_EQ(apart.summary.overlap, 0u);
   EXPECT_EQ(apart.summary.no_overlap, 1u);
-  const auto touching = compare_text("method,test,parameter,value\nA,1,P,0\nA,2,P,1\nA,3,P,2\nB,1,P,2\nB,2,P,3\nB,3,P,4\n");
+  const auto touching =
+      compare_text("method,test,parameter,value\nA,1,P,0\nA,2,P,1\nA,3,P,2\nB,1,P,2\nB,2,P,3\nB,3,P,4\n");
   EXPECT_DOUBLE_EQ(*param(touching, "P").stats[1].stdev, 1.0);
   EXPECT_TRUE(*param(touching, "P").overlap);
   EXPECT_EQ(touching.summary.overlap, 1u);
@@ -70,13 +73,14 @@ TEST(Compare, OverlapBothWaysAndTouching) {
 TEST(Compare, PearsonPlusAndMinusOnePairedByTestName) {
   // Q's B values are listed in another order than A's: pairing goes by test name, not position.
   // R has a test (t4) that B lacks and one (t0) that A lacks: only t1..t3 pair.
-  const auto c = compare_text("method,test,parameter,value\n"
-                              "A,t1,P,1\nA,t2,P,2\nA,t3,P,3\n"
-                              "A,t1,Q,1\nA,t2,Q,2\nA,t3,Q,3\n"
-                              "A,t1,R,1\nA,t2,R,2\nA,t3,R,3\nA,t4,R,100\n"
-                              "B,t1,P,10\nB,t2,P,20\nB,t3,P,30\n"
-                              "B,t3,Q,-5\nB,t1,Q,5\nB,t2,Q,0\n"
-                              "B,t0,R,-100\nB,t3,R,6\nB,t2,R,4\nB,t1,R,2\n");
+  const auto c = compare_text(
+      "method,test,parameter,value\n"
+      "A,t1,P,1\nA,t2,P,2\nA,t3,P,3\n"
+      "A,t1,Q,1\nA,t2,Q,2\nA,t3,Q,3\n"
+      "A,t1,R,1\nA,t2,R,2\nA,t3,R,3\nA,t4,R,100\n"
+      "B,t1,P,10\nB,t2,P,20\nB,t3,P,30\n"
+      "B,t3,Q,-5\nB,t1,Q,5\nB,t2,Q,0\n"
+      "B,t0,R,-100\nB,t3,R,6\nB,t2,R,4\nB,t1,R,2\n");
   EXPECT_NEAR(*param(c, "P").pearson_r, 1.0, 1e-15);
   EXPECT_NEAR(*param(c, "Q").pearson_r, -1.0, 1e-15);
   EXPECT_EQ(param(c, "R").paired, 3u);
@@ -90,10 +94,11 @@ TEST(Compare, PearsonPlusAndMinusOnePairedByTestName) {
 }
 
 TEST(Compare, NoCorrelationBelowThreePairsOrWithoutVariation) {
-  const auto c = compare_text("method,test,parameter,value\n"
-                              "A,1,Two,1\nA,2,Two,2\nB,1,Two,3\nB,2,Two,5\n"
-                              "A,1,Flat,1\nA,2,Flat,2\nA,3,Flat,4\nB,1,Flat,0.1\nB,2,Flat,0.1\nB,3,Flat,0.1\n"
-                              "A,1,Apart,1\nA,2,Apart,2\nA,3,Apart,3\nB,4,Apart,1\nB,5,Apart,2\nB,6,Apart,3\n");
+  const auto c = compare_text(
+      "method,test,parameter,value\n"
+      "A,1,Two,1\nA,2,Two,2\nB,1,Two,3\nB,2,Two,5\n"
+      "A,1,Flat,1\nA,2,Flat,2\nA,3,Flat,4\nB,1,Flat,0.1\nB,2,Flat,0.1\nB,3,Flat,0.1\n"
+      "A,1,Apart,1\nA,2,Apart,2\nA,3,Apart,3\nB,4,Apart,1\nB,5,Apart,2\nB,6,Apart,3\n");
   EXPECT_EQ(param(c, "Two").paired, 2u);
   EXPECT_FALSE(param(c, "Two").pearson_r);
   EXPECT_TRUE(param(c, "Two").overlap);  // the statistics still exist
@@ -108,9 +113,10 @@ TEST(Compare, NoCorrelationBelowThreePairsOrWithoutVariation) {
 }
 
 TEST(Compare, ParameterOfOneMethodIsReportedNotFatal) {
-  const auto c = compare_text("method,test,parameter,value\n"
-                              "A,1,Z,1\nA,2,Z,3\nA,1,Only,7\nA,2,Only,9\nB,1,Z,2\nB,2,Z,2\nB,1,Single,4\nA,1,Single,4\n"
-                              "A,2,Single,6\n");
+  const auto c = compare_text(
+      "method,test,parameter,value\n"
+      "A,1,Z,1\nA,2,Z,3\nA,1,Only,7\nA,2,Only,9\nB,1,Z,2\nB,2,Z,2\nB,1,Single,4\nA,1,Single,4\n"
+      "A,2,Single,6\n");
   // Order of first appearance, not alphabetical.
   ASSERT_EQ(c.parameters.size(), 3u);
   EXPECT_EQ(c.parameters[0].name, "Z");
@@ -140,12 +146,13 @@ TEST(Compare, ParameterOfOneMethodIsReportedNotFatal) {
 }
 
 TEST(Compare, AcceptsCommentsBlankLinesQuotesBomAndAnyColumnOrder) {
-  const auto d = parse_comparison_csv("\xEF\xBB\xBF# a comment\n\n"
-                                      "value, parameter ,test,method\n"
-                                      "  # indented comment\n"
-                                      "1.5,\"E, with comma\",\"t \"\"1\"\"\",\"ball bar\"\n"
-                                      "-2e-3,EXX,1,samba\n",
-                                      "t.csv");
+  const auto d = parse_comparison_csv(
+      "\xEF\xBB\xBF# a comment\n\n"
+      "value, parameter ,test,method\n"
+      "  # indented comment\n"
+      "1.5,\"E, with comma\",\"t \"\"1\"\"\",\"ball bar\"\n"
+      "-2e-3,EXX,1,samba\n",
+      "t.csv");
   EXPECT_EQ(d.methods[0], "ball bar");
   EXPECT_EQ(d.methods[1], "samba");
   ASSERT_EQ(d.values.size(), 2u);
@@ -219,16 +226,16 @@ TEST(Compare, MohammedTablesReproduceTable42) {
     double bb_avg, bb_sd, st_avg, st_sd, range;
   };
   const Row table42[] = {
-      {"EXXb", -0.81, 0.28, -2.39, 4.87, 1.58},   {"EYYb", 2.64, 0.37, -12.58, 3.79, 15.21},
-      {"EXYb", 0.07, 0.29, 0.37, 0.73, 0.30},     {"EYXb", 0.94, 0.29, 0.22, 0.87, 0.72},
-      {"EYZb", 0.23, 0.13, -0.03, 1.00, 0.25},    {"EZYb", -0.19, 0.29, 0.38, 0.32, 0.57},
-      {"EZXb", -0.48, 0.13, 0.13, 0.32, 0.60},    {"EXZb", -0.255, 0.16, 0.13, 0.51, 0.39},
-      {"EYX", -0.11, 0.40, -0.22, 0.08, 0.11},    {"EZX", -0.48, 0.20, -4.22, 0.33, 3.74},
-      {"EXY", 2.08, 0.22, 0.67, 0.18, 1.40},      {"EZY", -0.71, 0.26, 1.76, 0.24, 2.47},
-      {"EXZ", -3.11, 0.37, 1.05, 0.33, 4.16},     {"EYZ", 2.09, 0.27, 0.48, 0.09, 1.61},
-      {"EXX", -4.65, 4.81, -4.67, 0.50, 0.03},    {"EYY", 2.50, 5.36, 0.03, 1.26, 2.48},
-      {"EZZ", -1.31, 4.57, 2.26, 0.84, 3.57},     {"ECZ0", 7.26, 3.26, 19.74, 2.22, 12.48},
-      {"ECX0", 18.68, 1.26, -1.17, 0.97, 19.85},  {"EXZ1", -6.48, 1.64, -37.04, 11.03, 30.56},
+      {"EXXb", -0.81, 0.28, -2.39, 4.87, 1.58},  {"EYYb", 2.64, 0.37, -12.58, 3.79, 15.21},
+      {"EXYb", 0.07, 0.29, 0.37, 0.73, 0.30},    {"EYXb", 0.94, 0.29, 0.22, 0.87, 0.72},
+      {"EYZb", 0.23, 0.13, -0.03, 1.00, 0.25},   {"EZYb", -0.19, 0.29, 0.38, 0.32, 0.57},
+      {"EZXb", -0.48, 0.13, 0.13, 0.32, 0.60},   {"EXZb", -0.255, 0.16, 0.13, 0.51, 0.39},
+      {"EYX", -0.11, 0.40, -0.22, 0.08, 0.11},   {"EZX", -0.48, 0.20, -4.22, 0.33, 3.74},
+      {"EXY", 2.08, 0.22, 0.67, 0.18, 1.40},     {"EZY", -0.71, 0.26, 1.76, 0.24, 2.47},
+      {"EXZ", -3.11, 0.37, 1.05, 0.33, 4.16},    {"EYZ", 2.09, 0.27, 0.48, 0.09, 1.61},
+      {"EXX", -4.65, 4.81, -4.67, 0.50, 0.03},   {"EYY", 2.50, 5.36, 0.03, 1.26, 2.48},
+      {"EZZ", -1.31, 4.57, 2.26, 0.84, 3.57},    {"ECZ0", 7.26, 3.26, 19.74, 2.22, 12.48},
+      {"ECX0", 18.68, 1.26, -1.17, 0.97, 19.85}, {"EXZ1", -6.48, 1.64, -37.04, 11.03, 30.56},
   };
   ASSERT_EQ(c.parameters.size(), std::size(table42));
   const double tol = 0.01;
@@ -266,9 +273,9 @@ TEST(Compare, MohammedCorrelationsAndOverlaps) {
     const char* name;
     double r, tol;
   };
-  const Quoted quoted[] = {{"EXXb", 0.65, 0.01},  {"EZYb", -0.45, 0.01}, {"EZXb", -0.5, 0.05}, {"EXZb", -0.7, 0.05},
-                           {"EYX", 0.52, 0.025},  {"EZX", 0.14, 0.01},   {"EXY", 0.72, 0.005}, {"EZY", 0.13, 0.005},
-                           {"EYZ", 0.28, 0.005},  {"EYY", -0.66, 0.005}, {"EZZ", -0.21, 0.01}, {"EXZ1", -0.98, 0.005}};
+  const Quoted quoted[] = {{"EXXb", 0.65, 0.01}, {"EZYb", -0.45, 0.01}, {"EZXb", -0.5, 0.05}, {"EXZb", -0.7, 0.05},
+                           {"EYX", 0.52, 0.025}, {"EZX", 0.14, 0.01},   {"EXY", 0.72, 0.005}, {"EZY", 0.13, 0.005},
+                           {"EYZ", 0.28, 0.005}, {"EYY", -0.66, 0.005}, {"EZZ", -0.21, 0.01}, {"EXZ1", -0.98, 0.005}};
   for (const auto& q : quoted) {
     SCOPED_TRACE(q.name);
     EXPECT_NEAR(*param(c, q.name).pearson_r, q.r, q.tol);

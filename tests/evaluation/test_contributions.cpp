@@ -70,7 +70,8 @@ TEST(Contributions, SumMatchesExactToSecondOrder) {
     EXPECT_NEAR(r2.exact.norm() / r1.exact.norm(), 0.1, 0.01) << topo;
     EXPECT_NEAR(r1.residual / r2.residual, 100.0, 10.0) << topo;
     // Sorted by the size of their part along the difference.
-    for (std::size_t k = 1; k < r1.items.size(); ++k) EXPECT_GE(std::abs(r1.items[k - 1].along), std::abs(r1.items[k].along));
+    for (std::size_t k = 1; k < r1.items.size(); ++k)
+      EXPECT_GE(std::abs(r1.items[k - 1].along), std::abs(r1.items[k].along));
   }
 }
 

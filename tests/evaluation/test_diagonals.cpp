@@ -29,7 +29,8 @@ TEST(Diagonals, LinearScaleErrorHandCalculation) {
   Machine m = clean_vmc();
   m.set_parameter("EXX.1", 1e-5);
   const ErrorModel model(m);
-  const auto lo = parse_joint_values(m, "X=0,Y=0,Z=-400", "test"), hi = parse_joint_values(m, "X=400,Y=300,Z=0", "test");
+  const auto lo = parse_joint_values(m, "X=0,Y=0,Z=-400", "test"),
+             hi = parse_joint_values(m, "X=400,Y=300,Z=0", "test");
   const auto d = diagonal_displacements(model, lo, hi, {5, true});
   ASSERT_EQ(d.size(), 16u);
   const double L = std::sqrt(400.0 * 400 + 300 * 300 + 400 * 400);
@@ -60,7 +61,8 @@ TEST(Diagonals, SquarenessSeparatesTheBodyDiagonals) {
   const double c = 30e-6;
   m.set_parameter("EC0Y", c);
   const ErrorModel model(m);
-  const auto lo = parse_joint_values(m, "X=0,Y=0,Z=-400", "test"), hi = parse_joint_values(m, "X=400,Y=300,Z=0", "test");
+  const auto lo = parse_joint_values(m, "X=0,Y=0,Z=-400", "test"),
+             hi = parse_joint_values(m, "X=400,Y=300,Z=0", "test");
   const auto d = diagonal_displacements(model, lo, hi, {11, false});
   const double L = std::sqrt(400.0 * 400 + 300 * 300 + 400 * 400);
   const double ppp = find(d, "body PPP").deviation.back(), npp = find(d, "body NPP").deviation.back();
@@ -76,7 +78,8 @@ TEST(Diagonals, SquarenessSeparatesTheBodyDiagonals) {
 TEST(Diagonals, BadInput) {
   const Machine m = clean_vmc();
   const ErrorModel model(m);
-  const auto lo = parse_joint_values(m, "X=0,Y=0,Z=-400", "test"), hi = parse_joint_values(m, "X=400,Y=300,Z=0", "test");
+  const auto lo = parse_joint_values(m, "X=0,Y=0,Z=-400", "test"),
+             hi = parse_joint_values(m, "X=400,Y=300,Z=0", "test");
   EXPECT_THROW(diagonal_displacements(model, lo, lo), InputError);  // zero-size box
   EXPECT_THROW(diagonal_displacements(model, lo, hi, {1, true}), InputError);
   const Machine two = ::mtcal::testing::nominal_machine("wXfYt");

@@ -1,4 +1,5 @@
-// Streamed evaluation: the same errors as ErrorModel::evaluate one by one, in any chunk size, grid order, extremes, non-finite errors.
+// Streamed evaluation: the same errors as ErrorModel::evaluate one by one, in any chunk size, grid order, extremes,
+// non-finite errors.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -28,12 +29,15 @@ StreamSummary gather(const ErrorModel& model, const ConfigurationSource& source,
   StreamOptions o;
   o.chunk = chunk;
   o.threads = 2;
-  return evaluate_stream(model, source, [&](const ErrorChunk& c) {
-    g.first.push_back(c.first);
-    g.q.insert(g.q.end(), c.q.begin(), c.q.end());
-    g.dir.insert(g.dir.end(), c.dir.begin(), c.dir.end());
-    g.e.insert(g.e.end(), c.error.begin(), c.error.end());
-  }, o);
+  return evaluate_stream(
+      model, source,
+      [&](const ErrorChunk& c) {
+        g.first.push_back(c.first);
+        g.q.insert(g.q.end(), c.q.begin(), c.q.end());
+        g.dir.insert(g.dir.end(), c.dir.begin(), c.dir.end());
+        g.e.insert(g.e.end(), c.error.begin(), c.error.end());
+      },
+      o);
 }
 
 TEST(ErrorStream, GridEqualsPointByPointEvaluationInAnyChunkSize) {
@@ -51,7 +55,8 @@ TEST(ErrorStream, GridEqualsPointByPointEvaluationInAnyChunkSize) {
     // 72 is not a multiple of 7: the last chunk is short.
     EXPECT_EQ(g.first.size(), (72 + chunk - 1) / chunk) << chunk;
     for (std::size_t i = 0; i < 72; ++i) {
-      const std::vector<double> q(g.q.begin() + static_cast<std::ptrdiff_t>(i * 5), g.q.begin() + static_cast<std::ptrdiff_t>(i * 5 + 5));
+      const std::vector<double> q(g.q.begin() + static_cast<std::ptrdiff_t>(i * 5),
+                                  g.q.begin() + static_cast<std::ptrdiff_t>(i * 5 + 5));
       const VolumetricError e = model.evaluate(q);
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(g.e[i * 6 + c], e.translation[c], 1e-12) << i;
@@ -113,7 +118,8 @@ TEST(ErrorStream, EmptySourceGivesZeroAndNoConfiguration) {
   ConfigurationList list;
   list.axes = m.axes.size();
   bool called = false;
-  const StreamSummary s = evaluate_stream(ErrorModel(m), ConfigurationSource::list(list), [&](const ErrorChunk&) { called = true; });
+  const StreamSummary s =
+      evaluate_stream(ErrorModel(m), ConfigurationSource::list(list), [&](const ErrorChunk&) { called = true; });
   EXPECT_FALSE(called);
   EXPECT_EQ(s.count, 0u);
   EXPECT_EQ(s.max_translation.value, 0.0);
@@ -134,7 +140,8 @@ TEST(ErrorStream, NonFiniteErrorNamesItsConfiguration) {
   StreamOptions o;
   o.chunk = 2;
   try {
-    evaluate_stream(model, ConfigurationSource::list(list), [&](const ErrorChunk& c) { seen += c.size(); }, o);
+    evaluate_stream(
+        model, ConfigurationSource::list(list), [&](const ErrorChunk& c) { seen += c.size(); }, o);
     FAIL() << "expected an Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("non-finite error at configuration 3 of 4"), std::string::npos) << e.what();

@@ -145,7 +145,7 @@ TEST(Iso230_2, BadInputsAreNamed) {
       EXPECT_EQ(e.where().field, c.field) << e.what();
     }
   }
-  for (const char* text : {"TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=x\n", "FOO=1\n", "TGT_DATA[1]\n",
-                           "REF_DATA_FWD[2,1]=1\n", "TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=0\nREF_DATA_FWD[1,1]=0\n"})
+  for (const char* text : {"TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=x\n", "FOO=1\n", "TGT_DATA[1]\n", "REF_DATA_FWD[2,1]=1\n",
+                           "TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=0\nREF_DATA_FWD[1,1]=0\n"})
     EXPECT_THROW(read_positioning_dat(write_temp("mtcal-iso-bad.dat", text)), InputError) << text;
 }

@@ -110,8 +110,7 @@ TEST(Toolpath, RotaryAxesFollowProgressAndRotaryOnlyBlocksSplitByAngle) {
   // 180 parts of 0.5 deg, s unchanged. Line 3: 1 mm with C 90 -> 93 deg: the angle needs 6 parts.
   const auto c = interpolate_toolpath(m, program(m, "G1 X10 B4 F100\nC90\nX11 C93\n"), o);
   ASSERT_EQ(c.size(), 10u + 180u + 6u);
-  for (std::size_t i = 0; i < 10; ++i)
-    EXPECT_NEAR(joint(m, c, i, 'B'), 0.4 * static_cast<double>(i + 1) * kDeg, 1e-15);
+  for (std::size_t i = 0; i < 10; ++i) EXPECT_NEAR(joint(m, c, i, 'B'), 0.4 * static_cast<double>(i + 1) * kDeg, 1e-15);
   for (std::size_t i = 0; i < 180; ++i) {
     EXPECT_NEAR(joint(m, c, 10 + i, 'C'), 0.5 * static_cast<double>(i + 1) * kDeg, 1e-15);
     EXPECT_EQ(joint(m, c, 10 + i, 'X'), 10.0);

@@ -23,9 +23,9 @@ std::vector<Vec3> random_set(std::size_t n, int kind, std::uint64_t seed) {
   std::vector<Vec3> e(n);
   for (auto& v : e) {
     switch (kind) {
-      case 0: v = Vec3(u(rng), u(rng), u(rng)) * 0.02; break;           // cube, mm
+      case 0: v = Vec3(u(rng), u(rng), u(rng)) * 0.02; break;                  // cube, mm
       case 1: v = Vec3(g(rng) * 0.01, g(rng) * 0.003, g(rng) * 0.001); break;  // flat Gaussian
-      case 2: v = Vec3(g(rng), g(rng), g(rng)).normalized() * 0.05; break;   // sphere shell: hardest
+      case 2: v = Vec3(g(rng), g(rng), g(rng)).normalized() * 0.05; break;     // sphere shell: hardest
       default: v = Vec3(std::round(u(rng) * 4), std::round(u(rng) * 4), std::round(u(rng) * 4)) * 1e-3;  // ties
     }
   }
@@ -58,26 +58,32 @@ void expect_same_as_brute_force(const std::vector<Vec3>& e, const std::string& w
 TEST(VolumetricAccuracy, EqualsBruteForceOnRandomSets) {
   for (int kind = 0; kind < 4; ++kind)
     for (std::size_t n : {2u, 3u, 7u, 25u, 100u, 1000u, 4000u})
-      expect_same_as_brute_force(random_set(n, kind, 17 * n + kind), "kind " + std::to_string(kind) + " n " + std::to_string(n));
+      expect_same_as_brute_force(random_set(n, kind, 17 * n + kind),
+                                 "kind " + std::to_string(kind) + " n " + std::to_string(n));
 }
 
 TEST(VolumetricAccuracy, EqualsBruteForceOnTenThousandPoints) {
-  for (int kind : {0, 2}) expect_same_as_brute_force(random_set(10000, kind, 99), "n 10000 kind " + std::to_string(kind));
+  for (int kind : {0, 2})
+    expect_same_as_brute_force(random_set(10000, kind, 99), "n 10000 kind " + std::to_string(kind));
 }
 
 TEST(VolumetricAccuracy, EqualsBruteForceOnExampleErrorMaps) {
   // Structured sets: the error maps of the examples over 21 x 21 x 21 = 9261 points (Fletcher's grid).
   const Machine m3 = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml");
-  const ErrorMap map3 = grid_error_map(ErrorModel(m3), parse_grid(m3, "X=-400:400:21,Y=-250:250:21,Z=-500:0:21", "test grid"));
+  const ErrorMap map3 =
+      grid_error_map(ErrorModel(m3), parse_grid(m3, "X=-400:400:21,Y=-250:250:21,Z=-500:0:21", "test grid"));
   ASSERT_EQ(map3.size(), 9261u);
   expect_same_as_brute_force(map3.error, "vmc-3axis 21^3");
   const Machine m5 = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml");
-  const ErrorMap map5 = grid_error_map(ErrorModel(m5), parse_grid(m5, "X=-300:300:9,Y=0:500:9,Z=-400:0:9,B=0:90:3,C=0:270:4", "test grid"));
+  const ErrorMap map5 =
+      grid_error_map(ErrorModel(m5),
+                     parse_grid(m5, "X=-300:300:9,Y=0:500:9,Z=-400:0:9,B=0:90:3,C=0:270:4", "test grid"));
   expect_same_as_brute_force(map5.error, "hu40t with rotary axes");
   // A machine with only squareness errors maps the grid affinely: many collinear and coplanar vectors.
   Machine sq = m3;
   sq.keep_only({"EC0Y", "EB0Z", "EA0Z"});
-  const ErrorMap mapsq = grid_error_map(ErrorModel(sq), parse_grid(sq, "X=-400:400:11,Y=-250:250:11,Z=-500:0:11", "test grid"));
+  const ErrorMap mapsq =
+      grid_error_map(ErrorModel(sq), parse_grid(sq, "X=-400:400:11,Y=-250:250:11,Z=-500:0:11", "test grid"));
   expect_same_as_brute_force(mapsq.error, "squareness only");
 }
 
@@ -132,7 +138,8 @@ TEST(VolumetricAccuracy, DegenerateSets) {
 TEST(VolumetricAccuracy, SearchIsFarBelowAllPairs) {
   // The work on a real map: a 41^3 grid has 2.3e9 pairs; the search must compute a tiny part.
   const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml");
-  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:41,Y=-250:250:41,Z=-500:0:41", "test grid"));
+  const ErrorMap map =
+      grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:41,Y=-250:250:41,Z=-500:0:41", "test grid"));
   const auto r = volumetric_accuracy(map.error);
   EXPECT_LT(static_cast<double>(r.distance_evaluations), 1e-3 * r.pairs);
 }
@@ -182,7 +189,8 @@ TEST(FletcherGrouping, MatchesLinearScanAndStaysCloseToExact) {
   // The hashed search must give the groups of the plain rule (first group, in creation order,
   // within the tolerance of the running mean), checked by a linear scan written here.
   const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml");
-  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:21,Y=-250:250:21,Z=-500:0:21", "test grid"));
+  const ErrorMap map =
+      grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:21,Y=-250:250:21,Z=-500:0:21", "test grid"));
   const double exact = volumetric_accuracy(map.error).va.value;
   std::size_t previous_kept = map.size() + 1;
   for (double tol : {0.05, 0.1, 0.2}) {
@@ -266,8 +274,8 @@ TEST(PairDistribution, EdgeCases) {
 TEST(Histogram, QuantileHandCalculation) {
   Histogram h{0.0, 1.0, {2, 0, 6, 2}};  // 10 values
   EXPECT_EQ(h.total(), 10u);
-  EXPECT_DOUBLE_EQ(h.quantile(0.1), 0.5);    // 1 of 2 in bin [0, 1)
-  EXPECT_DOUBLE_EQ(h.quantile(0.5), 2.5);    // 3 of 6 in bin [2, 3)
+  EXPECT_DOUBLE_EQ(h.quantile(0.1), 0.5);  // 1 of 2 in bin [0, 1)
+  EXPECT_DOUBLE_EQ(h.quantile(0.5), 2.5);  // 3 of 6 in bin [2, 3)
   EXPECT_DOUBLE_EQ(h.quantile(1.0), 4.0);
   EXPECT_THROW(h.quantile(1.5), ModelError);
   const std::vector<double> v{1, 2, 3, 4, 10};
@@ -281,7 +289,8 @@ TEST(Histogram, QuantileHandCalculation) {
 
 TEST(ReducedVolume, BoxVaGrowsWithTheBoxAndEqualsTheFullVaAtOne) {
   const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml");
-  const ErrorMap map = grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:17,Y=-250:250:11,Z=-500:0:11", "test grid"));
+  const ErrorMap map =
+      grid_error_map(ErrorModel(m), parse_grid(m, "X=-400:400:17,Y=-250:250:11,Z=-500:0:11", "test grid"));
   const double full = volumetric_accuracy(map.error).va.value;
   const std::vector<double> centre{0, 0, -250};
   const std::vector<double> fractions{0.1, 0.25, 0.5, 0.75, 1.0};

@@ -159,7 +159,7 @@ TEST(FitSphere, HandCalculationOctahedron) {
   // J rows (-u, -1) give J^T J = diag(2, 2, 2, 6); sigma^2 = 4 e^2 / (6 - 4) = 2 e^2.
   const double e = 0.01;
   const Point3 c(1, 2, 3);
-  const Pts p{c + Point3(2 + e, 0, 0), c + Point3(-2 - e, 0, 0), c + Point3(0, 2 - e, 0),
+  const Pts p{c + Point3(2 + e, 0, 0),  c + Point3(-2 - e, 0, 0), c + Point3(0, 2 - e, 0),
               c + Point3(0, -2 + e, 0), c + Point3(0, 0, 2),      c + Point3(0, 0, -2)};
   const auto f = fit_sphere(p);
   ASSERT_TRUE(f);
@@ -177,8 +177,8 @@ TEST(FitSphere, HandCalculationOctahedron) {
 
 TEST(FitSphere, FourPointsHaveZeroDofAndZeroCovariance) {
   const Point3 c(-1, 4, 0.5);
-  const Pts p{c + Point3(3, 0, 0), c + Point3(0, 3, 0), c + Point3(0, 0, 3), c + Point3(-3, 0, 0) * 0.6 +
-                                                                                  Point3(0, 0, -3) * 0.8};
+  const Pts p{c + Point3(3, 0, 0), c + Point3(0, 3, 0), c + Point3(0, 0, 3),
+              c + Point3(-3, 0, 0) * 0.6 + Point3(0, 0, -3) * 0.8};
   const auto f = fit_sphere(p);
   ASSERT_TRUE(f);
   EXPECT_TRUE(all_finite(*f));
@@ -215,8 +215,8 @@ TEST(FitSphere, DegenerateInputGivesNullopt) {
   EXPECT_FALSE(fit_sphere(Pts{}));
   EXPECT_FALSE(fit_sphere(Pts{c + Point3(1, 0, 0), c + Point3(0, 1, 0), c + Point3(0, 0, 1)}));  // 3 points
   EXPECT_FALSE(fit_sphere(Pts(6, Point3(0.1, 0.2, 0.3))));                                       // coincident
-  EXPECT_FALSE(fit_sphere(Pts{c, c, c, c + Point3(1, 1, 1), c + Point3(1, 1, 1)}));             // two points
-  EXPECT_FALSE(fit_sphere(circle_points(c, Point3(1, 2, 2).normalized(), 5.0, 12, 2 * kPi)));  // circle
+  EXPECT_FALSE(fit_sphere(Pts{c, c, c, c + Point3(1, 1, 1), c + Point3(1, 1, 1)}));              // two points
+  EXPECT_FALSE(fit_sphere(circle_points(c, Point3(1, 2, 2).normalized(), 5.0, 12, 2 * kPi)));    // circle
   Pts plane;  // coplanar, not on a circle
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 4; ++j) plane.push_back(c + Point3(i, j * j, 0));
@@ -313,7 +313,7 @@ TEST(FitSphereKnownRadius, DegenerateInputGivesNullopt) {
   const Pts tri{Point3(3, 0, 0), Point3(0, 3, 0), Point3(-3, 0, 0)};
   EXPECT_FALSE(fit_sphere_known_radius(Pts{Point3(3, 0, 0), Point3(0, 3, 0)}, 5.0));
   EXPECT_FALSE(fit_sphere_known_radius(Pts{Point3(0, 0, 0), Point3(1, 1, 1), Point3(2, 2, 2)}, 5.0));  // line
-  EXPECT_FALSE(fit_sphere_known_radius(Pts(5, Point3(1, 2, 3)), 5.0));                                  // one point
+  EXPECT_FALSE(fit_sphere_known_radius(Pts(5, Point3(1, 2, 3)), 5.0));                                 // one point
   EXPECT_FALSE(fit_sphere_known_radius(tri, 0.0));
   EXPECT_FALSE(fit_sphere_known_radius(tri, -5.0));
   EXPECT_FALSE(fit_sphere_known_radius(tri, kNaN));
@@ -572,8 +572,7 @@ TEST(FitCircle, CentreVarianceAlongTheNormalIsThePlaneOffsets) {
   // alone: the plane is estimated, the centre block has full rank.
   const double e = 0.01;
   Pts p;
-  for (int m = 0; m < 8; ++m)
-    p.push_back(Point3(std::cos(m * kPi / 4), std::sin(m * kPi / 4), m % 2 ? -e : e));
+  for (int m = 0; m < 8; ++m) p.push_back(Point3(std::cos(m * kPi / 4), std::sin(m * kPi / 4), m % 2 ? -e : e));
   const auto f = fit_circle(p);
   ASSERT_TRUE(f);
   EXPECT_TRUE(all_finite(*f));

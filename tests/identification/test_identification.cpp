@@ -17,7 +17,7 @@ namespace mtcal {
 namespace {
 
 const std::string kPlanPath = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/hu40t-samba-tango.csv";
-const std::vector<std::string> kLocation{"EC0Y", "EB0Z", "EA0Z", "EX0C", "EY0C", "EA0C", "EB0C",
+const std::vector<std::string> kLocation{"EC0Y", "EB0Z", "EA0Z", "EX0C", "EY0C",  "EA0C",  "EB0C",
                                          "EX0B", "EZ0B", "EA0B", "EC0B", "EXX.1", "EYY.1", "EZZ.1"};
 
 Machine hu40t() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml"); }
@@ -74,19 +74,23 @@ TEST(ProbingPlan, BadFilesGiveLocatedErrors) {
     }
     return std::string();
   };
-  EXPECT_NE(fails("indexation,B,C,feature,x,y,z\n1,0,0,1,0,0,0\n", "no kind").find("missing column 'kind'"), std::string::npos);
+  EXPECT_NE(fails("indexation,B,C,feature,x,y,z\n1,0,0,1,0,0,0\n", "no kind").find("missing column 'kind'"),
+            std::string::npos);
   EXPECT_NE(fails(head + "1,0,0,1,ball,0,nan,0,,,,,,\n", "NaN").find("'y'"), std::string::npos);
   EXPECT_NE(fails(head + "1,0,0,1,sphere,0,0,0,,,,,,\n", "kind").find("expected ball or facet"), std::string::npos);
   EXPECT_NE(fails(head + "1,0,0,7,facet,0,0,0,1,1,0,,,\n", "normal").find("unit normal"), std::string::npos);
-  EXPECT_NE(fails(head + "1,0,0,1,ball,0,0,0,,,,,,\n2,0,0,1,ball,1,0,0,,,,,,\n", "moved").find("different kind or geometry"),
-            std::string::npos);
+  EXPECT_NE(
+      fails(head + "1,0,0,1,ball,0,0,0,,,,,,\n2,0,0,1,ball,1,0,0,,,,,,\n", "moved").find("different kind or geometry"),
+      std::string::npos);
   EXPECT_NE(fails(head + "1,0,0,1,ball,0,0,0,,,,2,,\n", "dir").find("expected -1, 0 or +1"), std::string::npos);
   EXPECT_NE(fails(head, "empty").find("at least one probing"), std::string::npos);
   EXPECT_NE(fails("indexation,B,Q,feature,kind,x,y,z\n", "column").find("unknown column 'Q'"), std::string::npos);
-  EXPECT_NE(fails(head.substr(0, head.size() - 1) + ",X,Y\n1,0,0,1,ball,0,0,0,,,,,,,1,2\n", "readings").find("X, Y, Z or none"),
+  EXPECT_NE(fails(head.substr(0, head.size() - 1) + ",X,Y\n1,0,0,1,ball,0,0,0,,,,,,,1,2\n", "readings")
+                .find("X, Y, Z or none"),
             std::string::npos);
   // The line of the bad row is named.
-  EXPECT_NE(fails(head + "1,0,0,1,ball,0,0,0,,,,,,\n1,0,0,2,ball,0,0,x,,,,,,\n", "line").find("plan.csv:3"), std::string::npos);
+  EXPECT_NE(fails(head + "1,0,0,1,ball,0,0,0,,,,,,\n1,0,0,2,ball,0,0,x,,,,,,\n", "line").find("plan.csv:3"),
+            std::string::npos);
 }
 
 TEST(VirtualMachine, ReadingsPutTheActualProbeOnTheTrueFeatures) {
@@ -118,15 +122,16 @@ TEST(VirtualMachine, ReadingsPutTheActualProbeOnTheTrueFeatures) {
   nominal.clear_errors();
   const ProbingPlan targets = plan_targets(truth, plan);
   const ErrorModel nm(nominal);
-  for (const auto& r : targets.records) EXPECT_LT((nm.nominal_pose(r.q).t - plan.features[r.feature].position).norm(), 1e-10);
+  for (const auto& r : targets.records)
+    EXPECT_LT((nm.nominal_pose(r.q).t - plan.features[r.feature].position).norm(), 1e-10);
 }
 
 TEST(Identification, NoiseFreeRecoveryOfEveryIdentifiableParameter) {
   // Location errors, squareness and scale (the first example set) and the extended set with
   // polynomial coefficients and the reversal terms the facet pre-moves excite (Mohammed ch. 4).
   std::vector<std::string> extended = kLocation;
-  for (const char* n : {"EXY.b", "EXZ.b", "EZX.b", "EZY.b", "EYX.b", "EYZ.b", "EXX.b", "EYY.b", "EXX.2", "EYY.2", "EZZ.2",
-                        "EYX.2", "EZX.2", "EXY.2", "EZY.2", "EXZ.2", "EYZ.2"})
+  for (const char* n : {"EXY.b", "EXZ.b", "EZX.b", "EZY.b", "EYX.b", "EYZ.b", "EXX.b", "EYY.b", "EXX.2", "EYY.2",
+                        "EZZ.2", "EYX.2", "EZX.2", "EXY.2", "EZY.2", "EXZ.2", "EYZ.2"})
     extended.push_back(n);
   Machine truth = hu40t();
   // Give every estimated parameter a value (some are zero in the example).

@@ -70,7 +70,8 @@ TEST(EvaluationFiles, PositioningKeepsItsSourceAndDetectsTheForm) {
   EXPECT_EQ(r.source, csv);
   EXPECT_EQ(r.unit, "um");
   ASSERT_EQ(r.targets.size(), 1u);
-  const auto dat = write_temp("mtcal-pos.txt", "UNIT=mm\nTGT_DATA[0]=0\nREF_DATA_FWD[0,0]=0.001\nREF_DATA_BWD[0,0]=0.002\n");
+  const auto dat =
+      write_temp("mtcal-pos.txt", "UNIT=mm\nTGT_DATA[0]=0\nREF_DATA_FWD[0,0]=0.001\nREF_DATA_BWD[0,0]=0.002\n");
   const auto d = read_positioning_file(dat, "auto", "um");  // TGT_DATA[ makes it the .dat form
   EXPECT_EQ(d.source, dat);
   EXPECT_EQ(d.unit, "mm");
@@ -79,7 +80,9 @@ TEST(EvaluationFiles, PositioningKeepsItsSourceAndDetectsTheForm) {
   const auto w = error_at([&] { read_positioning_dat(write_temp("mtcal-pos-bad.dat", "UNIT=mm\nTGT_DATA[0]=x\n")); });
   EXPECT_EQ(w.line, 2);
   EXPECT_EQ(w.field, "TGT_DATA[0]");
-  const auto w2 = error_at([&] { read_positioning_csv(write_temp("mtcal-pos-bad.csv", "target,run,direction,measured\n0,1.5,up,0\n"), "mm"); });
+  const auto w2 = error_at([&] {
+    read_positioning_csv(write_temp("mtcal-pos-bad.csv", "target,run,direction,measured\n0,1.5,up,0\n"), "mm");
+  });
   EXPECT_EQ(w2.line, 2);
   EXPECT_EQ(w2.field, "run");
 }

@@ -130,8 +130,9 @@ TEST(Gcode, ArcsInXYWithCentreOffsets) {
 TEST(Gcode, ArcsWithRadius) {
   // From (0, 0) to (10, 10) with |R| = 10: the centre is (0, 10) for the short G3 arc (left
   // of the chord) and (10, 0) for the long one (R < 0).
-  const auto p = parse("G0 X0 Y0\nG3 X10 Y10 R10\nG0 X0 Y0\nG3 X10 Y10 R-10\nG0 X0 Y0\nG2 X10 Y10 R10\n"
-                       "G0 X0 Y0\nG2 X10 Y0 R5\n");
+  const auto p = parse(
+      "G0 X0 Y0\nG3 X10 Y10 R10\nG0 X0 Y0\nG3 X10 Y10 R-10\nG0 X0 Y0\nG2 X10 Y10 R10\n"
+      "G0 X0 Y0\nG2 X10 Y0 R5\n");
   ASSERT_EQ(p.moves.size(), 8u);
   EXPECT_NEAR(p.moves[1].centre[0], 0, 1e-12);
   EXPECT_NEAR(p.moves[1].centre[1], 10, 1e-12);

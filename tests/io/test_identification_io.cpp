@@ -55,9 +55,10 @@ TEST(ProbingPlanFile, MeasurementsRoundTripThroughAFile) {
 
 TEST(ProbingPlanFile, BadRowNamesFileLineAndColumn) {
   const Machine m = hu40t();
-  const std::string text = "indexation,B,C,feature,kind,x,y,z,nx,ny,nz,dirX,dirY,dirZ\n"
-                           "1,0,0,1,ball,0,0,0,,,,0,0,0\n"
-                           "2,0,0,2,cube,0,0,0,,,,0,0,0\n";
+  const std::string text =
+      "indexation,B,C,feature,kind,x,y,z,nx,ny,nz,dirX,dirY,dirZ\n"
+      "1,0,0,1,ball,0,0,0,,,,0,0,0\n"
+      "2,0,0,2,cube,0,0,0,,,,0,0,0\n";
   try {
     parse_probing_csv(m, text, "plan.csv");
     FAIL() << "accepted";
@@ -122,8 +123,9 @@ TEST(IdentificationJson, IdentifiabilityKeysInOrder) {
   const Json j = to_json(id);
   std::vector<std::string> keys;
   for (const auto& [k, v] : j.items()) keys.push_back(k);
-  EXPECT_EQ(keys, (std::vector<std::string>{"rank", "unknowns", "condition", "condition_identifiable", "singular_values", "identifiable",
-                                            "unidentifiable", "null_directions", "columns"}));
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{"rank", "unknowns", "condition", "condition_identifiable", "singular_values",
+                                      "identifiable", "unidentifiable", "null_directions", "columns"}));
   EXPECT_TRUE(j["condition"].is_null());
   EXPECT_EQ(j["unknowns"], 2);
 }

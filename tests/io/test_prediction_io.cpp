@@ -25,9 +25,10 @@ std::string temp_path(const std::string& name) {
 }
 
 TEST(SeparationFile, PositionObservationsPerFilledPair) {
-  const std::string text = "step,d_x,d_z,cmm_X1,probe_X1,cmm_Z1,probe_Z1\n"
-                           "1,30,9,30.01,30.0,9.003,9.004\n"
-                           "1,,,30.02,30.0,,\n";
+  const std::string text =
+      "step,d_x,d_z,cmm_X1,probe_X1,cmm_Z1,probe_Z1\n"
+      "1,30,9,30.01,30.0,9.003,9.004\n"
+      "1,,,30.02,30.0,,\n";
   const auto obs = read_position_observations(parse_text_csv(text, "t.csv"), "t.csv");
   ASSERT_EQ(obs.size(), 3u);
   EXPECT_EQ(obs[0].axis, 'X');
@@ -40,12 +41,15 @@ TEST(SeparationFile, PositionObservationsPerFilledPair) {
   EXPECT_NEAR(steps[0].e_pos, (0.01 + 0.02) / 2, 1e-12);  // X, hand: mean of 30.01-30 and 30.02-30
   EXPECT_EQ(steps[0].count, 2);
   EXPECT_EQ(steps[0].distance, 30);
-  EXPECT_EQ(separation_csv(PositionSeparation{steps, {}}), "axis,step,distance,e_pos,count\nX,1,30,0.015,2\nZ,1,9,-0.001,1\n");
+  EXPECT_EQ(separation_csv(PositionSeparation{steps, {}}),
+            "axis,step,distance,e_pos,count\nX,1,30,0.015,2\nZ,1,9,-0.001,1\n");
 }
 
 TEST(SeparationFile, BadCellsNameFileLineAndColumn) {
   try {
-    read_dimension_table(parse_text_csv("workpiece,step,axis,nominal,measured,e_pf,e_pt,e_pos\nW2,1,X,29,abc,0,0,0\n", "d.csv"), "d.csv");
+    read_dimension_table(parse_text_csv("workpiece,step,axis,nominal,measured,e_pf,e_pt,e_pos\nW2,1,X,29,abc,0,0,0\n",
+                                        "d.csv"),
+                         "d.csv");
     FAIL() << "accepted";
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().file, "d.csv");
@@ -89,9 +93,10 @@ TEST(PredictionPoints, EmptyPointsFileIsRefused) {
 }
 
 TEST(PredictionPoints, OutputsOfARun) {
-  const PredictionModel m = parse_prediction_model("mtcal_prediction_model: 1\ncomponents:\n"
-                                                   "  - {name: a, axis: x, variable: t, form: polynomial, coefficients: [0, 2]}\n",
-                                                   "m.yaml");
+  const PredictionModel m = parse_prediction_model(
+      "mtcal_prediction_model: 1\ncomponents:\n"
+      "  - {name: a, axis: x, variable: t, form: polynomial, coefficients: [0, 2]}\n",
+      "m.yaml");
   const PredictionPoints pts{{"t", "step"}, {{1, 1}, {3, 1}, {5, 2}}, {2, 3, 4}, "p.csv"};
   const PredictionRun run = predict_points(m, pts, {}, false, true);
   EXPECT_EQ(prediction_csv(run, m), "t,step,a,ex,ey,ez\n1,1,2,2,0,0\n3,1,6,6,0,0\n5,2,10,10,0,0\n");
@@ -108,8 +113,8 @@ TEST(PredictionJson, FitKeysInOrder) {
   const Json j = to_json(f);
   std::vector<std::string> keys;
   for (const auto& [k, v] : j.items()) keys.push_back(k);
-  EXPECT_EQ(keys, (std::vector<std::string>{"model", "form", "parameters", "identifiable", "rss", "sigma", "dof", "r_squared", "aicc",
-                                            "backward", "loocv_rmse"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"model", "form", "parameters", "identifiable", "rss", "sigma", "dof",
+                                            "r_squared", "aicc", "backward", "loocv_rmse"}));
   EXPECT_EQ(j["form"], "polynomial");
   EXPECT_EQ(j["dof"], 2);
 }

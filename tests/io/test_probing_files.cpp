@@ -1,4 +1,5 @@
-// Probing files: contacts written by simulation read back into the same centres, centres and parameter files, bad input located.
+// Probing files: contacts written by simulation read back into the same centres, centres and parameter files, bad input
+// located.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -72,7 +73,9 @@ TEST(ProbingFiles, ContactsRoundTripGiveTheCentres) {
   ASSERT_EQ(centres.fits.size(), 8u);
   for (std::size_t k = 0; k < 8; ++k) {
     EXPECT_NEAR(centres.centres[k].angle, probed[k].angle, 1e-12);
-    EXPECT_NEAR((centres.centres[k].centre - Point3(150 * std::cos(probed[k].angle), 150 * std::sin(probed[k].angle), 50)).norm(),
+    EXPECT_NEAR((centres.centres[k].centre -
+                 Point3(150 * std::cos(probed[k].angle), 150 * std::sin(probed[k].angle), 50))
+                    .norm(),
                 0.0, 1e-6);
   }
   const RotaryAxisResult r = locate_rotary_axis(NominalRotaryAxis::by_letter('C'), centres, {});
@@ -92,7 +95,10 @@ TEST(ProbingFiles, RotaryParametersReadBackAsAParameterFile) {
   }
   const RotaryAxisResult r = locate_rotary_axis(NominalRotaryAxis::by_letter('C'), centres, {false, true, {}});
   const std::string yaml = rotary_parameters_yaml(r);
-  EXPECT_EQ(yaml.rfind("# Location errors of axis C from mtcal rotary-axis (least squares), 6 indexations of centres.csv\n", 0), 0u);
+  EXPECT_EQ(
+      yaml.rfind("# Location errors of axis C from mtcal rotary-axis (least squares), 6 indexations of centres.csv\n",
+                 0),
+      0u);
   const std::string path = temp("mtcal-c-axis.yaml");
   write_rotary_parameters(path, r);
   Machine m = load_machine(MTCAL_EXAMPLES_DIR "/hu40t-wCBXfYZt.yaml");
@@ -106,7 +112,8 @@ TEST(ProbingFiles, BadContactsAndCentresAreLocated) {
   EXPECT_EQ(w.file, unk);
   EXPECT_EQ(w.line, 1);
   EXPECT_EQ(w.field, "q");
-  const auto zero = write_temp("mtcal-contacts-zero.csv", "C,x,y,z,approach_x,approach_y,approach_z\n0,1,2,3,0,0,-1\n0,1,2,3,0,0,0\n");
+  const auto zero = write_temp("mtcal-contacts-zero.csv",
+                               "C,x,y,z,approach_x,approach_y,approach_z\n0,1,2,3,0,0,-1\n0,1,2,3,0,0,0\n");
   w = error_at([&] { read_contacts_csv(zero, 'C'); });
   EXPECT_EQ(w.line, 3);
   EXPECT_EQ(w.field, "approach_x");

@@ -27,8 +27,8 @@ void expect_definitions_hold(Machine m, std::uint64_t seed) {
       ASSERT_EQ(exact[i].error, defined[i].error);
       const double scale = std::max(1.0, defined[i].effect.norm());
       EXPECT_LE((exact[i].effect - defined[i].effect).norm(), 1e-10 * scale)
-          << m.name << " " << exact[i].error.str() << " config " << r << "\nexact   "
-          << exact[i].effect.transpose() << "\ndefined " << defined[i].effect.transpose();
+          << m.name << " " << exact[i].error.str() << " config " << r << "\nexact   " << exact[i].effect.transpose()
+          << "\ndefined " << defined[i].effect.transpose();
     }
   }
 }
@@ -43,7 +43,8 @@ TEST(ErrorDefinitions, EveryErrorOfEveryExampleMachine) {
 }
 
 TEST(ErrorDefinitions, EveryErrorOfManyTopologiesAndReversedAxes) {
-  for (const char* topo : {"wXYfZt", "wfXYZt", "wCBXfYZt", "wCAYXfZt", "wXfYZCAt", "wfXYZBCt", "wBfXYZCt", "wABCfXYZt"}) {
+  for (const char* topo :
+       {"wXYfZt", "wfXYZt", "wCBXfYZt", "wCAYXfZt", "wXfYZCAt", "wfXYZBCt", "wBfXYZCt", "wABCfXYZt"}) {
     for (bool reversed : {false, true}) {
       SCOPED_TRACE(std::string(topo) + (reversed ? " reversed" : ""));
       expect_definitions_hold(mtcal::testing::nominal_machine(topo, reversed), 5);

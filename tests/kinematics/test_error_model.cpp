@@ -49,9 +49,8 @@ void expect_near(const Vec3& a, const Vec3& b, double tol, const char* what) {
 
 // Errors are differences of tool positions hundreds of mm from the origin: rounding leaves about
 // 1e-13 mm, so hand calculations are compared to 1e-12 mm and 1e-15 rad.
-const std::vector<std::string> kTopologies = {"wXYfZt", "wfXYZt", "wYXfZt",   "wXfYZt",
-                                              "wCBXfYZt", "wCAYXfZt", "wXfYZCAt", "wfXYZBCt",
-                                              "wBfXYZCt"};
+const std::vector<std::string> kTopologies = {"wXYfZt",   "wfXYZt",   "wYXfZt",   "wXfYZt",  "wCBXfYZt",
+                                              "wCAYXfZt", "wXfYZCAt", "wfXYZBCt", "wBfXYZCt"};
 
 }  // namespace
 
@@ -161,9 +160,9 @@ TEST(ErrorModel, MountingErrors) {
   m = mill();
   m.set_parameter("ECw", g);
   e = eval(m, q);
-  expect_near(e.translation, Vec3(300 * (std::cos(g) - 1) + 200 * std::sin(g),
-                                  -300 * std::sin(g) + 200 * (std::cos(g) - 1), 0),
-              1e-12, "ECw");
+  expect_near(e.translation,
+              Vec3(300 * (std::cos(g) - 1) + 200 * std::sin(g), -300 * std::sin(g) + 200 * (std::cos(g) - 1), 0), 1e-12,
+              "ECw");
   expect_near(e.rotation, Vec3(0, 0, -g), 1e-15, "ECw rotation");
 }
 
@@ -225,8 +224,8 @@ axes: {X: {}, Y: {}, Z: {}, C: {point: [0, 0, 0]}}
     m = head;
     m.tool.length = 100;
     m.set_parameter("EAC.0", 5e-5);
-    expect_near(eval(m, {10, 20, 30, C * kDeg}).translation,
-                Vec3(0, 100 * std::sin(5e-5), 100 * (1 - std::cos(5e-5))), 1e-12, "head EAC");
+    expect_near(eval(m, {10, 20, 30, C * kDeg}).translation, Vec3(0, 100 * std::sin(5e-5), 100 * (1 - std::cos(5e-5))),
+                1e-12, "head EAC");
   }
 }
 
@@ -237,7 +236,7 @@ TEST(ErrorModel, ReversedAxesKeepTheSenseOfEveryError) {
     SCOPED_TRACE(topo);
     const Machine rev = mtcal::testing::nominal_machine(topo, true);
     const std::vector<double> q = std::string(topo) == "wCfXYZt" ? std::vector<double>{0.7, 100, -50, 30}
-                                                                  : std::vector<double>{100, -50, 30, 0.7};
+                                                                 : std::vector<double>{100, -50, 30, 0.7};
     Machine a = rev, b = rev;
     a.set_parameter("EC0C", 3e-5);
     b.set_parameter("ECC.0", 3e-5);

@@ -28,8 +28,8 @@ void check(const Machine& m, std::size_t configurations, std::uint64_t seed) {
     for (Eigen::Index c = 0; c < J.cols(); ++c) {
       const double scale = std::max(N.col(c).norm(), J.col(c).norm());
       EXPECT_LE((J.col(c) - N.col(c)).norm(), 1e-6 * scale + 1e-12)
-          << m.name << " parameter " << params[static_cast<std::size_t>(c)].name << " config " << r
-          << "\nanalytic " << J.col(c).transpose() << "\nnumeric  " << N.col(c).transpose();
+          << m.name << " parameter " << params[static_cast<std::size_t>(c)].name << " config " << r << "\nanalytic "
+          << J.col(c).transpose() << "\nnumeric  " << N.col(c).transpose();
     }
   }
 }

@@ -14,8 +14,8 @@ TEST(Joints, ParsesValuesInUserUnitsAndDefaultsToZero) {
   const Machine m = mtcal::testing::nominal_machine("wCBXfYZt");
   const auto q = parse_joint_values(m, "X=100,B=30,Z=-2.5", "test");
   ASSERT_EQ(q.size(), 5u);
-  EXPECT_EQ(q[0], 0.0);                                  // C not named
-  EXPECT_DOUBLE_EQ(q[1], 30 * std::numbers::pi / 180);   // B in deg
+  EXPECT_EQ(q[0], 0.0);                                 // C not named
+  EXPECT_DOUBLE_EQ(q[1], 30 * std::numbers::pi / 180);  // B in deg
   EXPECT_EQ(q[2], 100.0);
   EXPECT_EQ(q[4], -2.5);
   EXPECT_EQ(to_user_units(m.axes[1], q[1]), 30.0);

@@ -151,8 +151,11 @@ TEST(MachineBuilder, DirectionAcrossTheLetter) {
 }
 
 TEST(MachineBuilder, TravelMinNotBelowMax) {
-  EXPECT_EQ(model_error([] { five_axis().axis_travel('X', 5, 5); }), "axis 'X' travel: expected [min, max] with min < max");
-  EXPECT_NE(model_error([] { five_axis().axis_travel('X', 0, std::numeric_limits<double>::infinity()); }).find("axis 'X' travel"),
+  EXPECT_EQ(model_error([] { five_axis().axis_travel('X', 5, 5); }),
+            "axis 'X' travel: expected [min, max] with min < max");
+  EXPECT_NE(model_error([] {
+              five_axis().axis_travel('X', 0, std::numeric_limits<double>::infinity());
+            }).find("axis 'X' travel"),
             std::string::npos);
 }
 
@@ -163,7 +166,8 @@ TEST(MachineBuilder, PointNotFinite) {
 
 TEST(MachineBuilder, NegativeToolLength) {
   EXPECT_EQ(model_error([] { five_axis().tool_length(-1); }), "tool length: expected a tool length >= 0");
-  EXPECT_NE(model_error([] { five_axis().tool_axis(3); }).find("tool axis: 3 is not a machine axis"), std::string::npos);
+  EXPECT_NE(model_error([] { five_axis().tool_axis(3); }).find("tool axis: 3 is not a machine axis"),
+            std::string::npos);
 }
 
 TEST(MachineBuilder, UnknownErrorName) {
@@ -173,7 +177,8 @@ TEST(MachineBuilder, UnknownErrorName) {
 
 TEST(MachineBuilder, ErrorOfAnAxisNotInTheTopology) {
   const auto msg = model_error([] { five_axis().motion("EXA", MotionFunction(Polynomial{})); });
-  EXPECT_NE(msg.find("error 'EXA': error 'EXA' names axis 'A', which is not in topology wCBXfYZt"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("error 'EXA': error 'EXA' names axis 'A', which is not in topology wCBXfYZt"), std::string::npos)
+      << msg;
 }
 
 TEST(MachineBuilder, LocationErrorTheAxisDoesNotHave) {
@@ -184,7 +189,8 @@ TEST(MachineBuilder, LocationErrorTheAxisDoesNotHave) {
 TEST(MachineBuilder, MotionFunctionForALocationError) {
   const auto msg = model_error([] { five_axis().motion("EC0Y", MotionFunction(Polynomial{})); });
   EXPECT_NE(msg.find("error 'EC0Y': is a location or mounting error"), std::string::npos) << msg;
-  EXPECT_NE(model_error([] { five_axis().error_value("EXX", 1); }).find("error 'EXX': is a motion error"), std::string::npos);
+  EXPECT_NE(model_error([] { five_axis().error_value("EXX", 1); }).find("error 'EXX': is a motion error"),
+            std::string::npos);
 }
 
 TEST(MachineBuilder, TableOutOfOrder) {
@@ -206,8 +212,9 @@ TEST(MachineBuilder, ValueNotFinite) {
   const double nan = std::nan("");
   EXPECT_NE(model_error([&] { five_axis().error_value("EXt", nan); }).find("error 'EXt': nan is not a finite value"),
             std::string::npos);
-  EXPECT_NE(model_error([&] { five_axis().motion("EXX", MotionFunction(Polynomial{{0, nan, 0, 0}, 0})); })
-                .find("error 'EXX': coefficient '1' is nan"),
+  EXPECT_NE(model_error([&] {
+              five_axis().motion("EXX", MotionFunction(Polynomial{{0, nan, 0, 0}, 0}));
+            }).find("error 'EXX': coefficient '1' is nan"),
             std::string::npos);
 }
 
@@ -242,7 +249,9 @@ TEST(Validate, HandMadeMachines) {
   {
     Machine m = good;
     std::swap(m.axes[0], m.axes[1]);
-    EXPECT_NE(model_error([&] { validate(m); }).find("axis 'B': at position 1 of the axes, where topology wCBXfYZt has C"),
+    EXPECT_NE(model_error([&] {
+                validate(m);
+              }).find("axis 'B': at position 1 of the axes, where topology wCBXfYZt has C"),
               std::string::npos);
   }
   {
@@ -290,7 +299,8 @@ TEST(MachineBuilder, ReaderKeepsFileAndLine) {
     EXPECT_EQ(e.where().file, "m.yaml");
     EXPECT_EQ(e.where().line, 8);
     EXPECT_EQ(e.where().field, "axes.C.direction");
-    EXPECT_STREQ(e.what(), "m.yaml:8: field 'axes.C.direction': axis C turns about machine z: its direction is '+z' or '-z'");
+    EXPECT_STREQ(e.what(),
+                 "m.yaml:8: field 'axes.C.direction': axis C turns about machine z: its direction is '+z' or '-z'");
   }
   {
     const auto e = bad("  B: {travel: [10, -10]}\n  C: {}\n");
@@ -309,7 +319,9 @@ TEST(MachineBuilder, ReaderKeepsFileAndLine) {
     EXPECT_NE(std::string(e.what()).find("not a location error of axis X"), std::string::npos);
   }
   {
-    const auto e = bad("  B: {}\n  C: {}\nerrors:\n  EYY: {unit: um, table: {positions: [0, 1], forward: [0, 1]}}\n  EZY: {unit: um, polynomial: [.nan]}\n");
+    const auto e =
+        bad("  B: {}\n  C: {}\nerrors:\n  EYY: {unit: um, table: {positions: [0, 1], forward: [0, 1]}}\n  EZY: {unit: "
+            "um, polynomial: [.nan]}\n");
     EXPECT_EQ(e.where().line, 11);
   }
 }

@@ -18,8 +18,7 @@ using namespace mtcal;
 
 namespace {
 
-const char* kExamples[] = {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml",
-                           "head-head-5axis.yaml"};
+const char* kExamples[] = {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"};
 
 std::string example(const char* name) { return std::string(MTCAL_EXAMPLES_DIR) + "/" + name; }
 
@@ -63,9 +62,9 @@ TEST(MachineFile, GoodFileLoadsWithUnitsConverted) {
   Machine m = parse_machine(kGood, "good.yaml");
   EXPECT_EQ(m.topology.chain, "wCBXfYZt");
   ASSERT_EQ(m.axes.size(), 5u);
-  EXPECT_TRUE(m.axes[0].moves_workpiece);   // C
-  EXPECT_FALSE(m.axes[3].moves_workpiece);  // Y
-  EXPECT_NEAR(m.axes[1].travel->max, 3.14159265358979, 1e-12);  // deg -> rad
+  EXPECT_TRUE(m.axes[0].moves_workpiece);                            // C
+  EXPECT_FALSE(m.axes[3].moves_workpiece);                           // Y
+  EXPECT_NEAR(m.axes[1].travel->max, 3.14159265358979, 1e-12);       // deg -> rad
   EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.1")), 5e-6);  // 5 um/m -> mm/mm
   EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.b")), 1e-3);
   EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EC0Y")), 12e-6);
@@ -134,20 +133,19 @@ TEST(MachineFile, AcceptsGreekMuEmptySectionsAndKeepsTheDescription) {
 
 TEST(MachineFile, ReportsTheFirstBadEntryInFileOrder) {
   // Two bad errors: the one written first is reported, not the alphabetically first.
-  InputError e = bad(with("EC0Y: 12 um/m", "EZX: {unit: furlong, polynomial: [1]}\n  EAX: {unit: furlong, polynomial: [1]}"));
+  InputError e =
+      bad(with("EC0Y: 12 um/m", "EZX: {unit: furlong, polynomial: [1]}\n  EAX: {unit: furlong, polynomial: [1]}"));
   EXPECT_EQ(e.where().field, "errors.EZX.unit") << e.what();
 }
 
-TEST(MachineFile, MissingFileIsAnInputError) {
-  EXPECT_THROW(load_machine("/nonexistent/machine.yaml"), InputError);
-}
+TEST(MachineFile, MissingFileIsAnInputError) { EXPECT_THROW(load_machine("/nonexistent/machine.yaml"), InputError); }
 
 struct BadCase {
   const char* name;
   std::string text;
-  int line;               // expected 1-based line, 0: don't check
-  const char* field;      // expected field (dotted key path), "" : don't check
-  const char* message;    // substring of the message
+  int line;             // expected 1-based line, 0: don't check
+  const char* field;    // expected field (dotted key path), "" : don't check
+  const char* message;  // substring of the message
 };
 
 // Each case fails with file, line (when given), field (when given) and a message part.
@@ -175,33 +173,48 @@ TEST(MachineFile, BadInputsNameFileLineAndKey) {
       {"unknown error name", with("EC0Y: 12 um/m", "EQY: 12 um/m"), 12, "errors.EQY", "unknown error name"},
       {"duplicated error", with("EC0Y: 12 um/m", "EC0Y: 12 um/m\n  EC0Y: 13 um/m"), 13, "errors.EC0Y", "duplicated"},
       {"bad unit", with("12 um/m", "12 furlongs"), 12, "errors.EC0Y", "unknown unit 'furlongs'"},
-      {"hexadecimal number", with("polynomial: [0, 5]", "polynomial: [0, 0x10]"), 11, "errors.EXX.polynomial.1", "finite number"},
+      {"hexadecimal number", with("polynomial: [0, 5]", "polynomial: [0, 0x10]"), 11, "errors.EXX.polynomial.1",
+       "finite number"},
       {"two documents", std::string(kGood) + "---\nname: other\n", 15, "", "one YAML document"},
-      {"direction of another axis", with("C: {point", "C: {direction: +x, point"), 9, "axes.C.direction", "'+z' or '-z'"},
+      {"direction of another axis", with("C: {point", "C: {direction: +x, point"), 9, "axes.C.direction",
+       "'+z' or '-z'"},
       {"slope as joint angle unit", with("axes:", "units: {angle: um/m}\naxes:"), 4, "units.angle", "slope"},
-      {"argument unit of a Fourier series", with("EC0Y: 12 um/m", "ECC: {unit: urad, argument_unit: deg, fourier: {cos: [1]}}"), 12, "errors.ECC.argument_unit", "Fourier"},
+      {"argument unit of a Fourier series",
+       with("EC0Y: 12 um/m", "ECC: {unit: urad, argument_unit: deg, fourier: {cos: [1]}}"), 12,
+       "errors.ECC.argument_unit", "Fourier"},
       {"non-plain key", with("name: test", "? [a, b]\n: test"), 2, "", "plain key"},
       {"negative tool length", with("errors:", "tool: {length: -5}\nerrors:"), 10, "tool.length", ">= 0"},
       {"length unit for an angle", with("12 um/m", "12 um"), 12, "errors.EC0Y", "unit"},
       {"missing unit", with("12 um/m", "12"), 12, "errors.EC0Y", "number"},
-      {"non-numeric value", with("polynomial: [0, 5]", "polynomial: [0, five]"), 11, "errors.EXX.polynomial.1", "finite number"},
+      {"non-numeric value", with("polynomial: [0, 5]", "polynomial: [0, five]"), 11, "errors.EXX.polynomial.1",
+       "finite number"},
       {"non-numeric travel", with("[-300, 300]}\n  Y", "[-300, lots]}\n  Y"), 5, "axes.X.travel.1", "finite number"},
-      {"axis not in topology (axes)", with("  Z: {travel: [-300, 300]}", "  Z: {travel: [-300, 300]}\n  A: {}"), 8, "axes.A", "not in topology"},
-      {"axis not in topology (error)", with("EC0Y: 12 um/m", "EAA: {unit: urad, polynomial: [1]}"), 12, "errors.EAA", "not in topology"},
+      {"axis not in topology (axes)", with("  Z: {travel: [-300, 300]}", "  Z: {travel: [-300, 300]}\n  A: {}"), 8,
+       "axes.A", "not in topology"},
+      {"axis not in topology (error)", with("EC0Y: 12 um/m", "EAA: {unit: urad, polynomial: [1]}"), 12, "errors.EAA",
+       "not in topology"},
       {"location not allowed", with("EC0Y: 12 um/m", "EZ0C: 12 um"), 12, "errors.EZ0C", "not a location error"},
       {"missing axis", with("  Y: {travel: [-250, 250]}\n", ""), 5, "axes", "missing"},
       {"bad topology", with("wCBXfYZt", "wCBXYZt"), 3, "topology", "'f'"},
       {"wrong version", with("mtcal_machine: 1", "mtcal_machine: 2"), 1, "mtcal_machine", "version"},
       {"no version", with("mtcal_machine: 1\n", ""), 0, "", "mtcal_machine"},
       {"invalid YAML", with("name: test", "name: [test"), 0, "", "YAML"},
-      {"two motion forms", with("polynomial: [0, 5]", "polynomial: [0, 5], table: {positions: [0, 1], forward: [0, 0]}"), 11, "errors.EXX", "exactly one"},
+      {"two motion forms",
+       with("polynomial: [0, 5]", "polynomial: [0, 5], table: {positions: [0, 1], forward: [0, 0]}"), 11, "errors.EXX",
+       "exactly one"},
       {"too many coefficients", with("[0, 5]", "[0, 5, 0, 0, 1]"), 11, "errors.EXX.polynomial", "1 to 4"},
-      {"table not increasing", with("EC0Y: 12 um/m", "EYY: {unit: um, table: {positions: [0, 5, 5], forward: [0, 1, 2]}}"), 12, "errors.EYY.table.positions", "increase"},
-      {"table length mismatch", with("EC0Y: 12 um/m", "EYY: {unit: um, table: {positions: [0, 5], forward: [0, 1, 2]}}"), 12, "errors.EYY.table.forward", "expected 2 values"},
-      {"fourier on linear", with("EC0Y: 12 um/m", "EYY: {unit: um, fourier: {cos: [1]}}"), 12, "errors.EYY.fourier", "rotary"},
+      {"table not increasing",
+       with("EC0Y: 12 um/m", "EYY: {unit: um, table: {positions: [0, 5, 5], forward: [0, 1, 2]}}"), 12,
+       "errors.EYY.table.positions", "increase"},
+      {"table length mismatch",
+       with("EC0Y: 12 um/m", "EYY: {unit: um, table: {positions: [0, 5], forward: [0, 1, 2]}}"), 12,
+       "errors.EYY.table.forward", "expected 2 values"},
+      {"fourier on linear", with("EC0Y: 12 um/m", "EYY: {unit: um, fourier: {cos: [1]}}"), 12, "errors.EYY.fourier",
+       "rotary"},
       {"bad direction", with("C: {point", "C: {direction: up, point"), 9, "axes.C.direction", "direction"},
       {"travel reversed", with("[-300, 300]}\n  Y", "[300, -300]}\n  Y"), 5, "axes.X.travel", "min < max"},
-      {"point needs 3 numbers", with("point: [0, 0, 100]}\n  C", "point: [0, 100]}\n  C"), 8, "axes.B.point", "3 numbers"},
+      {"point needs 3 numbers", with("point: [0, 0, 100]}\n  C", "point: [0, 100]}\n  C"), 8, "axes.B.point",
+       "3 numbers"},
       {"infinite value", with("polynomial: [0, 5]", "polynomial: [0, .inf]"), 11, "errors.EXX.polynomial.1", "finite"},
   };
   expect_bad_cases(cases, "bad.yaml", bad);
@@ -298,10 +311,10 @@ TEST(ParameterFile, RespectsUnits) {
                    "  ECC: {unit: urad, polynomial: [0, 3]}\n"
                    "  EX0C: 3 um\n",
                    "units.yaml");
-  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.1")), 5e-6);   // 5 um/m
-  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.2")), 2e-9);   // 2 um/m^2 in mm/mm^2
-  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("ECC.1")), 3e-6);   // 3 urad/rad
-  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EX0C")), 3e-3);    // a quantity carries its unit
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.1")), 5e-6);  // 5 um/m
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EXX.2")), 2e-9);  // 2 um/m^2 in mm/mm^2
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("ECC.1")), 3e-6);  // 3 urad/rad
+  EXPECT_DOUBLE_EQ(m.parameter(*m.parameter_index("EX0C")), 3e-3);   // a quantity carries its unit
   // Without units: mm and deg, as in a machine file.
   Machine d = base;
   apply_parameters(d,
@@ -310,7 +323,7 @@ TEST(ParameterFile, RespectsUnits) {
                    "  EXX: {unit: um, polynomial: [0, 5]}\n"
                    "  ECC: {unit: urad, polynomial: [0, 3]}\n",
                    "defaults.yaml");
-  EXPECT_DOUBLE_EQ(d.parameter(*d.parameter_index("EXX.1")), 5e-3);                       // 5 um/mm
+  EXPECT_DOUBLE_EQ(d.parameter(*d.parameter_index("EXX.1")), 5e-3);                                   // 5 um/mm
   EXPECT_DOUBLE_EQ(d.parameter(*d.parameter_index("ECC.1")), 3e-6 / (3.14159265358979323846 / 180));  // urad/deg
   // argument_unit still overrides units.
   Machine a = base;
@@ -330,30 +343,39 @@ TEST(ParameterFile, BadInputsNameFileLineAndField) {
   const std::vector<BadCase> cases = {
       {"missing mtcal_parameters", "description: x\nerrors:\n  EX0C: 12 um\n", 1, "", "missing key 'mtcal_parameters'"},
       {"machine file instead", kGood, 1, "mtcal_machine", "unknown key"},
-      {"wrong version", "mtcal_parameters: 2\nerrors:\n  EX0C: 12 um\n", 1, "mtcal_parameters", "unsupported format version 2"},
+      {"wrong version", "mtcal_parameters: 2\nerrors:\n  EX0C: 12 um\n", 1, "mtcal_parameters",
+       "unsupported format version 2"},
       {"description not text", "mtcal_parameters: 1\ndescription: {a: 1}\n", 2, "description", "expected text"},
       {"non-numeric version", "mtcal_parameters: one\n", 1, "mtcal_parameters", "finite number"},
-      {"unknown top-level key", "mtcal_parameters: 1\nname: x\nerrors:\n  EX0C: 12 um\n", 2, "name", "unknown key 'name'"},
+      {"unknown top-level key", "mtcal_parameters: 1\nname: x\nerrors:\n  EX0C: 12 um\n", 2, "name",
+       "unknown key 'name'"},
       {"misspelt errors", "mtcal_parameters: 1\nerorrs:\n  EX0C: 12 um\n", 2, "erorrs", "unknown key"},
       {"unknown error name", head + "  EQQ: 1 um\n", 4, "errors.EQQ", "unknown error name 'EQQ'"},
       {"parameter name, not error name", head + "  EXX.1: 1 um\n", 4, "errors.EXX.1", "unknown error name"},
-      {"location error of an axis not in topology", head + "  EY0A: 1 um\n", 4, "errors.EY0A", "not in topology wCBXfYZt"},
-      {"motion error of an axis not in topology", head + "  EAA: {unit: urad, polynomial: [1]}\n", 4, "errors.EAA", "not in topology"},
+      {"location error of an axis not in topology", head + "  EY0A: 1 um\n", 4, "errors.EY0A",
+       "not in topology wCBXfYZt"},
+      {"motion error of an axis not in topology", head + "  EAA: {unit: urad, polynomial: [1]}\n", 4, "errors.EAA",
+       "not in topology"},
       {"location error the axis does not have", head + "  EZ0C: 1 um\n", 4, "errors.EZ0C", "not a location error"},
       {"bad unit", head + "  EY0C: 1 furlong\n", 4, "errors.EY0C", "unknown unit 'furlong'"},
       {"angle unit for a length", head + "  EY0C: 1 urad\n", 4, "errors.EY0C", "length unit"},
-      {"bad unit in a map", head + "  EY0C: {value: 1, unit: furlong}\n", 4, "errors.EY0C.unit", "unknown unit 'furlong'"},
-      {"bad units section", "mtcal_parameters: 1\nunits: {length: furlong}\nerrors:\n  EX0C: 12 um\n", 2, "units.length", "unknown unit 'furlong'"},
+      {"bad unit in a map", head + "  EY0C: {value: 1, unit: furlong}\n", 4, "errors.EY0C.unit",
+       "unknown unit 'furlong'"},
+      {"bad units section", "mtcal_parameters: 1\nunits: {length: furlong}\nerrors:\n  EX0C: 12 um\n", 2,
+       "units.length", "unknown unit 'furlong'"},
       {"slope as units.angle", "mtcal_parameters: 1\nunits: {angle: um/m}\n", 2, "units.angle", "slope"},
       {"unknown units key", "mtcal_parameters: 1\nunits: {time: s}\n", 2, "units.time", "unknown key"},
       {"missing unit", head + "  EY0C: 12\n", 4, "errors.EY0C", "number"},
       {"non-numeric value", head + "  EY0C: twelve um\n", 4, "errors.EY0C", "expected a number before the unit"},
-      {"non-numeric value in a map", head + "  EY0C: {value: twelve, unit: um}\n", 4, "errors.EY0C.value", "finite number"},
-      {"non-numeric coefficient", head + "  EXX: {unit: um, polynomial: [0, five]}\n", 4, "errors.EXX.polynomial.1", "finite number"},
+      {"non-numeric value in a map", head + "  EY0C: {value: twelve, unit: um}\n", 4, "errors.EY0C.value",
+       "finite number"},
+      {"non-numeric coefficient", head + "  EXX: {unit: um, polynomial: [0, five]}\n", 4, "errors.EXX.polynomial.1",
+       "finite number"},
       {"infinite value", head + "  EY0C: {value: .inf, unit: um}\n", 4, "errors.EY0C.value", "finite"},
       {"duplicated error", head + "  EX0C: 13 um\n", 4, "errors.EX0C", "duplicated"},
       {"errors not a map", "mtcal_parameters: 1\nerrors: [EX0C]\n", 2, "errors", "expected a map"},
-      {"fourier on a linear axis", head + "  EYY: {unit: um, fourier: {cos: [1]}}\n", 4, "errors.EYY.fourier", "rotary"},
+      {"fourier on a linear axis", head + "  EYY: {unit: um, fourier: {cos: [1]}}\n", 4, "errors.EYY.fourier",
+       "rotary"},
       {"two documents", head + "---\nmtcal_parameters: 1\n", 5, "", "one YAML document"},
       {"invalid YAML", head + "  EY0C: [1\n", 0, "", "YAML"},
   };

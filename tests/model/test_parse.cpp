@@ -14,7 +14,7 @@ TEST(ParseNumber, AcceptsDecimalNumbers) {
 }
 
 TEST(ParseNumber, RejectsEverythingElse) {
-  for (const char* s : {"", "+", "-", "+-3", "++3", "0x10", " 1", "1 ", "1,5", "1e", "abc", "inf", "nan",
-                        "-inf", "1e400", "5um"})
+  for (const char* s :
+       {"", "+", "-", "+-3", "++3", "0x10", " 1", "1 ", "1,5", "1e", "abc", "inf", "nan", "-inf", "1e400", "5um"})
     EXPECT_FALSE(parse_number(s)) << "'" << s << "'";
 }

@@ -37,8 +37,7 @@ TEST(ErrorName, ParsesIsoNames) {
   auto ebt = ErrorName::parse("EBt");
   ASSERT_TRUE(ebt);
   EXPECT_EQ(ebt->kind, ErrorKind::Mounting);
-  for (const char* s : {"EXX", "EAC", "EX0C", "EC0C", "EB0Z", "EXt", "ECw"})
-    EXPECT_EQ(ErrorName::parse(s)->str(), s);
+  for (const char* s : {"EXX", "EAC", "EX0C", "EC0C", "EB0Z", "EXt", "ECw"}) EXPECT_EQ(ErrorName::parse(s)->str(), s);
   for (const char* s : {"", "E", "EX", "XXX", "EQX", "EXQ", "EX1C", "EX0Q", "EXXX", "EXT", "eXX"})
     EXPECT_FALSE(ErrorName::parse(s)) << s;
 }
@@ -66,19 +65,19 @@ TEST(Topology, RejectsMalformedChains) {
 TEST(Axis, LocationErrorsAllowedByIso230) {
   Axis lin;
   lin.kind = AxisKind::Linear;
-  lin.direction_axis = 1;  // Y
-  EXPECT_TRUE(lin.allows_location(Component::Y));   // EY0Y zero position
-  EXPECT_TRUE(lin.allows_location(Component::A));   // EA0Y
-  EXPECT_TRUE(lin.allows_location(Component::C));   // EC0Y
+  lin.direction_axis = 1;                          // Y
+  EXPECT_TRUE(lin.allows_location(Component::Y));  // EY0Y zero position
+  EXPECT_TRUE(lin.allows_location(Component::A));  // EA0Y
+  EXPECT_TRUE(lin.allows_location(Component::C));  // EC0Y
   EXPECT_FALSE(lin.allows_location(Component::X));
   EXPECT_FALSE(lin.allows_location(Component::B));  // roll of the line: meaningless
   Axis rot;
   rot.kind = AxisKind::Rotary;
-  rot.direction_axis = 2;  // C
+  rot.direction_axis = 2;                           // C
   EXPECT_TRUE(rot.allows_location(Component::X));   // EX0C
   EXPECT_TRUE(rot.allows_location(Component::Y));   // EY0C
   EXPECT_FALSE(rot.allows_location(Component::Z));  // along the line: no effect
   EXPECT_TRUE(rot.allows_location(Component::A));
   EXPECT_TRUE(rot.allows_location(Component::B));
-  EXPECT_TRUE(rot.allows_location(Component::C));   // EC0C zero position
+  EXPECT_TRUE(rot.allows_location(Component::C));  // EC0C zero position
 }

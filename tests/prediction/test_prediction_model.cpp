@@ -37,7 +37,7 @@ double value(const PredictionModel& m, const PointPrediction& p, const std::stri
 }
 
 // Relative closeness to a table value printed with 6-7 significant digits.
-#define EXPECT_TABLE(actual, printed, rel) EXPECT_NEAR(actual, printed, (rel) * std::abs(printed) + 1e-12)
+#define EXPECT_TABLE(actual, printed, rel) EXPECT_NEAR(actual, printed, (rel)*std::abs(printed) + 1e-12)
 
 // Table 5.7: components of W2 (feeds 200 400 800 1600) and W5 (100 200 400 800) at the four
 // steps, 3500 rpm. The machining times are not printed; solving e_pt_x (eq. 5.6) for them gives
@@ -49,11 +49,14 @@ TEST(PredictionModelTest, ThesisModelReproducesTable57) {
   const double t2[4] = {2, 36, 74, 114}, t5[4] = {4, 40, 73, 105};
   const double f2[4] = {200, 400, 800, 1600}, f5[4] = {100, 200, 400, 800};
   // Columns of Table 5.7: e_pf_x W2, W5, e_pf_y W2, W5, e_pt_x W2, W5, e_pt_y W2, W5, e_pos_x, e_pos_y.
-  const double table[4][10] = {
-      {0.000191988, 1.13377e-05, 0.00097635, 4.12225e-05, 0.001235877, 0.002425937, 0.001950791, 0.001952618, 0.006423335, 0.009789383},
-      {0.002923753, 0.000191988, 0.005849463, 0.00097635, 0.016447688, 0.017676739, 0.003031592, 0.003386255, 0.009114022, 0.013855253},
-      {0.017652045, 0.002923753, 0.007162287, 0.005849463, 0.025097789, 0.024940679, 0.008246326, 0.008075374, 0.01371726, 0.020697125},
-      {0.025052323, 0.017652045, 0.007221811, 0.007162287, 0.02946674, 0.028749516, 0.014513989, 0.013288542, 0.015294803, 0.022944093}};
+  const double table[4][10] = {{0.000191988, 1.13377e-05, 0.00097635, 4.12225e-05, 0.001235877, 0.002425937,
+                                0.001950791, 0.001952618, 0.006423335, 0.009789383},
+                               {0.002923753, 0.000191988, 0.005849463, 0.00097635, 0.016447688, 0.017676739,
+                                0.003031592, 0.003386255, 0.009114022, 0.013855253},
+                               {0.017652045, 0.002923753, 0.007162287, 0.005849463, 0.025097789, 0.024940679,
+                                0.008246326, 0.008075374, 0.01371726, 0.020697125},
+                               {0.025052323, 0.017652045, 0.007221811, 0.007162287, 0.02946674, 0.028749516,
+                                0.014513989, 0.013288542, 0.015294803, 0.022944093}};
   for (int i = 0; i < 4; ++i) {
     SCOPED_TRACE(d[i]);
     const auto w2 = predict_point(m, point(t2[i], 3500, f2[i], d[i], d[i]), false);
@@ -77,21 +80,24 @@ TEST(PredictionModelTest, ThesisModelReproducesTable57) {
 }
 
 // Table 6.4 (cylinder, 4500 rpm, Z points): with the times that solve e_splz (eq. 5.25) for
-// its printed column (0.5, 0.85, 1.23, 1.59, 1.955 ... 5.24 min), the three other tilt columns computed by interpolating between the 3500
-// and 5500 rpm stages come out to all printed digits. e_spd_y does not: the table holds the
-// 3500 rpm model (eq. 5.7) alone, not interpolated - a discrepancy of the thesis, kept visible.
+// its printed column (0.5, 0.85, 1.23, 1.59, 1.955 ... 5.24 min), the three other tilt columns computed by
+// interpolating between the 3500 and 5500 rpm stages come out to all printed digits. e_spd_y does not: the table holds
+// the 3500 rpm model (eq. 5.7) alone, not interpolated - a discrepancy of the thesis, kept visible.
 TEST(PredictionModelTest, ThesisModelReproducesTable64And65) {
   const PredictionModel m = read_prediction_model(kModel);
   const double splz[14] = {7.09248E-05, 0.000120239, 0.000173471, 0.000223607, 0.000274149, 0.000324399, 0.00037436,
-                           0.000424034, 0.000473422, 0.000522526, 0.000571348, 0.00061989, 0.000668152, 0.000716138};
-  const double tty[14] = {-1.3743E-05, -2.07342E-05, -2.67417E-05, -3.13453E-05, -3.52168E-05, -3.84782E-05, -4.12652E-05,
-                          -4.36758E-05, -4.57831E-05, -4.76421E-05, -4.92954E-05, -5.07764E-05, -5.21117E-05, -5.33224E-05};
-  const double ttx[14] = {-6.63161E-05, -6.65992E-05, -6.69046E-05, -6.7192E-05, -6.74815E-05, -6.77691E-05, -6.80549E-05,
-                          -6.83387E-05, -6.86207E-05, -6.89008E-05, -6.91791E-05, -6.94555E-05, -6.97301E-05, -7.00029E-05};
-  const double spdx[14] = {-0.000408544, -0.000409144, -0.000409675, -0.000410062, -0.000410341, -0.000410506, -0.00041056,
-                           -0.000410502, -0.000410335, -0.000410058, -0.000409674, -0.000409183, -0.000408585, -0.000407883};
-  const double spdy[14] = {6.1541E-05, 8.21389E-05, 0.000100431, 0.000115486, 0.000129229, 0.000141843, 0.00015358,
-                           0.000164609, 0.00017505, 0.000184994, 0.000194508, 0.000203648, 0.000212456, 0.000220968};
+                           0.000424034, 0.000473422, 0.000522526, 0.000571348, 0.00061989,  0.000668152, 0.000716138};
+  const double tty[14] = {-1.3743E-05,  -2.07342E-05, -2.67417E-05, -3.13453E-05, -3.52168E-05,
+                          -3.84782E-05, -4.12652E-05, -4.36758E-05, -4.57831E-05, -4.76421E-05,
+                          -4.92954E-05, -5.07764E-05, -5.21117E-05, -5.33224E-05};
+  const double ttx[14] = {-6.63161E-05, -6.65992E-05, -6.69046E-05, -6.7192E-05,  -6.74815E-05,
+                          -6.77691E-05, -6.80549E-05, -6.83387E-05, -6.86207E-05, -6.89008E-05,
+                          -6.91791E-05, -6.94555E-05, -6.97301E-05, -7.00029E-05};
+  const double spdx[14] = {-0.000408544, -0.000409144, -0.000409675, -0.000410062, -0.000410341,
+                           -0.000410506, -0.00041056,  -0.000410502, -0.000410335, -0.000410058,
+                           -0.000409674, -0.000409183, -0.000408585, -0.000407883};
+  const double spdy[14] = {6.1541E-05,  8.21389E-05, 0.000100431, 0.000115486, 0.000129229, 0.000141843, 0.00015358,
+                           0.000164609, 0.00017505,  0.000184994, 0.000194508, 0.000203648, 0.000212456, 0.000220968};
   const ErrorComponent* sy = m.find("e_spd_y");
   ASSERT_NE(sy, nullptr);
   for (int k = 0; k < 14; ++k) {
@@ -106,7 +112,7 @@ TEST(PredictionModelTest, ThesisModelReproducesTable64And65) {
     EXPECT_TABLE(value(m, p, "e_tt_y"), tty[k], 2e-5);
     EXPECT_TABLE(value(m, p, "e_tt_x"), ttx[k], 2e-6);
     EXPECT_TABLE(value(m, p, "e_spd_x"), spdx[k], 2e-6);
-    EXPECT_TABLE(sy->stages[1].model(t), spdy[k], 2e-5);        // the 3500 rpm stage alone
+    EXPECT_TABLE(sy->stages[1].model(t), spdy[k], 2e-5);                    // the 3500 rpm stage alone
     EXPECT_GT(std::abs(value(m, p, "e_spd_y") - spdy[k]), 0.05 * spdy[k]);  // not the interpolation
     EXPECT_NEAR(value(m, p, "e_pos_z"), -0.001753, 1e-9);
     EXPECT_NEAR(value(m, p, "e_splf_z"), -0.0026296, 5e-8);
@@ -124,16 +130,22 @@ TEST(PredictionModelTest, ThesisModelReproducesTable64And65) {
 // >= 100 while Table 6.7 prints +0.0070 - see docs/prediction.md.
 TEST(PredictionModelTest, ThesisModelAgainstTables66And67) {
   const PredictionModel m = read_prediction_model(kModel);
-  const double X[15] = {10.102, 15.546, 22.291, 25.56, 24.923, 18.255, 7.785, 0.839, 1.35, 6.447, 13.705, 17.28, 21.566, 25.512, 26.278};
-  const double Y[15] = {1.161, 0.905, 4.383, 9.375, 19.656, 25.827, 25.618, 17.72, 8.252, 2.694, 0.769, 1.373, 3.719, 9.192, 14.747};
-  const double posx[15] = {0.002420265, 0.003643546, 0.005080473, 0.005745554, 0.005617561, 0.004231126, 0.001882417, 0.000208449,
-                           0.000334746, 0.001567144, 0.003236218, 0.004021268, 0.0049302, 0.005735937, 0.005888892};
-  const double posy[15] = {0.000440767, 0.000343928, 0.001642634, 0.003442767, 0.00691279, 0.008842157, 0.008778696, 0.006283775,
-                           0.003044377, 0.001016519, 0.000292402, 0.000520811, 0.001397517, 0.003378107, 0.005295775};
-  const double ptx[15] = {0.000129393, 0.000322412, 0.000577789, 0.000788888, 0.001008878, 0.001227177, 0.001443801, 0.001658763,
-                          0.001872078, 0.002083759, 0.002293821, 0.002502276, 0.00270914, 0.002914425, 0.003118144};
-  const double pty[15] = {0.001098012, 0.001276625, 0.001504983, 0.001687246, 0.001871247, 0.002048137, 0.002218329, 0.002382207,
-                          0.002540128, 0.002692422, 0.002839395, 0.002981332, 0.003118499, 0.003251142, 0.003379493};
+  const double X[15] = {10.102, 15.546, 22.291, 25.56, 24.923, 18.255, 7.785, 0.839,
+                        1.35,   6.447,  13.705, 17.28, 21.566, 25.512, 26.278};
+  const double Y[15] = {1.161, 0.905, 4.383, 9.375, 19.656, 25.827, 25.618, 17.72,
+                        8.252, 2.694, 0.769, 1.373, 3.719,  9.192,  14.747};
+  const double posx[15] = {0.002420265, 0.003643546, 0.005080473, 0.005745554, 0.005617561,
+                           0.004231126, 0.001882417, 0.000208449, 0.000334746, 0.001567144,
+                           0.003236218, 0.004021268, 0.0049302,   0.005735937, 0.005888892};
+  const double posy[15] = {0.000440767, 0.000343928, 0.001642634, 0.003442767, 0.00691279,
+                           0.008842157, 0.008778696, 0.006283775, 0.003044377, 0.001016519,
+                           0.000292402, 0.000520811, 0.001397517, 0.003378107, 0.005295775};
+  const double ptx[15] = {0.000129393, 0.000322412, 0.000577789, 0.000788888, 0.001008878,
+                          0.001227177, 0.001443801, 0.001658763, 0.001872078, 0.002083759,
+                          0.002293821, 0.002502276, 0.00270914,  0.002914425, 0.003118144};
+  const double pty[15] = {0.001098012, 0.001276625, 0.001504983, 0.001687246, 0.001871247,
+                          0.002048137, 0.002218329, 0.002382207, 0.002540128, 0.002692422,
+                          0.002839395, 0.002981332, 0.003118499, 0.003251142, 0.003379493};
   for (int k = 0; k < 15; ++k) {
     SCOPED_TRACE(k);
     // Solve e_pt_x(t) = printed by bisection (monotonic), then check e_pt_y there.
@@ -175,8 +187,7 @@ TEST(PredictionModelTest, StagesAreContinuousAtTheStageSpeeds) {
       for (const auto& s : c.stages) {
         const double at = evaluate_stages(c.stages, s.speed, t);
         EXPECT_DOUBLE_EQ(at, s.model(t));
-        for (double eps : {1e-6, -1e-6})
-          EXPECT_NEAR(evaluate_stages(c.stages, s.speed + eps, t), at, 1e-8 * big);
+        for (double eps : {1e-6, -1e-6}) EXPECT_NEAR(evaluate_stages(c.stages, s.speed + eps, t), at, 1e-8 * big);
       }
       // Halfway between two stages: their mean (eq. 3.7 with equal weights); proportional below
       // and above (eq. 3.9, 3.10).
@@ -191,7 +202,8 @@ TEST(PredictionModelTest, ValidityRangeWarnsOrRefuses) {
   const PredictionModel m = read_prediction_model(kModel);
   const auto p = predict_point(m, point(150, 3500, 200, 29, 29), false);
   ASSERT_FALSE(p.warnings.empty());
-  EXPECT_NE(p.warnings[0].find("e_pt_x: t = 150 is outside the validity range [0, 130]"), std::string::npos) << p.warnings[0];
+  EXPECT_NE(p.warnings[0].find("e_pt_x: t = 150 is outside the validity range [0, 130]"), std::string::npos)
+      << p.warnings[0];
   EXPECT_THROW(predict_point(m, point(150, 3500, 200, 29, 29), true), InputError);
   EXPECT_TRUE(predict_point(m, point(100, 3500, 200, 29, 29), true).warnings.empty());
   // e_pt_y's logistic in ln t is undefined for t < 0: refused even without --strict.
@@ -230,7 +242,8 @@ TEST(PredictionModelTest, EvaluateComponentIsThePredictPath) {
   q.v["F"] = 2400;
   EXPECT_NEAR(evaluate_component(m, "e_ctrl_x", q, false).value, -0.0195934157, 1e-9);
   // 'of' with times: e_z_spd_x = -9 e_spd_x.
-  EXPECT_NEAR(evaluate_component(m, "e_z_spd_x", p, false).value, -9 * value(m, predict_point(m, p, false), "e_spd_x"), 1e-15);
+  EXPECT_NEAR(evaluate_component(m, "e_z_spd_x", p, false).value, -9 * value(m, predict_point(m, p, false), "e_spd_x"),
+              1e-15);
   Point far = p;
   far.v["F"] = 3000;
   EXPECT_FALSE(evaluate_component(m, "e_pf_x", far, false).warnings.empty());
@@ -250,14 +263,18 @@ std::string error_of(const std::string& text) {
 
 TEST(PredictionModelTest, BadModelFilesAreRefused) {
   const std::string head = "mtcal_prediction_model: 1\ncomponents:\n";
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: cubic, coefficients: [1]}\n").find("unknown model form 'cubic'"),
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: cubic, coefficients: [1]}\n")
+                .find("unknown model form 'cubic'"),
             std::string::npos);
   EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: cubic}\n").find("m.yaml:3"), std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1}}\n").find("missing parameter 'b'"),
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1}}\n")
+                .find("missing parameter 'b'"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: w, variable: t, form: power, parameters: {a: 1, b: 1}}\n").find("expected x, y, z or none"),
+  EXPECT_NE(error_of(head + "  - {name: a, axis: w, variable: t, form: power, parameters: {a: 1, b: 1}}\n")
+                .find("expected x, y, z or none"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, of: b}\n").find("'b' is not a component defined above"), std::string::npos);
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, of: b}\n").find("'b' is not a component defined above"),
+            std::string::npos);
   EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: 1}}\n"
                             "  - {name: a, axis: y, variable: t, form: power, parameters: {a: 1, b: 1}}\n")
                 .find("defined twice"),
@@ -268,9 +285,11 @@ TEST(PredictionModelTest, BadModelFilesAreRefused) {
                 .find("increasing speed"),
             std::string::npos);
   EXPECT_NE(error_of("mtcal_prediction_model: 2\ncomponents: []\n").find("format version"), std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: 1}, bogus: 1}\n").find("unknown key 'bogus'"),
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: 1}, bogus: 1}\n")
+                .find("unknown key 'bogus'"),
             std::string::npos);
-  EXPECT_NE(error_of("mtcal_prediction_model: 1\nunits: {time: s}\ncomponents: []\n").find("expected 'min'"), std::string::npos);
+  EXPECT_NE(error_of("mtcal_prediction_model: 1\nunits: {time: s}\ncomponents: []\n").find("expected 'min'"),
+            std::string::npos);
   EXPECT_THROW(read_prediction_model("/nonexistent/model.yaml"), InputError);
 }
 
@@ -278,26 +297,37 @@ TEST(PredictionModelTest, BadModelFilesAreRefused) {
 // is the constant a, also at x = 0.
 TEST(PredictionModelTest, ParametersOutsideTheDomainAreRefused) {
   const std::string head = "mtcal_prediction_model: 1\ncomponents:\n";
-  const std::string logistic = error_of(head + "  - {name: a, axis: x, variable: t, form: logistic_ln, parameters: {a: 1, b: 1, k: 2, x0: -3}}\n");
+  const std::string logistic = error_of(
+      head + "  - {name: a, axis: x, variable: t, form: logistic_ln, parameters: {a: 1, b: 1, k: 2, x0: -3}}\n");
   EXPECT_NE(logistic.find("m.yaml:3"), std::string::npos) << logistic;
   EXPECT_NE(logistic.find("a.parameters"), std::string::npos) << logistic;
   EXPECT_NE(logistic.find("x0 > 0"), std::string::npos) << logistic;
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}}\n").find("undefined at x = 0"),
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}}\n")
+                .find("undefined at x = 0"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: stretched_exp, parameters: {a: 1, b: 1, c: 1, d: -1}}\n").find("d > 0"),
+  EXPECT_NE(error_of(
+                head +
+                "  - {name: a, axis: x, variable: t, form: stretched_exp, parameters: {a: 1, b: 1, c: 1, d: -1}}\n")
+                .find("d > 0"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1, b: -28}}\n").find("b > 0"),
+  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1, b: -28}}\n")
+                .find("b > 0"),
             std::string::npos);
   // A stage's parameters name the stage.
-  const std::string stage = error_of(head + "  - name: a\n    axis: x\n    variable: t\n    stages:\n"
-                                            "      - {speed: 1000, form: power, parameters: {a: 1, b: 1}}\n"
-                                            "      - {speed: 3500, form: logistic_ln, parameters: {a: 1, b: 1, k: 2, x0: 0}}\n");
+  const std::string stage =
+      error_of(head +
+               "  - name: a\n    axis: x\n    variable: t\n    stages:\n"
+               "      - {speed: 1000, form: power, parameters: {a: 1, b: 1}}\n"
+               "      - {speed: 3500, form: logistic_ln, parameters: {a: 1, b: 1, k: 2, x0: 0}}\n");
   EXPECT_NE(stage.find("m.yaml:8"), std::string::npos) << stage;
   EXPECT_NE(stage.find("a.stages.1.parameters"), std::string::npos) << stage;
   // b < 0 with a validity range above 0 is accepted.
-  EXPECT_EQ(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}, valid: [1, 10]}\n"), "no error");
+  EXPECT_EQ(error_of(head +
+                     "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}, valid: [1, 10]}\n"),
+            "no error");
   const PredictionModel m =
-      parse_prediction_model(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 2.5, b: 0}}\n", "m.yaml");
+      parse_prediction_model(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 2.5, b: 0}}\n",
+                             "m.yaml");
   const auto p = predict_point(m, Point{{{"t", 0.0}}}, true);
   EXPECT_EQ(p.e[0], 2.5);
 }

@@ -15,11 +15,12 @@ constexpr double kPi = std::numbers::pi;
 
 // Mean Fy over a tooth period by hand: (N ap / 2 pi) integral over the immersion of
 // [(Ktc fz sin + Kte) sin - (Krc fz sin + Kre) cos] dphi.
-double mean_fy_closed_form(const EndMill& t, const CuttingCoefficients& k, const CutConditions& c, double st, double ex) {
+double mean_fy_closed_form(const EndMill& t, const CuttingCoefficients& k, const CutConditions& c, double st,
+                           double ex) {
   const double fz = c.feed / (t.teeth * c.spindle_speed);
   auto F = [&](double p) {
-    return k.ktc * fz * (p / 2 - std::sin(2 * p) / 4) - k.kte * std::cos(p) - k.krc * fz * std::sin(p) * std::sin(p) / 2 -
-           k.kre * std::sin(p);
+    return k.ktc * fz * (p / 2 - std::sin(2 * p) / 4) - k.kte * std::cos(p) -
+           k.krc * fz * std::sin(p) * std::sin(p) / 2 - k.kre * std::sin(p);
   };
   return t.teeth * c.axial_depth / (2 * kPi) * (F(ex) - F(st));
 }
@@ -62,7 +63,8 @@ TEST(ProcessErrorTest, UniformCantileverIsDeVorEq26) {
   for (double zf : {0.0, 2.5, 10.0})
     for (double z : {0.0, 1.0, 2.5}) {
       if (z > zf) continue;
-      const double eq26 = F / (6 * E * I) * (std::pow(zf - z, 3) - std::pow(L - z, 3) + 3 * std::pow(L - z, 2) * (L - zf));
+      const double eq26 =
+          F / (6 * E * I) * (std::pow(zf - z, 3) - std::pow(L - z, 3) + 3 * std::pow(L - z, 2) * (L - zf));
       EXPECT_NEAR(cantilever_deflection(t, F, zf, z), eq26, 1e-12 * eq26 + 1e-18) << zf << " " << z;
       // Maxwell-Betti reciprocity.
       EXPECT_NEAR(cantilever_deflection(t, F, zf, z), cantilever_deflection(t, F, z, zf), 1e-15);
@@ -95,7 +97,8 @@ TEST(ProcessErrorTest, CalibrationRecoversSyntheticMapping) {
     measured.push_back(0.5 * e.back() / (2e-3 + e.back()));
   }
   for (std::size_t i = 1; i < e.size(); ++i) EXPECT_GT(e[i], e[i - 1]);
-  const auto cal = calibrate_process_error(t, k, CutConditions{}, feeds, measured, {ModelForm::Saturation, 1, std::nullopt});
+  const auto cal =
+      calibrate_process_error(t, k, CutConditions{}, feeds, measured, {ModelForm::Saturation, 1, std::nullopt});
   ASSERT_TRUE(cal.fit.converged);
   EXPECT_NEAR(cal.fit.model.p[0], 0.5, 1e-6);
   EXPECT_NEAR(cal.fit.model.p[1], 2e-3, 1e-8);

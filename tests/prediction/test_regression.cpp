@@ -29,10 +29,10 @@ struct Case {
 // must give them back from its own starts.
 TEST(RegressionTest, EachFormRecoversItsOwnParameters) {
   const std::vector<Case> cases = {
-      {{ModelForm::Polynomial, 2, 0.0}, {0.000249252, -9.57162e-7}, 0, 100},             // eq. 5.1
-      {{ModelForm::Polynomial, 1, std::nullopt}, {-0.001933, 0.00002}, 0, 40},           // eq. 5.3
-      {{ModelForm::Polynomial, 3, 0.0}, {-2.6e-5, 8.93558e-7, -7.20972e-9}, 0, 130},     // eq. 5.8
-      {{ModelForm::ExpApproach, 1, std::nullopt}, {0.012, 0.0104453, 0.01862}, 0, 130},  // eq. 5.4
+      {{ModelForm::Polynomial, 2, 0.0}, {0.000249252, -9.57162e-7}, 0, 100},                                // eq. 5.1
+      {{ModelForm::Polynomial, 1, std::nullopt}, {-0.001933, 0.00002}, 0, 40},                              // eq. 5.3
+      {{ModelForm::Polynomial, 3, 0.0}, {-2.6e-5, 8.93558e-7, -7.20972e-9}, 0, 130},                        // eq. 5.8
+      {{ModelForm::ExpApproach, 1, std::nullopt}, {0.012, 0.0104453, 0.01862}, 0, 130},                     // eq. 5.4
       {{ModelForm::StretchedExp, 1, std::nullopt}, {0.0101416, -0.0101416, 0.000614576, 1.73618}, 0, 130},  // eq. 5.12
       {{ModelForm::LogisticLn, 1, std::nullopt}, {0.0231491, 0.0211986, 2.86166, 100}, 2, 130},             // eq. 5.5
       {{ModelForm::Gompertz, 1, std::nullopt}, {8.06172e-5, 3.2497, 0.0609032}, 0, 130},                    // eq. 5.13
@@ -165,7 +165,8 @@ TEST(RegressionTest, CompareModelsOnTable58AgainstHandLines) {
 // has a smaller backward-prediction error than the line, but a larger leave-one-out error.
 TEST(RegressionTest, LeaveOneOutPenalisesOverfitting) {
   const std::vector<double> x = {0, 10, 20, 30, 40, 50}, y = {0.10, 0.31, 0.48, 0.73, 0.88, 1.12};
-  const auto c = compare_models({{ModelForm::Polynomial, 1, std::nullopt}, {ModelForm::Polynomial, 3, std::nullopt}}, x, y);
+  const auto c =
+      compare_models({{ModelForm::Polynomial, 1, std::nullopt}, {ModelForm::Polynomial, 3, std::nullopt}}, x, y);
   ASSERT_EQ(c.fits.size(), 2u);
   EXPECT_EQ(c.fits[c.by_backward[0]].model.spec.degree, 3);
   EXPECT_EQ(c.fits[c.by_loocv[0]].model.spec.degree, 1);
@@ -225,7 +226,7 @@ TEST(RegressionTest, ParameterDomainProblems) {
   EXPECT_NE(problem(ModelForm::StretchedExp, {1, 1, 1, -1}, 0).find("d > 0"), std::string::npos);
   EXPECT_NE(problem(ModelForm::StretchedExp, {1, 1, 1, 0}, 0).find("d > 0"), std::string::npos);
   EXPECT_NE(problem(ModelForm::Power, {1, -0.5}, 0).find("undefined at x = 0"), std::string::npos);
-  EXPECT_EQ(problem(ModelForm::Power, {1, -0.5}, 1), "");  // a validity range above 0
+  EXPECT_EQ(problem(ModelForm::Power, {1, -0.5}, 1), "");               // a validity range above 0
   EXPECT_EQ(problem(ModelForm::Power, {8.97328e-5, 0.544087}, 0), "");  // eq. 5.7
 }
 

@@ -30,7 +30,8 @@ TEST(SeparationTest, PositionErrorsFromTable53) {
     return PositionStep{};
   };
   const double hand = ((45.05 + 45.056 + 45.056 + 45.067 + 45.074 + 45.073) -
-                       (45.0435 + 45.042 + 45.0414 + 45.0559 + 45.0555 + 45.055)) / 6;
+                       (45.0435 + 45.042 + 45.0414 + 45.0559 + 45.0555 + 45.055)) /
+                      6;
   EXPECT_NEAR(find(2, 'Y').e_pos, hand, 1e-12);
   EXPECT_EQ(find(2, 'Y').count, 6);
   EXPECT_EQ(find(2, 'Y').distance, 45);
@@ -86,23 +87,25 @@ TEST(SeparationTest, ControlErrorsFromTable56) {
 // The thesis prints no raw W1/W6/W7 measurements for eq. 3.1-3.6; values by hand, with the
 // arguments chosen so that a swapped argument or sign changes the result.
 TEST(SeparationTest, ThermalEquations) {
-  EXPECT_NEAR(thermal_spindle_tilt(0.0012, 0.0010), 0.0002, 1e-15);    // eq. 3.1: alpha - (alpha + beta)
+  EXPECT_NEAR(thermal_spindle_tilt(0.0012, 0.0010), 0.0002, 1e-15);  // eq. 3.1: alpha - (alpha + beta)
   EXPECT_NEAR(thermal_spindle_tilt(0.0010, 0.0012), -0.0002, 1e-15);
-  EXPECT_NEAR(thermal_table_tilt(5e-5, 2e-5), 3e-5, 1e-18);            // eq. 3.3: theta - gamma
+  EXPECT_NEAR(thermal_table_tilt(5e-5, 2e-5), 3e-5, 1e-18);  // eq. 3.3: theta - gamma
   // eq. 3.5: (45.012 - 45.0) - (30.004 - 30.0) - 0.003 = 0.012 - 0.004 - 0.003 = 0.005 mm.
   EXPECT_NEAR(thermal_position(45.012, 45.0, 30.004, 30.0, 0.003), 0.005, 1e-12);
   EXPECT_NEAR(thermal_position(30.004, 30.0, 45.012, 45.0, 0.003), -0.011, 1e-12);
-  EXPECT_NEAR(thermal_spindle_growth(19.008, 19.003), 0.005, 1e-12);   // h7 - h3
+  EXPECT_NEAR(thermal_spindle_growth(19.008, 19.003), 0.005, 1e-12);  // h7 - h3
   EXPECT_NEAR(thermal_spindle_growth(19.003, 19.008), -0.005, 1e-12);
 }
 
 TEST(SeparationTest, BadTablesAreRefused) {
-  auto pos = [](const std::string& text) { return separate_position(read_position_observations(parse_text_csv(text, "t.csv"), "t.csv")); };
-  EXPECT_THROW(pos("step,d_x,cmm_X1\n1,30,30.01\n"), InputError);                       // no probe column
-  EXPECT_THROW(pos("step,d_x,cmm_X1,probe_X1\n1,30,30.01,\n"), InputError);              // one-sided pair
-  EXPECT_THROW(pos("step,d_x,cmm_X1,probe_X1\n1.5,30,30.01,30.0\n"), InputError);        // step
-  EXPECT_THROW(pos("step,d_x,cmm_Q1,probe_Q1\n1,30,30.01,30.0\n"), InputError);          // axis
-  EXPECT_THROW(pos("step,cmm_X1,probe_X1\n1,30.01,30.0\n"), InputError);                 // no d_x
+  auto pos = [](const std::string& text) {
+    return separate_position(read_position_observations(parse_text_csv(text, "t.csv"), "t.csv"));
+  };
+  EXPECT_THROW(pos("step,d_x,cmm_X1\n1,30,30.01\n"), InputError);                  // no probe column
+  EXPECT_THROW(pos("step,d_x,cmm_X1,probe_X1\n1,30,30.01,\n"), InputError);        // one-sided pair
+  EXPECT_THROW(pos("step,d_x,cmm_X1,probe_X1\n1.5,30,30.01,30.0\n"), InputError);  // step
+  EXPECT_THROW(pos("step,d_x,cmm_Q1,probe_Q1\n1,30,30.01,30.0\n"), InputError);    // axis
+  EXPECT_THROW(pos("step,cmm_X1,probe_X1\n1,30.01,30.0\n"), InputError);           // no d_x
   try {
     pos("step,d_x,cmm_X1,probe_X1\n1,30,30.01,abc\n");
     FAIL() << "no error";
@@ -112,7 +115,9 @@ TEST(SeparationTest, BadTablesAreRefused) {
   }
   auto dims = [](const std::string& text) { return read_dimension_table(parse_text_csv(text, "d.csv"), "d.csv"); };
   EXPECT_THROW(dims("workpiece,step,axis,nominal,measured,e_pf,e_pt,e_pos\nW2,1,Z,29,29.0,0,0,0\n"), InputError);
-  EXPECT_THROW(dims("workpiece,step,axis,nominal,measured,e_pf,e_pt,e_pos\nW2,1,X,29,29.0,0,0,0\nW2,1,X,29,29.0,0,0,0\n"), InputError);
+  EXPECT_THROW(
+      dims("workpiece,step,axis,nominal,measured,e_pf,e_pt,e_pos\nW2,1,X,29,29.0,0,0,0\nW2,1,X,29,29.0,0,0,0\n"),
+      InputError);
 }
 
 }  // namespace

@@ -97,7 +97,8 @@ void expect_recovered(char letter, const std::vector<std::pair<const char*, doub
 
 TEST(RotaryAxis, NoiseFreeProbingRecoversTheCAxisLocationErrors) {
   // The seed's C protocol: 0..350 deg in 10 deg steps, C(36, 3) = 7,140 triples.
-  expect_recovered('C', {{"EX0C", 0.012}, {"EY0C", -0.008}, {"EA0C", 25e-6}, {"EB0C", -40e-6}}, steps(0, 350, 10), 7140);
+  expect_recovered('C', {{"EX0C", 0.012}, {"EY0C", -0.008}, {"EA0C", 25e-6}, {"EB0C", -40e-6}}, steps(0, 350, 10),
+                   7140);
 }
 
 TEST(RotaryAxis, NoiseFreeProbingRecoversTheAAxisLocationErrors) {
@@ -111,8 +112,10 @@ TEST(RotaryAxis, NoiseFreeProbingRecoversTheBAxisLocationErrors) {
 }
 
 TEST(RotaryAxis, UncertaintiesCoverTheTruthWithNoise) {
-  const std::vector<std::pair<const char*, double>> truth = {
-      {"EX0C", 0.012}, {"EY0C", -0.008}, {"EA0C", 25e-6}, {"EB0C", -40e-6}};
+  const std::vector<std::pair<const char*, double>> truth = {{"EX0C", 0.012},
+                                                             {"EY0C", -0.008},
+                                                             {"EA0C", 25e-6},
+                                                             {"EB0C", -40e-6}};
   int inside_tri = 0, inside_lsq = 0, total = 0;
   std::array<double, 4> z2_tri{}, z2_lsq{};  // mean squared normalised error per quantity
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
@@ -153,7 +156,10 @@ TEST(RotaryAxis, TriplesGiveTheSameBitsWithAnyThreadCount) {
 }
 
 TEST(RotaryAxis, AnOutlierIsRejectedByTheSigmaRule) {
-  const std::vector<std::pair<const char*, double>> truth = {{"EX0C", 0.01}, {"EY0C", 0.0}, {"EA0C", 0.0}, {"EB0C", 0.0}};
+  const std::vector<std::pair<const char*, double>> truth = {{"EX0C", 0.01},
+                                                             {"EY0C", 0.0},
+                                                             {"EA0C", 0.0},
+                                                             {"EB0C", 0.0}};
   Case c = probe('C', truth, steps(0, 350, 10), 0.0005, 3);
   c.centres[7].centre += Point3(0.08, -0.05, 0.03);  // one bad centre (a chip on the sphere)
   const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
@@ -173,7 +179,10 @@ TEST(RotaryAxis, AnOutlierIsRejectedByTheSigmaRule) {
 TEST(RotaryAxis, DegenerateCentresAreRefused) {
   const auto axis = NominalRotaryAxis::by_letter('C');
   EXPECT_THROW(estimate_by_triples(axis, {{0, Point3(1, 0, 0)}, {1, Point3(0, 1, 0)}}), InputError);
-  const std::vector<MeasuredCentre> line = {{0, Point3(1, 0, 0)}, {1, Point3(2, 0, 0)}, {2, Point3(3, 0, 0)}, {3, Point3(4, 0, 0)}};
+  const std::vector<MeasuredCentre> line = {{0, Point3(1, 0, 0)},
+                                            {1, Point3(2, 0, 0)},
+                                            {2, Point3(3, 0, 0)},
+                                            {3, Point3(4, 0, 0)}};
   EXPECT_THROW(estimate_by_triples(axis, line), InputError);
   EXPECT_THROW(estimate_by_least_squares(axis, line), InputError);
   EXPECT_THROW(NominalRotaryAxis::by_letter('X'), ModelError);
@@ -207,7 +216,7 @@ TEST(SphereProbing, ContactsNotOnTheSphereAreRefused) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("not on a sphere of diameter 10"), std::string::npos) << e.what();
   }
-  contacts[2].point += Point3(0.5, 0.5, 0);                               // a stray contact
+  contacts[2].point += Point3(0.5, 0.5, 0);  // a stray contact
   EXPECT_THROW(sphere_centre(contacts, {30, 6, 0.01}, "t"), InputError);
   EXPECT_THROW(sphere_centre({contacts[0], contacts[1]}, {30, 6, 0.01}, "t"), InputError);
   EXPECT_THROW(sphere_centre(contacts, {0, 6, 0.01}, "t"), InputError);

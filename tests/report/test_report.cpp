@@ -11,8 +11,7 @@ TEST(Report, Sha256MatchesFips180Examples) {
   EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
             "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
-            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
 TEST(Report, EscapesTextAndScripts) {
@@ -29,13 +28,14 @@ TEST(Report, DocumentHasSummaryFiguresWarningsTablesAndPlots) {
   r.add_warning("check <this>");
   r.add_section("Section");
   r.add_table("caption", {"a", "b"}, {{"1", "<2>"}});
-  r.add_plot("plot", {{"data", {{{"type", "bar"}, {"x", {1, 2}}, {"y", {3, 4}}}}}, {"layout", nlohmann::json::object()}});
+  r.add_plot("plot",
+             {{"data", {{{"type", "bar"}, {"x", {1, 2}}, {"y", {3, 4}}}}}, {"layout", nlohmann::json::object()}});
   EXPECT_EQ(r.plot_count(), 1u);
   const std::string h = r.html("2026-01-01 00:00:00 UTC");
-  for (const char* part : {"<title>Title &lt;1&gt; - mtcal</title>", "<code>mtcal eval --x</code>",
-                           "<td class=\"date\">2026-01-01 00:00:00 UTC</td>", "<td class=\"value\">12.5</td><td>µm</td>",
-                           "<li>check &lt;this&gt;</li>", "<h2>Section</h2>", "<td>&lt;2&gt;</td>",
-                           "Plotly.newPlot('plot-1'"})
+  for (const char* part :
+       {"<title>Title &lt;1&gt; - mtcal</title>", "<code>mtcal eval --x</code>",
+        "<td class=\"date\">2026-01-01 00:00:00 UTC</td>", "<td class=\"value\">12.5</td><td>µm</td>",
+        "<li>check &lt;this&gt;</li>", "<h2>Section</h2>", "<td>&lt;2&gt;</td>", "Plotly.newPlot('plot-1'"})
     EXPECT_NE(h.find(part), std::string::npos) << part;
   EXPECT_NE(h.find(std::string(plotly_js())), std::string::npos);  // the library is inlined
   EXPECT_GT(plotly_js().size(), 1000000u);
@@ -45,7 +45,8 @@ TEST(Report, DocumentHasSummaryFiguresWarningsTablesAndPlots) {
   again.add_warning("check <this>");
   again.add_section("Section");
   again.add_table("caption", {"a", "b"}, {{"1", "<2>"}});
-  again.add_plot("plot", {{"data", {{{"type", "bar"}, {"x", {1, 2}}, {"y", {3, 4}}}}}, {"layout", nlohmann::json::object()}});
+  again.add_plot("plot",
+                 {{"data", {{{"type", "bar"}, {"x", {1, 2}}, {"y", {3, 4}}}}}, {"layout", nlohmann::json::object()}});
   EXPECT_EQ(again.html("2026-01-01 00:00:00 UTC"), h);
   EXPECT_THROW(r.add_input("data", "/nonexistent/file.csv"), InputError);
 }

@@ -10,8 +10,8 @@
 namespace mtcal::testing {
 
 struct BruteForceVa {
-  double va = 0.0;                  // max |e_i - e_j|
-  std::size_t i = 0, j = 0;         // a pair that gives it
+  double va = 0.0;                    // max |e_i - e_j|
+  std::size_t i = 0, j = 0;           // a pair that gives it
   std::array<double, 3> component{};  // max |e_i,c - e_j,c|
 };
 

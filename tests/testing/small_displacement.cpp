@@ -74,8 +74,8 @@ std::vector<FirstOrderEffect> small_displacement_effects(const Machine& m, std::
       } else {
         const Eigen::Matrix3d R = nominal_joint(ax, q[k]).linear();
         const V3 xc = x - ax.point;  // relative to the axis point, tool side
-        const V3 y = R * xc;          // the same point seen from the workpiece side
-        if (c < 3) {  // position of the line: (I - R) e
+        const V3 y = R * xc;         // the same point seen from the workpiece side
+        if (c < 3) {                 // position of the line: (I - R) e
           e = stack(Rb * (unit(c) - R * unit(c)), V3::Zero());
         } else if (c - 3 == ax.direction_axis) {  // zero position: extra turn about + machine axis
           e = stack(Rb * unit(c - 3).cross(y), Rb * unit(c - 3));

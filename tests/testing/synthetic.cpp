@@ -20,11 +20,11 @@ Machine nominal_machine(const std::string& topology, bool reversed) {
   for (char c : topology) {
     if (c == 'w' || c == 'f' || c == 't') continue;
     const bool linear = c == 'X' || c == 'Y' || c == 'Z';
-    const std::string dir = fmt::format("{}{}", reversed ? '-' : '+',
-                                        static_cast<char>('x' + (linear ? c - 'X' : c - 'A')));
+    const std::string dir =
+        fmt::format("{}{}", reversed ? '-' : '+', static_cast<char>('x' + (linear ? c - 'X' : c - 'A')));
     if (linear) {
-      y += fmt::format("  {}: {{direction: {}, travel: [-400, 400], point: [{}, {}, {}]}}\n", c, dir,
-                       10 * (c - 'X'), -20, 30);
+      y += fmt::format("  {}: {{direction: {}, travel: [-400, 400], point: [{}, {}, {}]}}\n", c, dir, 10 * (c - 'X'),
+                       -20, 30);
     } else {
       const double lim = c == 'C' ? 360 : 120;
       y += fmt::format("  {}: {{direction: {}, travel: [{}, {}], point: [{}, {}, {}]}}\n", c, dir, -lim, lim,

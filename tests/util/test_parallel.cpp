@@ -15,7 +15,8 @@ TEST(ParallelFor, RunsEveryTaskExactlyOnce) {
   for (int threads : {1, 2, 3, 8, 0}) {
     std::vector<std::atomic<int>> seen(1000);
     parallel_for(seen.size(), threads, [&](std::size_t t, std::size_t) { ++seen[t]; });
-    for (std::size_t t = 0; t < seen.size(); ++t) EXPECT_EQ(seen[t].load(), 1) << "task " << t << ", " << threads << " threads";
+    for (std::size_t t = 0; t < seen.size(); ++t)
+      EXPECT_EQ(seen[t].load(), 1) << "task " << t << ", " << threads << " threads";
   }
 }
 

@@ -26,9 +26,9 @@ struct BallbarTrace {
 };
 
 struct BallbarOptions {
-  double nominal_radius = 150.0;   // mm
-  double overshoot_start = 0.0;    // deg of travel ignored after each direction's start
-  double overshoot_stop = 0.0;     // deg of travel ignored before each direction's end
+  double nominal_radius = 150.0;        // mm
+  double overshoot_start = 0.0;         // deg of travel ignored after each direction's start
+  double overshoot_stop = 0.0;          // deg of travel ignored before each direction's end
   std::optional<CircleDirection> only;  // evaluate one direction (no G(b), no H)
 };
 
@@ -38,17 +38,17 @@ struct CircularDeviation {
   double centre_x = 0, centre_y = 0;  // least-squares centre relative to the instrument's
   double G = 0;                       // circular deviation about the least-squares centre
   double mz_centre_x = 0, mz_centre_y = 0;
-  double G_minimum_zone = 0;          // about the minimum-zone centre (<= G)
-  double F_max = 0, F_min = 0;        // radial deviation (length - nominal radius), extremes
+  double G_minimum_zone = 0;    // about the minimum-zone centre (<= G)
+  double F_max = 0, F_min = 0;  // radial deviation (length - nominal radius), extremes
   double F_mean = 0;
 };
 
 struct BallbarEvaluation {
   std::optional<CircularDeviation> cw, ccw;
-  std::optional<double> G_b;          // both paths, least-squares centre of both
-  std::optional<double> H;            // largest radial difference CW - CCW at the same angle
+  std::optional<double> G_b;  // both paths, least-squares centre of both
+  std::optional<double> H;    // largest radial difference CW - CCW at the same angle
   std::optional<double> F_mean_bidirectional;
-  double F_max = 0, F_min = 0;        // over the directions evaluated
+  double F_max = 0, F_min = 0;  // over the directions evaluated
 };
 
 // Throws InputError (where = source) for too few points (< 8 per direction), a direction that
@@ -63,8 +63,8 @@ inline BallbarEvaluation evaluate_ballbar(const BallbarTrace& trace, const Ballb
 // One term of the diagnostic trace model with its least-squares value, standard uncertainty
 // and share of the trace (RMS of its contribution over the RMS of the fitted trace, %).
 struct TraceTerm {
-  std::string name;   // e.g. "backlash X", "squareness XY"
-  std::string unit;   // of value and uncertainty: um, um/m (ppm, urad)
+  std::string name;  // e.g. "backlash X", "squareness XY"
+  std::string unit;  // of value and uncertainty: um, um/m (ppm, urad)
   double value = 0, uncertainty = 0, share = 0;
 };
 struct TraceDiagnosis {
@@ -80,7 +80,8 @@ struct TraceDiagnosis {
 // Throws InputError without both directions or when the terms cannot be separated.
 TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const BallbarOptions& options,
                                 const std::string& plane, const std::string& source = "trace");
-inline TraceDiagnosis diagnose_ballbar(const BallbarTrace& trace, const BallbarOptions& options, const std::string& plane) {
+inline TraceDiagnosis diagnose_ballbar(const BallbarTrace& trace, const BallbarOptions& options,
+                                       const std::string& plane) {
   return diagnose_ballbar(trace.points, options, plane, trace.source);
 }
 

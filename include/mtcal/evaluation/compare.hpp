@@ -52,15 +52,15 @@ struct ParameterComparison {
 };
 
 struct ComparisonSummary {
-  std::size_t parameters = 0;      // distinct parameters in the file
-  std::size_t both_methods = 0;    // measured by both methods
+  std::size_t parameters = 0;                // distinct parameters in the file
+  std::size_t both_methods = 0;              // measured by both methods
   std::vector<std::string> one_method_only;  // measured by one method only, in order
-  std::size_t overlap = 0;         // ±1σ bands overlap
-  std::size_t no_overlap = 0;      // ±1σ bands apart
-  std::size_t with_correlation = 0;  // a Pearson r exists
-  std::size_t strong_correlation = 0;  // |r| >= kStrongCorrelation
-  std::size_t strong_positive = 0;     // r >= kStrongCorrelation
-  std::size_t strong_negative = 0;     // r <= -kStrongCorrelation
+  std::size_t overlap = 0;                   // ±1σ bands overlap
+  std::size_t no_overlap = 0;                // ±1σ bands apart
+  std::size_t with_correlation = 0;          // a Pearson r exists
+  std::size_t strong_correlation = 0;        // |r| >= kStrongCorrelation
+  std::size_t strong_positive = 0;           // r >= kStrongCorrelation
+  std::size_t strong_negative = 0;           // r <= -kStrongCorrelation
 };
 
 struct MethodComparison {

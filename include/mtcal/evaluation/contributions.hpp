@@ -38,7 +38,8 @@ ContributionAnalysis contributions(const Machine& m, std::span<const double> a, 
 
 // The value of an error at a configuration: a motion error's function at its axis's position
 // (and direction), a location or mounting error's constant. mm or rad.
-double error_value(const Machine& m, const ErrorName& error, std::span<const double> q, std::span<const std::int8_t> dir = {});
+double error_value(const Machine& m, const ErrorName& error, std::span<const double> q,
+                   std::span<const std::int8_t> dir = {});
 
 // Effect of one error on the tool at a configuration, per 1 um of a translational error or per
 // 1 urad of a rotational one: dx dy dz in um, rx ry rz in urad (the exact model's first-order

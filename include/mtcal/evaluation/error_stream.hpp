@@ -55,31 +55,31 @@ class ConfigurationSource {
 
 // One evaluated stretch of the stream, as parallel arrays valid during the sink call.
 struct ErrorChunk {
-  std::size_t first = 0;               // index of the first configuration
+  std::size_t first = 0;  // index of the first configuration
   std::size_t axes = 0;
-  std::span<const double> q;           // size() x axes, internal units
-  std::span<const std::int8_t> dir;    // size() x axes, or empty
-  std::span<const double> error;       // size() x 6: dx dy dz (mm), rx ry rz (rad), workpiece frame
+  std::span<const double> q;         // size() x axes, internal units
+  std::span<const std::int8_t> dir;  // size() x axes, or empty
+  std::span<const double> error;     // size() x 6: dx dy dz (mm), rx ry rz (rad), workpiece frame
   std::size_t size() const { return error.size() / 6; }
 };
 
 struct StreamOptions {
-  int threads = 0;                            // 0: all cores
-  std::size_t chunk = std::size_t{1} << 20;   // configurations per batch (memory ~ chunk x (axes + 6) doubles)
+  int threads = 0;                           // 0: all cores
+  std::size_t chunk = std::size_t{1} << 20;  // configurations per batch (memory ~ chunk x (axes + 6) doubles)
   // Called after each chunk with the configurations done and the total.
   std::function<void(std::size_t done, std::size_t total)> progress;
 };
 
 // The largest error of a stream and where (the first configuration reaching it).
 struct ErrorExtreme {
-  double value = 0.0;        // |(dx, dy, dz)| in mm or |(rx, ry, rz)| in rad; 0 for no configuration
-  std::vector<double> at;    // its configuration (internal units), empty for no configuration
+  double value = 0.0;      // |(dx, dy, dz)| in mm or |(rx, ry, rz)| in rad; 0 for no configuration
+  std::vector<double> at;  // its configuration (internal units), empty for no configuration
 };
 
 struct StreamSummary {
   std::size_t count = 0;
   ErrorExtreme max_translation, max_rotation;
-  double seconds = 0.0;      // spent in the model's evaluation
+  double seconds = 0.0;  // spent in the model's evaluation
 };
 
 // Evaluates every configuration of source in chunks of options.chunk, calling sink (if any) on

@@ -15,16 +15,16 @@
 namespace mtcal {
 
 struct ToolpathOptions {
-  double step = 0.5;        // mm of X Y Z path between points, at most
-  double angle_step = 0.5;  // deg of A B C motion between points, at most
-  bool skip_rapids = false; // leave G0 moves out (they still move the axes)
+  double step = 0.5;         // mm of X Y Z path between points, at most
+  double angle_step = 0.5;   // deg of A B C motion between points, at most
+  bool skip_rapids = false;  // leave G0 moves out (they still move the axes)
   // Machine axis positions of program zero (mm, deg), like a G54 offset: machine = program + origin.
   GcodePosition origin{};
   // Evaluate with each axis's direction of motion (the reversal terms of the motion errors);
   // false: direction 0, the mean of forward and backward.
   bool directions = true;
-  bool travel_check = true;       // every point inside its axes' travels
-  std::size_t chunk = 1u << 16;   // points evaluated per batch
+  bool travel_check = true;      // every point inside its axes' travels
+  std::size_t chunk = 1u << 16;  // points evaluated per batch
   BatchOptions batch;
 };
 
@@ -62,28 +62,28 @@ class ToolpathInterpolator {
 
  private:
   void emit(ToolpathChunk& chunk, const GcodePosition& p, double s);
-  std::vector<int> slot_;        // program axis of each machine axis
-  std::vector<double> factor_;   // user unit -> internal unit
+  std::vector<int> slot_;       // program axis of each machine axis
+  std::vector<double> factor_;  // user unit -> internal unit
   ToolpathOptions options_;
   GcodeMove move_;
   std::size_t parts_ = 0, done_ = 0;
   double length_ = 0, s0_ = 0, s_ = 0;
-  std::vector<double> last_;     // previous point's joints (internal units)
-  std::vector<std::int8_t> dir_; // last direction of motion per axis
+  std::vector<double> last_;      // previous point's joints (internal units)
+  std::vector<std::int8_t> dir_;  // last direction of motion per axis
   bool have_last_ = false;
   std::size_t blocks_ = 0, rapids_skipped_ = 0;
 };
 
 struct ToolpathSummary {
   std::size_t points = 0;
-  std::size_t blocks = 0;          // moves with points
+  std::size_t blocks = 0;  // moves with points
   std::size_t rapids_skipped = 0;
-  double path_length = 0;          // mm, X Y Z
-  double max_error = 0;            // largest |(dx, dy, dz)|, mm
-  int max_line = 0;                // its block's source line
-  std::vector<double> max_at;      // its joints, internal units, chain order
+  double path_length = 0;                        // mm, X Y Z
+  double max_error = 0;                          // largest |(dx, dy, dz)|, mm
+  int max_line = 0;                              // its block's source line
+  std::vector<double> max_at;                    // its joints, internal units, chain order
   std::array<std::array<double, 2>, 6> range{};  // min, max of dx dy dz rx ry rz
-  GcodeCounts counts;              // of the move source
+  GcodeCounts counts;                            // of the move source
 };
 
 // Reads, interpolates and evaluates a program in chunks of options.chunk points, calling sink
@@ -92,8 +92,7 @@ struct ToolpathSummary {
 // Error for a non-finite error.
 ToolpathSummary simulate_toolpath(const ErrorModel& model, MoveSource& moves, const ToolpathOptions& options,
                                   const std::function<void(const ToolpathChunk&)>& sink = {});
-ToolpathSummary simulate_toolpath(const ErrorModel& model, const GcodeProgram& program,
-                                  const ToolpathOptions& options,
+ToolpathSummary simulate_toolpath(const ErrorModel& model, const GcodeProgram& program, const ToolpathOptions& options,
                                   const std::function<void(const ToolpathChunk&)>& sink = {});
 
 // Every point of a program without errors (tests, small programs).

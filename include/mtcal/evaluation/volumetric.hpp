@@ -14,9 +14,9 @@ namespace mtcal {
 // The translational volumetric error (dx dy dz, mm, workpiece frame) at a set of configurations.
 struct ErrorMap {
   std::size_t axes = 0;
-  std::vector<double> q;          // N x axes, internal units (mm, rad), chain order
-  std::vector<std::int8_t> dir;   // N x axes directions of motion, or empty (none)
-  std::vector<Vec3> error;        // N translational errors
+  std::vector<double> q;         // N x axes, internal units (mm, rad), chain order
+  std::vector<std::int8_t> dir;  // N x axes directions of motion, or empty (none)
+  std::vector<Vec3> error;       // N translational errors
 
   std::size_t size() const { return error.size(); }
   std::span<const double> configuration(std::size_t i) const { return std::span(q).subspan(i * axes, axes); }
@@ -49,7 +49,7 @@ struct VolumetricAccuracy {
   std::size_t points = 0;
   double pairs = 0.0;  // N (N - 1) / 2 (a double: it exceeds 2^64 near N = 6e9)
   PointPair va;
-  std::array<PointPair, 3> component;  // x, y, z
+  std::array<PointPair, 3> component;      // x, y, z
   std::uint64_t distance_evaluations = 0;  // pair distances the search computed (its work)
   double initial_bound = 0.0;              // distance of the starting pair (<= va.value)
 };

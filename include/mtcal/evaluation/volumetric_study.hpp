@@ -1,4 +1,5 @@
-// What the volumetric, contributions and diagonals evaluations compute from a machine model: the VA of a map with its critical pair, reduced volumes, distributions, grouping, and the contributions of each error.
+// What the volumetric, contributions and diagonals evaluations compute from a machine model: the VA of a map with its
+// critical pair, reduced volumes, distributions, grouping, and the contributions of each error.
 #pragma once
 
 #include <cstddef>
@@ -64,11 +65,11 @@ struct WhatIf {
   double va = 0.0;  // the map's VA without this error, mm
 };
 struct ContributionStudy {
-  std::string mode;                      // "at", "pair" or "critical_pair"
-  std::vector<double> a, b;              // e(a), or e(a) - e(b) (b empty for "at")
-  std::vector<std::int8_t> dir_a, dir_b; // directions of motion, or empty
-  std::optional<VolumetricAccuracy> va;  // critical_pair only
-  std::vector<WhatIf> what_if;           // smallest VA first; critical_pair only
+  std::string mode;                       // "at", "pair" or "critical_pair"
+  std::vector<double> a, b;               // e(a), or e(a) - e(b) (b empty for "at")
+  std::vector<std::int8_t> dir_a, dir_b;  // directions of motion, or empty
+  std::optional<VolumetricAccuracy> va;   // critical_pair only
+  std::vector<WhatIf> what_if;            // smallest VA first; critical_pair only
   bool what_if_asked = false;
   ContributionAnalysis analysis;
 };

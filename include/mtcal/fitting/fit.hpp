@@ -39,7 +39,7 @@ std::optional<SphereFit> fit_sphere_known_radius(std::span<const Point3> points,
 // Normal sign: the component of largest magnitude is made positive. covariance: 3x3 of
 // (n_i, n_j, d) with k, i, j as for CircleFit and d the offset of the plane along its normal.
 struct PlaneFit {
-  Point3 point = Point3::Zero();   // centroid of the points
+  Point3 point = Point3::Zero();  // centroid of the points
   Point3 normal = Point3::UnitZ();
   Eigen::MatrixXd covariance;
   FitQuality quality;

@@ -90,9 +90,9 @@ struct EstimatedParameter {
 struct Identifiability {
   std::vector<std::string> columns;  // machine parameters, then artefact unknowns ("ball 3 x", "facet 7"), pre-travel
   std::size_t rank = 0;
-  std::vector<double> singular_values;  // of the scaled Jacobian, largest first
-  double condition = 0.0;               // largest / smallest (infinity when rank deficient)
-  double condition_identifiable = 0.0;  // the same over the identifiable unknowns only
+  std::vector<double> singular_values;                    // of the scaled Jacobian, largest first
+  double condition = 0.0;                                 // largest / smallest (infinity when rank deficient)
+  double condition_identifiable = 0.0;                    // the same over the identifiable unknowns only
   std::vector<std::string> identifiable, unidentifiable;  // requested machine parameters, split
   // For each excluded unknown, the combination of kept ones it cannot be told apart from:
   // "EXw = -1 ball 3 x - 1 ball 4 x ..." (natural units: moving the left side by 1 is the same as
@@ -108,20 +108,21 @@ struct IdentificationResult {
   std::size_t residuals = 0, unknowns = 0;
   double sigma0 = 0.0;  // a posteriori standard deviation of unit weight: sqrt(2 cost / (m - n))
   double rms_ball = 0.0, rms_facet = 0.0, rms_scale_bar = 0.0;  // unweighted residual RMS, mm
-  Identifiability identifiability;  // at the solution, over the estimated unknowns
-  std::vector<EstimatedParameter> parameters;  // estimated machine parameters
-  Eigen::MatrixXd correlation;                 // among them
+  Identifiability identifiability;                              // at the solution, over the estimated unknowns
+  std::vector<EstimatedParameter> parameters;                   // estimated machine parameters
+  Eigen::MatrixXd correlation;                                  // among them
   ArtefactState artefact;
   double pretravel = 0.0, pretravel_u = 0.0;
   bool pretravel_estimated = false;  // requested and identifiable
-  Machine machine;  // the prior machine with the estimates
+  Machine machine;                   // the prior machine with the estimates
 };
 
 // Nonlinear least squares (Ceres, Levenberg-Marquardt, dense QR) on the exact model with its
 // analytic Jacobian. Requested parameters that are not identifiable at the start are excluded
 // (reported, never given values). Throws InputError for unknown names, too few residuals, or an
 // unknown scale-bar ball.
-IdentificationResult identify(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options);
+IdentificationResult identify(const Machine& prior, const ProbingPlan& measurements,
+                              const IdentificationOptions& options);
 
 // Structural identifiability of options.estimate at a plan or measurements (plans are first given
 // their nominal targets): at the error-free machine and nominal artefact, where equivalences
@@ -143,8 +144,9 @@ struct SubsetOptions {
   bool by_residue = false;  // rank by the residue of estimation (measurements) instead of the condition number
   // Where each input came from: the locations of messages about them (a file, a command-line
   // option). The always-parameters' source is also named in the text of messages.
-  std::string candidates_source = "candidates", always_source = "parameters in every subset", choose_source = "subset size",
-              by_residue_source = "ranking by residue", rank_tolerance_source = "rank tolerance";
+  std::string candidates_source = "candidates", always_source = "parameters in every subset",
+              choose_source = "subset size", by_residue_source = "ranking by residue",
+              rank_tolerance_source = "rank tolerance";
 };
 struct ParameterSubset {
   std::vector<std::size_t> members;  // indices into candidates, ascending
@@ -154,8 +156,8 @@ struct ParameterSubset {
 struct SubsetAnalysis {
   std::uint64_t examined = 0;  // C(n, k)
   std::uint64_t full_rank = 0;
-  std::uint64_t pruned = 0;    // deficient subsets or prefixes (a prefix's supersets are never formed)
-  std::vector<std::string> candidates;  // the candidates' parameter names, as members index them
+  std::uint64_t pruned = 0;              // deficient subsets or prefixes (a prefix's supersets are never formed)
+  std::vector<std::string> candidates;   // the candidates' parameter names, as members index them
   std::vector<ParameterSubset> subsets;  // best conditioned (or smallest residue) first, at most keep
 };
 // Every k-subset of the candidates whose model (with the always-parameters, the artefact unknowns
@@ -179,24 +181,26 @@ struct MonteCarloOptions {
   std::vector<std::vector<double>> workspace;
 };
 struct MonteCarloResult {
-  std::size_t runs = 0, failed = 0;  // failed: the solver did not converge, or threw
-  std::vector<double> mean, stdev;       // per estimated parameter (order of result.parameters)
+  std::size_t runs = 0, failed = 0;          // failed: the solver did not converge, or threw
+  std::vector<double> mean, stdev;           // per estimated parameter (order of result.parameters)
   std::vector<std::vector<double>> samples;  // runs x parameters
-  double va_mean = 0.0, va_stdev = 0.0;  // over the workspace grid
-  double va_identified = 0.0;            // VA of the identified machine itself
-  double map_stdev_max = 0.0;            // largest standard deviation of an error component over the workspace, mm
+  double va_mean = 0.0, va_stdev = 0.0;      // over the workspace grid
+  double va_identified = 0.0;                // VA of the identified machine itself
+  double map_stdev_max = 0.0;                // largest standard deviation of an error component over the workspace, mm
 };
 // Re-draws the readings from the identified machine and artefact with noise, identifies again
 // (starting from the identification), and collects the estimates: the spread is the uncertainty.
-MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options,
-                             const IdentificationResult& result, const MonteCarloOptions& mc);
+MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measurements,
+                             const IdentificationOptions& options, const IdentificationResult& result,
+                             const MonteCarloOptions& mc);
 
 // Viprey 2015 eq. 2: the identified model against the imposed one over a workspace grid:
 // max and RMS of |e_identified - e_true| (translational, mm).
 struct ModelDeviation {
   double max = 0.0, rms = 0.0;
 };
-ModelDeviation model_deviation(const Machine& identified, const Machine& truth, const std::vector<std::vector<double>>& workspace);
+ModelDeviation model_deviation(const Machine& identified, const Machine& truth,
+                               const std::vector<std::vector<double>>& workspace);
 
 // ---- Identification with its assessment (what mtcal identify reports) ----
 
@@ -211,8 +215,8 @@ struct AssessmentOptions {
 };
 struct IdentificationRun {
   IdentificationResult result;
-  double seconds = 0;                       // wall time of the identification
-  std::vector<ProbeFeature> features;       // the measurements' features (ball/facet ids of result.artefact)
+  double seconds = 0;                  // wall time of the identification
+  std::vector<ProbeFeature> features;  // the measurements' features (ball/facet ids of result.artefact)
   std::optional<MonteCarloResult> monte_carlo;
   double monte_carlo_seconds = 0;
   std::uint64_t seed = 1;                   // of the Monte Carlo runs
@@ -224,8 +228,8 @@ struct IdentificationRun {
 // identify, then Monte Carlo (when runs > 0), the deviation from truth (when given) and the VA
 // (when a workspace is given). The machine file's parameters the result changes are in
 // identified_errors.
-IdentificationRun identify_and_assess(const Machine& prior, const ProbingPlan& measurements, const IdentificationOptions& options,
-                                      const AssessmentOptions& assessment);
+IdentificationRun identify_and_assess(const Machine& prior, const ProbingPlan& measurements,
+                                      const IdentificationOptions& options, const AssessmentOptions& assessment);
 // The errors (in the prior's order of first estimate) whose parameters identification estimated:
 // what an identified parameter file holds.
 std::vector<ErrorName> identified_errors(const Machine& prior, const IdentificationResult& result);

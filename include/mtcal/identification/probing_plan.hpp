@@ -27,11 +27,11 @@ struct ProbeFeature {
 // probe centre is at the ball centre or touches the facet.
 struct ProbingRecord {
   int indexation = 0;
-  std::vector<double> q;          // joint values, chain order, internal units (mm, rad); the
-                                  // linear ones are the readings (nominal targets in a plan)
-  std::vector<std::int8_t> dir;   // per axis, chain order: -1, 0, +1
-  std::size_t feature = 0;        // index into ProbingPlan::features
-  int line = 0;                   // source line, for messages
+  std::vector<double> q;         // joint values, chain order, internal units (mm, rad); the
+                                 // linear ones are the readings (nominal targets in a plan)
+  std::vector<std::int8_t> dir;  // per axis, chain order: -1, 0, +1
+  std::size_t feature = 0;       // index into ProbingPlan::features
+  int line = 0;                  // source line, for messages
 };
 
 struct ProbingPlan {

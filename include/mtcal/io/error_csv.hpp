@@ -1,4 +1,5 @@
-// CSV files of volumetric errors: configuration lists read, evaluated errors written (eval, volumetric, diagonals, toolpath).
+// CSV files of volumetric errors: configuration lists read, evaluated errors written (eval, volumetric, diagonals,
+// toolpath).
 #pragma once
 
 #include <memory>

@@ -1,4 +1,5 @@
-// JSON of the error-model evaluations: the volumetric error at a configuration, a streamed evaluation's summary, the error parameters, single-error effects.
+// JSON of the error-model evaluations: the volumetric error at a configuration, a streamed evaluation's summary, the
+// error parameters, single-error effects.
 #pragma once
 
 #include <span>

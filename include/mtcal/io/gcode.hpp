@@ -1,4 +1,5 @@
-// G-code reader (formats layer): the RS274 subset of straight and circular moves (G0 G1 G2 G3), planes, units and distance modes.
+// G-code reader (formats layer): the RS274 subset of straight and circular moves (G0 G1 G2 G3), planes, units and
+// distance modes.
 #pragma once
 
 #include <array>

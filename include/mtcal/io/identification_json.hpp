@@ -17,7 +17,8 @@ Json artefact_json(const std::vector<ProbeFeature>& features, const ArtefactStat
 
 // simulate: records residuals noise_um artefact_error_um seed truth{balls facets} [out]. The
 // noise and artefact error as the caller gave them (um); out: the measurement file written, or "".
-Json to_json(const Simulation& sim, double noise_um, double artefact_error_um, std::uint64_t seed, const std::string& out = "");
+Json to_json(const Simulation& sim, double noise_um, double artefact_error_um, std::uint64_t seed,
+             const std::string& out = "");
 
 // identify: termination converged iterations seconds residuals unknowns rank condition
 // singular_values rms_um sigma0 initial_cost final_cost parameters correlation unidentifiable

@@ -11,7 +11,8 @@ namespace mtcal {
 // values in result.machine, and a comment: what was identified from measurements_source
 // (residuals, unknowns, rank, rms), each estimate with its standard uncertainty, and what was
 // not identifiable.
-std::string identified_parameters_yaml(const Machine& prior, const IdentificationResult& result, const std::string& measurements_source);
+std::string identified_parameters_yaml(const Machine& prior, const IdentificationResult& result,
+                                       const std::string& measurements_source);
 void write_identified_parameters(const std::string& path, const Machine& prior, const IdentificationResult& result,
                                  const std::string& measurements_source);
 

@@ -17,8 +17,8 @@ Json to_json(const FitResult& f);
 
 // regress: file x y n fits[] skipped[model reason] best_backward best_loocv [report]. file, x
 // and y name the data and its columns; n is the number of points.
-Json to_json(const ModelComparison& c, const std::string& file, const std::string& x, const std::string& y, std::size_t n,
-             const std::string& report = "");
+Json to_json(const ModelComparison& c, const std::string& file, const std::string& x, const std::string& y,
+             std::size_t n, const std::string& report = "");
 
 // predict: model source components[name axis source] points[line input components ex ey ez]
 // warnings [compensation[step offset_x offset_y offset_z]].

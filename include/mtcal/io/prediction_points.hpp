@@ -1,4 +1,5 @@
-// The points of a workpiece error prediction: read from a points CSV or made from a G-code program; written with their predictions.
+// The points of a workpiece error prediction: read from a points CSV or made from a G-code program; written with their
+// predictions.
 #pragma once
 
 #include <string>
@@ -18,8 +19,8 @@ PredictionPoints read_prediction_points(const std::string& path);
 // only advances the time, at rapid_feed, and gives no point (the process and control models are
 // of cutting feeds, 100-1600 mm/min). Columns: line X Y Z t S F dx dy dz. InputError for a
 // cutting move before any F word and for a program without cutting moves.
-PredictionPoints points_from_gcode(const GcodeProgram& program, const std::string& source, double start_time, double speed,
-                                   double rapid_feed);
+PredictionPoints points_from_gcode(const GcodeProgram& program, const std::string& source, double start_time,
+                                   double speed, double rapid_feed);
 
 // The points' columns, then every component and ex, ey, ez per point.
 std::string prediction_csv(const PredictionRun& run, const PredictionModel& model);

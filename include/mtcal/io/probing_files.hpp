@@ -1,4 +1,5 @@
-// Probing files: contacts and sphere centres per indexation of a rotary axis, simulated contacts, the rotary axis's parameter file.
+// Probing files: contacts and sphere centres per indexation of a rotary axis, simulated contacts, the rotary axis's
+// parameter file.
 #pragma once
 
 #include <string>

@@ -21,7 +21,8 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
 // (one line) comes first as a '#' line, which the reader skips.
 std::string probing_csv(const Machine& m, const ProbingPlan& plan, const std::string& comment = "");
 // probing_csv written to path through an AtomicFile (complete or not at all).
-void write_probing_csv(const std::string& path, const Machine& m, const ProbingPlan& plan, const std::string& comment = "");
+void write_probing_csv(const std::string& path, const Machine& m, const ProbingPlan& plan,
+                       const std::string& comment = "");
 
 // A scale bar as text, "BALL:BALL:LENGTH" (mm): "1:2:304.8" -> {1, 2, 304.8}. where (a file, a
 // command-line option) locates its messages and becomes the bar's source; throws InputError.

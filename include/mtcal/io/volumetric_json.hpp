@@ -1,4 +1,5 @@
-// JSON of the volumetric-accuracy results: VA and critical pairs, contributions, distributions, reduced volumes, grouping, diagonals.
+// JSON of the volumetric-accuracy results: VA and critical pairs, contributions, distributions, reduced volumes,
+// grouping, diagonals.
 #pragma once
 
 #include <cstddef>

@@ -66,8 +66,8 @@ class ErrorModel {
 
   // N configurations: q row-major N x axis_count, dir empty or N x axis_count, out N x 6
   // (dx dy dz rx ry rz). Splits the work over threads; no allocation per configuration.
-  void evaluate_batch(std::span<const double> q, std::span<const std::int8_t> dir,
-                      std::span<double> out, const BatchOptions& options = {}) const;
+  void evaluate_batch(std::span<const double> q, std::span<const std::int8_t> dir, std::span<double> out,
+                      const BatchOptions& options = {}) const;
 
   // Sensitivity Jacobian d(dx dy dz rx ry rz) / d(parameter) at one configuration, columns in
   // the order of Machine::parameters(). Exact (analytic through the exact transforms).
@@ -84,8 +84,7 @@ class ErrorModel {
   struct Program;  // compiled factor chains of the batched kernel
 
  private:
-  void slot_jacobian(std::span<const double> q, std::span<const std::int8_t> dir,
-                     JacobianWorkspace& ws) const;
+  void slot_jacobian(std::span<const double> q, std::span<const std::int8_t> dir, JacobianWorkspace& ws) const;
 
   Machine machine_;
   std::unique_ptr<Program> program_;

@@ -14,9 +14,8 @@ namespace mtcal {
 //       + d_t - l eps_t x a
 // with p the nominal tool point in the workpiece frame, p_k the tool point in the frame carried
 // by axis k, r_k the axis's reference point, o_k its orientation errors, z_k its zero position
-// along the machine axis e_k, u_k = +-e_k its commanded direction. Agrees with ErrorModel to second order in the error size. Throws ModelError for a
-// machine with a rotary axis.
-VolumetricError first_order_error(const Machine& m, std::span<const double> q,
-                                  std::span<const std::int8_t> dir = {});
+// along the machine axis e_k, u_k = +-e_k its commanded direction. Agrees with ErrorModel to second order in the error
+// size. Throws ModelError for a machine with a rotary axis.
+VolumetricError first_order_error(const Machine& m, std::span<const double> q, std::span<const std::int8_t> dir = {});
 
 }  // namespace mtcal

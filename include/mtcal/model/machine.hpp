@@ -22,8 +22,8 @@ enum class AxisKind { Linear, Rotary };
 // carries C, X carries B and runs on the frame f; Y runs on the frame, Z on Y, the tool on Z.
 struct Topology {
   std::string chain;
-  std::vector<char> axes;      // axis letters in chain order, workpiece to tool
-  std::size_t frame_index = 0; // number of axes between w and f (they move the workpiece)
+  std::vector<char> axes;       // axis letters in chain order, workpiece to tool
+  std::size_t frame_index = 0;  // number of axes between w and f (they move the workpiece)
 
   // Throws ModelError naming the offending character if the string is not w<axes>f<axes>t
   // with distinct letters from XYZABC, at most 3 linear and 3 rotary.
@@ -66,9 +66,9 @@ struct Axis {
 };
 
 struct ToolSetup {
-  double length = 0.0;             // mm, from the spindle gauge point along -tool_axis
+  double length = 0.0;                // mm, from the spindle gauge point along -tool_axis
   Vec3 spindle_point = Vec3::Zero();  // gauge point, machine coordinates at zero
-  int tool_axis = 2;               // tool points along -(this machine axis); 2 = z
+  int tool_axis = 2;                  // tool points along -(this machine axis); 2 = z
 };
 
 struct WorkpieceSetup {
@@ -77,9 +77,9 @@ struct WorkpieceSetup {
 
 // One scalar parameter of the error model, as listed by `mtcal errors` and addressed by --set.
 struct ErrorParameter {
-  std::string name;   // "EXX.1", "EC0Y", "EXt", "EYX.f3"
-  ErrorName error;    // the error it belongs to
-  std::string unit;   // internal unit: "mm", "rad", "mm/mm", "rad/mm^2", "mm/rad" ...
+  std::string name;  // "EXX.1", "EC0Y", "EXt", "EYX.f3"
+  ErrorName error;   // the error it belongs to
+  std::string unit;  // internal unit: "mm", "rad", "mm/mm", "rad/mm^2", "mm/rad" ...
   double value = 0.0;
 };
 

@@ -1,4 +1,5 @@
-// Workpiece error prediction model (Yaqoob 2017 ch. 5-6): components from a YAML file, spindle-speed stages, sums per axis.
+// Workpiece error prediction model (Yaqoob 2017 ch. 5-6): components from a YAML file, spindle-speed stages, sums per
+// axis.
 #pragma once
 
 #include <functional>
@@ -31,18 +32,18 @@ struct Ramp {
 // another component's value before that component's own scale.
 struct ErrorComponent {
   std::string name;
-  char axis = 0;               // 'x', 'y', 'z': summed into that axis' predicted error; 0: listed only
-  std::string variable;        // driving variable (a points column: t, S, F, dx, dy, dz, e_prog ...)
-  std::optional<Model> model;  // exactly one of model, stages, of
+  char axis = 0;                   // 'x', 'y', 'z': summed into that axis' predicted error; 0: listed only
+  std::string variable;            // driving variable (a points column: t, S, F, dx, dy, dz, e_prog ...)
+  std::optional<Model> model;      // exactly one of model, stages, of
   std::vector<SpeedStage> stages;  // sorted by speed, at least 2
   std::string speed_variable = "S";
-  std::string of;              // name of an earlier component (e.g. a tilt times a lever arm)
+  std::string of;  // name of an earlier component (e.g. a tilt times a lever arm)
   double scale = 1.0;
-  std::string times;           // variable multiplying the value (a lever arm), or ""
+  std::string times;  // variable multiplying the value (a lever arm), or ""
   std::optional<Ramp> ramp;
   std::optional<std::pair<double, double>> valid;  // validity range of 'variable'
-  std::string source;          // citation, e.g. "eq. 5.21-5.24"
-  int line = 0;                // line in the model file
+  std::string source;                              // citation, e.g. "eq. 5.21-5.24"
+  int line = 0;                                    // line in the model file
 };
 
 struct PredictionModel {
@@ -68,9 +69,9 @@ double evaluate_stages(const std::vector<SpeedStage>& stages, double speed, doub
 // The value of every component at one point; a variable that the points do not give is an
 // InputError from lookup.
 struct PointPrediction {
-  std::vector<double> values;  // per component, model order
-  std::vector<double> raw;     // per component: before scale, ramp and times (the model's own value)
-  double e[3] = {0, 0, 0};     // predicted X, Y, Z error: sum of the components of each axis
+  std::vector<double> values;         // per component, model order
+  std::vector<double> raw;            // per component: before scale, ramp and times (the model's own value)
+  double e[3] = {0, 0, 0};            // predicted X, Y, Z error: sum of the components of each axis
   std::vector<std::string> warnings;  // a driving variable outside its validity range, per component
 };
 
@@ -119,12 +120,13 @@ struct CompensationOffset {
   double offset[3] = {0, 0, 0};  // x, y, z (mm)
 };
 // Steps in order of first appearance. InputError naming the points' source without a 'step' column.
-std::vector<CompensationOffset> compensation_offsets(const PredictionPoints& points, const std::vector<PointPrediction>& predictions);
+std::vector<CompensationOffset> compensation_offsets(const PredictionPoints& points,
+                                                     const std::vector<PointPrediction>& predictions);
 
 struct PredictionRun {
   PredictionPoints points;
-  std::vector<PointPrediction> predictions;  // per row
-  std::vector<std::string> warnings;         // "line N: ..." per point warning
+  std::vector<PointPrediction> predictions;      // per row
+  std::vector<std::string> warnings;             // "line N: ..." per point warning
   std::vector<CompensationOffset> compensation;  // when asked for
 };
 // predict_point at every row: a variable comes from its column, else from constants. InputError

@@ -1,4 +1,5 @@
-// Program-generated process error e_prog (Yaqoob 2017 sec. 3.7): mechanistic milling force and two-section tool deflection.
+// Program-generated process error e_prog (Yaqoob 2017 sec. 3.7): mechanistic milling force and two-section tool
+// deflection.
 #pragma once
 
 #include <optional>
@@ -13,11 +14,11 @@ namespace mtcal {
 // tip, second moment of area of an equivalent diameter) and the solid shank above it. Units: mm,
 // N, N/mm^2 (MPa).
 struct EndMill {
-  double diameter = 10.0;          // D (mm)
-  int teeth = 3;                   // N
-  double helix_deg = 0.0;          // 0: straight flutes
-  double overhang = 40.0;          // L: length out of the holder (mm)
-  double flute_length = 22.0;      // L1, from the tip (mm), <= overhang
+  double diameter = 10.0;             // D (mm)
+  int teeth = 3;                      // N
+  double helix_deg = 0.0;             // 0: straight flutes
+  double overhang = 40.0;             // L: length out of the holder (mm)
+  double flute_length = 22.0;         // L1, from the tip (mm), <= overhang
   double flute_diameter_ratio = 0.8;  // equivalent diameter of the fluted section / D (a common choice for 2-4 flutes)
   double young_modulus = 600000.0;    // E (N/mm^2): cemented carbide
 };
@@ -33,16 +34,16 @@ struct CuttingCoefficients {
 };
 
 struct CutConditions {
-  double radial_depth = 1.0;   // ae (mm)
-  double axial_depth = 5.0;    // ap (mm)
-  double feed = 200.0;         // F (mm/min)
-  double spindle_speed = 3500; // S (rpm)
-  bool down_milling = true;    // climb: the tooth leaves the wall at phi = pi
+  double radial_depth = 1.0;    // ae (mm)
+  double axial_depth = 5.0;     // ap (mm)
+  double feed = 200.0;          // F (mm/min)
+  double spindle_speed = 3500;  // S (rpm)
+  bool down_milling = true;     // climb: the tooth leaves the wall at phi = pi
 };
 
 struct MillingForces {
-  double mean_x = 0, mean_y = 0;  // mean over a tooth period (N)
-  double peak_y = 0;              // largest |Fy| over a tooth period: Fy is normal to a wall along X
+  double mean_x = 0, mean_y = 0;      // mean over a tooth period (N)
+  double peak_y = 0;                  // largest |Fy| over a tooth period: Fy is normal to a wall along X
   std::vector<double> angle, fx, fy;  // sampled tool rotation (rad) and forces (N)
 };
 
@@ -85,9 +86,9 @@ struct ProcessErrorPoint {
 struct ProcessErrorStudy {
   EndMill tool;
   CuttingCoefficients k;
-  CutConditions cut;  // feed: that of the last point
-  std::vector<ProcessErrorPoint> points;  // per feed, in the given order
-  std::vector<double> measured;           // measured process errors per feed, or empty
+  CutConditions cut;                       // feed: that of the last point
+  std::vector<ProcessErrorPoint> points;   // per feed, in the given order
+  std::vector<double> measured;            // measured process errors per feed, or empty
   std::optional<Calibration> calibration;  // with measured: measured = f(e_prog)
 };
 // e_prog per feed, and with measured values (one per feed) the calibration of spec on it.

@@ -1,4 +1,5 @@
-// Regression models of Yaqoob 2017 (ch. 5): the model forms, least-squares fits with uncertainties, and model selection.
+// Regression models of Yaqoob 2017 (ch. 5): the model forms, least-squares fits with uncertainties, and model
+// selection.
 #pragma once
 
 #include <optional>
@@ -18,7 +19,7 @@ enum class ModelForm {
   LogisticLn,    // a - b / (1 + exp(k ln(x / x0)))                       eq. 5.5, 5.47, 5.49, 5.50, 5.53
   Gompertz,      // a exp(-exp(b - c x))                                  eq. 5.13 (e_tt2x, e_spd2x)
   Saturation,    // a x / (b + x)                                         eq. 5.11, 5.15, 5.46, 5.51
-  Power,         // a x^b                                                 eq. 5.7 (e_spdy, read as a power, see eq. 5.29)
+  Power,  // a x^b                                                 eq. 5.7 (e_spdy, read as a power, see eq. 5.29)
 };
 
 // "polynomial" "exp_approach" "stretched_exp" "logistic_ln" "gompertz" "saturation" "power".
@@ -77,18 +78,19 @@ struct BackwardPrediction {
   std::vector<double> abs_diff;  // |y_i - f(x_i)| per point, input order
   double mean = 0.0;             // mean of abs_diff: the ranking criterion
   double max = 0.0;
-  double mean_relative = 0.0;    // mean of |y_i - f(x_i)| / |y_i| over points with y_i != 0; NaN if none
+  double mean_relative = 0.0;  // mean of |y_i - f(x_i)| / |y_i| over points with y_i != 0; NaN if none
 };
 BackwardPrediction backward_prediction(const Model& m, std::span<const double> x, std::span<const double> y);
 
 struct FitResult {
   Model model;
   bool converged = false;
-  std::string message;               // why it did not converge, or ""
-  std::vector<double> stddev;        // standard uncertainty per parameter; NaN where not identifiable, at a bound, or dof == 0
-  std::vector<double> covariance;    // p x p row-major: sigma^2 (J^T J)^-1 at the solution over the parameters
-                                     // inside their bounds; NaN if singular and in the rows/columns of bound ones
-  bool identifiable = true;          // J^T J of full rank at the solution and every parameter identified
+  std::string message;  // why it did not converge, or ""
+  std::vector<double>
+      stddev;  // standard uncertainty per parameter; NaN where not identifiable, at a bound, or dof == 0
+  std::vector<double> covariance;  // p x p row-major: sigma^2 (J^T J)^-1 at the solution over the parameters
+                                   // inside their bounds; NaN if singular and in the rows/columns of bound ones
+  bool identifiable = true;        // J^T J of full rank at the solution and every parameter identified
   // Per parameter: left on the bound that keeps the form in its domain (x0, b, d > 0; see
   // fit_model): a boundary solution, not an interior optimum, so no covariance (stddev NaN).
   std::vector<bool> at_bound;
@@ -96,12 +98,12 @@ struct FitResult {
   // negligible (a 100 % change of the parameter moves the fitted values by less than 1e-9 of
   // the data's size), or the parameters are collinear. stddev NaN.
   std::vector<bool> identified;
-  double rss = 0.0;                  // sum of squared residuals
-  double sigma = 0.0;                // sqrt(rss / dof); NaN when dof == 0
-  int dof = 0;                       // n - p
-  double r_squared = 0.0;            // 1 - rss / sum (y - mean y)^2
-  double aicc = 0.0;                 // corrected Akaike criterion n ln(rss/n) + 2p + 2p(p+1)/(n-p-1); NaN if n-p-1 <= 0
-  BackwardPrediction backward;       // section 3.8 (in-sample)
+  double rss = 0.0;             // sum of squared residuals
+  double sigma = 0.0;           // sqrt(rss / dof); NaN when dof == 0
+  int dof = 0;                  // n - p
+  double r_squared = 0.0;       // 1 - rss / sum (y - mean y)^2
+  double aicc = 0.0;            // corrected Akaike criterion n ln(rss/n) + 2p + 2p(p+1)/(n-p-1); NaN if n-p-1 <= 0
+  BackwardPrediction backward;  // section 3.8 (in-sample)
   // Leave-one-out cross-validation: each point predicted by the model refitted without it.
   std::optional<double> loocv_rmse;  // sqrt(mean of squared leave-one-out errors); none if n - 1 < p or a refit fails
   std::vector<double> loocv_errors;  // y_i - f_(-i)(x_i), input order (empty without loocv_rmse)

@@ -1,4 +1,5 @@
-// Error separation from machined workpieces (Yaqoob 2017 sec. 3.3-3.6): position, thermal and control errors from dimensions.
+// Error separation from machined workpieces (Yaqoob 2017 sec. 3.3-3.6): position, thermal and control errors from
+// dimensions.
 #pragma once
 
 #include <map>
@@ -8,7 +9,6 @@
 
 #include "mtcal/prediction/prediction_model.hpp"
 #include "mtcal/prediction/regression.hpp"
-
 
 namespace mtcal {
 
@@ -27,11 +27,11 @@ struct PositionStep {
 // reader in the formats layer, separation_file.hpp, makes them).
 struct PositionObservation {
   int step = 0;
-  char axis = 'X';       // the feature's axis: the first letter of its name (Y1 -> Y)
-  std::string feature;   // Y1, Z1 ...
-  double distance = 0;   // distance moved along the axis at this step (mm)
+  char axis = 'X';      // the feature's axis: the first letter of its name (Y1 -> Y)
+  std::string feature;  // Y1, Z1 ...
+  double distance = 0;  // distance moved along the axis at this step (mm)
   double cmm = 0, probe = 0;
-  int line = 0;          // source line, for messages
+  int line = 0;  // source line, for messages
 };
 // Per step and axis (sorted by axis, then step): e_pos = mean of cmm - probe over the
 // observations; the distance is that of the step's first observation of the axis.
@@ -98,10 +98,11 @@ struct ControlSeparation {
 // path of predict (scale, validity range, stages ...) at the nominal distance and with the feed
 // ramp at its 'one_at' end (the 2400 -> 100 change the forms were fitted to, eq. 5.52-5.53).
 // InputError naming the model file for a missing component or one that reads other variables.
-std::map<std::pair<int, char>, double> control_model_errors(const PredictionModel& model, const std::vector<DimensionRecord>& records,
-                                                           const std::string& a, const std::string& source,
-                                                           std::vector<std::string>& warnings);
-ControlSeparation separate_control(const std::vector<DimensionRecord>& records, const std::string& a, const std::string& b,
-                                   const std::string& source, const PredictionModel* model);
+std::map<std::pair<int, char>, double> control_model_errors(const PredictionModel& model,
+                                                            const std::vector<DimensionRecord>& records,
+                                                            const std::string& a, const std::string& source,
+                                                            std::vector<std::string>& warnings);
+ControlSeparation separate_control(const std::vector<DimensionRecord>& records, const std::string& a,
+                                   const std::string& b, const std::string& source, const PredictionModel* model);
 
 }  // namespace mtcal

@@ -55,7 +55,7 @@ struct RotaryEstimate {
   // Triples: standard deviation of the kept triples. Least squares: the centres' residual
   // standard deviation (mm; divided by the radius for the angles).
   std::array<double, kRotaryQuantities> spread{};
-  Point3 axis_point = Point3::Zero();                   // where the line crosses the reference plane
+  Point3 axis_point = Point3::Zero();  // where the line crosses the reference plane
   Point3 axis_direction = Point3::UnitZ();
 };
 
@@ -66,15 +66,15 @@ struct RotaryEstimate {
 struct TriplesOptions {
   double reject_sigma = 2.0;  // 0: no rejection
   int histogram_bins = 40;
-  int threads = 0;            // 0: all hardware threads
+  int threads = 0;  // 0: all hardware threads
 };
 struct TripleHistogram {
-  double low = 0.0, high = 0.0;        // bin edges span [low, high]
-  std::vector<std::size_t> counts;     // of all valid triples (before rejection)
+  double low = 0.0, high = 0.0;     // bin edges span [low, high]
+  std::vector<std::size_t> counts;  // of all valid triples (before rejection)
 };
 struct TriplesEstimate : RotaryEstimate {
-  std::size_t triples = 0;       // C(n, 3)
-  std::size_t degenerate = 0;    // (nearly) collinear triples, skipped
+  std::size_t triples = 0;                            // C(n, 3)
+  std::size_t degenerate = 0;                         // (nearly) collinear triples, skipped
   std::array<std::size_t, kRotaryQuantities> kept{};  // per quantity, after rejection
   std::array<double, kRotaryQuantities> mean_all{};   // before rejection
   // Per centre (input order): the largest share, over the four location errors, of the

@@ -29,10 +29,10 @@ struct ContactSet {
 
 // Sphere centres per indexation, in order of first appearance, and how they were obtained.
 struct IndexedCentres {
-  std::string source = "centres";    // where the contacts or centres came from
+  std::string source = "centres";  // where the contacts or centres came from
   std::vector<MeasuredCentre> centres;
-  std::vector<SphereCentre> fits;    // each centre's sphere fit; empty when the centres were given
-  std::string method = "given";      // "five-point", "least-squares", "mixed" (both) or "given"
+  std::vector<SphereCentre> fits;  // each centre's sphere fit; empty when the centres were given
+  std::string method = "given";    // "five-point", "least-squares", "mixed" (both) or "given"
 };
 
 // Groups the contacts into indexations (consecutive contacts at the same angle) and fits one

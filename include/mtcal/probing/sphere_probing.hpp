@@ -20,9 +20,9 @@ struct ProbeContact {
 };
 
 struct SphereProbing {
-  double sphere_diameter = 0.0;   // mm
-  double stylus_diameter = 0.0;   // mm
-  double max_rms = 0.01;          // mm: contacts farther than this from a sphere are refused
+  double sphere_diameter = 0.0;  // mm
+  double stylus_diameter = 0.0;  // mm
+  double max_rms = 0.01;         // mm: contacts farther than this from a sphere are refused
 };
 
 // Centre of one probed sphere, two ways: the least-squares fit of all contacts with the known
@@ -32,11 +32,11 @@ struct SphereProbing {
 // not on one plane): smaller than nominal by the probe's pre-travel.
 struct SphereCentre {
   Point3 least_squares = Point3::Zero();
-  std::optional<Point3> five_point;             // the seed's protocol, when the contacts follow it
-  std::vector<Point3> subset_centres;           // the four 4-point solutions
-  double rms = 0.0;                             // of the least-squares fit, mm
-  std::optional<double> effective_radius;       // tip-centre distance of the free-radius fit
-  std::string method;                           // "five-point" or "least-squares" (what centre() gives)
+  std::optional<Point3> five_point;        // the seed's protocol, when the contacts follow it
+  std::vector<Point3> subset_centres;      // the four 4-point solutions
+  double rms = 0.0;                        // of the least-squares fit, mm
+  std::optional<double> effective_radius;  // tip-centre distance of the free-radius fit
+  std::string method;                      // "five-point" or "least-squares" (what centre() gives)
   Point3 centre() const { return five_point ? *five_point : least_squares; }
 };
 // Throws InputError (field = where) with fewer than 3 contacts, degenerate contacts, or contacts
@@ -51,13 +51,13 @@ SphereCentre sphere_centre(const std::vector<ProbeContact>& contacts, const Sphe
 // bias (pre-travel along the approach).
 struct ProbingSimulation {
   char axis = 'C';
-  std::vector<double> angles;            // indexations of that axis, rad
-  std::vector<double> held;              // all joint values (internal units, chain order); the
-                                         // tested axis's entry is replaced by each angle; empty: 0
-  Point3 sphere = Point3(150, 0, 50);    // sphere centre at zero indexation, machine coordinates
+  std::vector<double> angles;          // indexations of that axis, rad
+  std::vector<double> held;            // all joint values (internal units, chain order); the
+                                       // tested axis's entry is replaced by each angle; empty: 0
+  Point3 sphere = Point3(150, 0, 50);  // sphere centre at zero indexation, machine coordinates
   SphereProbing probing{30.0, 6.0, 0.01};
-  double noise = 0.0;                    // standard deviation per coordinate, mm
-  double trigger_bias = 0.0;             // pre-travel, mm (the tip goes this far past contact)
+  double noise = 0.0;         // standard deviation per coordinate, mm
+  double trigger_bias = 0.0;  // pre-travel, mm (the tip goes this far past contact)
   std::uint64_t seed = 1;
 };
 struct ProbedIndexation {

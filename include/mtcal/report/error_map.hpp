@@ -1,4 +1,5 @@
-// HTML reports of the error-model evaluations: a streamed evaluation (error map, distribution, largest errors), the error parameters, single-error effects.
+// HTML reports of the error-model evaluations: a streamed evaluation (error map, distribution, largest errors), the
+// error parameters, single-error effects.
 #pragma once
 
 #include <cstddef>

@@ -16,7 +16,7 @@ struct IdentificationReportInputs {
   std::string truth;      // the imposed machine's file, or ""
   std::string workspace;  // the workspace grid as text, or ""
 };
-Report identification_report(const Machine& prior, const IdentificationRun& run, const IdentificationReportInputs& inputs,
-                             const std::string& command);
+Report identification_report(const Machine& prior, const IdentificationRun& run,
+                             const IdentificationReportInputs& inputs, const std::string& command);
 
 }  // namespace mtcal

@@ -1,4 +1,5 @@
-// HTML reports of the prediction commands: regression (mtcal regress --report) and workpiece error prediction (mtcal predict --report).
+// HTML reports of the prediction commands: regression (mtcal regress --report) and workpiece error prediction (mtcal
+// predict --report).
 #pragma once
 
 #include <span>
@@ -17,8 +18,9 @@ std::string significant6(double v);
 
 // The data with every fitted curve and the table of criteria. file: the data file (hashed);
 // x_name, y_name: its columns.
-Report regression_report(const ModelComparison& c, std::span<const double> x, std::span<const double> y, const std::string& file,
-                         const std::string& x_name, const std::string& y_name, const std::string& command);
+Report regression_report(const ModelComparison& c, std::span<const double> x, std::span<const double> y,
+                         const std::string& file, const std::string& x_name, const std::string& y_name,
+                         const std::string& command);
 
 // Every component per point and axis, and the table of them. model_file is hashed; points_label
 // says what the points came from ("points" or "G-code"), the run's points' source is hashed.

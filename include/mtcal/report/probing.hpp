@@ -1,4 +1,5 @@
-// HTML report of the rotary-axis location test: both estimators, centres and their circle, residuals, the triples' distributions.
+// HTML report of the rotary-axis location test: both estimators, centres and their circle, residuals, the triples'
+// distributions.
 #pragma once
 
 #include <string>

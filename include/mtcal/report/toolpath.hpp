@@ -1,4 +1,5 @@
-// HTML report of a tool-path simulation: the path in 3D coloured by its error with the error vectors, the errors along the path, their ranges.
+// HTML report of a tool-path simulation: the path in 3D coloured by its error with the error vectors, the errors along
+// the path, their ranges.
 #pragma once
 
 #include <cstddef>
@@ -28,8 +29,8 @@ class ToolpathPlotSampler {
 };
 
 struct ToolpathReportInputs {
-  std::string program;   // the G-code file
-  double step = 0;       // mm, as simulated
+  std::string program;  // the G-code file
+  double step = 0;      // mm, as simulated
   bool skip_rapids = false, directions = true;
 };
 

@@ -1,4 +1,5 @@
-// HTML reports of the volumetric-accuracy evaluations: volumetric (critical pair, error map, contributions, distributions, reduced volumes, grouping), contributions, diagonals.
+// HTML reports of the volumetric-accuracy evaluations: volumetric (critical pair, error map, contributions,
+// distributions, reduced volumes, grouping), contributions, diagonals.
 #pragma once
 
 #include <string>

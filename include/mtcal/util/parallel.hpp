@@ -12,9 +12,7 @@
 namespace mtcal {
 
 // The number of hardware threads (at least 1).
-inline std::size_t hardware_threads() {
-  return std::max<std::size_t>(1, std::thread::hardware_concurrency());
-}
+inline std::size_t hardware_threads() { return std::max<std::size_t>(1, std::thread::hardware_concurrency()); }
 
 // The worker count for a request (0 or less: all hardware threads), never more than the tasks
 // and at least 1.

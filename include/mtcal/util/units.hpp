@@ -10,10 +10,10 @@ namespace mtcal {
 enum class Dimension { Length, Angle };
 
 struct Unit {
-  std::string name;       // canonical spelling, e.g. "um", "urad"
+  std::string name;  // canonical spelling, e.g. "um", "urad"
   Dimension dimension;
-  double to_internal;     // multiply a value in this unit to get mm (Length) or rad (Angle)
-  bool ratio = false;     // a slope such as um/m: an angle for errors, not for joint positions
+  double to_internal;  // multiply a value in this unit to get mm (Length) or rad (Angle)
+  bool ratio = false;  // a slope such as um/m: an angle for errors, not for joint positions
 };
 
 // Looks a unit up by name ("mm", "um", "µm", "nm", "m", "in", "rad", "mrad", "urad", "µrad",

@@ -17,8 +17,8 @@ int main(int argc, char** argv) {
     const mtcal::ErrorModel model(mtcal::load_machine(argv[1]));
     const std::vector<double> q{100.0, 50.0, -200.0};  // X Y Z in mm, chain order
     const mtcal::VolumetricError e = model.evaluate(q);
-    std::printf("mtcal %s: error at X100 Y50 Z-200: %.9f %.9f %.9f mm\n", mtcal::version().c_str(),
-                e.translation.x(), e.translation.y(), e.translation.z());
+    std::printf("mtcal %s: error at X100 Y50 Z-200: %.9f %.9f %.9f mm\n", mtcal::version().c_str(), e.translation.x(),
+                e.translation.y(), e.translation.z());
     // What `mtcal eval -m examples/machines/vmc-3axis.yaml --at X=100,Y=50,Z=-200 --json` prints.
     const double expected[3] = {-0.0022624953436292117, -0.00135600721993967, -0.002203952115678476};
     for (int i = 0; i < 3; ++i)
