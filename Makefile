@@ -9,7 +9,7 @@ COMPILERS = $(if $(filter default,$(origin CXX)),,-DCMAKE_CXX_COMPILER=$(CXX)) \
             $(if $(filter default,$(origin CC)),,-DCMAKE_C_COMPILER=$(CC))
 MTCAL = $(BUILD)/apps/mtcal/mtcal
 
-.PHONY: all deps configure build demo test bench test-sanitize clean
+.PHONY: all deps configure build demo test bench test-sanitize format clean
 
 all: build
 
@@ -36,6 +36,10 @@ test-sanitize: deps
 	cmake --preset asan $(CMAKE_EXTRA_FLAGS)
 	cmake --build --preset asan
 	ctest --preset asan
+
+# Reformat every C++ file git knows with .clang-format (clang-format 14, Debian's clang-format).
+format:
+	git ls-files '*.cpp' '*.hpp' '*.h' | xargs clang-format -i
 
 clean:
 	rm -rf $(BUILD) build-asan
