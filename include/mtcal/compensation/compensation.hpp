@@ -1,0 +1,65 @@
+// Common ground of every compensation target: what its numbers are, what it leaves, and the residual it predicts.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "mtcal/kinematics/error_model.hpp"
+
+namespace mtcal {
+
+// What the numbers of a written table are. mtcal's rule (PRODUCT.md, ISO 230-1 3.4, ISO 230-2
+// 2.11): an error is e = actual - nominal, a correction is c = -e; a controller that wants the
+// position actually reached gets nominal + e. Every target states which one it writes and where
+// its controller's documentation says so.
+enum class TableQuantity { Error, Correction, ActualPosition };
+const char* to_string(TableQuantity q);
+
+// Piecewise-linear interpolation of a table at x, holding the end values outside it: the rule of
+// LinuxCNC's compensation tables (and of most controllers' pitch-error tables).
+// positions strictly increasing, values.size() == positions.size() >= 1.
+double interpolate_held(std::span<const double> positions, std::span<const double> values, double x);
+
+// What a controller adds, at one configuration, once it has loaded the tables: to the commanded
+// joint values (internal units, chain order; empty = nothing) and to the tool position
+// (machine x y z, mm), as a volumetric compensation does.
+struct AppliedCorrection {
+  std::vector<double> joint;
+  Vec3 cartesian = Vec3::Zero();
+};
+// The target's own rule (interpolation, held ends, direction of motion) as a function of the
+// nominal configuration q (internal units) and each axis's direction of motion.
+using CorrectionRule = std::function<AppliedCorrection(std::span<const double> q, std::span<const std::int8_t> dir)>;
+
+// Something of the model a target cannot hold, and the largest error it leaves over the
+// sampled travel (mm for a translation, rad for a rotation, as `unit` says).
+struct NotCompensated {
+  std::string what;  // "EYX (straightness of X in Y): a per-joint table holds X's positioning only"
+  double max_error = 0.0;
+  std::string unit;
+};
+
+// The tool point's error before and after compensation over a grid of configurations, each
+// evaluated moving forward (+) and in reverse (-) on every axis.
+struct ResidualSummary {
+  std::size_t configurations = 0;        // grid points (each counted once, both approaches evaluated)
+  std::array<double, 3> max_before{};    // max |e_x|, |e_y|, |e_z| (mm)
+  std::array<double, 3> max_after{};
+  double max_norm_before = 0.0;          // max |e| (mm)
+  double max_norm_after = 0.0;
+  double va_before = 0.0;                // Fletcher's volumetric accuracy, max |e_i - e_j| (mm)
+  double va_after = 0.0;
+};
+
+// Error after = actual(q + c_joint(q)) - nominal(q) + c_cartesian(q): the machine is commanded
+// to the corrected joints while the program asked for q. `axis_values`: per axis (chain order)
+// the joint values of the grid, internal units (an axis with one value stays there).
+ResidualSummary predict_residual(const ErrorModel& model, const std::vector<std::vector<double>>& axis_values,
+                                 const CorrectionRule& rule, int threads = 0);
+
+}  // namespace mtcal
