@@ -36,7 +36,8 @@ TEST(PredictResidual, NoCorrectionLeavesTheErrorAndExactCorrectionRemovesIt) {
     const double q = x_mm / 1000.0;
     return (0.5 + 8 * q - 12 * q * q + 4 * q * q * q + dir) / 1000.0;
   };
-  const auto none = predict_residual(model, grid, [](auto, auto) { return AppliedCorrection{}; }, 1);
+  const auto none = predict_residual(
+      model, grid, [](auto, auto) { return AppliedCorrection{}; }, 1);
   EXPECT_EQ(none.configurations, 10u);
   EXPECT_NEAR(none.max_before[0], -exx(-400.0, -1), 1e-12);
   EXPECT_NEAR(none.max_before[0], 5.876e-3, 1e-12);

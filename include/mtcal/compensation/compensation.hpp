@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mtcal/compensation/tables.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 
 namespace mtcal {
@@ -47,13 +48,34 @@ struct NotCompensated {
 // The tool point's error before and after compensation over a grid of configurations, each
 // evaluated moving forward (+) and in reverse (-) on every axis.
 struct ResidualSummary {
-  std::size_t configurations = 0;        // grid points (each counted once, both approaches evaluated)
-  std::array<double, 3> max_before{};    // max |e_x|, |e_y|, |e_z| (mm)
+  std::size_t configurations = 0;      // grid points (each counted once, both approaches evaluated)
+  std::array<double, 3> max_before{};  // max |e_x|, |e_y|, |e_z| (mm)
   std::array<double, 3> max_after{};
-  double max_norm_before = 0.0;          // max |e| (mm)
+  double max_norm_before = 0.0;  // max |e| (mm)
   double max_norm_after = 0.0;
-  double va_before = 0.0;                // Fletcher's volumetric accuracy, max |e_i - e_j| (mm)
+  double va_before = 0.0;  // Fletcher's volumetric accuracy, max |e_i - e_j| (mm)
   double va_after = 0.0;
+};
+
+// What every target reports besides its files: the quantity its numbers are, where that rule is
+// documented, what it leaves, and the residual it predicts.
+struct CompensationSummary {
+  std::string target;  // "linuxcnc", "siemens", "isg" ... as --format names it
+  TableQuantity quantity = TableQuantity::Correction;
+  std::string sign_source;  // the controller document (manual, page or source file) that says so
+  std::vector<NotCompensated> not_compensated;
+  std::vector<std::string> warnings;
+  ResidualSummary residual;
+};
+
+// What the caller asks of every target. Empty sampling: each axis over its travel
+// (default_sampling) at `points` positions, or at the target's own default/maximum when 0.
+struct CompensationOptions {
+  std::vector<AxisSampling> sampling;  // per axis to compensate; the others at reference
+  std::size_t points = 0;
+  std::vector<double> reference;     // internal units, chain order; empty = all zero
+  std::size_t residual_points = 11;  // per axis, for the residual grid over the sampled ranges
+  int threads = 0;
 };
 
 // Error after = actual(q + c_joint(q)) - nominal(q) + c_cartesian(q): the machine is commanded

@@ -37,15 +37,14 @@ enum class Approach { Forward = +1, Reverse = -1 };
 // axis. Values are errors, e = actual - nominal (ISO 230-1 3.4, ISO 230-2 2.11), in internal
 // units: mm for a translation, rad for a rotation.
 struct ComponentTable {
-  ErrorName error;                        // kind Motion, body = axis
-  std::vector<double> position;           // user unit of the axis (mm or deg)
+  ErrorName error;                       // kind Motion, body = axis
+  std::vector<double> position;          // user unit of the axis (mm or deg)
   std::vector<double> forward, reverse;  // e at each position for each approach
 };
 
 // The error `component` of `axis` at the sampled positions, straight from the model's motion
 // function (positions converted to internal units).
-ComponentTable sample_component(const Machine& m, Component component, const AxisSampling& s,
-                                const std::string& where);
+ComponentTable sample_component(const Machine& m, Component component, const AxisSampling& s, const std::string& where);
 
 // The tool point's volumetric error (actual - nominal, machine x y z in mm, rotation in rad)
 // when `axis` alone moves along its sampling and every other axis stays at `reference`

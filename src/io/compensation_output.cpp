@@ -1,0 +1,94 @@
+#include "mtcal/io/compensation_output.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal {
+
+namespace fs = std::filesystem;
+
+const std::vector<CompensationTarget>& compensation_targets() {
+  // Each target family adds its entries here (io/compensation_<family>.hpp).
+  static const std::vector<CompensationTarget> targets = {};
+  return targets;
+}
+
+const CompensationTarget& compensation_target(const std::string& name) {
+  std::string known;
+  for (const auto& t : compensation_targets()) {
+    if (t.name == name) return t;
+    known += (known.empty() ? "" : ", ") + t.name;
+  }
+  throw InputError({"", 0, "format"}, "unknown compensation target '" + name + "' (expected one of: " + known + ")");
+}
+
+namespace {
+
+// Removes a temporary directory on every way out unless released.
+struct TemporaryDirectory {
+  fs::path path;
+  bool keep = false;
+  ~TemporaryDirectory() {
+    std::error_code ec;
+    if (!keep && !path.empty()) fs::remove_all(path, ec);
+  }
+};
+
+}  // namespace
+
+void write_target_output(const std::string& dir, const TargetOutput& output) {
+  const fs::path target(dir);
+  std::error_code ec;
+  if (fs::exists(target, ec)) {
+    if (!fs::is_directory(target, ec) || !fs::is_empty(target, ec))
+      throw Error("output directory " + dir + " exists and is not empty: expected a new or empty directory");
+  }
+  for (const auto& f : output.files)
+    if (f.name.empty() || f.name.find('/') != std::string::npos || f.name == "." || f.name == "..")
+      throw Error("compensation file name '" + f.name + "' is not a plain file name");
+  const fs::path parent = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  std::string pattern = (parent / (target.filename().string() + ".tmp-XXXXXX")).string();
+  if (!mkdtemp(pattern.data())) throw Error("cannot create a temporary directory beside " + dir);
+  TemporaryDirectory tmp{pattern};
+  for (const auto& f : output.files) {
+    std::ofstream out(tmp.path / f.name, std::ios::binary);
+    out << f.text;
+    out.close();
+    if (!out) throw Error("cannot write " + (target / f.name).string());
+  }
+  if (fs::exists(target, ec)) fs::remove(target, ec);  // empty, checked above
+  fs::rename(tmp.path, target, ec);
+  if (ec) throw Error("cannot rename " + tmp.path.string() + " to " + dir + ": " + ec.message());
+  tmp.keep = true;
+}
+
+Json to_json(const TargetOutput& output) {
+  const CompensationSummary& s = output.summary;
+  Json j;
+  j["target"] = s.target;
+  j["quantity"] = to_string(s.quantity);
+  j["sign_source"] = s.sign_source;
+  Json files = Json::array();
+  for (const auto& f : output.files) files.push_back(f.name);
+  j["files"] = files;
+  Json left = Json::array();
+  for (const auto& n : s.not_compensated)
+    left.push_back({{"what", n.what}, {"max_error", n.max_error}, {"unit", n.unit}});
+  j["not_compensated"] = left;
+  j["warnings"] = s.warnings;
+  const ResidualSummary& r = s.residual;
+  j["residual"] = {{"configurations", r.configurations},
+                   {"max_before_mm", r.max_before},
+                   {"max_after_mm", r.max_after},
+                   {"max_norm_before_mm", r.max_norm_before},
+                   {"max_norm_after_mm", r.max_norm_after},
+                   {"va_before_mm", r.va_before},
+                   {"va_after_mm", r.va_after}};
+  return j;
+}
+
+}  // namespace mtcal
