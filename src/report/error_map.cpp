@@ -56,14 +56,7 @@ nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>
                     {"text", label},
                     {"name", "marked"}});
   }
-  return {{"data", data},
-          {"layout",
-           {{"scene",
-             {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
-              {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
-              {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
-              {"aspectmode", "data"}}},
-            {"showlegend", false}}}};
+  return {{"data", data}, {"layout", machine_scene_layout()}};
 }
 
 namespace {

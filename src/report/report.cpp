@@ -18,6 +18,15 @@ extern "C" const char mtcal_plotly_js_end[];
 
 namespace mtcal {
 
+nlohmann::json machine_scene_layout() {
+  return {{"scene",
+           {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
+            {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
+            {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
+            {"aspectmode", "data"}}},
+          {"showlegend", false}};
+}
+
 std::string_view plotly_js() {
   return {mtcal_plotly_js_begin, static_cast<std::size_t>(mtcal_plotly_js_end - mtcal_plotly_js_begin)};
 }

@@ -135,14 +135,7 @@ void write_toolpath_report(const std::string& file, const ErrorModel& model, con
   r.add_plot(fmt::format("Tool path (mm, workpiece frame) coloured by |error| (µm), with the error vectors (red, "
                          "1 µm drawn as {:.3g} mm)",
                          scale),
-             {{"data", {path, arrows}},
-              {"layout",
-               {{"scene",
-                 {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
-                  {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
-                  {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
-                  {"aspectmode", "data"}}},
-                {"showlegend", false}}}});
+             {{"data", {path, arrows}}, {"layout", machine_scene_layout()}});
 
   nlohmann::json s = nlohmann::json::array();
   std::array<nlohmann::json, 3> comp{nlohmann::json::array(), nlohmann::json::array(), nlohmann::json::array()};

@@ -9,27 +9,15 @@
 #include "mtcal/io/evaluation_files.hpp"
 #include "mtcal/util/errors.hpp"
 
+#include "input_errors.hpp"
+
 using namespace mtcal;
+using mtcal::testing::error_at;
+using mtcal::testing::write_temp;
 
 namespace {
 
-std::string write_temp(const std::string& name, const std::string& text) {
-  const auto p = std::filesystem::temp_directory_path() / name;
-  std::ofstream(p) << text;
-  return p.string();
-}
 
-// The location of the InputError that f throws.
-template <class F>
-SourceLocation error_at(F f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.where();
-  }
-  ADD_FAILURE() << "no InputError";
-  return {};
-}
 
 }  // namespace
 

@@ -13,7 +13,10 @@
 #include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/util/errors.hpp"
 
+#include "input_errors.hpp"
+
 using namespace mtcal;
+using mtcal::testing::error_at;
 
 namespace {
 
@@ -27,16 +30,6 @@ std::string write_temp(const std::string& name, const std::string& text) {
   return p;
 }
 
-template <class F>
-SourceLocation error_at(F f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.where();
-  }
-  ADD_FAILURE() << "no InputError";
-  return {};
-}
 
 // A perfect C axis: a sphere of 30 mm probed with a 6 mm stylus at 8 indexations about z.
 std::vector<ProbedIndexation> ideal_probing() {

@@ -57,5 +57,7 @@ std::string script_safe_json(const nlohmann::json& j);
 std::string sha256_hex(std::string_view bytes);
 // The Plotly library bundled at build time (plotly.js-dist-min from npm).
 std::string_view plotly_js();
+// Plotly layout of a 3D scene in machine coordinates: x, y, z in mm at true aspect, no legend.
+nlohmann::json machine_scene_layout();
 
 }  // namespace mtcal
