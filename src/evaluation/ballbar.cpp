@@ -1,4 +1,5 @@
 #include "mtcal/evaluation/ballbar.hpp"
+#include "mtcal/fitting/least_squares.hpp"
 
 #include <algorithm>
 #include <array>
@@ -278,8 +279,7 @@ TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const Ball
   TraceDiagnosis out;
   out.dof = static_cast<int>(n - p);
   const double sigma2 = out.dof > 0 ? r.squaredNorm() / out.dof : 0.0;
-  const Eigen::MatrixXd cov =
-      sigma2 * svd.matrixV() * sv.cwiseAbs2().cwiseInverse().asDiagonal() * svd.matrixV().transpose();
+  const Eigen::MatrixXd cov = analyse_jacobian(A, sigma2, JacobianOptions{1e-9, false}).covariance;
   const Eigen::VectorXd fitted = A * x;
   const double fitted_rms = std::sqrt(fitted.squaredNorm() / static_cast<double>(n));
   out.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(n)) * 1e3;

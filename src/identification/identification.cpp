@@ -446,10 +446,8 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   // Rank deficient at the solution (a near-dependence the structural test let through): no
   // uncertainty can be given, and NaN says so rather than a false zero.
   Eigen::MatrixXd cov = Eigen::MatrixXd::Constant(J.cols(), J.cols(), std::numeric_limits<double>::quiet_NaN());
-  if (at.rank == static_cast<std::size_t>(J.cols())) {
-    const Eigen::MatrixXd JtJ = J.transpose() * J;
-    cov = JtJ.ldlt().solve(Eigen::MatrixXd::Identity(J.cols(), J.cols())) * (res.sigma0 * res.sigma0);
-  }
+  if (at.rank == static_cast<std::size_t>(J.cols()))
+    cov = analyse_jacobian(J, res.sigma0 * res.sigma0, JacobianOptions{o.rank_tolerance, true}).covariance;
   const auto all = prior.parameters();
   const std::size_t k = params.size();
   for (std::size_t i = 0; i < k; ++i)

@@ -1,4 +1,5 @@
 #include "mtcal/prediction/regression.hpp"
+#include "mtcal/fitting/least_squares.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -674,16 +675,13 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
   const auto nf = static_cast<Eigen::Index>(free.size());
   bool full_rank = true;
   if (nf > 0) {
-    Eigen::MatrixXd Js(J.rows(), nf);
-    Eigen::VectorXd d(nf);
-    for (Eigen::Index c = 0; c < nf; ++c) {
-      const double nk = J.col(free[static_cast<std::size_t>(c)]).norm();
-      d(c) = nk > 0.0 && std::isfinite(nk) ? 1.0 / nk : 0.0;
-      Js.col(c) = J.col(free[static_cast<std::size_t>(c)]) * d(c);
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Js.transpose() * Js);
-    const double emax = es.eigenvalues().maxCoeff();
-    full_rank = d.minCoeff() > 0.0 && emax > 0.0 && es.eigenvalues().minCoeff() > 1e-12 * emax;
+    Eigen::MatrixXd Jf(J.rows(), nf);
+    for (Eigen::Index c = 0; c < nf; ++c) Jf.col(c) = J.col(free[static_cast<std::size_t>(c)]);
+    // Columns scaled to unit norm; a singular value below 1e-6 of the largest (an eigenvalue of
+    // J^T J below 1e-12 of the largest) is a dependence between the free parameters.
+    const double sigma2 = r.dof > 0 ? r.rss / r.dof : kNaN;
+    const JacobianAnalysis a = analyse_jacobian(Jf, sigma2, JacobianOptions{1e-6, true});
+    full_rank = a.full_rank();
     if (!full_rank)
       for (Eigen::Index c = 0; c < nf; ++c)
         r.identified[static_cast<std::size_t>(free[static_cast<std::size_t>(c)])] = false;
@@ -691,14 +689,11 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
     // a parameter not identified it does not exist (J^T J singular).
     const bool all_identified = std::all_of(r.identified.begin(), r.identified.end(), [](bool b) { return b; });
     if (full_rank && all_identified && r.dof > 0) {
-      const Eigen::MatrixXd inv =
-          es.eigenvectors() * es.eigenvalues().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
-      const Eigen::MatrixXd cov = d.asDiagonal() * inv * d.asDiagonal() * (r.rss / r.dof);
-      for (Eigen::Index a = 0; a < nf; ++a) {
-        const auto i = static_cast<std::size_t>(free[static_cast<std::size_t>(a)]);
-        r.stddev[i] = std::sqrt(cov(a, a));
-        for (Eigen::Index b = 0; b < nf; ++b)
-          r.covariance[i * np + static_cast<std::size_t>(free[static_cast<std::size_t>(b)])] = cov(a, b);
+      for (Eigen::Index i = 0; i < nf; ++i) {
+        const auto pi = static_cast<std::size_t>(free[static_cast<std::size_t>(i)]);
+        r.stddev[pi] = std::sqrt(a.covariance(i, i));
+        for (Eigen::Index k = 0; k < nf; ++k)
+          r.covariance[pi * np + static_cast<std::size_t>(free[static_cast<std::size_t>(k)])] = a.covariance(i, k);
       }
     }
   }
