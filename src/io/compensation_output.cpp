@@ -5,6 +5,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "mtcal/io/files.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -54,6 +55,8 @@ void write_target_output(const std::string& dir, const TargetOutput& output) {
   std::string pattern = (parent / (target.filename().string() + ".tmp-XXXXXX")).string();
   if (!mkdtemp(pattern.data())) throw Error("cannot create a temporary directory beside " + dir);
   TemporaryDirectory tmp{pattern};
+  // mkdtemp creates 0700; the output directory gets what any new directory of the user gets.
+  fs::permissions(tmp.path, static_cast<fs::perms>(permissions_from_umask(0777)), ec);
   for (const auto& f : output.files) {
     std::ofstream out(tmp.path / f.name, std::ios::binary);
     out << f.text;

@@ -6,8 +6,9 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <optional>
+#include <string_view>
 #include <numbers>
-#include <regex>
 #include <sstream>
 #include <tuple>
 
@@ -128,6 +129,50 @@ PositioningRuns read_positioning_csv(const std::string& path, const std::string&
   return r;
 }
 
+namespace {
+
+// A key of an ISO 230-2 .dat file, NAME[i] or NAME[i,j] (NAME of A-Z and _): scanned by hand,
+// linear in the key's length (a std::regex here recursed once per character and overflowed the
+// stack on a 50 KB key). Indices are limited to 9 digits, so that they fit a long everywhere.
+struct IndexedKey {
+  std::string name;
+  long i = 0;
+  std::optional<long> j;
+};
+
+std::optional<long> scan_index(std::string_view s, std::size_t& k) {
+  const std::size_t start = k;
+  long v = 0;
+  while (k < s.size() && s[k] >= '0' && s[k] <= '9') {
+    if (k - start == 9) return std::nullopt;
+    v = v * 10 + (s[k] - '0');
+    ++k;
+  }
+  if (k == start) return std::nullopt;
+  return v;
+}
+
+std::optional<IndexedKey> scan_indexed_key(std::string_view s) {
+  std::size_t k = 0;
+  while (k < s.size() && ((s[k] >= 'A' && s[k] <= 'Z') || s[k] == '_')) ++k;
+  if (k == 0 || k >= s.size() || s[k] != '[') return std::nullopt;
+  IndexedKey key;
+  key.name = std::string(s.substr(0, k));
+  ++k;
+  const auto i = scan_index(s, k);
+  if (!i) return std::nullopt;
+  key.i = *i;
+  if (k < s.size() && s[k] == ',') {
+    ++k;
+    key.j = scan_index(s, k);
+    if (!key.j) return std::nullopt;
+  }
+  if (k + 1 != s.size() || s[k] != ']') return std::nullopt;
+  return key;
+}
+
+}  // namespace
+
 PositioningRuns read_positioning_dat(const std::string& path) {
   const std::string text = read_text_file(path, "positioning file");
   std::istringstream in(text);
@@ -136,36 +181,40 @@ PositioningRuns read_positioning_dat(const std::string& path) {
   std::map<long, double> targets;
   std::map<long, std::map<long, double>> fwd, bwd;
   std::string unit = "mm";
-  const std::regex indexed(R"(^([A-Z_]+)\[(\d+)(?:,(\d+))?\]$)");
   while (std::getline(in, line)) {
     ++lineno;
     const std::string s = trim(line.substr(0, line.find('#')));
     if (s.empty()) continue;
     const auto eq = s.find('=');
-    if (eq == std::string::npos) throw InputError({path, lineno, ""}, "expected KEY=VALUE, found '" + s + "'");
+    if (eq == std::string::npos)
+      throw InputError({path, lineno, ""}, "expected KEY=VALUE, found '" + printable(s) + "'");
     const std::string key = trim(s.substr(0, eq)), value = trim(s.substr(eq + 1));
     if (key == "UNIT") {
+      if (value.empty() || printable(value, 16) != value)
+        throw InputError({path, lineno, key},
+                         "expected a unit name such as mm or um, found '" + printable(value) + "'");
       unit = value;
       continue;
     }
     if (key == "CYCLES" || key == "POSITIONS") continue;  // implied by the data
-    std::smatch m;
-    if (!std::regex_match(key, m, indexed))
-      throw InputError({path, lineno, key},
-                       "unknown key '" + key + "' (expected TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT)");
+    const auto m = scan_indexed_key(key);
+    if (!m)
+      throw InputError({path, lineno, key}, "unknown key '" + printable(key) +
+                                                "' (expected TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT; "
+                                                "indices of at most 9 digits)");
     const auto v = parse_number(value);
-    if (!v) throw InputError({path, lineno, key}, "expected a number, found '" + value + "'");
-    const long i = std::stol(m[2]);
-    const std::string name = m[1];
-    if (name == "TGT_DATA" && !m[3].matched) {
+    if (!v) throw InputError({path, lineno, key}, "expected a number, found '" + printable(value) + "'");
+    const long i = m->i;
+    const std::string& name = m->name;
+    if (name == "TGT_DATA" && !m->j) {
       targets[i] = *v;
-    } else if ((name == "REF_DATA_FWD" || name == "REF_DATA_BWD") && m[3].matched) {
+    } else if ((name == "REF_DATA_FWD" || name == "REF_DATA_BWD") && m->j) {
       auto& dst = name == "REF_DATA_FWD" ? fwd : bwd;
-      const long j = std::stol(m[3]);
+      const long j = *m->j;
       if (dst[i].count(j)) throw InputError({path, lineno, key}, "given twice");
       dst[i][j] = *v;
     } else {
-      throw InputError({path, lineno, key}, "unknown key '" + key + "'");
+      throw InputError({path, lineno, key}, "unknown key '" + printable(key) + "'");
     }
   }
   PositioningRuns r;

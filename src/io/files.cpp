@@ -6,21 +6,32 @@
 #include <filesystem>
 #include <sstream>
 #include <stdlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <fmt/format.h>
 
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
 
-std::string read_text_file(const std::string& path, const std::string& what) {
+std::string read_text_file(const std::string& path, const std::string& what, std::size_t max_bytes) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError({path, 0, ""}, "is a directory; expected a " + what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError({path, 0, ""}, "cannot open " + what);
-  std::ostringstream ss;
-  ss << in.rdbuf();
+  // Read in blocks and stop past the limit: /dev/zero or a runaway file must not fill the memory.
+  std::string text;
+  std::string block(1 << 16, '\0');
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    text.append(block.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_bytes)
+      throw InputError({path, 0, ""}, fmt::format("{} larger than {} MiB: expected at most that much ({})", what,
+                                                  max_bytes >> 20, "a limit against runaway inputs"));
+  }
   if (in.bad()) throw InputError({path, 0, ""}, "cannot read " + what);
-  return ss.str();
+  return text;
 }
 
 namespace {
@@ -56,17 +67,43 @@ int register_pending(const std::string& path) {
 
 }  // namespace
 
+unsigned permissions_from_umask(unsigned wanted) {
+  // umask() can only be read by setting it; set it straight back (outputs are opened before any
+  // worker thread creates files).
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  return wanted & ~static_cast<unsigned>(mask);
+}
+
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   namespace fs = std::filesystem;
-  const fs::path target(path_);
+  fs::path target(path_);
   std::error_code ec;
   if (target.filename().empty() || fs::is_directory(target, ec))
     throw Error("cannot write '" + path_ + "': it is a directory; expected a file name");
+  // A symbolic link is followed: the file it points to is replaced and the link stays (what an
+  // editor does); renaming onto the link itself would turn it into a regular file.
+  if (fs::is_symlink(fs::symlink_status(target, ec))) {
+    target = fs::weakly_canonical(target, ec);
+    if (ec) throw Error("cannot write '" + path_ + "': cannot resolve the symbolic link: " + ec.message());
+    if (fs::is_directory(target, ec))
+      throw Error("cannot write '" + path_ + "': it links to a directory; expected a file name");
+  }
+  // Only a regular file is replaced: renaming onto /dev/null, a FIFO or a socket would put a
+  // regular file in the place of the device.
+  const fs::file_status st = fs::status(target, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw Error("cannot write '" + path_ +
+                "': it is not a regular file (a device, FIFO or socket); expected a "
+                "regular file or a new file name");
+  target_ = target.string();
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   // A unique name (mkstemp): two outputs of one run, or two runs, never share a temporary file.
   std::string pattern = (dir / ("." + target.filename().string() + ".tmpXXXXXX")).string();
   const int fd = ::mkstemp(pattern.data());
   if (fd < 0) throw Error("cannot write '" + path_ + "': cannot create a file in " + dir.string());
+  // mkstemp creates 0600; an output gets what any new file of the user gets (0666 & ~umask).
+  (void)::fchmod(fd, static_cast<mode_t>(permissions_from_umask(0666)));
   ::close(fd);
   tmp_ = pattern;
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
@@ -89,7 +126,7 @@ void AtomicFile::commit() {
   if (!out_) throw Error("cannot write '" + path_ + "': write failed");
   out_.close();
   std::error_code ec;
-  std::filesystem::rename(tmp_, path_, ec);
+  std::filesystem::rename(tmp_, target_, ec);
   if (ec) throw Error("cannot write '" + path_ + "': " + ec.message());
   committed_ = true;
 }

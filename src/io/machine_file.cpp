@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include "mtcal/model/machine_builder.hpp"
@@ -269,18 +270,59 @@ Machine build(const YAML::Node& root, const std::string& file) {
 }  // namespace
 
 namespace {
+// Counts the documents of a YAML stream and notices when the parser stops advancing: yaml-cpp
+// 0.7 (Debian 12) restarts an empty document forever at a ',' outside a flow collection (its
+// LoadAll never returns on a file holding just ","; upstream issue 1040, fixed after 0.7.0).
+struct DocumentScan : YAML::EventHandler {
+  std::vector<YAML::Mark> starts;  // where each document starts ('---' or its first node)
+  std::vector<YAML::Mark> nodes;   // each document's first node, for messages
+  void OnDocumentStart(const YAML::Mark& m) override {
+    starts.push_back(m);
+    nodes.push_back(m);
+    first = true;
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& m, YAML::anchor_t) override { node(m); }
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { node(m); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t, const std::string&) override { node(m); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    node(m);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    node(m);
+  }
+  void OnMapEnd() override {}
+
+ private:
+  bool first = false;
+  void node(const YAML::Mark& m) {
+    if (first) nodes.back() = m;
+    first = false;
+  }
+};
+
 YAML::Node load_one_document(std::string_view yaml_text, const std::string& source) {
-  YAML::Node root;
   try {
-    const auto docs = YAML::LoadAll(std::string(yaml_text));
-    if (docs.size() > 1)
-      throw InputError({source, docs[1].Mark().line + 1, ""},
-                       fmt::format("expected one YAML document, found {} (one per file)", docs.size()));
-    if (!docs.empty()) root = docs[0];
+    std::istringstream in{std::string(yaml_text)};
+    YAML::Parser parser(in);
+    DocumentScan scan;
+    // Four documents at most: enough to see the parser stuck (two starts at one position) or a
+    // second document, never an endless loop.
+    while (scan.starts.size() < 4 && parser.HandleNextDocument(scan)) {
+    }
+    for (std::size_t k = 1; k < scan.starts.size(); ++k)
+      if (scan.starts[k].pos == scan.starts[k - 1].pos)
+        throw InputError({source, scan.starts[k].line + 1, ""},
+                         "not valid YAML: expected a key, a value or '-', found a ',' outside [ ] or { }");
+    if (scan.starts.size() > 1)
+      throw InputError({source, scan.nodes[1].line + 1, ""},
+                       fmt::format("expected one YAML document, found {}{} (one per file)", scan.starts.size(),
+                                   scan.starts.size() == 4 ? " or more" : ""));
+    return YAML::Load(std::string(yaml_text));
   } catch (const YAML::Exception& e) {
     throw InputError({source, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
   }
-  return root;
 }
 }  // namespace
 
@@ -322,10 +364,12 @@ void apply_parameters(Machine& m, std::string_view yaml_text, const std::string&
 }
 
 void load_parameters(Machine& m, const std::string& path) {
-  apply_parameters(m, read_text_file(path, "parameter file"), path);
+  apply_parameters(m, read_text_file(path, "parameter file", kMaxYamlBytes), path);
 }
 
-Machine load_machine(const std::string& path) { return parse_machine(read_text_file(path, "machine file"), path); }
+Machine load_machine(const std::string& path) {
+  return parse_machine(read_text_file(path, "machine file", kMaxYamlBytes), path);
+}
 
 namespace {
 std::string num(double v) { return fmt::format("{:.17g}", v); }

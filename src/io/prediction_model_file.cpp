@@ -223,7 +223,7 @@ PredictionModel parse_prediction_model(const std::string& text_in, const std::st
 }
 
 PredictionModel read_prediction_model(const std::string& path) {
-  return parse_prediction_model(read_text_file(path, "prediction model file"), path);
+  return parse_prediction_model(read_text_file(path, "prediction model file", kMaxYamlBytes), path);
 }
 
 }  // namespace mtcal

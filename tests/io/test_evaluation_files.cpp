@@ -15,11 +15,7 @@ using namespace mtcal;
 using mtcal::testing::error_at;
 using mtcal::testing::write_temp;
 
-namespace {
-
-
-
-}  // namespace
+namespace {}  // namespace
 
 TEST(EvaluationFiles, BallbarTraceRoundTrip) {
   std::vector<TracePoint> trace;
@@ -73,6 +69,45 @@ TEST(EvaluationFiles, PositioningKeepsItsSourceAndDetectsTheForm) {
   });
   EXPECT_EQ(w2.line, 2);
   EXPECT_EQ(w2.field, "run");
+}
+
+// Hostile .dat keys: a 50 KB key (once a stack overflow in std::regex), huge indices (once
+// "stol" as the whole message and undefined behaviour), control characters in keys and units.
+TEST(EvaluationFiles, PositioningDatRefusesHostileKeysWithShortMessages) {
+  auto message_of = [](const std::string& name, const std::string& text) {
+    try {
+      read_positioning_dat(write_temp(name, text));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    ADD_FAILURE() << "no InputError for " << name;
+    return std::string();
+  };
+  const std::string long_key = "UNIT=mm\nTGT_DATA[" + std::string(50000, '1') + "]=0\n";
+  const std::string m1 = message_of("mtcal-pos-long.dat", long_key);
+  EXPECT_LT(m1.size(), 400u) << m1;
+  EXPECT_NE(m1.find("9 digits"), std::string::npos) << m1;
+  const std::string m2 = message_of("mtcal-pos-huge.dat", "TGT_DATA[0]=0\nREF_DATA_FWD[0,99999999999999999999]=1\n");
+  EXPECT_NE(m2.find(":2:"), std::string::npos) << m2;
+  EXPECT_EQ(m2.find("stol"), std::string::npos) << m2;
+  const std::string m3 = message_of("mtcal-pos-ctl.dat", "TGT\x1b[2J_DATA[0]=0\n");
+  EXPECT_EQ(m3.find('\x1b'), std::string::npos) << m3;
+  EXPECT_NE(m3.find("\\x1b"), std::string::npos) << m3;
+  const std::string m4 = message_of("mtcal-pos-unit.dat", "UNIT=\x1b]0;owned\x07\nTGT_DATA[0]=0\n");
+  EXPECT_EQ(m4.find('\x1b'), std::string::npos) << m4;
+  EXPECT_NE(m4.find("unit name"), std::string::npos) << m4;
+  // Nine digits are still an index.
+  const auto ok =
+      read_positioning_dat(write_temp("mtcal-pos-9.dat", "TGT_DATA[999999999]=5\nREF_DATA_FWD[999999999,0]=1\n"));
+  ASSERT_EQ(ok.targets.size(), 1u);
+  EXPECT_DOUBLE_EQ(ok.targets[0], 5.0);
+}
+
+TEST(Printable, EscapesControlBytesAndCuts) {
+  EXPECT_EQ(printable("abc"), "abc");
+  EXPECT_EQ(printable("a\nb"), "a\\x0ab");
+  EXPECT_EQ(printable(std::string(100, 'x'), 10), std::string(10, 'x') + "\u2026");
+  EXPECT_EQ(printable("\x01\x02\x03", 9), "\\x01\\x02\u2026");
 }
 
 TEST(EvaluationFiles, ComparisonKeepsItsSource) {

@@ -428,3 +428,24 @@ TEST(ParameterFile, LoadParametersReadsAFileAndNamesItInErrors) {
   EXPECT_THROW(load_parameters(m, (dir / "missing.yaml").string()), InputError);
   std::filesystem::remove_all(dir);
 }
+
+// yaml-cpp 0.7 loops forever (growing memory) on a ',' outside a flow collection, and /dev/zero
+// never ends: both are refused at once, naming the line or the limit.
+TEST(MachineFile, PathologicalYamlIsRefusedAtOnce) {
+  for (const std::string text : {",", "  ,", ",,", "name: a\n---\n,", "- 1\n,"}) {
+    try {
+      mtcal::parse_machine(text, "bad.yaml");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const mtcal::InputError& e) {
+      EXPECT_EQ(e.where().file, "bad.yaml");
+      EXPECT_GE(e.where().line, 1);
+      EXPECT_NE(std::string(e.what()).find("YAML"), std::string::npos) << e.what();
+    }
+  }
+  try {
+    mtcal::load_machine("/dev/zero");
+    ADD_FAILURE() << "/dev/zero accepted";
+  } catch (const mtcal::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("16 MiB"), std::string::npos) << e.what();
+  }
+}

@@ -1,17 +1,30 @@
 // Whole-file input, and output files that appear complete or not at all (temporary + rename).
 #pragma once
 
+#include <cstddef>
 #include <fstream>
 #include <string>
 
 namespace mtcal {
 
-// The whole content of a file; throws InputError ("cannot open <what>") naming the path.
-std::string read_text_file(const std::string& path, const std::string& what = "file");
+// Largest input file read whole (the readers parse text in memory): 256 MiB.
+constexpr std::size_t kMaxInputBytes = std::size_t{256} << 20;
+// Largest YAML file (machine, parameters, prediction model): 16 MiB, far beyond any real one.
+constexpr std::size_t kMaxYamlBytes = std::size_t{16} << 20;
+
+// The whole content of a file; throws InputError ("cannot open <what>", or larger than
+// max_bytes) naming the path.
+std::string read_text_file(const std::string& path, const std::string& what = "file",
+                           std::size_t max_bytes = kMaxInputBytes);
+
+// The permissions a new file of this process gets: wanted & ~umask.
+unsigned permissions_from_umask(unsigned wanted);
 
 class AtomicFile {
  public:
-  // Opens a temporary file beside path; throws Error if it cannot.
+  // Opens a temporary file beside path; throws Error if it cannot, or if path is a directory or
+  // exists and is not a regular file (a device such as /dev/null, a FIFO, a socket). A symbolic
+  // link is followed: its target is replaced and the link kept. The file gets 0666 & ~umask.
   explicit AtomicFile(std::string path);
   // Removes the temporary file unless commit() succeeded. The temporary file is also removed if
   // the program is stopped by SIGINT, SIGTERM or SIGHUP while it is being written.
@@ -24,7 +37,7 @@ class AtomicFile {
   void commit();
 
  private:
-  std::string path_, tmp_;
+  std::string path_, target_, tmp_;
   std::ofstream out_;
   bool committed_ = false;
   int slot_ = -1;  // entry in the list the signal handler cleans up

@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace mtcal {
 
@@ -15,6 +16,10 @@ struct SourceLocation {
   // "file:line: field 'key'" with the parts that are known.
   std::string describe() const;
 };
+
+// Text from an input as a message may show it: control and non-ASCII bytes escaped (\xNN), and
+// cut to at most `max` characters with "…" so that a multi-megabyte cell cannot flood a terminal.
+std::string printable(std::string_view text, std::size_t max = 60);
 
 // Base class of every exception mtcal throws on purpose.
 class Error : public std::runtime_error {
