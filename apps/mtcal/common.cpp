@@ -139,4 +139,27 @@ std::vector<std::vector<double>> checked_grid(const Machine& m, const std::strin
   return values;
 }
 
+// "X=100,Z=-450" -> program zero in machine axis positions (mm, deg); letters of the machine only.
+GcodePosition parse_program_origin(const Machine& m, const std::string& spec) {
+  GcodePosition o{};
+  if (spec.empty()) return o;
+  std::array<bool, 6> seen{};
+  for (const auto& item : split_list(spec)) {
+    const auto eq = item.find('=');
+    if (eq != 1)
+      throw InputError({"--origin", 0, item}, "expected AXIS=VALUE items separated by commas, found '" + item + "'");
+    const char letter = item[0];
+    const auto slot = std::find(std::begin(kGcodeAxes), std::end(kGcodeAxes), letter) - std::begin(kGcodeAxes);
+    if (slot == 6 || !m.axis_index(letter))
+      throw InputError({"--origin", 0, item}, fmt::format("axis '{}' is not in topology {}", letter, m.topology.chain));
+    const auto s = static_cast<std::size_t>(slot);
+    if (seen[s]) throw InputError({"--origin", 0, item}, fmt::format("axis '{}' given twice", letter));
+    seen[s] = true;
+    const auto v = parse_number(item.substr(2));
+    if (!v) throw InputError({"--origin", 0, item}, "expected a number, found '" + item.substr(2) + "'");
+    o[s] = *v;
+  }
+  return o;
+}
+
 }  // namespace mtcal::cli

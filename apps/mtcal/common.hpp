@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "mtcal/evaluation/motion_program.hpp"
 #include "mtcal/io/json.hpp"
 #include "mtcal/model/machine.hpp"
 #include "mtcal/util/errors.hpp"
@@ -47,6 +48,10 @@ std::vector<std::vector<double>> checked_grid(const Machine& m, const std::strin
 [[noreturn]] void rethrow_for_options(const InputError& e,
                                       const std::vector<std::pair<std::string, std::string>>& names);
 
+// "X=100,Z=-450" (option --origin) -> program zero in machine axis positions (mm, deg), like a G54
+// offset; letters of the machine only, each once. Errors are located in "--origin".
+GcodePosition parse_program_origin(const Machine& m, const std::string& spec);
+
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& s);
 
@@ -72,6 +77,9 @@ std::vector<Command> add_volumetric_commands(CLI::App& app);
 std::vector<Command> add_toolpath_commands(CLI::App& app);
 // Identification from probing: simulate, identify, identifiability (cmd_identification.cpp).
 std::vector<Command> add_identification_commands(CLI::App& app);
+// Corrected G-code (issue 14): compensate-gcode (cmd_gcode_correction.cpp; its options and run in
+// cmd_gcode_correction.hpp, for `mtcal compensate --gcode`).
+std::vector<Command> add_gcode_correction_commands(CLI::App& app);
 // Workpiece error prediction (Yaqoob 2017): regress, predict, separate (cmd_prediction.cpp).
 std::vector<Command> add_prediction_commands(CLI::App& app);
 

@@ -33,18 +33,26 @@ void ToolpathChunk::clear() {
   error.clear();
 }
 
-ToolpathInterpolator::ToolpathInterpolator(const Machine& machine, const ToolpathOptions& options) : options_(options) {
+ProgramAxes::ProgramAxes(const Machine& machine, const GcodePosition& origin) : origin_(origin) {
+  for (const Axis& ax : machine.axes) {
+    slot_.push_back(program_slot(ax.letter));
+    factor_.push_back(joint_unit_factor(ax));
+  }
+}
+
+void ProgramAxes::joints(const GcodePosition& p, std::span<double> q) const {
+  for (std::size_t k = 0; k < slot_.size(); ++k) q[k] = joint(k, p);
+}
+
+ToolpathInterpolator::ToolpathInterpolator(const Machine& machine, const ToolpathOptions& options)
+    : axes_(machine, options.origin), options_(options) {
   if (!(std::isfinite(options.step) && options.step > 0))
     throw InputError({"step", 0, ""}, fmt::format("expected a step > 0 in mm, found {}", options.step));
   if (!(std::isfinite(options.angle_step) && options.angle_step > 0))
     throw InputError({"angle step", 0, ""},
                      fmt::format("expected an angle step > 0 in deg, found {}", options.angle_step));
-  for (const Axis& ax : machine.axes) {
-    slot_.push_back(program_slot(ax.letter));
-    factor_.push_back(joint_unit_factor(ax));
-  }
-  last_.assign(slot_.size(), 0.0);
-  dir_.assign(slot_.size(), 0);
+  last_.assign(axes_.size(), 0.0);
+  dir_.assign(axes_.size(), 0);
 }
 
 bool ToolpathInterpolator::start(const GcodeMove& move) {
@@ -52,19 +60,16 @@ bool ToolpathInterpolator::start(const GcodeMove& move) {
   parts_ = done_ = 0;
   if (!have_last_) {
     // The first move's start is where the axes come from.
-    for (std::size_t k = 0; k < slot_.size(); ++k) {
-      const auto s = static_cast<std::size_t>(slot_[k]);
-      last_[k] = (move.start[s] + options_.origin[s]) * factor_[k];
-    }
+    for (std::size_t k = 0; k < axes_.size(); ++k) last_[k] = axes_.joint(k, move.start);
     have_last_ = true;
   }
   if (move.motion == GcodeMotion::Rapid && options_.skip_rapids) {
     // The axes still moved: the next point is approached from this rapid's direction.
-    for (std::size_t k = 0; k < slot_.size(); ++k) {
-      const auto s = static_cast<std::size_t>(slot_[k]);
+    for (std::size_t k = 0; k < axes_.size(); ++k) {
+      const std::size_t s = axes_.slot(k);
       const double d = move.end[s] - move.start[s];
       if (d != 0) dir_[k] = d > 0 ? 1 : -1;
-      last_[k] = (move.end[s] + options_.origin[s]) * factor_[k];
+      last_[k] = axes_.joint(k, move.end);
     }
     ++rapids_skipped_;
     return false;
@@ -93,9 +98,8 @@ void ToolpathInterpolator::emit(ToolpathChunk& c, const GcodePosition& p, double
   c.n.push_back(move_.n);
   c.motion.push_back(move_.motion);
   c.s.push_back(s);
-  for (std::size_t k = 0; k < slot_.size(); ++k) {
-    const auto slot = static_cast<std::size_t>(slot_[k]);
-    const double q = (p[slot] + options_.origin[slot]) * factor_[k];
+  for (std::size_t k = 0; k < axes_.size(); ++k) {
+    const double q = axes_.joint(k, p);
     // The direction in which the axis arrived here: from the previous point. An axis at rest
     // keeps the side of its last motion, as its backlash does.
     if (q != last_[k]) dir_[k] = q > last_[k] ? 1 : -1;

@@ -144,10 +144,12 @@ bool GcodeReader::read_block() {
       if (ec != std::errc() || end != base + k || !std::isfinite(v))
         fail(col,
              fmt::format("expected a finite number after '{}', found '{}'", letter, std::string(base + num, k - num)));
-      words_.push_back({letter, v, col});
+      words_.push_back({letter, v, col, static_cast<int>(k - line_start) + 1 - col});
       i = k;
     }
     if (!words_.empty()) {
+      block_begin_ = line_start;
+      block_end_ = line_end;
       ++counts_.blocks;
       return true;
     }
@@ -159,6 +161,12 @@ bool GcodeReader::next(GcodeMove& move) {
   while (read_block())
     if (apply_block(move)) return true;
   return false;
+}
+
+bool GcodeReader::next_block(GcodeMove& move, bool& moved) {
+  if (!read_block()) return false;
+  moved = apply_block(move);
+  return true;
 }
 
 bool GcodeReader::apply_block(GcodeMove& move) {

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,32 @@ struct ToolpathOptions {
   bool travel_check = true;      // every point inside its axes' travels
   std::size_t chunk = 1u << 16;  // points evaluated per batch
   BatchOptions batch;
+};
+
+// How program coordinates become the machine's joint values: joint k (chain order, internal units)
+// = (p[program axis of k] + origin[that axis]) x the axis's unit factor (mm, deg -> mm, rad). The
+// one mapping of the tool-path simulation, shared with whatever must invert it (the corrected
+// G-code of compensation/gcode_correction.hpp).
+class ProgramAxes {
+ public:
+  ProgramAxes(const Machine& machine, const GcodePosition& origin);
+  std::size_t size() const { return slot_.size(); }
+  // Program axis (index into GcodePosition, 0..5) of machine axis k.
+  std::size_t slot(std::size_t k) const { return static_cast<std::size_t>(slot_[k]); }
+  // User unit -> internal unit of machine axis k.
+  double factor(std::size_t k) const { return factor_[k]; }
+  const GcodePosition& origin() const { return origin_; }
+  // Joint value of machine axis k at program position p.
+  double joint(std::size_t k, const GcodePosition& p) const { return (p[slot(k)] + origin_[slot(k)]) * factor_[k]; }
+  // Every joint at p into q (size() values).
+  void joints(const GcodePosition& p, std::span<double> q) const;
+  // The program value of machine axis k's coordinate for joint value q.
+  double program(std::size_t k, double q) const { return q / factor_[k] - origin_[slot(k)]; }
+
+ private:
+  std::vector<int> slot_;
+  std::vector<double> factor_;
+  GcodePosition origin_{};
 };
 
 // Points of a stretch of the path, as parallel arrays. Joint values are internal units (mm,
@@ -62,8 +89,7 @@ class ToolpathInterpolator {
 
  private:
   void emit(ToolpathChunk& chunk, const GcodePosition& p, double s);
-  std::vector<int> slot_;       // program axis of each machine axis
-  std::vector<double> factor_;  // user unit -> internal unit
+  ProgramAxes axes_;
   ToolpathOptions options_;
   GcodeMove move_;
   std::size_t parts_ = 0, done_ = 0;

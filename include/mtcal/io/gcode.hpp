@@ -36,12 +36,29 @@ class GcodeReader : public MoveSource {
   const GcodeCounts& counts() const override { return counts_; }
   const std::string& source() const override { return source_; }
 
- private:
+  // One word of a block as written: its letter (upper case), value, 1-based column of the letter
+  // and length in characters up to the end of its number (blanks between them included).
   struct Word {
     char letter;
     double value;
     int column;
+    int length = 0;
   };
+  // Block by block, for a program rewriter (io/gcode_rewrite.hpp): the next line with words,
+  // applied to the modal state; `moved` says whether it moves (then `move` is filled). false at
+  // the end of the program. next() and next_block() read the same stream.
+  bool next_block(GcodeMove& move, bool& moved);
+  // The last block read: its words in line order, its line's text (without the line end) and
+  // 1-based line number; the modes in effect after it.
+  const std::vector<Word>& block_words() const { return words_; }
+  std::string_view block_text() const { return text_.substr(block_begin_, block_end_ - block_begin_); }
+  int block_line() const { return line_; }
+  bool inches() const { return inches_; }
+  bool incremental() const { return incremental_; }
+  int motion_mode() const { return motion_; }  // 0 1 2 3, or -1 before any motion code
+  GcodePlane plane() const { return plane_; }
+
+ private:
   bool read_block();  // words of the next line with any, into words_; false at the end
   [[noreturn]] void fail(int column, const std::string& what) const;
   bool apply_block(GcodeMove& move);
@@ -51,6 +68,7 @@ class GcodeReader : public MoveSource {
   GcodeOptions options_;
   std::array<bool, 26> allowed_{};
   std::size_t pos_ = 0;
+  std::size_t block_begin_ = 0, block_end_ = 0;  // the last block's line in text_
   int line_ = 0;
   bool opened_ = false;  // a leading % was read
   bool closed_ = false;  // a trailing % was read
