@@ -30,7 +30,7 @@ test: build
 
 # The compensation that `mtcal compensate --format linuxcnc` writes, loaded by the real controller:
 # installs Debian's linuxcnc-uspace (only this target does: DEPS_FLAGS reaches `deps` through the
-# prerequisites, one apt-get update) and runs LinuxCNC headless, about a minute
+# prerequisites, one apt-get update) and runs LinuxCNC headless, about 1.5 minutes
 # (tests/linuxcnc/run, docs/compensation-linuxcnc-test.md).
 test-linuxcnc: DEPS_FLAGS = --linuxcnc
 test-linuxcnc: build

@@ -103,7 +103,13 @@ def main():
         # a few cycles before the last micrometre of the move, seen here).
         t0 = time.time()
         while True:
-            wait(settled, SETTLE_TIMEOUT_S, "the compensation to settle after move %d" % k)
+            t1 = time.time()
+            while not settled():
+                if time.time() - t1 > SETTLE_TIMEOUT_S:
+                    fail("the correction did not settle %.0f s after move %d (%s): backlash-corr / backlash-filt %s"
+                         % (SETTLE_TIMEOUT_S, k, words, ", ".join("j%d %.9f / %.9f" % (j, g("joint.%d.backlash-corr" % j),
+                                                                                      g("joint.%d.backlash-filt" % j)) for j in range(joints))))
+                time.sleep(0.005)
             before = snapshot(joints)
             time.sleep(0.02)
             after = snapshot(joints)
