@@ -171,25 +171,47 @@ def run(cmd, what, **kw):
 
 # ---------------------------------------------------------------------------------------------
 # What `mtcal compensate --format linuxcnc` wrote, read by this test's own readers.
-def read_ini_snippet(path):
-    """[JOINT_n] sections of the INI snippet: {n: {KEY: value}}; '#' and ';' comments skipped."""
-    sections, cur = {}, None
+def read_ini_snippet(path, coordinates, kinematics):
+    """The INI snippet mtcal writes, merged by this test into its own configuration. Returns
+    ({joint n: {"COMP_FILE": name, "COMP_FILE_TYPE": t}}, [HALFILE names]). Besides [JOINT_n] with
+    COMP_FILE / COMP_FILE_TYPE it may say how to load the rest ([HAL] HALFILE, [KINS] KINEMATICS and
+    JOINTS, [TRAJ] COORDINATES): those must agree with the configuration the test builds from the
+    machine file. Anything else is refused by name, so that the test runs what it says it runs."""
+    joints, halfiles, cur = {}, [], None
+    if not os.path.exists(path):
+        return joints, halfiles
     with open(path) as f:
         for lineno, raw in enumerate(f, 1):
             line = raw.strip()
             if not line or line[0] in "#;":
                 continue
+            where = "%s:%d" % (path, lineno)
             if line.startswith("["):
-                name = line.strip("[]").strip()
-                if not name.startswith("JOINT_"):
-                    raise Failure("%s:%d: expected only [JOINT_n] sections, found [%s]" % (path, lineno, name))
-                cur = sections.setdefault(int(name[6:]), {})
+                cur = line.strip("[]").strip()
+                if cur.startswith("JOINT_"):
+                    joints.setdefault(int(cur[6:]), {})
+                elif cur not in ("HAL", "KINS", "TRAJ"):
+                    raise Failure("%s: expected sections [JOINT_n], [HAL], [KINS] or [TRAJ], found [%s]" % (where, cur))
                 continue
             if cur is None or "=" not in line:
-                raise Failure("%s:%d: expected KEY = VALUE inside a [JOINT_n] section, found %r" % (path, lineno, line))
-            k, v = (s.strip() for s in line.split("=", 1))
-            cur[k] = v
-    return sections
+                raise Failure("%s: expected KEY = VALUE inside a section, found %r" % (where, line))
+            k, v = (x.strip() for x in line.split("=", 1))
+            if cur.startswith("JOINT_") and k in ("COMP_FILE", "COMP_FILE_TYPE"):
+                joints[int(cur[6:])][k] = v
+            elif cur == "HAL" and k == "HALFILE":
+                halfiles.append(v)
+            elif cur == "KINS" and k == "KINEMATICS":
+                if v.split()[0] != kinematics:
+                    raise Failure("%s: KINEMATICS = %s, this machine needs %s" % (where, v, kinematics))
+            elif cur == "KINS" and k == "JOINTS":
+                if int(v) != len(coordinates):
+                    raise Failure("%s: JOINTS = %s, the machine has %d (%s)" % (where, v, len(coordinates), coordinates))
+            elif cur == "TRAJ" and k == "COORDINATES":
+                if v.replace(" ", "").upper() != coordinates:
+                    raise Failure("%s: COORDINATES = %s, expected %s" % (where, v, " ".join(coordinates)))
+            else:
+                raise Failure("%s: [%s] %s is not a key this test merges (COMP_FILE, COMP_FILE_TYPE, HALFILE, KINEMATICS, JOINTS, COORDINATES)" % (where, cur, k))
+    return joints, halfiles
 
 
 def read_comp_file(path):
@@ -343,7 +365,11 @@ def joint_case(name, spec, workdir):
     coordinates = "".join(l for l in "XYZABC" if l in m.chain)
     if coordinates != "XYZ":
         raise Failure("joint case %s: this case expects a 3-axis XYZ machine, found %s" % (name, coordinates))
-    snippet = read_ini_snippet(os.path.join(out, "linuxcnc.ini"))
+    if not os.path.exists(os.path.join(out, "linuxcnc.ini")):
+        raise Failure("mtcal compensate wrote no linuxcnc.ini in %s" % out)
+    snippet, halfiles = read_ini_snippet(os.path.join(out, "linuxcnc.ini"), coordinates, "trivkins")
+    if halfiles:
+        raise Failure("the INI snippet of a 3-axis machine names HAL files %s; nothing to load there" % halfiles)
     tables = {}  # joint -> (letter, nominal, forward, reverse)
     for j, keys in sorted(snippet.items()):
         if "COMP_FILE" not in keys:
@@ -488,7 +514,10 @@ def kins_case(name, spec, workdir):
             if comp != kins or pin not in TRT_PINS:
                 raise Failure("%s:%d: expected a pin of %s (%s), found %s" % (kins_hal, lineno, kins, ", ".join(TRT_PINS), w[1]))
             float(w[2])
-    snippet = read_ini_snippet(os.path.join(out, "linuxcnc.ini")) if os.path.exists(os.path.join(out, "linuxcnc.ini")) else {}
+    snippet, halfiles = read_ini_snippet(os.path.join(out, "linuxcnc.ini"), coordinates, kins)
+    for h in halfiles:
+        if os.path.basename(h) != "linuxcnc-kins.hal":
+            raise Failure("the INI snippet loads %s; expected only linuxcnc-kins.hal" % h)
     comp_files = [os.path.join(out, k["COMP_FILE"]) for k in snippet.values() if "COMP_FILE" in k]
 
     # Mapping between LinuxCNC's world/joints and mtcal's axes, from the two sources:
