@@ -565,14 +565,15 @@ def kins_case(name, spec, workdir):
 
     # Self-check of this script's nominal chain against mtcal's exact model: the line positions
     # applied as moved axis lines must give mtcal eval's error at every pose (1e-9 mm).
-    errs = {n: v for n, v in (yaml.safe_load(open(m_path))["errors"] or {}).items()}
+    errs = m.doc.get("errors") or {}
     shift = {}
     for l in rot:
         v = np.zeros(3)
         for n in LINE_POSITIONS[l]:
-            if n in errs:
-                val, unit = str(errs[n]).split()
-                v["XYZ".index(n[1])] += float(val) * {"um": 1e-3, "mm": 1.0, "nm": 1e-6}[unit]
+            if n in errs:  # a quantity: "3 um" or {value: 3, unit: um} (docs/machine-file.md)
+                q = errs[n]
+                val, unit = (q["value"], q["unit"]) if isinstance(q, dict) else str(q).split()
+                v["XYZ".index(n[1])] += float(val) * {"nm": 1e-6, "um": 1e-3, "mm": 1.0, "m": 1e3}[unit]
         shift[l] = v
 
     # Expected joints: solve nominal(q) + e(q) = target for the linear joints with mtcal eval's e.
