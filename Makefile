@@ -9,12 +9,12 @@ COMPILERS = $(if $(filter default,$(origin CXX)),,-DCMAKE_CXX_COMPILER=$(CXX)) \
             $(if $(filter default,$(origin CC)),,-DCMAKE_C_COMPILER=$(CC))
 MTCAL = $(BUILD)/apps/mtcal/mtcal
 
-.PHONY: all deps configure build demo test bench test-sanitize format clean
+.PHONY: all deps configure build demo test test-linuxcnc bench test-sanitize format clean
 
 all: build
 
 deps:
-	CXX="$(CXX)" scripts/install-deps
+	CXX="$(CXX)" scripts/install-deps $(DEPS_FLAGS)
 
 configure: deps
 	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release $(COMPILERS) $(CMAKE_EXTRA_FLAGS)
@@ -27,6 +27,14 @@ demo: build
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# The compensation that `mtcal compensate --format linuxcnc` writes, loaded by the real controller:
+# installs Debian's linuxcnc-uspace (only this target does: DEPS_FLAGS reaches `deps` through the
+# prerequisites, one apt-get update) and runs LinuxCNC headless, about 1.5 minutes
+# (tests/linuxcnc/run, docs/compensation-linuxcnc-test.md).
+test-linuxcnc: DEPS_FLAGS = --linuxcnc
+test-linuxcnc: build
+	tests/linuxcnc/run $(MTCAL)
 
 bench: build
 	$(BUILD)/bench/mtcal_bench --benchmark_min_time=0.5

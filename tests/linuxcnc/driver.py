@@ -1,0 +1,138 @@
+#!/usr/bin/python3
+# DISPLAY program of mtcal's LinuxCNC test (tests/linuxcnc/run): drives the sim through the moves of
+# plan.json with the `linuxcnc` Python module and reads, after each move, what the motion
+# controller applies, with the `hal` module (doubles, full precision). Writes readings.json.
+#
+# LinuxCNC starts it as `driver.py -ini FILE` from the configuration's folder (the linuxcnc script
+# runs [DISPLAY]DISPLAY there); its exit status becomes LinuxCNC's.
+#
+# What is read, per joint n (LinuxCNC 2.9, src/emc/motion/control.c, output_to_hal()):
+#   motor-pos-cmd = pos-cmd + backlash-filt + motor-offset
+# so motor-pos-cmd - pos-cmd - motor-offset is the compensation the controller adds to the joint.
+# backlash-filt is a ramped copy of backlash-corr (compute_screw_comp()); the driver waits until
+# they are equal, i.e. the correction has settled, before it reads.
+import json
+import sys
+import time
+
+import hal
+import linuxcnc
+
+STARTUP_TIMEOUT_S = 30.0
+MOVE_TIMEOUT_S = 30.0
+SETTLE_TIMEOUT_S = 2.0
+
+
+def fail(msg):
+    print("driver: " + msg, file=sys.stderr, flush=True)
+    sys.exit(1)
+
+
+def wait(predicate, timeout, what):
+    t0 = time.time()
+    while not predicate():
+        if time.time() - t0 > timeout:
+            fail("timed out after %.0f s waiting for %s" % (timeout, what))
+        time.sleep(0.005)
+
+
+def snapshot(joints):
+    g = hal.get_value
+    return [{"pos_cmd": g("joint.%d.pos-cmd" % j),
+             "motor_pos_cmd": g("joint.%d.motor-pos-cmd" % j),
+             "motor_offset": g("joint.%d.motor-offset" % j),
+             "backlash_corr": g("joint.%d.backlash-corr" % j),
+             "backlash_filt": g("joint.%d.backlash-filt" % j)} for j in range(joints)]
+
+
+def main():
+    with open("plan.json") as f:
+        plan = json.load(f)
+    joints = plan["joints"]
+    letters = plan["coordinates"]  # "XYZ", "XYZAC" ...
+
+    comp = hal.component("mtcal-driver")  # hal.get_value needs a component of this process
+    comp.ready()
+    s = linuxcnc.stat()
+    c = linuxcnc.command()
+    err = linuxcnc.error_channel()
+
+    def stat():
+        s.poll()
+        return s
+
+    # Up and idle: task in ESTOP, interpreter idle (as LinuxCNC's own tests wait, tests/abort/*).
+    wait(lambda: stat().task_state == linuxcnc.STATE_ESTOP and s.exec_state == linuxcnc.EXEC_DONE
+         and s.interp_state == linuxcnc.INTERP_IDLE and s.joints == joints,
+         STARTUP_TIMEOUT_S, "LinuxCNC to start")
+    c.state(linuxcnc.STATE_ESTOP_RESET)
+    c.state(linuxcnc.STATE_ON)
+    c.wait_complete()
+    c.home(-1)  # HOME_SEARCH_VEL = 0: every joint homes where it stands, at 0
+    wait(lambda: all(stat().homed[j] for j in range(joints)), MOVE_TIMEOUT_S, "homing")
+    c.mode(linuxcnc.MODE_MDI)
+    c.wait_complete()
+    # Feed and rapid overrides at 100 %, as a GUI sets them. They scale the ramp that brings the
+    # applied correction (backlash-filt) to the table's value (control.c, compute_screw_comp(): v_max =
+    # 0.5 * vel_limit * net_feed_scale); with the scale at 0 the correction would never be applied.
+    print("driver: overrides at start: feed %.3f, rapid %.3f" % (stat().feedrate, s.rapidrate), flush=True)
+    c.feedrate(1.0)
+    c.rapidrate(1.0)
+    wait(lambda: stat().feedrate == 1.0 and s.rapidrate == 1.0, STARTUP_TIMEOUT_S, "feed and rapid overrides at 100 %")
+
+    g = hal.get_value
+
+    def settled():
+        return all(g("joint.%d.backlash-filt" % j) == g("joint.%d.backlash-corr" % j) for j in range(joints))
+
+    readings = []
+    t_moves = time.time()
+    for k, move in enumerate(plan["moves"]):
+        words = " ".join("%s%.9f" % (letter, move["target"][i]) for i, letter in enumerate(letters))
+        c.mdi("G53 G1 %s F%.0f" % (words, plan["feed"]))
+        if c.wait_complete(MOVE_TIMEOUT_S) == -1:
+            fail("move %d (%s) did not complete" % (k, words))
+        wait(lambda: stat().inpos and s.exec_state == linuxcnc.EXEC_DONE, MOVE_TIMEOUT_S, "move %d in position" % k)
+        msg = err.poll()
+        if msg:
+            fail("LinuxCNC error after move %d (%s): %s" % (k, words, msg[1]))
+        if not move.get("read", True):
+            continue
+        # Stopped and settled: every joint's velocity command 0, the correction equal to the table's
+        # value, and nothing changed over 20 servo cycles (the status flags can say "in position"
+        # a few cycles before the last micrometre of the move, seen here).
+        t0 = time.time()
+        while True:
+            t1 = time.time()
+            while not settled():
+                if time.time() - t1 > SETTLE_TIMEOUT_S:
+                    fail("the correction did not settle %.0f s after move %d (%s): backlash-corr / backlash-filt %s"
+                         % (SETTLE_TIMEOUT_S, k, words, ", ".join("j%d %.9f / %.9f" % (j, g("joint.%d.backlash-corr" % j),
+                                                                                      g("joint.%d.backlash-filt" % j)) for j in range(joints))))
+                time.sleep(0.005)
+            before = snapshot(joints)
+            time.sleep(0.02)
+            after = snapshot(joints)
+            if before == after and all(g("joint.%d.vel-cmd" % j) == 0.0 for j in range(joints)):
+                break
+            if time.time() - t0 > MOVE_TIMEOUT_S:
+                fail("joints still moving %.0f s after move %d" % (MOVE_TIMEOUT_S, k))
+        r = {"label": move.get("label", ""), "target": move["target"], "joints": after}
+        stat()
+        r["world"] = list(s.position[:9])
+        readings.append(r)
+    elapsed = time.time() - t_moves
+
+    with open("readings.json", "w") as f:
+        json.dump({"readings": readings, "moves_seconds": elapsed}, f, indent=1)
+    c.state(linuxcnc.STATE_OFF)
+    c.wait_complete()
+    print("driver: %d moves, %d readings in %.1f s" % (len(plan["moves"]), len(readings), elapsed), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main())
+    except linuxcnc.error as e:
+        fail("linuxcnc: %s" % e)
