@@ -1,6 +1,7 @@
 // Python bindings of the model and the kinematics: Machine, MachineBuilder, ErrorModel, evaluate, jacobian, effects,
 // machine and parameter files, joint values and configuration files.
 #include <algorithm>
+#include <chrono>
 #include <numbers>
 
 #include <Eigen/Core>
@@ -45,6 +46,8 @@ threads : int, keyword-only
     Worker threads, 0 (default): all cores. The GIL is released during the computation.
 travel_check : bool, keyword-only
     Refuse (InputError) a configuration outside its axes' travels; default False.
+out : numpy.ndarray, keyword-only, optional
+    A writeable C-contiguous float64 array of the result's shape to fill (no allocation); returned.
 
 Returns
 -------
@@ -106,8 +109,25 @@ void check_travel(const Machine& m, const Rows& q) {
   }
 }
 
+// The caller's output array, when given: C-contiguous, writeable float64 of the result's shape.
+py::array_t<double> output_array(py::handle out, const Rows& q) {
+  const std::vector<py::ssize_t> shape =
+      q.single ? std::vector<py::ssize_t>{6} : std::vector<py::ssize_t>{static_cast<py::ssize_t>(q.rows), 6};
+  if (out.is_none()) return new_array(shape);
+  const std::string want = q.single ? "(6,)" : "(" + std::to_string(q.rows) + ", 6)";
+  if (!py::isinstance<py::array>(out))
+    throw py::value_error("out: expected a float64 array of shape " + want + ", found " +
+                          std::string(py::str(py::type::of(out).attr("__name__"))));
+  auto a = py::reinterpret_borrow<py::array>(out);
+  const bool shape_ok =
+      a.ndim() == static_cast<py::ssize_t>(shape.size()) && std::equal(shape.begin(), shape.end(), a.shape());
+  if (!a.dtype().is(py::dtype::of<double>()) || !shape_ok || !(a.flags() & py::array::c_style) || !a.writeable())
+    throw py::value_error("out: expected a writeable C-contiguous float64 array of shape " + want);
+  return py::reinterpret_borrow<py::array_t<double>>(out);
+}
+
 py::array_t<double> evaluate(py::handle model_obj, py::handle configs, py::handle directions, int threads,
-                             bool travel_check) {
+                             bool travel_check, py::handle out_arg) {
   const ModelRef ref = model_of(model_obj);
   const ErrorModel& model = *ref.model;
   const std::size_t k = model.axis_count();
@@ -115,7 +135,7 @@ py::array_t<double> evaluate(py::handle model_obj, py::handle configs, py::handl
   Directions d;
   if (!directions.is_none()) d = as_directions(directions, "directions", q.rows, k, q.single);
   if (travel_check) check_travel(model.machine(), q);
-  py::array_t<double> out = q.single ? new_array({6}) : new_array({static_cast<py::ssize_t>(q.rows), 6});
+  py::array_t<double> out = output_array(out_arg, q);
   double* o = out.mutable_data();
   {
     py::gil_scoped_release release;
@@ -608,11 +628,10 @@ polynomial=[c0, c1, c2, c3] (E = sum c_i q^i, + reversal * sign of the motion), 
       .def_property_readonly("axis_count", &ErrorModel::axis_count)
       .def(
           "evaluate",
-          [](py::object self, py::handle configs, py::handle directions, int threads, bool travel_check) {
-            return evaluate(self, configs, directions, threads, travel_check);
-          },
+          [](py::object self, py::handle configs, py::handle directions, int threads, bool travel_check,
+             py::handle out) { return evaluate(self, configs, directions, threads, travel_check, out); },
           "configs"_a, "directions"_a = py::none(), py::kw_only(), "threads"_a = 0, "travel_check"_a = false,
-          "As mtcal.evaluate(model, ...): (N, 6) errors dx dy dz (mm) rx ry rz (rad).")
+          "out"_a = py::none(), "As mtcal.evaluate(model, ...): (N, 6) errors dx dy dz (mm) rx ry rz (rad).")
       .def(
           "jacobian",
           [](py::object self, py::handle configs, py::handle directions, int threads) {
@@ -638,7 +657,29 @@ polynomial=[c0, c1, c2, c3] (E = sum c_i q^i, + reversal * sign of the motion), 
       .def("__repr__", [](const ErrorModel& em) { return "<mtcal.ErrorModel of '" + em.machine().name + "'>"; });
 
   m.def("evaluate", &evaluate, "model"_a, "configs"_a, "directions"_a = py::none(), py::kw_only(), "threads"_a = 0,
-        "travel_check"_a = false, kEvaluateDoc);
+        "travel_check"_a = false, "out"_a = py::none(), kEvaluateDoc);
+  // The C++ batch call alone, timed in C++ on copies of the inputs into std::vectors and a reused
+  // output: the reference of bench/python_evaluate.py (not part of the API).
+  m.def(
+      "_bench_evaluate_batch",
+      [](const ErrorModel& model, py::handle configs, py::handle directions, int repeats, int threads) {
+        const std::size_t k = model.axis_count();
+        const Rows q = as_rows(configs, "configs", k, false);
+        Directions d;
+        if (!directions.is_none()) d = as_directions(directions, "directions", q.rows, k, false);
+        const std::vector<double> qv(q.data, q.data + q.rows * k);
+        const std::vector<std::int8_t> dv(d.data, d.data + d.size);
+        std::vector<double> out(q.rows * 6);
+        std::vector<double> seconds;
+        py::gil_scoped_release release;
+        for (int r = 0; r < repeats; ++r) {
+          const auto t0 = std::chrono::steady_clock::now();
+          model.evaluate_batch(qv, dv, out, BatchOptions{threads});
+          seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+        return seconds;
+      },
+      "model"_a, "configs"_a, "directions"_a, "repeats"_a, "threads"_a = 0);
   m.def("jacobian", &jacobian, "model"_a, "configs"_a, "directions"_a = py::none(), py::kw_only(), "threads"_a = 0,
         kJacobianDoc);
 

@@ -171,3 +171,23 @@ def test_gil_is_released(hu40t):
     t.join()
     assert elapsed > 0.05, elapsed  # long enough to measure
     assert ticks > 1000, ticks
+
+
+def test_out_argument_is_filled_in_place(hu40t):
+    q = random_configs(hu40t, 100, 6)
+    buf = np.full((100, 6), np.nan)
+    r = mtcal.evaluate(hu40t, q, out=buf)
+    assert r is buf or np.shares_memory(r, buf)
+    np.testing.assert_array_equal(buf, mtcal.evaluate(hu40t, q))
+    with pytest.raises(ValueError, match=r"out: expected a writeable C-contiguous float64 array of shape \(100, 6\)"):
+        mtcal.evaluate(hu40t, q, out=np.empty((100, 6), dtype=np.float32))
+    with pytest.raises(ValueError, match="out:"):
+        mtcal.evaluate(hu40t, q, out=np.empty((6, 100)).T)
+
+
+def test_help_explains_units_and_shapes():
+    doc = mtcal.evaluate.__doc__
+    for words in ("(N, k)", "(N, 6)", "mm", "rad", "C-contiguous float64", "directions", "-1, 0 or +1"):
+        assert words in doc, words
+    assert "(N, 6, P)" in mtcal.jacobian.__doc__
+    assert mtcal.evaluate.__module__ == "mtcal" and mtcal.Machine.__module__ == "mtcal"
