@@ -282,6 +282,38 @@ class DiagonalsResult:
         ...
     def to_dict(self) -> dict[str, Any]:
         """As `mtcal diagonals --json`."""
+    def write_csv(self, path: str) -> None:
+        """As `mtcal diagonals --out`: diagonal, position (mm), deviation (mm)."""
+
+class DimensionRecord:
+    """One dimension of one workpiece at one step (mm)."""
+    @property
+    def axis(self) -> str:
+        ...
+    @property
+    def e_pf(self) -> float | None:
+        ...
+    @property
+    def e_pos(self) -> float | None:
+        ...
+    @property
+    def e_pt(self) -> float | None:
+        ...
+    @property
+    def line(self) -> int:
+        ...
+    @property
+    def measured(self) -> float:
+        ...
+    @property
+    def nominal(self) -> float:
+        ...
+    @property
+    def step(self) -> int:
+        ...
+    @property
+    def workpiece(self) -> str:
+        ...
 
 class Distribution:
     """A distribution with its histogram (equal bins from lo)."""
@@ -718,6 +750,30 @@ class PointPair:
     def value(self) -> float:
         ...
 
+class PositionObservation:
+    """One CMM/probe pair of a feature at a step (mm)."""
+    @property
+    def axis(self) -> str:
+        ...
+    @property
+    def cmm(self) -> float:
+        ...
+    @property
+    def distance(self) -> float:
+        ...
+    @property
+    def feature(self) -> str:
+        ...
+    @property
+    def line(self) -> int:
+        ...
+    @property
+    def probe(self) -> float:
+        ...
+    @property
+    def step(self) -> int:
+        ...
+
 class PositionSeparation:
     def csv(self) -> str:
         ...
@@ -1036,6 +1092,8 @@ class ToolpathResult:
         """Path length, mm"""
     def to_dict(self) -> dict[str, Any]:
         """The summary as `mtcal toolpath --json`."""
+    def write_csv(self, path: str) -> None:
+        """The points as `mtcal toolpath --out` writes them."""
 
 class TraceTerm:
     """One term of the ballbar diagnosis."""
@@ -1306,8 +1364,14 @@ def read_contacts_csv(path: str, axis: str) -> ContactSet:
 def read_csv(path: str) -> CsvTable:
     """A CSV file whose first non-comment line names the columns, every value a finite number (InputError naming file, line and column otherwise)."""
 
+def read_dimension_table(path: str) -> list[DimensionRecord]:
+    """The long dimension table (workpiece, step, axis, nominal, measured, e_pf, e_pt, e_pos)."""
+
 def read_gcode(path: str, *, axes: str = ...) -> GcodeProgram:
     """A G-code program (G0 G1 G2 G3, G17-G19, G20/G21, G90/G91)."""
+
+def read_position_observations(path: str) -> list[PositionObservation]:
+    """The CMM/probe position table (Yaqoob 2017 Table 5.3 form): one PositionObservation per filled pair."""
 
 def read_positioning(path: str, *, format: str = ..., unit: str = ...) -> PositioningRuns:
     """ISO 230-2 runs from a file: CSV target,run,direction,measured (values in unit) or the key=value .dat form (it says its unit); format 'auto', 'csv' or 'dat'."""
@@ -1328,11 +1392,11 @@ def rotary_axis(data: ContactSet | IndexedCentres, *, axis: str = ..., machine: 
     letter's axis). method 'both', 'triples' (Cubas & Yeh 2022) or 'lsq'. As `mtcal rotary-axis`.
     """
 
-def separate_control(path: str, a: str, b: str, *, model: PredictionModel | None = ...) -> ControlSeparation:
-    """Control errors between workpieces a and b from the dimension table (minus the model's e_ctrl with a model). As `mtcal separate control`."""
+def separate_control(data: ContactSet | IndexedCentres, a: str, b: str, *, model: PredictionModel | None = ...) -> ControlSeparation:
+    """Control errors between workpieces a and b from the dimension table (a path, or the records of read_dimension_table), minus the model's e_ctrl with a model. As `mtcal separate control`."""
 
-def separate_position(path: str) -> PositionSeparation:
-    """Mechanical position errors per step from a CMM/probe position table. As `mtcal separate position`."""
+def separate_position(data: ContactSet | IndexedCentres) -> PositionSeparation:
+    """Mechanical position errors per step from a CMM/probe position table (a path, or the records of read_position_observations). As `mtcal separate position`."""
 
 def simulate(machine: Machine, plan: ProbingPlan, *, noise: float = ..., artefact_error: float = ..., seed: int = ..., scale_bars: Sequence[str | tuple[str, str, float]] | None = ...) -> SimulationResult:
     """Virtual machine (Viprey 2015 fig. 4): the readings `machine` gives for a probing plan, with

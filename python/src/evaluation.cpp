@@ -282,10 +282,7 @@ py::object optional_number(const std::optional<double>& v) { return v ? py::obje
 struct ToolpathResult {
   Machine machine;
   ToolpathSummary summary;
-  std::vector<int> line;
-  std::vector<std::int64_t> n;
-  std::vector<double> s, q, error;
-  std::vector<std::int8_t> dir;
+  ToolpathChunk points;  // every point of the program, the chunks appended
 };
 
 GcodePosition origin_of(const Machine& m, py::handle origin) {
@@ -314,14 +311,16 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
   opt.batch.threads = threads;
   ToolpathInterpolator check(m, opt);  // a bad step is refused before any reading
   const ErrorModel model(m);
-  ToolpathResult r{m, {}, {}, {}, {}, {}, {}, {}};
+  ToolpathResult r{m, {}, {}};
   auto sink = [&](const ToolpathChunk& c) {
-    r.line.insert(r.line.end(), c.line.begin(), c.line.end());
-    r.n.insert(r.n.end(), c.n.begin(), c.n.end());
-    r.s.insert(r.s.end(), c.s.begin(), c.s.end());
-    r.q.insert(r.q.end(), c.q.begin(), c.q.end());
-    r.dir.insert(r.dir.end(), c.dir.begin(), c.dir.end());
-    r.error.insert(r.error.end(), c.error.begin(), c.error.end());
+    auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    append(r.points.line, c.line);
+    append(r.points.n, c.n);
+    append(r.points.motion, c.motion);
+    append(r.points.s, c.s);
+    append(r.points.q, c.q);
+    append(r.points.dir, c.dir);
+    append(r.points.error, c.error);
   };
   if (py::isinstance<GcodeProgram>(program)) {
     const auto& p = program.cast<const GcodeProgram&>();
@@ -555,7 +554,10 @@ exact VA without each error (what_if). Configurations in internal units. As `mtc
       .def_readonly("profiles", &DiagonalsResult::profiles)
       .def(
           "to_dict", [](const DiagonalsResult& r) { return to_py(to_json(r.machine, r.profiles)); },
-          "As `mtcal diagonals --json`.");
+          "As `mtcal diagonals --json`.")
+      .def(
+          "write_csv", [](const DiagonalsResult& r, const std::string& path) { write_diagonals_csv(path, r.profiles); },
+          "path"_a, "As `mtcal diagonals --out`: diagonal, position (mm), deviation (mm).");
   m.def("diagonals", &diagonals, "machine"_a, "box"_a, py::kw_only(), "points"_a = std::size_t{21}, "face"_a = true,
         "travel_check"_a = false,
         "ISO 230-6 body (and face) diagonals of a box (\"X=0:500,Y=0:400,Z=-300:0\" in mm, or a dict letter -> (lo, "
@@ -770,19 +772,28 @@ overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.)
       "text"_a, "source"_a = "<string>", py::kw_only(), "axes"_a = "XYZABC");
   py::class_<ToolpathResult>(m, "ToolpathResult", "Points along a program and the volumetric error at each.")
       .def_property_readonly(
-          "lines", [](const ToolpathResult& r) { return r.line; }, "Source line of each point")
+          "lines", [](const ToolpathResult& r) { return r.points.line; }, "Source line of each point")
       .def_property_readonly(
-          "s", [](const ToolpathResult& r) { return to_array(r.s); }, "Path length, mm")
+          "s", [](const ToolpathResult& r) { return to_array(r.points.s); }, "Path length, mm")
       .def_property_readonly(
-          "configs", [](const ToolpathResult& r) { return to_array(r.q, r.machine.axes.size()); },
+          "configs", [](const ToolpathResult& r) { return to_array(r.points.q, r.machine.axes.size()); },
           "(N, k) internal units")
       .def_property_readonly("directions",
                              [](const ToolpathResult& r) -> py::object {
-                               if (r.dir.empty()) return py::none();
-                               return to_int8_array(r.dir, r.machine.axes.size());
+                               if (r.points.dir.empty()) return py::none();
+                               return to_int8_array(r.points.dir, r.machine.axes.size());
                              })
       .def_property_readonly(
-          "errors", [](const ToolpathResult& r) { return to_array(r.error, 6); }, "(N, 6) dx dy dz (mm) rx ry rz (rad)")
+          "errors", [](const ToolpathResult& r) { return to_array(r.points.error, 6); },
+          "(N, 6) dx dy dz (mm) rx ry rz (rad)")
+      .def(
+          "write_csv",
+          [](const ToolpathResult& r, const std::string& path) {
+            ToolpathCsv file(path, r.machine);
+            file.write(r.points);
+            file.commit();
+          },
+          "path"_a, "The points as `mtcal toolpath --out` writes them.")
       .def(
           "to_dict", [](const ToolpathResult& r) { return to_py(to_json(r.machine, r.summary)); },
           "The summary as `mtcal toolpath --json`.");

@@ -239,21 +239,54 @@ void bind_prediction_compensation(py::module_& m) {
           "to_dict", [](const ControlSeparation& s, const std::string& file) { return to_py(to_json(s, file)); },
           "file"_a = "")
       .def("csv", [](const ControlSeparation& s) { return separation_csv(s); });
+  py::class_<PositionObservation>(m, "PositionObservation", "One CMM/probe pair of a feature at a step (mm).")
+      .def_readonly("step", &PositionObservation::step)
+      .def_property_readonly("axis", [](const PositionObservation& o) { return std::string(1, o.axis); })
+      .def_readonly("feature", &PositionObservation::feature)
+      .def_readonly("distance", &PositionObservation::distance)
+      .def_readonly("cmm", &PositionObservation::cmm)
+      .def_readonly("probe", &PositionObservation::probe)
+      .def_readonly("line", &PositionObservation::line);
+  py::class_<DimensionRecord>(m, "DimensionRecord", "One dimension of one workpiece at one step (mm).")
+      .def_readonly("workpiece", &DimensionRecord::workpiece)
+      .def_readonly("step", &DimensionRecord::step)
+      .def_property_readonly("axis", [](const DimensionRecord& r) { return std::string(1, r.axis); })
+      .def_readonly("nominal", &DimensionRecord::nominal)
+      .def_readonly("measured", &DimensionRecord::measured)
+      .def_readonly("e_pf", &DimensionRecord::e_pf)
+      .def_readonly("e_pt", &DimensionRecord::e_pt)
+      .def_readonly("e_pos", &DimensionRecord::e_pos)
+      .def_readonly("line", &DimensionRecord::line);
+  m.def(
+      "read_position_observations", [](const std::string& path) { return read_position_observations(path); }, "path"_a,
+      "The CMM/probe position table (Yaqoob 2017 Table 5.3 form): one PositionObservation per filled pair.");
+  m.def(
+      "read_dimension_table", [](const std::string& path) { return read_dimension_table(path); }, "path"_a,
+      "The long dimension table (workpiece, step, axis, nominal, measured, e_pf, e_pt, e_pos).");
   m.def(
       "separate_position",
-      [](const std::string& path) {
-        return separate_position_with_fits(read_position_observations(read_text_csv(path), path));
+      [](py::handle data) {
+        if (py::isinstance<py::str>(data)) {
+          const auto path = data.cast<std::string>();
+          return separate_position_with_fits(read_position_observations(read_text_csv(path), path));
+        }
+        return separate_position_with_fits(data.cast<std::vector<PositionObservation>>());
       },
-      "path"_a, "Mechanical position errors per step from a CMM/probe position table. As `mtcal separate position`.");
+      "data"_a,
+      "Mechanical position errors per step from a CMM/probe position table (a path, or the records of "
+      "read_position_observations). As `mtcal separate position`.");
   m.def(
       "separate_control",
-      [](const std::string& path, const std::string& a, const std::string& b, const PredictionModel* model) {
-        const auto rec = read_dimension_table(read_text_csv(path), path);
-        return separate_control(rec, a, b, path, model);
+      [](py::handle data, const std::string& a, const std::string& b, const PredictionModel* model) {
+        if (py::isinstance<py::str>(data)) {
+          const auto path = data.cast<std::string>();
+          return separate_control(read_dimension_table(read_text_csv(path), path), a, b, path, model);
+        }
+        return separate_control(data.cast<std::vector<DimensionRecord>>(), a, b, "records", model);
       },
-      "path"_a, "a"_a, "b"_a, py::kw_only(), "model"_a = nullptr,
-      "Control errors between workpieces a and b from the dimension table (minus the model's e_ctrl with a "
-      "model). As `mtcal separate control`.");
+      "data"_a, "a"_a, "b"_a, py::kw_only(), "model"_a = nullptr,
+      "Control errors between workpieces a and b from the dimension table (a path, or the records of "
+      "read_dimension_table), minus the model's e_ctrl with a model. As `mtcal separate control`.");
   py::class_<ProcessErrorStudy>(m, "ProcessErrorStudy")
       .def_property_readonly(
           "e_prog",

@@ -67,3 +67,25 @@ def test_text_written_atomically(tmp_path):
     assert (tmp_path / "a.txt").read_text() == "hello\n"
     with pytest.raises(mtcal.Error):
         mtcal.write_text_file(str(tmp_path / "missing" / "a.txt"), "x")
+
+
+def test_diagonals_and_toolpath_csv_equal_the_commands(vmc, tmp_path):
+    box = "X=-400:400,Y=-250:250,Z=-500:0"
+    cli("diagonals", "-m", VMC, "--box", box, "--points", "5", "--out", tmp_path / "d-cli.csv")
+    mtcal.diagonals(vmc, box, points=5).write_csv(str(tmp_path / "d-py.csv"))
+    assert (tmp_path / "d-py.csv").read_text() == (tmp_path / "d-cli.csv").read_text()
+    program = EXAMPLES / "gcode" / "pocket.nc"
+    cli("toolpath", "-m", VMC, "--gcode", program, "--step", "5", "--origin", "Z=-400", "--out", tmp_path / "t-cli.csv")
+    mtcal.toolpath(vmc, str(program), step=5, origin={"Z": -400}).write_csv(str(tmp_path / "t-py.csv"))
+    assert (tmp_path / "t-py.csv").read_text() == (tmp_path / "t-cli.csv").read_text()
+
+
+def test_separation_records():
+    p = EXAMPLES / "prediction"
+    obs = mtcal.read_position_observations(str(p / "yaqoob2017-table5_3.csv"))
+    assert obs and obs[0].axis in "XYZ" and obs[0].line > 0
+    assert mtcal.separate_position(obs).csv() == mtcal.separate_position(str(p / "yaqoob2017-table5_3.csv")).csv()
+    rec = mtcal.read_dimension_table(str(p / "yaqoob2017-table5_6.csv"))
+    assert {r.workpiece for r in rec} >= {"W2", "W5"}
+    assert mtcal.separate_control(rec, "W2", "W5").csv() == \
+        mtcal.separate_control(str(p / "yaqoob2017-table5_6.csv"), "W2", "W5").csv()
