@@ -245,7 +245,9 @@ TEST(Identification, CovarianceIsTheOneTheUncertaintiesComeFrom) {
     for (Eigen::Index j = 0; j < k; ++j) {
       const double uj = r.parameters[static_cast<std::size_t>(j)].u;
       EXPECT_NEAR(r.covariance(i, j), r.covariance(j, i), 1e-12 * ui * uj);
-      if (i != j) EXPECT_NEAR(r.covariance(i, j) / (ui * uj), r.correlation(i, j), 1e-12);
+      if (i != j) {
+        EXPECT_NEAR(r.covariance(i, j) / (ui * uj), r.correlation(i, j), 1e-12);
+      }
     }
   }
 }
