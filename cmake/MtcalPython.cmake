@@ -11,17 +11,19 @@ if(NOT DEFINED MTCAL_PYTHON OR MTCAL_PYTHON)
   else()
     if(NOT DEFINED Python3_EXECUTABLE)
       # Debian's python3-numpy, -pytest and -matplotlib belong to Debian's interpreter. An interpreter first on
-      # PATH (pyenv, a virtual environment) may lack NumPy: take the first of `python3` on PATH and
-      # /usr/bin/python3 that imports it.
+      # PATH (pyenv, a virtual environment) may lack them: take the first of `python3` on PATH and
+      # /usr/bin/python3 that imports all three (the module, its tests, its examples), else the first that
+      # imports NumPy (the module alone).
       find_program(_mtcal_python3_on_path NAMES python3 NO_CACHE)
-      foreach(candidate ${_mtcal_python3_on_path} /usr/bin/python3)
-        if(EXISTS ${candidate})
-          execute_process(COMMAND ${candidate} -c "import numpy" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
-          if(rc EQUAL 0)
-            set(Python3_EXECUTABLE ${candidate} CACHE FILEPATH "Python interpreter of the mtcal module")
-            break()
+      foreach(imports "numpy, pytest, matplotlib" "numpy")
+        foreach(candidate ${_mtcal_python3_on_path} /usr/bin/python3)
+          if(NOT DEFINED Python3_EXECUTABLE AND EXISTS ${candidate})
+            execute_process(COMMAND ${candidate} -c "import ${imports}" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
+            if(rc EQUAL 0)
+              set(Python3_EXECUTABLE ${candidate} CACHE FILEPATH "Python interpreter of the mtcal module")
+            endif()
           endif()
-        endif()
+        endforeach()
       endforeach()
     endif()
     find_package(Python3 3.8 QUIET COMPONENTS Interpreter Development.Module)
