@@ -463,6 +463,7 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
         res.correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
             cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) / d;
     }
+  res.covariance = cov.topLeftCorner(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
   res.artefact = pm.artefact(s.x.data());
   if (pm.has_pretravel()) {
     const auto c = static_cast<Eigen::Index>(pm.pretravel_column());

@@ -225,6 +225,33 @@ TEST(Identification, UncertaintiesCoverTheTruth) {
   EXPECT_LT(coverage, 0.97);
 }
 
+TEST(Identification, CovarianceIsTheOneTheUncertaintiesComeFrom) {
+  // The parameters' covariance block: u is the root of its diagonal, the correlation its scaled form.
+  const Machine truth = hu40t();
+  const ProbingPlan plan = read_probing_csv(truth, kPlanPath);
+  SimulationOptions so;
+  so.noise = 1e-3;
+  so.artefact_error = 0.02;
+  so.scale_bars = {{"1", "2", 304.8}};
+  const IdentificationResult r =
+      identify(prior_of(truth, kLocation), simulate_probing(truth, plan, so).measurements, options(kLocation));
+  const auto k = static_cast<Eigen::Index>(r.parameters.size());
+  ASSERT_EQ(r.covariance.rows(), k);
+  ASSERT_EQ(r.covariance.cols(), k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const double ui = r.parameters[static_cast<std::size_t>(i)].u;
+    EXPECT_GT(ui, 0.0);
+    EXPECT_NEAR(std::sqrt(r.covariance(i, i)), ui, 1e-15 * ui);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const double uj = r.parameters[static_cast<std::size_t>(j)].u;
+      EXPECT_NEAR(r.covariance(i, j), r.covariance(j, i), 1e-12 * ui * uj);
+      if (i != j) {
+        EXPECT_NEAR(r.covariance(i, j) / (ui * uj), r.correlation(i, j), 1e-12);
+      }
+    }
+  }
+}
+
 TEST(Identification, MonteCarloSpreadAgreesWithTheCovariance) {
   const Machine truth = hu40t();
   const ProbingPlan plan = read_probing_csv(truth, kPlanPath);

@@ -111,6 +111,9 @@ struct IdentificationResult {
   Identifiability identifiability;                              // at the solution, over the estimated unknowns
   std::vector<EstimatedParameter> parameters;                   // estimated machine parameters
   Eigen::MatrixXd correlation;                                  // among them
+  // Their covariance sigma0^2 (J^T J)^-1 (the machine-parameter block; u is the root of its
+  // diagonal); NaN where rank deficient.
+  Eigen::MatrixXd covariance;
   ArtefactState artefact;
   double pretravel = 0.0, pretravel_u = 0.0;
   bool pretravel_estimated = false;  // requested and identifiable
