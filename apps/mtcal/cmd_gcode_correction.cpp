@@ -1,4 +1,4 @@
-// mtcal compensate-gcode (later `mtcal compensate --gcode`): the corrected G-code program (issue 14,
+// mtcal compensate --gcode: the corrected G-code program (issue 14,
 // docs/compensation-gcode.md).
 #include "cmd_gcode_correction.hpp"
 
@@ -117,28 +117,6 @@ int run_gcode_correction(const GcodeCorrectionCliOptions& o) {
   } catch (const InputError& e) {
     rethrow_for_options(e, {{"max deviation", "--max-deviation"}, {"decimals", "--decimals"}});
   }
-}
-
-std::vector<Command> add_gcode_correction_commands(CLI::App& app) {
-  auto o = std::make_shared<GcodeCorrectionCliOptions>();
-  auto* c = app.add_subcommand(
-      "compensate-gcode",
-      "Corrected G-code: rewrite a program's coordinates so that the tool lands where programmed on the modelled "
-      "machine (x_cmd + e(x_cmd) = x_target), cutting moves where the correction varies; comments, N, F, S, T, M "
-      "and spacing are kept. See docs/compensation-gcode.md");
-  add_model_options(c, o->model);
-  add_gcode_correction_options(*c, *o);
-  c->get_option("--gcode")->required();
-  c->get_option("--out")->required();
-  c->footer(
-      "Examples:\n"
-      "  mtcal compensate-gcode -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/pocket.nc \\\n"
-      "      --origin \"X=-40,Y=-25,Z=-400\" --out pocket-corrected.nc\n"
-      "  mtcal compensate-gcode -m machine.yaml --params identified.yaml --gcode part.nc --out part-c.nc \\\n"
-      "      --max-deviation 0.0005 --linearise-arcs --json\n"
-      "Check: mtcal toolpath on the corrected program gives the errors at the commanded points; the deviation\n"
-      "from the programmed path is what this command reports (docs/compensation-gcode.md).");
-  return {{c, [o] { return run_gcode_correction(*o); }}};
 }
 
 }  // namespace mtcal::cli

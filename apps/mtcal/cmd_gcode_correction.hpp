@@ -1,5 +1,4 @@
-// The corrected G-code program's command-line part: options and run, for `mtcal compensate --gcode` (and
-// compensate-gcode).
+// The corrected G-code program's command-line part: options and run, for `mtcal compensate --gcode`.
 #pragma once
 
 #include <string>

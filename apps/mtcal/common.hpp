@@ -77,9 +77,8 @@ std::vector<Command> add_volumetric_commands(CLI::App& app);
 std::vector<Command> add_toolpath_commands(CLI::App& app);
 // Identification from probing: simulate, identify, identifiability (cmd_identification.cpp).
 std::vector<Command> add_identification_commands(CLI::App& app);
-// Corrected G-code (issue 14): compensate-gcode (cmd_gcode_correction.cpp; its options and run in
-// cmd_gcode_correction.hpp, for `mtcal compensate --gcode`).
-std::vector<Command> add_gcode_correction_commands(CLI::App& app);
+// Compensation: compensate (cmd_compensation.cpp; its --gcode part in cmd_gcode_correction.cpp).
+std::vector<Command> add_compensation_commands(CLI::App& app);
 // Workpiece error prediction (Yaqoob 2017): regress, predict, separate (cmd_prediction.cpp).
 std::vector<Command> add_prediction_commands(CLI::App& app);
 

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "mtcal/evaluation/volumetric.hpp"
+#include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parallel.hpp"
 
@@ -75,6 +78,68 @@ ResidualSummary predict_residual(const ErrorModel& model, const std::vector<std:
   s.va_before = volumetric_accuracy(before).va.value;
   s.va_after = volumetric_accuracy(after).va.value;
   return s;
+}
+
+std::vector<AxisSampling> resolve_sampling(const Machine& m, const CompensationOptions& o, std::size_t default_points,
+                                           std::size_t max_points, const std::string& target) {
+  for (const auto& s : o.sampling)
+    if (!m.axis_index(s.axis))
+      throw InputError({target, 0, std::string(1, s.axis)},
+                       fmt::format("expected an axis of {}, found {}", m.topology.chain, s.axis));
+  std::vector<AxisSampling> out;
+  for (const auto& ax : m.axes) {
+    const auto given =
+        std::find_if(o.sampling.begin(), o.sampling.end(), [&](const AxisSampling& s) { return s.axis == ax.letter; });
+    const std::size_t points = o.points ? o.points : default_points;
+    AxisSampling s = given != o.sampling.end() ? *given : default_sampling(m, ax.letter, points);
+    if (s.points == 0) s.points = points;
+    if (s.points > max_points)
+      throw InputError({target, 0, std::string(1, ax.letter)},
+                       fmt::format("expected at most {} positions per table (the controller's limit), found {}",
+                                   max_points, s.points));
+    sample_positions(s, target);  // checks the range and the count
+    if (ax.travel) {
+      const double lo = to_user_units(ax, ax.travel->min), hi = to_user_units(ax, ax.travel->max);
+      const double slack = 1e-9 * std::max(1.0, hi - lo);
+      if (s.start < lo - slack || s.end > hi + slack)
+        throw InputError({target, 0, std::string(1, ax.letter)},
+                         fmt::format("expected a range within the travel [{:g}, {:g}] {} of {}, found [{:g}, {:g}]", lo,
+                                     hi, joint_unit_name(ax), ax.letter, s.start, s.end));
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<std::vector<double>> residual_grid(const Machine& m, const std::vector<AxisSampling>& sampling,
+                                               std::size_t points_per_axis) {
+  std::vector<std::vector<double>> grid;
+  for (std::size_t a = 0; a < m.axes.size(); ++a) {
+    AxisSampling s = sampling[a];
+    s.points = std::max<std::size_t>(2, points_per_axis);
+    std::vector<double> v = sample_positions(s, "residual grid");
+    for (double& x : v) x *= joint_unit_factor(m.axes[a]);
+    grid.push_back(std::move(v));
+  }
+  return grid;
+}
+
+std::vector<NotCompensated> errors_not_held(const Machine& m, const std::vector<std::vector<double>>& grid,
+                                            const std::function<bool(const ErrorName&)>& held, int threads) {
+  std::vector<ErrorName> names;
+  for (const auto& p : m.parameters())
+    if (p.value != 0.0 && !held(p.error) && std::find(names.begin(), names.end(), p.error) == names.end())
+      names.push_back(p.error);
+  std::vector<NotCompensated> out;
+  for (const auto& name : names) {
+    Machine only = m;
+    only.keep_only({name.str()});
+    const ErrorModel model(only);
+    const auto r = predict_residual(
+        model, grid, [](auto, auto) { return AppliedCorrection{}; }, threads);
+    out.push_back({name.str(), r.max_norm_before, "mm"});
+  }
+  return out;
 }
 
 }  // namespace mtcal

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "mtcal/io/compensation_linuxcnc.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -14,7 +15,10 @@ namespace fs = std::filesystem;
 
 const std::vector<CompensationTarget>& compensation_targets() {
   // Each target family adds its entries here (io/compensation_<family>.hpp).
-  static const std::vector<CompensationTarget> targets = {};
+  static const std::vector<CompensationTarget> targets = {
+      {"linuxcnc", "LinuxCNC: COMP_FILE per linear joint (type 0 or 1), INI snippet, trt-kins pins",
+       [](const Machine& m, const CompensationOptions& o) { return linuxcnc_output(compensate_linuxcnc(m, o)); }},
+  };
   return targets;
 }
 

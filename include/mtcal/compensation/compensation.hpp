@@ -76,7 +76,22 @@ struct CompensationOptions {
   std::vector<double> reference;     // internal units, chain order; empty = all zero
   std::size_t residual_points = 11;  // per axis, for the residual grid over the sampled ranges
   int threads = 0;
+  int comp_file_type = 1;  // LinuxCNC COMP_FILE_TYPE: 0 columns are actual positions, 1 corrections
 };
+
+// The sampling of every axis: the caller's where given (by axis letter), the travel elsewhere
+// (default_sampling), with `points` (or default_points when 0) positions each.
+std::vector<AxisSampling> resolve_sampling(const Machine& m, const CompensationOptions& o, std::size_t default_points,
+                                           std::size_t max_points, const std::string& target);
+
+// The residual grid: per axis, residual_points values over its sampling (internal units).
+std::vector<std::vector<double>> residual_grid(const Machine& m, const std::vector<AxisSampling>& sampling,
+                                               std::size_t points_per_axis);
+
+// For each error of the model that is not zero and that `held(name)` says the target cannot hold:
+// its name and the largest tool-point error it alone causes over `grid` (mm).
+std::vector<NotCompensated> errors_not_held(const Machine& m, const std::vector<std::vector<double>>& grid,
+                                            const std::function<bool(const ErrorName&)>& held, int threads);
 
 // Error after = actual(q + c_joint(q)) - nominal(q) + c_cartesian(q): the machine is commanded
 // to the corrected joints while the program asked for q. `axis_values`: per axis (chain order)

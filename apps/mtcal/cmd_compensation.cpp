@@ -1,0 +1,126 @@
+// mtcal compensate: compensation files a controller loads (--format, docs/compensation.md), or a
+// corrected G-code program (--gcode, docs/compensation-gcode.md).
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cmd_gcode_correction.hpp"
+#include "common.hpp"
+#include "mtcal/compensation/compensation.hpp"
+#include "mtcal/io/compensation_output.hpp"
+#include "mtcal/io/joints.hpp"
+#include "mtcal/model/joints.hpp"
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal::cli {
+
+namespace {
+
+struct CompensateOptions {
+  GcodeCorrectionCliOptions gcode;  // model, --gcode, --out, --json and the program options
+  std::string format, range, reference;
+  std::size_t points = 0, residual_points = 11;
+  int linuxcnc_type = 1, threads = 0;
+};
+
+CompensationOptions library_options(const Machine& m, const CompensateOptions& o) {
+  CompensationOptions c;
+  c.points = o.points;
+  c.residual_points = o.residual_points;
+  c.threads = o.threads;
+  c.comp_file_type = o.linuxcnc_type;
+  if (!o.reference.empty()) c.reference = parse_joint_values(m, o.reference, "--reference");
+  if (!o.range.empty()) {
+    const JointBox box = parse_box(m, o.range, "--range");
+    for (std::size_t a = 0; a < m.axes.size(); ++a)
+      if (box.named[a])
+        c.sampling.push_back(
+            {m.axes[a].letter, to_user_units(m.axes[a], box.lo[a]), to_user_units(m.axes[a], box.hi[a]), o.points});
+  }
+  return c;
+}
+
+void print_summary(const TargetOutput& out, const std::string& dir) {
+  const CompensationSummary& s = out.summary;
+  std::cout << fmt::format("target       {}: numbers are {} ({})\n", s.target, to_string(s.quantity), s.sign_source);
+  for (const auto& f : out.files) std::cout << fmt::format("wrote        {}/{}\n", dir, f.name);
+  const ResidualSummary& r = s.residual;
+  std::cout << fmt::format(
+      "tool point   over {} configurations, both directions: |e| up to {:.3f} um before, "
+      "{:.3f} um after; VA {:.3f} um before, {:.3f} um after\n",
+      r.configurations, r.max_norm_before * 1e3, r.max_norm_after * 1e3, r.va_before * 1e3, r.va_after * 1e3);
+  std::cout << fmt::format("per axis     max |e| x y z before {:.3f} {:.3f} {:.3f} um, after {:.3f} {:.3f} {:.3f} um\n",
+                           r.max_before[0] * 1e3, r.max_before[1] * 1e3, r.max_before[2] * 1e3, r.max_after[0] * 1e3,
+                           r.max_after[1] * 1e3, r.max_after[2] * 1e3);
+  for (const auto& n : s.not_compensated)
+    std::cout << fmt::format("not held     {} (alone up to {:.3f} um)\n", n.what, n.max_error * 1e3);
+  for (const auto& w : s.warnings) std::cout << "warning      " << w << "\n";
+}
+
+int run_tables(const CompensateOptions& o) {
+  if (o.format.empty())
+    throw InputError({"--format", 0, ""}, "expected a controller (--format) or a program to correct (--gcode)");
+  if (o.gcode.out.empty()) throw InputError({"--out", 0, ""}, "expected the output directory");
+  check_outputs(model_inputs(o.gcode.model), {o.gcode.out});
+  const CompensationTarget& target = compensation_target(o.format);
+  const Machine m = load(o.gcode.model);
+  const TargetOutput out = target.run(m, library_options(m, o));
+  write_target_output(o.gcode.out, out);
+  if (o.gcode.json_out) {
+    Json j = to_json(out);
+    j["machine"] = m.name;
+    j["out"] = o.gcode.out;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  print_summary(out, o.gcode.out);
+  return 0;
+}
+
+}  // namespace
+
+std::vector<Command> add_compensation_commands(CLI::App& app) {
+  auto o = std::make_shared<CompensateOptions>();
+  std::string formats;
+  for (const auto& t : compensation_targets()) formats += fmt::format("\n  {:<10} {}", t.name, t.description);
+  auto* c = app.add_subcommand(
+      "compensate",
+      "Compensation from the error model: the files a controller loads (--format, --out DIR) with the residual "
+      "predicted by the controller's own rule, or a corrected G-code program (--gcode, --out FILE). "
+      "docs/compensation.md");
+  add_model_options(c, o->gcode.model);
+  add_gcode_correction_options(*c, o->gcode);
+  c->add_option("--format", o->format, "Controller to write for:" + formats);
+  c->add_option("--points", o->points, "Positions per table (default: the target's, e.g. 51 for LinuxCNC)")
+      ->check(CLI::Range(2, 100000));
+  c->add_option("--range", o->range,
+                "Table ranges, e.g. \"X=-300:300,Y=-200:200\" (mm, deg; default: each axis's travel)");
+  c->add_option("--reference", o->reference,
+                "Where the other axes stand while one axis's table is sampled, e.g. \"Z=-250\" (default all 0)");
+  c->add_option("--linuxcnc-type", o->linuxcnc_type,
+                "LinuxCNC COMP_FILE_TYPE: 0 = columns are the positions reached, 1 = columns are corrections")
+      ->check(CLI::IsMember({0, 1}));
+  c->add_option("--residual-points", o->residual_points, "Grid values per axis for the residual before/after")
+      ->check(CLI::Range(2, 1000));
+  c->add_option("--threads", o->threads, "Threads for the residual (0: all cores)")->check(CLI::Range(0, 4096));
+  c->footer(
+      "Examples:\n"
+      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format linuxcnc --out comp/\n"
+      "  mtcal compensate -m machine.yaml --params identified.yaml --format linuxcnc --linuxcnc-type 0 \\\n"
+      "      --points 101 --range \"X=-300:300\" --out comp/ --json\n"
+      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/pocket.nc \\\n"
+      "      --origin \"X=-40,Y=-25,Z=-400\" --out pocket-corrected.nc\n"
+      "Tables: --out is a new (or empty) directory, written completely or not at all. Program: --out is a file.\n"
+      "docs/compensation.md (targets, signs, limits), docs/compensation-gcode.md (the corrected program).");
+  return {{c, [o] {
+             if (!o->gcode.gcode.empty()) {
+               if (!o->format.empty())
+                 throw InputError({"--format", 0, ""}, "expected either --format (tables) or --gcode (a program)");
+               return run_gcode_correction(o->gcode);
+             }
+             return run_tables(*o);
+           }}};
+}
+
+}  // namespace mtcal::cli
