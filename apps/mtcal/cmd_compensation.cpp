@@ -1,5 +1,6 @@
 // mtcal compensate: compensation files a controller loads (--format, docs/compensation.md), or a
 // corrected G-code program (--gcode, docs/compensation-gcode.md).
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -44,7 +45,8 @@ CompensationOptions library_options(const Machine& m, const CompensateOptions& o
 void print_summary(const TargetOutput& out, const std::string& dir) {
   const CompensationSummary& s = out.summary;
   std::cout << fmt::format("target       {}: numbers are {} ({})\n", s.target, to_string(s.quantity), s.sign_source);
-  for (const auto& f : out.files) std::cout << fmt::format("wrote        {}/{}\n", dir, f.name);
+  for (const auto& f : out.files)
+    std::cout << "wrote        " << (std::filesystem::path(dir) / f.name).string() << "\n";
   const ResidualSummary& r = s.residual;
   std::cout << fmt::format(
       "tool point   over {} configurations, both directions: |e| up to {:.3f} um before, "

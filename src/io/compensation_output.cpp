@@ -46,7 +46,9 @@ struct TemporaryDirectory {
 }  // namespace
 
 void write_target_output(const std::string& dir, const TargetOutput& output) {
-  const fs::path target(dir);
+  fs::path target = fs::path(dir).lexically_normal();
+  if (target.filename().empty()) target = target.parent_path();  // "comp/" names the directory comp
+  if (target.empty()) throw Error("output directory '" + dir + "': expected a directory name");
   std::error_code ec;
   if (fs::exists(target, ec)) {
     if (!fs::is_directory(target, ec) || !fs::is_empty(target, ec))

@@ -39,6 +39,15 @@ TEST(CompensationOutput, WritesEveryFile) {
   fs::remove_all(dir);
 }
 
+TEST(CompensationOutput, TrailingSlashNamesTheDirectory) {
+  const fs::path dir = fresh_dir("slash");
+  TargetOutput out;
+  out.files = {{"a.txt", "a"}};
+  write_target_output(dir.string() + "/", out);
+  EXPECT_EQ(slurp(dir / "a.txt"), "a");
+  fs::remove_all(dir);
+}
+
 TEST(CompensationOutput, EmptyDirectoryIsFilled) {
   const fs::path dir = fresh_dir("empty");
   fs::create_directories(dir);

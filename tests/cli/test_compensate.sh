@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# mtcal compensate --format: help lists the targets, JSON keys, the files, the residual of a
+# positioning-only model, bad input with one-line errors and no output directory left.
+# Needs MTCAL (the binary) and EXAMPLES (examples/machines). Prints "N passed, N failed".
+set -u
+source "$(dirname "$0")/../testing/cli_lib.sh"
+M3="$EXAMPLES/vmc-3axis.yaml"
+M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
+
+expect_exit 0 "help" -- "$MTCAL" compensate --help
+for word in --format linuxcnc --points --range --reference --linuxcnc-type --gcode Examples; do
+  grep -q -- "$word" "$tmp/out" && ok || bad "help lacks $word"
+done
+
+expect_exit 0 "linuxcnc json" -- "$MTCAL" compensate -m "$M3" --only EXX,EYY,EZZ --format linuxcnc --points 11 \
+  --out "$tmp/lc" --json
+[ "$(json_get "list(d)[:7]")" = "['target', 'quantity', 'sign_source', 'files', 'not_compensated', 'warnings', 'residual']" ] \
+  && ok || bad "json keys: $(json_get "list(d)")"
+[ "$(json_get "d['quantity']")" = "correction" ] && ok || bad "quantity"
+[ "$(json_get "d['residual']['max_norm_after_mm'] < 0.01 * d['residual']['max_norm_before_mm']")" = "True" ] \
+  && ok || bad "residual of a positioning-only model: $(json_get "d['residual']")"
+for f in X.comp Y.comp Z.comp linuxcnc.ini; do [ -f "$tmp/lc/$f" ] && ok || bad "no $f"; done
+[ "$(wc -l <"$tmp/lc/X.comp")" -eq 11 ] && ok || bad "X.comp has $(wc -l <"$tmp/lc/X.comp") lines"
+# Three numbers a line and nothing else (LinuxCNC stops reading silently at anything else).
+awk 'NF != 3 || $1 !~ /^-?[0-9.]+$/ {exit 1}' "$tmp/lc/X.comp" && ok || bad "X.comp is not three numbers a line"
+
+expect_exit 0 "type 0 text" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --linuxcnc-type 0 --out "$tmp/lc0"
+grep -q "actual position" "$tmp/out" && ok || bad "type 0 says what its numbers are"
+grep -q "not held     EC0Y" "$tmp/out" && ok || bad "squareness listed as not held"
+expect_exit 0 "5-axis trt" -- "$MTCAL" compensate -m "$M5" --format linuxcnc --residual-points 3 --out "$tmp/lc5"
+grep -q "setp xyzbc-trt-kins.x-rot-point" "$tmp/lc5/linuxcnc-kins.hal" && ok || bad "trt pins"
+
+expect_error "unknown format" "expected one of: linuxcnc" -- "$MTCAL" compensate -m "$M3" --format nope --out "$tmp/x1"
+[ ! -e "$tmp/x1" ] && ok || bad "output left by an unknown format"
+expect_error "too many points" "256" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --points 300 --out "$tmp/x2"
+[ ! -e "$tmp/x2" ] && ok || bad "output left by too many points"
+expect_error "range beyond travel" "travel" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --range "X=-900:0" \
+  --out "$tmp/x3"
+expect_error "non-empty output" "not empty" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/lc"
+expect_error "nothing to compensate" "nothing to compensate" -- "$MTCAL" compensate -m "$M3" --only EXX --set EXX.0=0 \
+  --set EXX.1=0 --set EXX.2=0 --set EXX.3=0 --set EXX.b=0 --format linuxcnc --out "$tmp/x4"
+[ ! -e "$tmp/x4" ] && ok || bad "output left when nothing to compensate"
+expect_error "no format, no program" "--format" -- "$MTCAL" compensate -m "$M3" --out "$tmp/x5"
+summary_and_exit
