@@ -30,6 +30,11 @@ grep -q "not held     EC0Y" "$tmp/out" && ok || bad "squareness listed as not he
 expect_exit 0 "5-axis trt" -- "$MTCAL" compensate -m "$M5" --format linuxcnc --residual-points 3 --out "$tmp/lc5"
 grep -q "setp xyzbc-trt-kins.x-rot-point" "$tmp/lc5/linuxcnc-kins.hal" && ok || bad "trt pins"
 
+expect_exit 0 "marlin" -- "$MTCAL" compensate -m "$M3" --format marlin --out "$tmp/ma"
+grep -q "^M852 I-0.000015000 J0.000020000 K0.000012000$" "$tmp/ma/marlin.gcode" && ok || bad "M852 line: $(cat "$tmp/ma/marlin.gcode")"
+expect_exit 0 "klipper" -- "$MTCAL" compensate -m "$M3" --format klipper --out "$tmp/kl"
+grep -q "^SKEW_PROFILE LOAD=mtcal$" "$tmp/kl/skew.gcode" && ok || bad "klipper profile load"
+expect_error "klipper on a 5-axis machine" "rotary axis" -- "$MTCAL" compensate -m "$M5" --format klipper --out "$tmp/x6"
 expect_error "unknown format" "expected one of: linuxcnc" -- "$MTCAL" compensate -m "$M3" --format nope --out "$tmp/x1"
 [ ! -e "$tmp/x1" ] && ok || bad "output left by an unknown format"
 expect_error "too many points" "256" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --points 300 --out "$tmp/x2"
