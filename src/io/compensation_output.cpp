@@ -7,6 +7,7 @@
 
 #include "mtcal/io/compensation_firmware.hpp"
 #include "mtcal/io/compensation_linuxcnc.hpp"
+#include "mtcal/io/compensation_siemens.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -19,6 +20,8 @@ const std::vector<CompensationTarget>& compensation_targets() {
   static const std::vector<CompensationTarget> targets = {
       {"linuxcnc", "LinuxCNC: COMP_FILE per linear joint (type 0 or 1), INI snippet, trt-kins pins",
        [](const Machine& m, const CompensationOptions& o) { return linuxcnc_output(compensate_linuxcnc(m, o)); }},
+      {"siemens", "Siemens SINUMERIK: %_N_AX_EEC_INI encoder/leadscrew error tables per linear axis",
+       [](const Machine& m, const CompensationOptions& o) { return siemens_output(compensate_siemens(m, o)); }},
       {"klipper", "Klipper: skew profile (xy_skew, xz_skew, yz_skew) and SET_SKEW from the squareness errors",
        [](const Machine& m, const CompensationOptions& o) { return klipper_output(compensate_skew(m, o, "klipper")); }},
       {"marlin", "Marlin: M852 I J K skew factors and Configuration.h defines from the squareness errors",
