@@ -142,4 +142,36 @@ std::vector<NotCompensated> errors_not_held(const Machine& m, const std::vector<
   return out;
 }
 
+std::vector<PositioningTable> positioning_tables(const ErrorModel& model, const std::vector<AxisSampling>& sampling,
+                                                 std::span<const double> reference, const std::string& where) {
+  const Machine& m = model.machine();
+  std::vector<PositioningTable> out;
+  for (std::size_t a = 0; a < m.axes.size(); ++a) {
+    const Axis& ax = m.axes[a];
+    if (ax.kind != AxisKind::Linear) continue;
+    const JointErrorTable t = sample_joint_error(model, sampling[a], reference, where);
+    PositioningTable table{ax.letter, t.position, {}, {}};
+    bool any = false;
+    for (std::size_t i = 0; i < t.position.size(); ++i) {
+      table.forward.push_back(t.forward[i].translation.dot(ax.direction()));
+      table.reverse.push_back(t.reverse[i].translation.dot(ax.direction()));
+      any = any || table.forward.back() != 0.0 || table.reverse.back() != 0.0;
+    }
+    if (any) out.push_back(std::move(table));
+  }
+  return out;
+}
+
+ResidualSummary residual_before_after(const ErrorModel& machine, const ErrorModel& compensated,
+                                      const std::vector<std::vector<double>>& grid, const CorrectionRule& rule,
+                                      int threads) {
+  ResidualSummary r = predict_residual(
+      machine, grid, [](auto, auto) { return AppliedCorrection{}; }, threads);
+  const ResidualSummary after = predict_residual(compensated, grid, rule, threads);
+  r.max_after = after.max_after;
+  r.max_norm_after = after.max_norm_after;
+  r.va_after = after.va_after;
+  return r;
+}
+
 }  // namespace mtcal

@@ -104,24 +104,17 @@ LinuxcncCompensation compensate_linuxcnc(const Machine& m, const CompensationOpt
 
   // Joint tables of the linear axes: the tool point's error along the axis when it alone moves.
   const ErrorModel model(rest);
-  for (std::size_t a = 0; a < m.axes.size(); ++a) {
-    const Axis& ax = m.axes[a];
-    if (ax.kind != AxisKind::Linear) continue;
-    const JointErrorTable t = sample_joint_error(model, sampling[a], o.reference, kTarget);
+  for (const PositioningTable& t : positioning_tables(model, sampling, o.reference, kTarget)) {
     LinuxcncJointTable table;
-    table.axis = ax.letter;
-    table.joint = static_cast<int>(out.coordinates.find(ax.letter));
-    bool any = false;
+    table.axis = t.axis;
+    table.joint = static_cast<int>(out.coordinates.find(t.axis));
+    table.nominal = t.position;
     for (std::size_t i = 0; i < t.position.size(); ++i) {
-      const double ef = t.forward[i].translation.dot(ax.direction());
-      const double er = t.reverse[i].translation.dot(ax.direction());
-      any = any || ef != 0.0 || er != 0.0;
-      table.nominal.push_back(t.position[i]);
       // usrmotLoadComp(): type 0 holds the position reached (nominal + e), type 1 the correction -e.
-      table.forward.push_back(o.comp_file_type == 0 ? t.position[i] + ef : -ef);
-      table.reverse.push_back(o.comp_file_type == 0 ? t.position[i] + er : -er);
+      table.forward.push_back(o.comp_file_type == 0 ? t.position[i] + t.forward[i] : -t.forward[i]);
+      table.reverse.push_back(o.comp_file_type == 0 ? t.position[i] + t.reverse[i] : -t.reverse[i]);
     }
-    if (any) out.tables.push_back(std::move(table));
+    out.tables.push_back(std::move(table));
   }
   if (out.tables.empty() && out.pins.empty())
     throw InputError({m.source, 0, ""},
@@ -149,15 +142,8 @@ LinuxcncCompensation compensate_linuxcnc(const Machine& m, const CompensationOpt
     }
     return c;
   };
-  const auto grid = residual_grid(m, sampling, o.residual_points);
-  const ResidualSummary before = predict_residual(
-      ErrorModel(m), grid, [](auto, auto) { return AppliedCorrection{}; }, o.threads);
-  const ResidualSummary after = predict_residual(model, grid, rule, o.threads);
-  out.summary.residual = before;
-  out.summary.residual.max_after = after.max_after;
-  out.summary.residual.max_norm_after = after.max_norm_after;
-  out.summary.residual.va_after = after.va_after;
-
+  out.summary.residual =
+      residual_before_after(ErrorModel(m), model, residual_grid(m, sampling, o.residual_points), rule, o.threads);
   out.summary.target = kTarget;
   out.summary.quantity = o.comp_file_type == 0 ? TableQuantity::ActualPosition : TableQuantity::Correction;
   out.summary.sign_source =

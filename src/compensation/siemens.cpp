@@ -20,25 +20,18 @@ SiemensCompensation compensate_siemens(const Machine& m, const CompensationOptio
     if (m.axis_index(c)) coordinates += c;
   const ErrorModel model(m);
   double reversal = 0.0;  // largest half difference forward/reverse: what one table cannot hold
-  for (std::size_t a = 0; a < m.axes.size(); ++a) {
-    const Axis& ax = m.axes[a];
-    if (ax.kind != AxisKind::Linear) continue;
-    const JointErrorTable t = sample_joint_error(model, sampling[a], o.reference, kTarget);
+  for (const PositioningTable& t : positioning_tables(model, sampling, o.reference, kTarget)) {
     SiemensEecTable table;
-    table.axis = ax.letter;
-    table.machine_axis = static_cast<int>(coordinates.find(ax.letter)) + 1;
+    table.axis = t.axis;
+    table.machine_axis = static_cast<int>(coordinates.find(t.axis)) + 1;
     table.min = t.position.front();
     table.max = t.position.back();
     table.step = (table.max - table.min) / static_cast<double>(t.position.size() - 1);
-    bool any = false;
     for (std::size_t i = 0; i < t.position.size(); ++i) {
-      const double ef = t.forward[i].translation.dot(ax.direction());
-      const double er = t.reverse[i].translation.dot(ax.direction());
-      table.values.push_back(0.5 * (ef + er));
-      reversal = std::max(reversal, 0.5 * std::abs(ef - er));
-      any = any || ef != 0.0 || er != 0.0;
+      table.values.push_back(0.5 * (t.forward[i] + t.reverse[i]));
+      reversal = std::max(reversal, 0.5 * std::abs(t.forward[i] - t.reverse[i]));
     }
-    if (any) out.tables.push_back(std::move(table));
+    out.tables.push_back(std::move(table));
   }
   if (out.tables.empty())
     throw InputError({m.source, 0, ""},
@@ -53,11 +46,8 @@ SiemensCompensation compensate_siemens(const Machine& m, const CompensationOptio
     p.back() = t.max;
     positions.push_back(std::move(p));
   }
-  const auto grid = residual_grid(m, sampling, o.residual_points);
-  const ResidualSummary before = predict_residual(
-      model, grid, [](auto, auto) { return AppliedCorrection{}; }, o.threads);
-  const ResidualSummary after = predict_residual(
-      model, grid,
+  out.summary.residual = residual_before_after(
+      model, model, residual_grid(m, sampling, o.residual_points),
       [&](std::span<const double> q, std::span<const std::int8_t>) {
         AppliedCorrection c;
         c.joint.assign(m.axes.size(), 0.0);
@@ -68,10 +58,6 @@ SiemensCompensation compensate_siemens(const Machine& m, const CompensationOptio
         return c;
       },
       o.threads);
-  out.summary.residual = before;
-  out.summary.residual.max_after = after.max_after;
-  out.summary.residual.max_norm_after = after.max_norm_after;
-  out.summary.residual.va_after = after.va_after;
   out.summary.target = kTarget;
   out.summary.quantity = TableQuantity::Error;
   out.summary.sign_source =

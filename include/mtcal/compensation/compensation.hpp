@@ -88,6 +88,22 @@ std::vector<AxisSampling> resolve_sampling(const Machine& m, const CompensationO
 std::vector<std::vector<double>> residual_grid(const Machine& m, const std::vector<AxisSampling>& sampling,
                                                std::size_t points_per_axis);
 
+// The error of the tool point along a linear axis's own direction when that axis alone moves
+// (the others at `reference`), forward and reverse: what a per-axis table holds (mm, user positions).
+struct PositioningTable {
+  char axis = 'X';
+  std::vector<double> position, forward, reverse;
+};
+// One table per linear axis whose errors are not all zero, in chain order.
+std::vector<PositioningTable> positioning_tables(const ErrorModel& model, const std::vector<AxisSampling>& sampling,
+                                                 std::span<const double> reference, const std::string& where);
+
+// The error before on `machine` (no correction) and after on `compensated` (the model the
+// controller's rule sees, e.g. less what kinematics pins hold) with `rule`, over one grid.
+ResidualSummary residual_before_after(const ErrorModel& machine, const ErrorModel& compensated,
+                                      const std::vector<std::vector<double>>& grid, const CorrectionRule& rule,
+                                      int threads);
+
 // For each error of the model that is not zero and that `held(name)` says the target cannot hold:
 // its name and the largest tool-point error it alone causes over `grid` (mm).
 std::vector<NotCompensated> errors_not_held(const Machine& m, const std::vector<std::vector<double>>& grid,
