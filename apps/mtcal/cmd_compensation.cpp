@@ -12,6 +12,7 @@
 #include "mtcal/io/compensation_output.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/model/joints.hpp"
+#include "mtcal/report/compensation.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {
@@ -20,7 +21,7 @@ namespace {
 
 struct CompensateOptions {
   GcodeCorrectionCliOptions gcode;  // model, --gcode, --out, --json and the program options
-  std::string format, range, reference;
+  std::string format, range, reference, report;
   std::size_t points = 0, residual_points = 11;
   int linuxcnc_type = 1, threads = 0;
 };
@@ -64,15 +65,21 @@ int run_tables(const CompensateOptions& o) {
   if (o.format.empty())
     throw InputError({"--format", 0, ""}, "expected a controller (--format) or a program to correct (--gcode)");
   if (o.gcode.out.empty()) throw InputError({"--out", 0, ""}, "expected the output directory");
-  check_outputs(model_inputs(o.gcode.model), {o.gcode.out});
+  check_outputs(model_inputs(o.gcode.model), {o.gcode.out, o.report});
   const CompensationTarget& target = compensation_target(o.format);
   const Machine m = load(o.gcode.model);
   const TargetOutput out = target.run(m, library_options(m, o));
   write_target_output(o.gcode.out, out);
+  if (!o.report.empty()) {
+    std::vector<std::pair<std::string, std::string>> inputs;
+    for (const auto& f : model_inputs(o.gcode.model)) inputs.emplace_back("model file", f);
+    write_compensation_report(o.report, command_line(), m, inputs, o.gcode.out, out);
+  }
   if (o.gcode.json_out) {
     Json j = to_json(out);
     j["machine"] = m.name;
     j["out"] = o.gcode.out;
+    if (!o.report.empty()) j["report"] = o.report;
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -105,6 +112,7 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
       ->check(CLI::IsMember({0, 1}));
   c->add_option("--residual-points", o->residual_points, "Grid values per axis for the residual before/after")
       ->check(CLI::Range(2, 1000));
+  c->add_option("--report", o->report, "With --format: an HTML page of the before/after and what is not held");
   c->add_option("--threads", o->threads, "Threads for the residual (0: all cores)")->check(CLI::Range(0, 4096));
   c->footer(
       "Examples:\n"

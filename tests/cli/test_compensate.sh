@@ -30,6 +30,11 @@ grep -q "not held     EC0Y" "$tmp/out" && ok || bad "squareness listed as not he
 expect_exit 0 "5-axis trt" -- "$MTCAL" compensate -m "$M5" --format linuxcnc --residual-points 3 --out "$tmp/lc5"
 grep -q "setp xyzbc-trt-kins.x-rot-point" "$tmp/lc5/linuxcnc-kins.hal" && ok || bad "trt pins"
 
+expect_exit 0 "report" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/rep" --report "$tmp/rep.html"
+grep -q "What the target cannot hold" "$tmp/rep.html" && grep -q "EC0Y" "$tmp/rep.html" && ok || bad "report sections"
+expect_error "report onto the machine file" "" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/rep2" \
+  --report "$M3"
+[ ! -e "$tmp/rep2" ] && ok || bad "output left when the report path is refused"
 expect_exit 0 "marlin" -- "$MTCAL" compensate -m "$M3" --format marlin --out "$tmp/ma"
 grep -q "^M852 I-0.000015000 J0.000020000 K0.000012000$" "$tmp/ma/marlin.gcode" && ok || bad "M852 line: $(cat "$tmp/ma/marlin.gcode")"
 expect_exit 0 "klipper" -- "$MTCAL" compensate -m "$M3" --format klipper --out "$tmp/kl"

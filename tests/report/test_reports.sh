@@ -33,7 +33,8 @@ run "$MTCAL" identify -m "$M5" --measurements "$tmp/samba.csv" --estimate EC0Y,E
 run "$MTCAL" regress "$EXAMPLES/../prediction/yaqoob2017-table5_8.csv" --x t --y e_splz --report "$tmp/regress.html"
 run "$MTCAL" predict --model "$EXAMPLES/../prediction/yaqoob2017-model.yaml" --points "$EXAMPLES/../prediction/yaqoob2017-w2-points.csv" \
   --report "$tmp/predict.html"
-for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare volumetric contributions diagonals toolpath identify regress predict; do
+run "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/comp" --report "$tmp/compensate.html"
+for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare volumetric contributions diagonals toolpath identify regress predict compensate; do
   [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
 done
 # The points report names its input with the input's SHA-256.
