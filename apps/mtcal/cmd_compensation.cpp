@@ -72,7 +72,7 @@ int run_tables(const CompensateOptions& o) {
   write_target_output(o.gcode.out, out);
   if (!o.report.empty()) {
     std::vector<std::pair<std::string, std::string>> inputs;
-    for (const auto& f : model_inputs(o.gcode.model)) inputs.emplace_back("model file", f);
+    for (const auto& f : o.gcode.model.params) inputs.emplace_back("parameter file", f);  // the machine file is shown
     write_compensation_report(o.report, command_line(), m, inputs, o.gcode.out, out);
   }
   if (o.gcode.json_out) {

@@ -87,7 +87,7 @@ if command -v node >/dev/null; then
     "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
     "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
     "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2" \
-    "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3") >"$tmp/browser" 2>&1
+    "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1") >"$tmp/browser" 2>&1
   node_rc=$?
   cat "$tmp/browser"
 else
