@@ -69,7 +69,13 @@ int run_ballbar_predict(const BallbarCliOptions& o) {
   check_outputs(model_inputs(o.model), {o.out});
   const Machine m = load(o.model);
   const auto centre = parse_joint_values(m, o.centre, "--centre");
-  const auto t = predict_ballbar(m, o.plane, centre, o.radius, o.step_deg * std::numbers::pi / 180);
+  const auto t = [&] {
+    try {
+      return predict_ballbar(m, o.plane, centre, o.radius, o.step_deg * std::numbers::pi / 180);
+    } catch (const InputError& e) {
+      rethrow_for_options(e, {{"centre", "--centre"}});
+    }
+  }();
   write_ballbar_csv(o.out, t);
   std::cout << fmt::format("predicted {} samples of a {} mm circle in {} on {}: wrote {}\n", t.size(), o.radius,
                            o.plane, m.name, o.out);

@@ -1,5 +1,6 @@
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/fitting/least_squares.hpp"
+#include "mtcal/model/joints.hpp"
 
 #include <algorithm>
 #include <array>
@@ -301,7 +302,10 @@ std::vector<TracePoint> predict_ballbar(const Machine& m, const std::string& pla
     throw ModelError("plane " + plane + " needs linear axes " + plane[0] + " and " + plane[1] + " in " +
                      m.topology.chain);
   if (centre.size() != m.axes.size()) throw ModelError("expected one centre value per axis");
-  if (!(radius > 0) || !(step > 0) || step > 0.5) throw ModelError("expected a radius > 0 and a step in (0, 0.5] rad");
+  if (!(radius > 0) || !(step > 0) || step > 0.5 || !std::isfinite(radius))
+    throw ModelError("expected a finite radius > 0 and a step in (0, 0.5] rad");
+  // Centre values beyond a kilometre (or 2800 turns) make the chain overflow to inf/NaN.
+  check_joints(m, centre, "centre", false);
   const ErrorModel model(m);
   const Vec3 ball = model.actual_pose(centre).t;  // the centre ball, set with the tool at the centre
   const double s1 = m.axes[*a1].direction_sign, s2 = m.axes[*a2].direction_sign;
@@ -320,7 +324,12 @@ std::vector<TracePoint> predict_ballbar(const Machine& m, const std::string& pla
       dir[*a1] = static_cast<std::int8_t>(std::abs(v1) < 1e-12 ? 0 : (v1 > 0 ? 1 : -1));
       dir[*a2] = static_cast<std::int8_t>(std::abs(v2) < 1e-12 ? 0 : (v2 > 0 ? 1 : -1));
       const Vec3 tip = model.actual_pose(q, dir).t;
-      out.push_back({d, wrap(a), (tip - ball).norm()});
+      const double length = (tip - ball).norm();
+      if (!std::isfinite(length))
+        throw ModelError(fmt::format("the predicted bar length is not finite at {:g} deg ({}): the model's errors "
+                                     "are too large for this circle",
+                                     wrap(a) * 180 / kPi, d == CircleDirection::CW ? "cw" : "ccw"));
+      out.push_back({d, wrap(a), length});
     }
   }
   return out;
