@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "mtcal/io/compensation_firmware.hpp"
+#include "mtcal/io/compensation_isg.hpp"
 #include "mtcal/io/compensation_linuxcnc.hpp"
 #include "mtcal/io/compensation_siemens.hpp"
 #include "mtcal/io/files.hpp"
@@ -22,6 +23,8 @@ const std::vector<CompensationTarget>& compensation_targets() {
        [](const Machine& m, const CompensationOptions& o) { return linuxcnc_output(compensate_linuxcnc(m, o)); }},
       {"siemens", "Siemens SINUMERIK: %_N_AX_EEC_INI encoder/leadscrew error tables per linear axis",
        [](const Machine& m, const CompensationOptions& o) { return siemens_output(compensate_siemens(m, o)); }},
+      {"isg", "Beckhoff/ISG TF5280 volumetric compensation: ISO 230-1 parameters in the ISG CSV format",
+       [](const Machine& m, const CompensationOptions& o) { return isg_output(compensate_isg(m, o)); }},
       {"klipper", "Klipper: skew profile (xy_skew, xz_skew, yz_skew) and SET_SKEW from the squareness errors",
        [](const Machine& m, const CompensationOptions& o) { return klipper_output(compensate_skew(m, o, "klipper")); }},
       {"marlin", "Marlin: M852 I J K skew factors and Configuration.h defines from the squareness errors",

@@ -35,6 +35,8 @@ grep -q "What the target cannot hold" "$tmp/rep.html" && grep -q "EC0Y" "$tmp/re
 expect_error "report onto the machine file" "" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/rep2" \
   --report "$M3"
 [ ! -e "$tmp/rep2" ] && ok || bad "output left when the report path is refused"
+expect_exit 0 "isg" -- "$MTCAL" compensate -m "$M5" --format isg --points 11 --residual-points 3 --out "$tmp/isg"
+grep -q "^X EXX" "$tmp/isg/volcomp.csv" && grep -q "^#$" "$tmp/isg/volcomp.csv" && ok || bad "ISG CSV blocks"
 expect_exit 0 "marlin" -- "$MTCAL" compensate -m "$M3" --format marlin --out "$tmp/ma"
 grep -q "^M852 I-0.000015000 J0.000020000 K0.000012000$" "$tmp/ma/marlin.gcode" && ok || bad "M852 line: $(cat "$tmp/ma/marlin.gcode")"
 expect_exit 0 "klipper" -- "$MTCAL" compensate -m "$M3" --format klipper --out "$tmp/kl"
