@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "budget.hpp"
 #include "common.hpp"
 #include "mtcal/identification/identification.hpp"
 #include "mtcal/io/files.hpp"
@@ -19,6 +20,7 @@
 #include "mtcal/io/probing_plan_file.hpp"
 #include "mtcal/report/identification.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parallel.hpp"
 
 namespace mtcal::cli {
 namespace {
@@ -63,6 +65,24 @@ IdentificationOptions to_options(const EstimateOptions& e) {
   return o;
 }
 
+// The dense Jacobian of a plan (residuals x unknowns) and its QR copies: a plan's memory grows with
+// records x features. Unknowns: 3 per ball, 1 per facet, and the machine's parameters at most.
+void check_plan_size(const Machine& m, const ProbingPlan& plan, const std::string& option) {
+  double unknowns = static_cast<double>(m.parameter_count()) + 1;
+  for (const auto& f : plan.features) unknowns += f.kind == ProbeFeature::Kind::Ball ? 3 : 1;
+  const double residuals = static_cast<double>(plan.residual_count());
+  // Jacobian, Ceres' dense QR copy, the SVD's U (thin) and V: about 4 residuals x unknowns doubles.
+  check_estimate({option + " " + plan.source + " (" + std::to_string(plan.records.size()) + " records, " +
+                      std::to_string(plan.features.size()) + " features)",
+                  4 * 8 * residuals * unknowns, 0, 0});
+}
+
+// Configurations per second and thread of the exact model (measured on a 5-axis example, 2.x GHz
+// core; docs/reliability.md): the time estimates divide by it.
+constexpr double kEvaluationsPerSecond = 2e6;
+// Subsets per second and thread of identifiability --choose (measured on the SAMBA/TANGO plan).
+constexpr double kSubsetsPerSecond = 1e5;
+
 void print_names(const char* label, const std::vector<std::string>& names) {
   if (names.empty()) return;
   std::cout << label;
@@ -99,6 +119,7 @@ int run_simulate(const SimulateOptions& o) {
   check_outputs(inputs, {o.out});
   const Machine m = load(o.model);
   const ProbingPlan plan = read_probing_csv(m, o.plan);
+  check_plan_size(m, plan, "--plan");
   SimulationOptions so;
   so.noise = o.noise_um * 1e-3;
   so.artefact_error = o.artefact_um * 1e-3;
@@ -186,6 +207,7 @@ int run_identify(const IdentifyOptions& o) {
   check_outputs(inputs, {o.out, o.report});
   const Machine prior = load(o.model);
   const ProbingPlan meas = read_probing_csv(prior, o.measurements);
+  check_plan_size(prior, meas, "--measurements");
   IdentificationOptions opt = to_options(o.est);
   opt.loss = o.loss == "huber"    ? IdentificationOptions::Loss::Huber
              : o.loss == "cauchy" ? IdentificationOptions::Loss::Cauchy
@@ -198,6 +220,18 @@ int run_identify(const IdentifyOptions& o) {
     throw InputError({"--truth", 0, ""}, "--truth needs --workspace (the grid over which the models are compared)");
   for (const auto* p : {&o.out, &o.report})
     if (!p->empty()) AtomicFile check(*p);
+  {
+    // Monte Carlo: every run keeps its model's error map over the workspace (3 doubles a point)
+    // and evaluates it; the identification itself is the plan's cost, checked above.
+    double points = ao.workspace.empty() ? 0 : 1;
+    for (const auto& axis : ao.workspace) points *= static_cast<double>(axis.size());
+    const double runs = static_cast<double>(o.monte_carlo);
+    const double threads = static_cast<double>(worker_count(o.threads, std::max<std::size_t>(o.monte_carlo, 1)));
+    check_estimate({fmt::format("--monte-carlo {} over --workspace of {:.3g} points", o.monte_carlo, points),
+                    runs * points * 24, runs * points / kEvaluationsPerSecond / threads, 0});
+  }
+  Progress progress("Monte Carlo runs", o.monte_carlo);
+  if (progress.active()) ao.monte_carlo_progress = [&](std::size_t done, std::size_t) { progress.update(done); };
   ao.monte_carlo_runs = o.monte_carlo;
   ao.seed = o.seed;
   ao.threads = o.threads;
@@ -264,6 +298,7 @@ void print_subsets(const SubsetAnalysis& a, std::size_t choose, double seconds) 
 int run_identifiability(const IdentifiabilityOptions& o) {
   const Machine m = load(o.model);
   const ProbingPlan plan = read_probing_csv(m, o.plan);
+  check_plan_size(m, plan, "--plan");
   IdentificationOptions opt = to_options(o.est);
   if (o.choose == 0) {
     if (o.est.estimate.empty())
@@ -276,7 +311,13 @@ int run_identifiability(const IdentifiabilityOptions& o) {
     return 0;
   }
   if (o.candidates.empty()) throw InputError({"--candidates", 0, ""}, "--choose needs --candidates");
-  const SubsetOptions so = subset_options(o);
+  SubsetOptions so = subset_options(o);
+  // C(n, k) subsets could take longer than the universe: refused above what --max-time allows.
+  so.max_subsets =
+      static_cast<std::uint64_t>(std::min(1e19, run_limits().seconds * kSubsetsPerSecond *
+                                                    static_cast<double>(worker_count(o.threads, 1u << 20))));
+  Progress progress("subsets", 1);
+  if (progress.active()) so.progress = [&](std::size_t done, std::size_t total) { progress.update(done, total); };
   const auto t0 = Clock::now();
   const SubsetAnalysis a = full_rank_subsets(m, plan, so, opt);
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -62,8 +62,8 @@ int run_regress(const RegressOptions& o) {
   const auto specs = parse_model_specs(o.models, "--models");
   const CsvTable t = read_csv(o.data);
   const int cx = t.column(o.x), cy = t.column(o.y);
-  if (cx < 0) throw InputError({o.data, 0, o.x}, "no column '" + o.x + "' (--x)");
-  if (cy < 0) throw InputError({o.data, 0, o.y}, "no column '" + o.y + "' (--y)");
+  if (cx < 0) throw InputError({o.data, 0, o.x}, "no column '" + printable(o.x) + "' (--x)");
+  if (cy < 0) throw InputError({o.data, 0, o.y}, "no column '" + printable(o.y) + "' (--y)");
   const std::vector<double> x = column_values(t, cx), y = column_values(t, cy);
   if (x.size() < 2) throw InputError({o.data, 0, o.y}, fmt::format("expected at least 2 rows, found {}", x.size()));
   const ModelComparison c = compare_models(specs, x, y);
@@ -92,7 +92,7 @@ std::map<std::string, double> constants_of(const std::string& set) {
     const auto eq = item.find('=');
     const auto v = eq == std::string::npos ? std::nullopt : parse_number(item.substr(eq + 1));
     if (!v || eq == 0)
-      throw InputError({"--set", 0, item}, "expected NAME=VALUE items separated by commas, found '" + item + "'");
+      throw InputError({"--set", 0, item}, "expected NAME=VALUE items separated by commas, found '" + printable(item) + "'");
     constants[item.substr(0, eq)] = *v;
   }
   return constants;

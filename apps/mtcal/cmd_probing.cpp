@@ -41,7 +41,7 @@ std::pair<double, const char*> display(std::size_t q) {
 
 void check_rotary_options(const RotaryOptions& o) {
   if (o.axis.size() != 1 || o.axis[0] < 'A' || o.axis[0] > 'C')
-    throw InputError({"--axis", 0, ""}, "expected A, B or C, found '" + o.axis + "'");
+    throw InputError({"--axis", 0, ""}, "expected A, B or C, found '" + printable(o.axis) + "'");
   if (o.contacts.empty() == o.centres.empty())
     throw InputError({"rotary-axis", 0, ""}, "expected exactly one of --contacts and --centres");
   if (!o.contacts.empty() && !(o.sphere_diameter > 0))
@@ -133,21 +133,23 @@ struct SimOptions {
 int run_sim(const SimOptions& o) {
   check_outputs(model_inputs(o.model), {o.out});
   const Machine m = load(o.model);
-  if (o.axis.size() != 1) throw InputError({"--axis", 0, ""}, "expected one axis letter, found '" + o.axis + "'");
+  if (o.axis.size() != 1) throw InputError({"--axis", 0, ""}, "expected one axis letter, found '" + printable(o.axis) + "'");
   const auto k = m.axis_index(o.axis[0]);
-  if (!k) throw InputError({"--axis", 0, ""}, "axis '" + o.axis + "' is not in topology " + m.topology.chain);
+  if (!k) throw InputError({"--axis", 0, ""}, "axis '" + printable(o.axis) + "' is not in topology " + m.topology.chain);
   ProbingSimulation sim;
   sim.axis = o.axis[0];
   // --angles lo:hi:count in deg, as a grid of that one axis.
   const auto grid = parse_grid(m, o.axis + "=" + o.angles, "--angles");
   sim.angles = grid[*k];
   sim.held = o.hold.empty() ? std::vector<double>(m.axes.size(), 0.0) : parse_joint_values(m, o.hold, "--hold");
+  check_joints(m, sim.held, "--hold", false);
   const auto parts = split_list(o.sphere);
-  if (parts.size() != 3) throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + o.sphere + "'");
+  if (parts.size() != 3) throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + printable(o.sphere) + "'");
   for (int c = 0; c < 3; ++c) {
     const auto v = parse_number(parts[static_cast<std::size_t>(c)]);
-    if (!v)
-      throw InputError({"--sphere", 0, ""}, "expected a number, found '" + parts[static_cast<std::size_t>(c)] + "'");
+    if (!v || std::abs(*v) > 1e6)
+      throw InputError({"--sphere", 0, ""},
+                       "expected a number within +-1e6 mm, found '" + printable(parts[static_cast<std::size_t>(c)]) + "'");
     sim.sphere[c] = *v;
   }
   if (!(o.sphere_diameter > 0) || !(o.stylus_diameter >= 0) || !(o.noise >= 0) || !std::isfinite(o.bias))

@@ -33,6 +33,7 @@ ToolpathOptions toolpath_options(const Machine& m, const ToolpathCliOptions& o) 
   ToolpathOptions opt;
   opt.step = o.step;
   opt.angle_step = o.angle_step;
+  opt.program = o.gcode;
   opt.skip_rapids = o.skip_rapids;
   opt.origin = parse_program_origin(m, o.origin);
   opt.directions = !o.no_direction;

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "budget.hpp"
 #include "common.hpp"
 #include "mtcal/evaluation/diagonals.hpp"
 #include "mtcal/evaluation/volumetric_study.hpp"
@@ -53,8 +54,16 @@ void add_map_options(CLI::App* c, MapSource& s) {
 ErrorMap build_map(const Machine& m, const ErrorModel& model, const MapSource& s) {
   if (!s.grid.empty() == !s.points.empty())
     throw InputError({"--grid", 0, ""}, "expected exactly one of --grid, --points");
-  if (!s.grid.empty())
-    return grid_error_map(model, checked_grid(m, s.grid, !s.no_travel_check, 200'000'000), {s.threads});
+  if (!s.grid.empty()) {
+    auto grid = checked_grid(m, s.grid, !s.no_travel_check, 200'000'000);
+    // The map holds every point's configuration and error vector, and the studies copy parts of
+    // it: about 2 x (axes + 3) doubles a point.
+    double points = 1;
+    for (const auto& axis : grid) points *= static_cast<double>(axis.size());
+    check_estimate(
+        {fmt::format("--grid of {:.4g} points", points), points * 16 * static_cast<double>(m.axes.size() + 3), 0, 0});
+    return grid_error_map(model, grid, {s.threads});
+  }
   return error_map(model, read_configurations(m, s.points, !s.no_travel_check), s.points, {s.threads});
 }
 
@@ -98,7 +107,7 @@ VolumetricRequest volumetric_request(const Machine& m, const VolumetricOptions& 
     const auto v = parse_number(o.histogram);
     if (!v || *v < 1 || *v > 1e6 || *v != std::floor(*v))
       throw InputError({"--histogram", 0, ""},
-                       "expected a bin count from 1 to 1e6 or 'auto', found '" + o.histogram + "'");
+                       "expected a bin count from 1 to 1e6 or 'auto', found '" + printable(o.histogram) + "'");
     r.histogram_bins = static_cast<std::size_t>(*v);
   }
   if (o.group_angle || o.group_magnitude) {

@@ -1,4 +1,5 @@
 // mtcal command line: a thin layer that parses options, calls the library and prints results.
+#include <csignal>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -22,7 +23,10 @@
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/report/error_map.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parallel.hpp"
+#include "mtcal/util/solver_log.hpp"
 #include "mtcal/version.hpp"
+#include "budget.hpp"
 #include "common.hpp"
 
 using namespace mtcal;
@@ -31,6 +35,10 @@ using namespace mtcal::cli;
 namespace {
 
 std::string fmt_num(double v) { return fmt::format("{:.9g}", v); }
+
+// Configurations per second and thread of the exact model, batched (measured on the 5-axis
+// example machines, docs/reliability.md): the time estimates divide by it.
+constexpr double kEvaluationsPerSecond = 2e6;
 
 struct EvalOptions {
   ModelOptions model;
@@ -93,6 +101,15 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
   else
     grid = checked_grid(m, o.grid, !o.no_travel_check);
   const auto source = o.points.empty() ? ConfigurationSource::grid(grid) : ConfigurationSource::list(list);
+  {
+    // Streamed in chunks: the memory is bounded; the time and the --out file grow with the count.
+    // Per row: the axis values (about 12 characters each), directions, 6 errors of 16 characters.
+    const double count = static_cast<double>(source.size()), axes = static_cast<double>(m.axes.size());
+    const double row = axes * 13 + (source.has_directions() ? axes * 3 : 0) + 6 * 17;
+    const double threads = static_cast<double>(worker_count(o.threads, source.size()));
+    check_estimate({fmt::format("eval {} of {:.4g} configurations", o.points.empty() ? "--grid" : "--points", count), 0,
+                    count / kEvaluationsPerSecond / threads, o.out.empty() ? 0.0 : count * row});
+  }
   std::optional<ErrorStreamCsv> file;
   if (!o.out.empty()) file.emplace(o.out, m, source.has_directions());
   std::optional<ErrorStreamReport> report;
@@ -164,7 +181,7 @@ std::vector<ErrorName> wanted_errors(const Machine& m, const std::string& list) 
   for (const auto& w : split_list(list)) {
     auto en = ErrorName::parse(w);
     if (!en || !m.has_error(*en))
-      throw InputError({"--errors", 0, w}, "unknown error name '" + w + "' for topology " + m.topology.chain);
+      throw InputError({"--errors", 0, w}, "unknown error name '" + printable(w) + "' for topology " + m.topology.chain);
     out.push_back(*en);
   }
   return out;
@@ -282,13 +299,39 @@ bool unknown_command(CLI::App& app, int argc, char** argv) {
     if (sub->get_name() == cmd) return false;
     names += (names.empty() ? "" : ", ") + sub->get_name();
   }
-  std::cerr << "mtcal: error: unknown command '" << cmd << "' (expected one of " << names << "; see 'mtcal --help')\n";
+  std::cerr << "mtcal: error: unknown command '" << printable(cmd) << "' (expected one of " << names
+            << "; see 'mtcal --help')\n";
   return true;
+}
+
+// An error message as one line of at most ~300 characters: control characters escaped (a newline
+// becomes a space), the middle of a longer message cut with "…" (its start says what, its end
+// often where).
+std::string one_line(std::string msg) {
+  for (auto& c : msg)
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+  std::string out;
+  for (const char ch : msg) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f)
+      out += fmt::format("\\x{:02x}", c);
+    else
+      out += ch;
+  }
+  constexpr std::size_t kMax = 300;
+  if (out.size() <= kMax) return out;
+  // Cut at character boundaries (never inside a UTF-8 sequence).
+  std::size_t head = 200, tail = out.size() - 90;
+  while (head > 0 && (static_cast<unsigned char>(out[head]) & 0xC0) == 0x80) --head;
+  while (tail < out.size() && (static_cast<unsigned char>(out[tail]) & 0xC0) == 0x80) ++tail;
+  return out.substr(0, head) + "\u2026" + out.substr(tail);
 }
 
 // Runs the parsed command; an error is one line on stderr and exit 1.
 int run_command(const std::vector<Command>& commands) {
   try {
+    // Every file the command writes appears at the end, all together, or none does.
+    OutputGroup outputs;
     const int rc = [&] {
       for (const auto& c : commands)
         if (c.app->parsed()) return c.run();
@@ -296,14 +339,21 @@ int run_command(const std::vector<Command>& commands) {
     }();
     std::cout.flush();
     if (!std::cout) throw Error("cannot write the results to standard output");
+    outputs.commit();
     return rc;
+  } catch (const LimitError& e) {
+    std::cerr << "mtcal: error: " << one_line(e.what()) << " (" << limit_option(static_cast<int>(e.limit()))
+              << " raises it; docs/reliability.md)\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "mtcal: error: out of memory (the computation needs more memory than the system gives; see "
+                 "--max-memory in docs/reliability.md)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::string msg = e.what();
     // Every command that checks configurations against the travels can be told not to.
     if (msg.find(" is outside the travel [") != std::string::npos) msg += " (use --no-travel-check to evaluate anyway)";
-    for (auto& c : msg)
-      if (c == '\n') c = ' ';
-    std::cerr << "mtcal: error: " << msg << "\n";
+    std::cerr << "mtcal: error: " << one_line(msg) << "\n";
     return 1;
   }
 }
@@ -311,12 +361,20 @@ int run_command(const std::vector<Command>& commands) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Past the file-size limit (ulimit -f) a write fails with EFBIG instead of killing the program
+  // with SIGXFSZ: the output's temporary file is then removed and the error reported.
+  std::signal(SIGXFSZ, SIG_IGN);
   set_command_line(argc, argv);
   CLI::App app{
       "mtcal - geometric accuracy of CNC machine tools: error models, evaluation, "
       "identification and compensation"};
   app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
   app.require_subcommand(1);
+  // Global options, before or after the command's name.
+  app.fallthrough();
+  bool verbose = false;
+  app.add_flag("--verbose", verbose, "Let the nonlinear solver (Ceres) log to stderr; quiet otherwise");
+  add_limit_options(app);
   const std::vector<Command> commands = add_commands(app);
   if (unknown_command(app, argc, argv)) return 2;
   try {
@@ -329,8 +387,9 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Usage errors: one line, exit 2 (help goes to stdout only when asked for).
-    std::cerr << "mtcal: error: " << e.what() << " (see 'mtcal --help')\n";
+    std::cerr << "mtcal: error: " << one_line(e.what()) << " (see 'mtcal --help')\n";
     return 2;
   }
+  set_solver_logging(verbose);
   return run_command(commands);
 }

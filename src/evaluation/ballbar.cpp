@@ -296,7 +296,7 @@ TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const Ball
 std::vector<TracePoint> predict_ballbar(const Machine& m, const std::string& plane, const std::vector<double>& centre,
                                         double radius, double step) {
   if (plane != "XY" && plane != "YZ" && plane != "ZX")
-    throw ModelError("expected the plane XY, YZ or ZX, found '" + plane + "'");
+    throw ModelError("expected the plane XY, YZ or ZX, found '" + printable(plane) + "'");
   const auto a1 = m.axis_index(plane[0]), a2 = m.axis_index(plane[1]);
   if (!a1 || !a2)
     throw ModelError("plane " + plane + " needs linear axes " + plane[0] + " and " + plane[1] + " in " +

@@ -73,6 +73,13 @@ PositioningEvaluation evaluate_positioning(const PositioningRuns& in) {
     m_hi = std::max(m_hi, t.mean), m_lo = std::min(m_lo, t.mean);
     a_hi_up = std::max(a_hi_up, t.mean_up + 2 * t.s_up), a_lo_up = std::min(a_lo_up, t.mean_up - 2 * t.s_up);
     a_hi_dn = std::max(a_hi_dn, t.mean_down + 2 * t.s_down), a_lo_dn = std::min(a_lo_dn, t.mean_down - 2 * t.s_down);
+    // Values near the floating-point range (1e308) overflow the sums: an error, not inf results.
+    for (double v :
+         {t.mean_up, t.mean_down, t.mean, t.reversal, t.s_up, t.s_down, t.R, a_hi_up, a_lo_up, a_hi_dn, a_lo_dn})
+      if (!std::isfinite(v))
+        throw InputError({source, 0, ""}, fmt::format("the deviations at target {:g} overflow (found values beyond "
+                                                      "the floating-point range); expected measured positions",
+                                                      t.target));
     e.targets.push_back(t);
   }
   e.B_mean = b_sum / static_cast<double>(m);
@@ -83,6 +90,11 @@ PositioningEvaluation evaluate_positioning(const PositioningRuns& in) {
   e.A_up = a_hi_up - a_lo_up;
   e.A_down = a_hi_dn - a_lo_dn;
   e.A = std::max(a_hi_up, a_hi_dn) - std::min(a_lo_up, a_lo_dn);
+  for (double v : {e.B_mean, e.E, e.E_up, e.E_down, e.M, e.A, e.A_up, e.A_down})
+    if (!std::isfinite(v))
+      throw InputError({source, 0, ""},
+                       "the ranges over the targets overflow (found values beyond the floating-point "
+                       "range); expected measured positions");
   return e;
 }
 

@@ -25,6 +25,7 @@ IdentificationRun identify_and_assess(const Machine& prior, const ProbingPlan& m
     mo.seed = a.seed;
     mo.threads = a.threads;
     mo.workspace = a.workspace;
+    mo.progress = a.monte_carlo_progress;
     const auto t1 = Clock::now();
     run.monte_carlo = monte_carlo(prior, measurements, options, r, mo);
     run.monte_carlo_seconds = std::chrono::duration<double>(Clock::now() - t1).count();

@@ -1,7 +1,10 @@
 #include "mtcal/identification/identification.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <mutex>
 #include <random>
 
@@ -15,6 +18,7 @@
 #include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
+#include "mtcal/util/solver_log.hpp"
 #include "probing_model.hpp"
 
 namespace mtcal {
@@ -299,6 +303,36 @@ Identifiability make_identifiability(const ProbingModel& pm, const Eigen::Matrix
   return out;
 }
 
+// The parameter of largest magnitude, for messages about non-finite results ("EXX.1 = 1e+200 mm/mm").
+std::string largest_parameter(const Machine& m) {
+  std::string largest;
+  double big = -1;
+  for (const auto& p : m.parameters())
+    if (std::abs(p.value) > big) {
+      big = std::abs(p.value);
+      largest = fmt::format("{} = {:g} {}", p.name, p.value, p.unit);
+    }
+  return largest;
+}
+
+// The residuals must be finite where the solver starts: a parameter value far outside any real
+// machine (1e300 mm/mm) overflows the model, and the solver would report inf/nan estimates.
+// Located at the first record whose residual is not finite; names the largest parameter.
+void check_finite_start(const Machine& prior, const ProbingModel& pm, const ProbingPlan& meas,
+                        const Eigen::VectorXd& x) {
+  std::vector<double> r;
+  for (std::size_t b = 0; b < pm.blocks(); ++b) {
+    r.assign(pm.block_size(b), 0.0);
+    pm.block(x.data(), b, r.data(), nullptr);
+    if (std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); })) continue;
+    const int line = b < meas.records.size() ? meas.records[b].line : 0;
+    throw InputError({meas.source, line, ""},
+                     "the model's residual is not finite with the machine's parameter values "
+                     "(largest: " +
+                         largest_parameter(prior) + "); expected finite errors of a real machine");
+  }
+}
+
 void check_enough(const ProbingModel& pm, const std::string& source) {
   // Strictly more: with as many residuals as unknowns nothing is left to estimate the noise from.
   if (pm.residuals() <= pm.unknowns())
@@ -352,6 +386,7 @@ Solve run_ceres(const ProbingModel& pm, Eigen::VectorXd x, const IdentificationO
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
   Solve s;
+  apply_solver_logging();
   ceres::Solve(so, &problem, &s.summary);
   s.x = x;
   return s;
@@ -403,7 +438,15 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   const ProbingModel pm(prior, meas, params, o.scale_bars, pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
   res.pretravel_estimated = pretravel;
   check_enough(pm, meas.source);
-  const Solve s = run_ceres(pm, start ? *start : pm.initial(), o);
+  const Eigen::VectorXd x0 = start ? *start : pm.initial();
+  check_finite_start(prior, pm, meas, x0);
+  const Solve s = run_ceres(pm, x0, o);
+  if (!s.x.allFinite() || !std::isfinite(s.summary.final_cost))
+    throw InputError({meas.source, 0, ""},
+                     "the identification diverged: the solution is not finite (solver: " +
+                         std::string(ceres::TerminationTypeToString(s.summary.termination_type)) +
+                         "); expected finite errors of a real machine (largest parameter of the prior: " +
+                         largest_parameter(prior) + ")");
   res.termination = std::string(ceres::TerminationTypeToString(s.summary.termination_type)) + ": " + s.summary.message;
   res.converged = s.summary.termination_type == ceres::CONVERGENCE;
   res.iterations = static_cast<int>(s.summary.iterations.size()) - 1;
@@ -533,6 +576,7 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
   std::vector<std::vector<Vec3>> maps(mc.workspace.empty() ? 0 : mc.runs);
   std::mutex error_mutex;
   std::string first_error;
+  std::atomic<std::size_t> finished{0};
   parallel_for(mc.runs, mc.threads, [&](std::size_t run, std::size_t) {
     try {
       // Parametric bootstrap: the readings the identified machine gives against the fitted
@@ -550,9 +594,15 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
         maps[run] = map.error;
       }
       ok[run] = r.converged;  // a run the solver did not finish is counted as failed, not averaged in
-    } catch (const std::exception& e) {
+      if (mc.progress) mc.progress(++finished, mc.runs);
+    } catch (const Error& e) {
+      // A run the model or solver refuses (a reading that does not converge) is a failed run.
       const std::lock_guard lock(error_mutex);
       if (first_error.empty()) first_error = e.what();
+    } catch (const std::bad_alloc&) {
+      // Out of memory says nothing about the run's data: the analysis stops (parallel_for
+      // rethrows the first), instead of counting it among the solver's failures.
+      throw Error(fmt::format("Monte Carlo run {} ran out of memory (fewer runs, threads or workspace points)", run));
     }
   });
   out.mean.assign(k, 0.0);

@@ -1,5 +1,6 @@
 // Viprey 2015 section 4: every k-subset of candidate parameters with a full-rank model.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -180,6 +181,11 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   }
   SubsetAnalysis out;
   out.examined = binomial(n, o.choose);
+  if (o.max_subsets && out.examined > o.max_subsets)
+    throw LimitError(Limit::Time, {o.choose_source, 0, ""},
+                     fmt::format("C({}, {}) = {:.3g} subsets of the candidates to examine, more than the {:.3g} that "
+                                 "fit in the time limit",
+                                 n, o.choose, static_cast<double>(out.examined), static_cast<double>(o.max_subsets)));
   for (std::size_t ci : cand) out.candidates.push_back(m.parameters()[ci].name);
   // The fixed part must be full rank by itself.
   {
@@ -197,8 +203,19 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   results.reserve(tasks);
   for (std::size_t t = 0; t < tasks; ++t)
     results.push_back(Search{G, c, r0_2, f, o.choose, o.rank_tolerance, {}, 0, 0, {}, {}, {}});
+  // Progress in subsets: task t covers the C(n - 1 - t, k - 1) subsets that start with candidate t.
+  std::atomic<std::uint64_t> done{0};
+  const std::uint64_t total = binomial(n, o.choose);
   parallel_for(tasks, o.threads, [&](std::size_t t, std::size_t) {
     Search& s = results[t];
+    struct Report {
+      const SubsetOptions& o;
+      std::atomic<std::uint64_t>& done;
+      std::uint64_t part, total;
+      ~Report() {
+        if (o.progress) o.progress(static_cast<std::size_t>(done += part), static_cast<std::size_t>(total));
+      }
+    } report{o, done, binomial(n - 1 - t, o.choose - 1), total};
     for (std::size_t j = 0; j < f; ++j) s.push(j);
     if (!s.push(f + t)) {
       ++s.pruned;

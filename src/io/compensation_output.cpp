@@ -39,7 +39,7 @@ const CompensationTarget& compensation_target(const std::string& name) {
     if (t.name == name) return t;
     known += (known.empty() ? "" : ", ") + t.name;
   }
-  throw InputError({"", 0, "format"}, "unknown compensation target '" + name + "' (expected one of: " + known + ")");
+  throw InputError({"", 0, "format"}, "unknown compensation target '" + printable(name) + "' (expected one of: " + known + ")");
 }
 
 namespace {
@@ -59,7 +59,7 @@ struct TemporaryDirectory {
 void write_target_output(const std::string& dir, const TargetOutput& output) {
   fs::path target = fs::path(dir).lexically_normal();
   if (target.filename().empty()) target = target.parent_path();  // "comp/" names the directory comp
-  if (target.empty()) throw Error("output directory '" + dir + "': expected a directory name");
+  if (target.empty()) throw Error("output directory '" + printable(dir) + "': expected a directory name");
   std::error_code ec;
   if (fs::exists(target, ec)) {
     if (!fs::is_directory(target, ec) || !fs::is_empty(target, ec))
@@ -67,7 +67,7 @@ void write_target_output(const std::string& dir, const TargetOutput& output) {
   }
   for (const auto& f : output.files)
     if (f.name.empty() || f.name.find('/') != std::string::npos || f.name == "." || f.name == "..")
-      throw Error("compensation file name '" + f.name + "' is not a plain file name");
+      throw Error("compensation file name '" + printable(f.name) + "' is not a plain file name");
   const fs::path parent = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   std::string pattern = (parent / (target.filename().string() + ".tmp-XXXXXX")).string();
   if (!mkdtemp(pattern.data())) throw Error("cannot create a temporary directory beside " + dir);

@@ -34,11 +34,11 @@ std::vector<std::size_t> TextTable::require_columns(const std::vector<std::strin
   for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
   for (const auto& c : columns)
     if (std::find(names.begin(), names.end(), c) == names.end())
-      throw InputError({source, header_line, c}, "unknown column '" + c + "' (expected " + list + ")");
+      throw InputError({source, header_line, c}, "unknown column '" + printable(c) + "' (expected " + list + ")");
   std::vector<std::size_t> idx;
   for (const auto& n : names) {
     const int c = column(n);
-    if (c < 0) throw InputError({source, header_line, ""}, "missing column '" + n + "' (expected " + list + ")");
+    if (c < 0) throw InputError({source, header_line, ""}, "missing column '" + printable(n) + "' (expected " + list + ")");
     idx.push_back(static_cast<std::size_t>(c));
   }
   return idx;
@@ -59,7 +59,7 @@ TextTable parse_text_csv(const std::string& text, const std::string& source) {
     if (t.header_line == 0) {
       for (const auto& c : cells) {
         if (c.empty()) throw InputError({source, lineno, ""}, "empty column name in the header");
-        if (t.column(c) >= 0) throw InputError({source, lineno, c}, "duplicated column '" + c + "'");
+        if (t.column(c) >= 0) throw InputError({source, lineno, c}, "duplicated column '" + printable(c) + "'");
         t.columns.push_back(c);
       }
       t.header_line = lineno;
@@ -97,7 +97,7 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
       const std::string& cell = text_table.rows[r][i];
       const auto v = parse_number(cell);
       if (!v)
-        throw InputError({source, text_table.lines[r], t.columns[i]}, "expected a finite number, found '" + cell + "'");
+        throw InputError({source, text_table.lines[r], t.columns[i]}, "expected a finite number, found '" + printable(cell) + "'");
       row.push_back(*v);
     }
     t.rows.push_back(std::move(row));

@@ -28,7 +28,7 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
       known = known || c == std::string(1, ax.letter) || c == std::string("dir") + ax.letter;
     for (const char* k : kErrorKeys) known = known || c == k;  // an evaluated file reads back
     if (!known)
-      throw InputError({path, 1, c}, "unknown column '" + c + "' (expected axis letters of " + m.topology.chain +
+      throw InputError({path, 1, c}, "unknown column '" + printable(c) + "' (expected axis letters of " + m.topology.chain +
                                          " and optional dir<axis>)");
   }
   if (std::all_of(qcol.begin(), qcol.end(), [](int c) { return c < 0; }))
@@ -83,6 +83,7 @@ void ErrorStreamCsv::write(const ErrorChunk& c) {
     buf.push_back('\n');
   }
   file_->stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  file_->check_stream();
 }
 
 void ErrorStreamCsv::commit() { file_->commit(); }
@@ -102,7 +103,11 @@ void write_error_map_csv(const std::string& path, const Machine& m, const ErrorM
     for (const std::int8_t d : map.direction(i)) fmt::format_to(std::back_inserter(buf), ",{}", d);
     fmt::format_to(std::back_inserter(buf), ",{:.9e},{:.9e},{:.9e}\n", map.error[i].x(), map.error[i].y(),
                    map.error[i].z());
-    if (buf.size() > (1u << 20)) out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size())), buf.clear();
+    if (buf.size() > (1u << 20)) {
+      out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
+      out.check_stream();
+      buf.clear();
+    }
   }
   out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
   out.commit();
@@ -140,6 +145,7 @@ void ToolpathCsv::write(const ToolpathChunk& c) {
     buf.push_back('\n');
   }
   file_->stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  file_->check_stream();
 }
 
 void ToolpathCsv::commit() { file_->commit(); }

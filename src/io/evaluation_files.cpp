@@ -99,7 +99,10 @@ PositioningRuns read_positioning_csv(const std::string& path, const std::string&
       return *v;
     };
     const double target = num(c[0], "target"), measured = num(c[3], "measured"), run = num(c[1], "run");
-    if (run != std::floor(run)) throw InputError({path, lineno, "run"}, "expected a whole run number");
+    // Range first: converting a double beyond long's range is undefined behaviour.
+    if (run != std::floor(run) || std::abs(run) > 1e9)
+      throw InputError({path, lineno, "run"},
+                       "expected a whole run number between -1e9 and 1e9, found '" + printable(cells[c[1]]) + "'");
     const std::string& d = cells[c[2]];
     int dir = 0;
     if (d == "up" || d == "+")

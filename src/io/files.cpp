@@ -1,6 +1,8 @@
 #include "mtcal/io/files.hpp"
 
+#include <cerrno>
 #include <csignal>
+#include <pthread.h>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -15,7 +17,13 @@
 
 namespace mtcal {
 
+InputLimits& input_limits() {
+  static InputLimits limits;
+  return limits;
+}
+
 std::string read_text_file(const std::string& path, const std::string& what, std::size_t max_bytes) {
+  if (max_bytes == 0) max_bytes = input_limits().text;
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError({path, 0, ""}, "is a directory; expected a " + what);
   std::ifstream in(path, std::ios::binary);
@@ -27,8 +35,9 @@ std::string read_text_file(const std::string& path, const std::string& what, std
     in.read(block.data(), static_cast<std::streamsize>(block.size()));
     text.append(block.data(), static_cast<std::size_t>(in.gcount()));
     if (text.size() > max_bytes)
-      throw InputError({path, 0, ""}, fmt::format("{} larger than {} MiB: expected at most that much ({})", what,
-                                                  max_bytes >> 20, "a limit against runaway inputs"));
+      throw LimitError(Limit::InputSize, {path, 0, ""},
+                       fmt::format("{} larger than {}: expected at most that much (a limit against runaway inputs)",
+                                   what, format_bytes(static_cast<double>(max_bytes))));
   }
   if (in.bad()) throw InputError({path, 0, ""}, "cannot read " + what);
   return text;
@@ -38,7 +47,7 @@ namespace {
 
 // Temporary files being written, removed by the signal handler if the program is interrupted
 // (fixed storage: a handler may only call async-signal-safe functions such as unlink).
-constexpr int kMaxPending = 8;
+constexpr int kMaxPending = 64;
 char g_pending[kMaxPending][4096];
 volatile std::sig_atomic_t g_used[kMaxPending];
 
@@ -114,6 +123,17 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   slot_ = register_pending(tmp_);
 }
 
+namespace {
+// Why a write failed: the file-size limit (EFBIG, with SIGXFSZ ignored), a full disk ...
+std::string write_failure() {
+  const int e = errno;
+  if (e == EFBIG) return "the file is larger than the file-size limit (ulimit -f)";
+  if (e == ENOSPC) return "no space left on the device";
+  if (e == EDQUOT) return "disk quota exceeded";
+  return e ? std::string("write failed: ") + std::strerror(e) : std::string("write failed");
+}
+}  // namespace
+
 AtomicFile::~AtomicFile() {
   if (slot_ >= 0) g_used[slot_] = 0;
   if (committed_) return;
@@ -121,14 +141,96 @@ AtomicFile::~AtomicFile() {
   std::remove(tmp_.c_str());
 }
 
+void AtomicFile::check_stream() {
+  if (!out_) throw Error("cannot write '" + path_ + "': " + write_failure());
+}
+
 void AtomicFile::commit() {
   out_.flush();
-  if (!out_) throw Error("cannot write '" + path_ + "': write failed");
+  if (!out_) throw Error("cannot write '" + path_ + "': " + write_failure());
   out_.close();
+  if (!out_) throw Error("cannot write '" + path_ + "': " + write_failure());
+  if (OutputGroup* g = OutputGroup::current()) {
+    // The group renames it with the command's other outputs, or removes it.
+    g->add({path_, target_, tmp_, slot_});
+    slot_ = -1;
+    committed_ = true;
+    return;
+  }
   std::error_code ec;
   std::filesystem::rename(tmp_, target_, ec);
   if (ec) throw Error("cannot write '" + path_ + "': " + ec.message());
   committed_ = true;
+}
+
+namespace {
+OutputGroup* g_group = nullptr;
+
+// Signals that would stop the program between two renames, held back while a group commits.
+struct HoldSignals {
+  sigset_t old{};
+  HoldSignals() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, sig);
+    ::pthread_sigmask(SIG_BLOCK, &set, &old);
+  }
+  ~HoldSignals() { ::pthread_sigmask(SIG_SETMASK, &old, nullptr); }
+};
+}  // namespace
+
+OutputGroup::OutputGroup() {
+  if (g_group) throw Error("internal: an output group is already open");
+  g_group = this;
+}
+
+OutputGroup::~OutputGroup() {
+  g_group = nullptr;
+  if (done_) return;
+  for (const auto& f : files_) {
+    std::remove(f.tmp.c_str());
+    if (f.slot >= 0) g_used[f.slot] = 0;
+  }
+}
+
+OutputGroup* OutputGroup::current() { return g_group; }
+
+void OutputGroup::add(Pending p) { files_.push_back(std::move(p)); }
+
+void OutputGroup::commit() {
+  g_group = nullptr;
+  const HoldSignals hold;
+  // Old versions of the targets, kept (hard links, same directory) until every rename is done.
+  std::vector<std::string> backup(files_.size());
+  for (std::size_t i = 0; i < files_.size(); ++i) {
+    struct stat st {};
+    if (::stat(files_[i].target.c_str(), &st) != 0) continue;
+    std::string b = files_[i].tmp + ".old";
+    if (::link(files_[i].target.c_str(), b.c_str()) == 0) backup[i] = b;
+  }
+  for (std::size_t i = 0; i < files_.size(); ++i) {
+    if (std::rename(files_[i].tmp.c_str(), files_[i].target.c_str()) == 0) continue;
+    const std::string why = std::strerror(errno);
+    // Undo: the targets renamed so far get their old content back (or go, if they were new).
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!backup[j].empty())
+        (void)std::rename(backup[j].c_str(), files_[j].target.c_str());
+      else
+        (void)std::remove(files_[j].target.c_str());
+    }
+    for (std::size_t j = i; j < files_.size(); ++j) std::remove(files_[j].tmp.c_str());
+    for (std::size_t j = i; j < files_.size(); ++j)
+      if (!backup[j].empty()) std::remove(backup[j].c_str());
+    for (const auto& f : files_)
+      if (f.slot >= 0) g_used[f.slot] = 0;
+    done_ = true;
+    throw Error("cannot write '" + files_[i].path + "': " + why + " (no output written)");
+  }
+  for (const auto& b : backup)
+    if (!b.empty()) std::remove(b.c_str());
+  for (const auto& f : files_)
+    if (f.slot >= 0) g_used[f.slot] = 0;
+  done_ = true;
 }
 
 void write_file_atomically(const std::string& path, const std::string& text) {

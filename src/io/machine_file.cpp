@@ -1,6 +1,7 @@
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/io/files.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -71,7 +72,7 @@ double quantity(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
   if (u.empty() || !extra.empty())
     ctx.fail(n, fmt::format("expected '<number> <unit>' such as '{}', found '{}'", example, n.Scalar()));
   const auto v = parse_number(num);
-  if (!v) ctx.fail(n, "expected a number before the unit, found '" + num + "'");
+  if (!v) ctx.fail(n, "expected a number before the unit, found '" + printable(num) + "'");
   return *v * checked_unit(u, n, ctx, expected, true).to_internal;
 }
 
@@ -86,7 +87,7 @@ Direction parse_direction(const YAML::Node& n, const Ctx& ctx) {
     char c = static_cast<char>(std::tolower(static_cast<unsigned char>(s[1])));
     if (c >= 'x' && c <= 'z') return {c - 'x', s[0] == '+' ? 1.0 : -1.0};
   }
-  ctx.fail(n, "expected a direction '+x', '-x', '+y', '-y', '+z' or '-z', found '" + s + "'");
+  ctx.fail(n, "expected a direction '+x', '-x', '+y', '-y', '+z' or '-z', found '" + printable(s) + "'");
 }
 
 MotionFunction parse_motion(const YAML::Node& n, const Ctx& ctx, const Axis& ax, Component comp, double length_scale,
@@ -214,7 +215,7 @@ Machine build(const YAML::Node& root, const std::string& file) {
   for (auto& [key, node] : axes) {
     Ctx kc = ac.child(key);
     if (key.size() != 1 || !b.current().axis_index(key[0]))
-      kc.fail(node, "axis '" + key + "' is not in topology " + topology.chain);
+      kc.fail(node, "axis '" + printable(key) + "' is not in topology " + topology.chain);
     const char letter = key[0];
     if (node.IsNull()) continue;
     auto e = entries(node, kc, {"travel", "direction", "point", "description"});
@@ -364,15 +365,20 @@ void apply_parameters(Machine& m, std::string_view yaml_text, const std::string&
 }
 
 void load_parameters(Machine& m, const std::string& path) {
-  apply_parameters(m, read_text_file(path, "parameter file", kMaxYamlBytes), path);
+  apply_parameters(m, read_text_file(path, "parameter file", input_limits().yaml), path);
 }
 
 Machine load_machine(const std::string& path) {
-  return parse_machine(read_text_file(path, "machine file", kMaxYamlBytes), path);
+  return parse_machine(read_text_file(path, "machine file", input_limits().yaml), path);
 }
 
 namespace {
-std::string num(double v) { return fmt::format("{:.17g}", v); }
+// The files are read back strictly (finite numbers only): a non-finite value is never written.
+std::string num(double v) {
+  if (!std::isfinite(v))
+    throw Error(fmt::format("cannot write the non-finite value {} to a machine or parameter file", v));
+  return fmt::format("{:.17g}", v);
+}
 std::string list(const std::vector<double>& v) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
@@ -428,6 +434,9 @@ std::string parameters_yaml(const Machine& m, const std::vector<ErrorName>& erro
     if (end == std::string::npos) break;
     start = end + 1;
   }
+  for (const auto& p : m.parameters())
+    if (!std::isfinite(p.value) && std::find(errors.begin(), errors.end(), p.error) != errors.end())
+      throw Error(fmt::format("parameter {} is {}; a parameter file holds finite values only", p.name, p.value));
   y += "mtcal_parameters: 1\nunits: {length: mm, angle: rad}\nerrors:\n";
   for (const auto& e : errors) y += error_yaml(m, e);
   return y;

@@ -83,7 +83,7 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
   if (!nn.IsDefined()) ctx.fail(n, "missing key 'name'");
   c.name = text(nn, ctx.child("name"));
   if (c.name.empty() || c.name.find_first_of(" ,\t") != std::string::npos)
-    ctx.child("name").fail(nn, "expected a name without spaces or commas, found '" + c.name + "'");
+    ctx.child("name").fail(nn, "expected a name without spaces or commas, found '" + printable(c.name) + "'");
   for (const auto& o : earlier)
     if (o.name == c.name)
       ctx.child("name").fail(nn, fmt::format("component '{}' is defined twice (first on line {})", c.name, o.line));
@@ -95,7 +95,7 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
   if (a == "x" || a == "y" || a == "z")
     c.axis = a[0];
   else if (a != "none")
-    cc.child("axis").fail(an, "expected x, y, z or none, found '" + a + "'");
+    cc.child("axis").fail(an, "expected x, y, z or none, found '" + printable(a) + "'");
   if (auto s = get(e, "source"); s.IsDefined()) c.source = text(s, cc.child("source"));
   if (auto s = get(e, "scale"); s.IsDefined()) c.scale = number(s, cc.child("scale"));
   if (auto s = get(e, "times"); s.IsDefined()) c.times = text(s, cc.child("times"));
@@ -110,7 +110,7 @@ ErrorComponent parse_component(const YAML::Node& n, const Ctx& ctx, const std::v
   if (has_of) {
     c.of = text(get(e, "of"), cc.child("of"));
     if (std::none_of(earlier.begin(), earlier.end(), [&](const ErrorComponent& o) { return o.name == c.of; }))
-      cc.child("of").fail(get(e, "of"), "'" + c.of + "' is not a component defined above this one");
+      cc.child("of").fail(get(e, "of"), "'" + printable(c.of) + "' is not a component defined above this one");
   } else {
     const YAML::Node vn = get(e, "variable");
     if (!vn.IsDefined()) cc.fail(n, "missing key 'variable' (the driving variable: a points column such as t, F, dx)");
@@ -223,7 +223,7 @@ PredictionModel parse_prediction_model(const std::string& text_in, const std::st
 }
 
 PredictionModel read_prediction_model(const std::string& path) {
-  return parse_prediction_model(read_text_file(path, "prediction model file", kMaxYamlBytes), path);
+  return parse_prediction_model(read_text_file(path, "prediction model file", input_limits().yaml), path);
 }
 
 }  // namespace mtcal

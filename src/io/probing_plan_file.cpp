@@ -56,7 +56,7 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
         throw InputError({source, line, name}, "expected a number, found an empty cell");
       }
       const auto v = parse_number(s);
-      if (!v) throw InputError({source, line, name}, "expected a finite number, found '" + s + "'");
+      if (!v) throw InputError({source, line, name}, "expected a finite number, found '" + printable(s) + "'");
       return *v;
     };
     ProbeFeature f;
@@ -68,7 +68,7 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
     } else if (kind == "facet") {
       f.kind = ProbeFeature::Kind::Facet;
     } else {
-      throw InputError({source, line, "kind"}, "expected ball or facet, found '" + kind + "'");
+      throw InputError({source, line, "kind"}, "expected ball or facet, found '" + printable(kind) + "'");
     }
     f.position = Vec3(number("x", false), number("y", false), number("z", false));
     const Vec3 nrm(number("nx", true), number("ny", true), number("nz", true));
@@ -85,7 +85,7 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
       const auto& g = plan.features[*known];
       if (g.kind != f.kind || g.position != f.position || g.normal != f.normal)
         throw InputError({source, line, "feature"},
-                         "feature '" + f.id + "' has a different kind or geometry than on an earlier row");
+                         "feature '" + printable(f.id) + "' has a different kind or geometry than on an earlier row");
       fi = *known;
     } else {
       fi = plan.features.size();
@@ -162,7 +162,7 @@ void write_probing_csv(const std::string& path, const Machine& m, const ProbingP
 ScaleBar parse_scale_bar(const std::string& spec, const std::string& where) {
   const auto c1 = spec.find(':'), c2 = c1 == std::string::npos ? c1 : spec.find(':', c1 + 1);
   if (c2 == std::string::npos || spec.find(':', c2 + 1) != std::string::npos)
-    throw InputError({where, 0, spec}, "expected BALL:BALL:LENGTH (mm), e.g. 1:2:304.8, found '" + spec + "'");
+    throw InputError({where, 0, spec}, "expected BALL:BALL:LENGTH (mm), e.g. 1:2:304.8, found '" + printable(spec) + "'");
   ScaleBar s{trim(spec.substr(0, c1)), trim(spec.substr(c1 + 1, c2 - c1 - 1)), 0.0, where};
   const auto len = parse_number(spec.substr(c2 + 1));
   if (!len || *len <= 0)

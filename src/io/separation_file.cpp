@@ -21,13 +21,13 @@ std::optional<double> cell(const TextTable& t, std::size_t row, std::size_t col,
     return std::nullopt;
   }
   const auto v = parse_number(s);
-  if (!v) throw InputError({source, t.lines[row], t.columns[col]}, "expected a number, found '" + s + "'");
+  if (!v) throw InputError({source, t.lines[row], t.columns[col]}, "expected a number, found '" + printable(s) + "'");
   return v;
 }
 
 std::size_t need(const TextTable& t, const std::string& name, const std::string& source) {
   const int c = t.column(name);
-  if (c < 0) throw InputError({source, t.header_line, name}, "missing column '" + name + "'");
+  if (c < 0) throw InputError({source, t.header_line, name}, "missing column '" + printable(name) + "'");
   return static_cast<std::size_t>(c);
 }
 
@@ -51,7 +51,7 @@ std::vector<PositionObservation> read_position_observations(const TextTable& t, 
     const char ax = f.empty() ? 0 : static_cast<char>(std::toupper(static_cast<unsigned char>(f[0])));
     if (ax != 'X' && ax != 'Y' && ax != 'Z')
       throw InputError({source, t.header_line, n},
-                       "expected a feature name starting with X, Y or Z after 'cmm_', found '" + f + "'");
+                       "expected a feature name starting with X, Y or Z after 'cmm_', found '" + printable(f) + "'");
     pairs.emplace_back(c, need(t, "probe_" + f, source));
     axes.push_back(ax);
   }
@@ -103,7 +103,7 @@ std::vector<DimensionRecord> read_dimension_table(const TextTable& t, const std:
       throw InputError({source, d.line, "workpiece"}, "expected a workpiece name, found an empty cell");
     d.step = step_of(t, r, idx[1], source);
     const std::string ax = trim(t.rows[r][idx[2]]);
-    if (ax != "X" && ax != "Y") throw InputError({source, d.line, "axis"}, "expected X or Y, found '" + ax + "'");
+    if (ax != "X" && ax != "Y") throw InputError({source, d.line, "axis"}, "expected X or Y, found '" + printable(ax) + "'");
     d.axis = ax[0];
     d.nominal = *cell(t, r, idx[3], source, true);
     d.measured = *cell(t, r, idx[4], source, true);

@@ -29,7 +29,7 @@ struct Ctx {
 
 inline std::string describe(const YAML::Node& n) {
   if (!n.IsDefined() || n.IsNull()) return "nothing";
-  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsScalar()) return "'" + printable(n.Scalar()) + "'";
   if (n.IsSequence()) return "a list";
   return "a map";
 }
@@ -69,9 +69,9 @@ inline Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_lis
     if (known.size() != 0 && std::find(known.begin(), known.end(), std::string_view(key)) == known.end()) {
       std::string list;
       for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-      kc.fail(it->first, "unknown key '" + key + "' (expected one of: " + list + ")");
+      kc.fail(it->first, "unknown key '" + printable(key) + "' (expected one of: " + list + ")");
     }
-    if (out.count(key)) kc.fail(it->first, "duplicated key '" + key + "'");
+    if (out.count(key)) kc.fail(it->first, "duplicated key '" + printable(key) + "'");
     out.add(key, it->second);
   }
   return out;
@@ -80,7 +80,7 @@ inline Entries entries(const YAML::Node& n, const Ctx& ctx, std::initializer_lis
 inline double number(const YAML::Node& n, const Ctx& ctx) {
   if (!n.IsScalar()) ctx.fail(n, "expected a number, found " + describe(n));
   const auto v = parse_number(n.Scalar());
-  if (!v) ctx.fail(n, "expected a finite number, found '" + n.Scalar() + "'");
+  if (!v) ctx.fail(n, "expected a finite number, found '" + printable(n.Scalar()) + "'");
   return *v;
 }
 

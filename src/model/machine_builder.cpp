@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "mtcal/util/errors.hpp"
 #include "mtcal/util/units.hpp"
 
 namespace mtcal {
@@ -171,7 +172,7 @@ MachineBuilder& MachineBuilder::workpiece_origin(const Vec3& origin, const Sourc
 
 ErrorName MachineBuilder::error_name(std::string_view name, const SourceLocation& where) const {
   const std::string key(name);
-  const std::string item = "error '" + key + "'";
+  const std::string item = "error '" + printable(key) + "'";
   if (!has_topology_) fail(where, item, "no topology given yet (give the topology first)");
   const auto en = ErrorName::parse(name);
   if (!en)
@@ -181,11 +182,11 @@ ErrorName MachineBuilder::error_name(std::string_view name, const SourceLocation
   if (!m_.has_error(*en)) {
     if (en->kind == ErrorKind::Location && m_.axis_index(en->body))
       fail(where, item,
-           "'" + key + "' is not a location error of axis " + std::string(1, en->body) +
+           "'" + printable(key) + "' is not a location error of axis " + std::string(1, en->body) +
                " (a linear axis has its zero position and two orientation errors, a rotary axis "
                "two position, two orientation errors and its zero position)");
     fail(where, item,
-         "error '" + key + "' names axis '" + std::string(1, en->body) + "', which is not in topology " +
+         "error '" + printable(key) + "' names axis '" + printable(std::string(1, en->body)) + "', which is not in topology " +
              m_.topology.chain);
   }
   return *en;
@@ -193,7 +194,7 @@ ErrorName MachineBuilder::error_name(std::string_view name, const SourceLocation
 
 MachineBuilder& MachineBuilder::motion(std::string_view error, MotionFunction f, const SourceLocation& where) {
   const ErrorName en = error_name(error, where);
-  const std::string item = "error '" + std::string(error) + "'";
+  const std::string item = "error '" + printable(std::string(error)) + "'";
   if (en.kind != ErrorKind::Motion)
     fail(where, item, "is a location or mounting error: a single value, not a motion function");
   Axis& ax = m_.axes[*m_.axis_index(en.body)];
@@ -205,7 +206,7 @@ MachineBuilder& MachineBuilder::motion(std::string_view error, MotionFunction f,
 
 MachineBuilder& MachineBuilder::error_value(std::string_view error, double value, const SourceLocation& where) {
   const ErrorName en = error_name(error, where);
-  const std::string item = "error '" + std::string(error) + "'";
+  const std::string item = "error '" + printable(std::string(error)) + "'";
   if (en.kind == ErrorKind::Motion)
     fail(where, item, "is a motion error: a function of the axis position, not a single value");
   if (!std::isfinite(value)) fail(where, item, fmt::format("{} is not a finite value", value));
@@ -219,7 +220,7 @@ MachineBuilder& MachineBuilder::error_value(std::string_view error, double value
 
 MachineBuilder& MachineBuilder::parameter(std::string_view name, double value, std::string_view unit,
                                           const SourceLocation& where) {
-  const std::string item = "parameter '" + std::string(name) + "'";
+  const std::string item = "parameter '" + printable(std::string(name)) + "'";
   if (!has_topology_) fail(where, item, "no topology given yet (give the topology first)");
   const auto i = m_.parameter_index(name);
   if (!i) {
@@ -298,9 +299,9 @@ void validate(const Machine& m) {
     for (int c = 0; c < 6; ++c) {
       const auto comp = static_cast<Component>(c);
       if (auto problem = motion_problem(ax.motion[static_cast<std::size_t>(c)], ax.kind))
-        fail(none, "error '" + ErrorName{ErrorKind::Motion, comp, L}.str() + "'", *problem);
+        fail(none, "error '" + printable(ErrorName{ErrorKind::Motion, comp, L}.str()) + "'", *problem);
       const double v = ax.location[static_cast<std::size_t>(c)];
-      const std::string loc = "error '" + ErrorName{ErrorKind::Location, comp, L}.str() + "'";
+      const std::string loc = "error '" + printable(ErrorName{ErrorKind::Location, comp, L}.str()) + "'";
       if (ax.allows_location(comp)) {
         if (!std::isfinite(v)) fail(none, loc, fmt::format("{} is not a finite value", v));
       } else if (v != 0.0) {
@@ -317,7 +318,7 @@ void validate(const Machine& m) {
     for (int c = 0; c < 6; ++c) {
       const double v = (body == 't' ? m.tool_mounting : m.workpiece_mounting)[static_cast<std::size_t>(c)];
       if (!std::isfinite(v))
-        fail(none, "error '" + ErrorName{ErrorKind::Mounting, static_cast<Component>(c), body}.str() + "'",
+        fail(none, "error '" + printable(ErrorName{ErrorKind::Mounting, static_cast<Component>(c), body}.str()) + "'",
              fmt::format("{} is not a finite value", v));
     }
 }

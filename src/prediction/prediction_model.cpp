@@ -99,7 +99,7 @@ ComponentValue evaluate_component(const PredictionModel& m, const std::string& n
                                   const std::function<double(const std::string&)>& lookup, bool strict,
                                   const std::string& where) {
   const ErrorComponent* c = m.find(name);
-  if (!c) throw InputError({m.file, 0, name}, "the model has no component '" + name + "'");
+  if (!c) throw InputError({m.file, 0, name}, "the model has no component '" + printable(name) + "'");
   ComponentValue v;
   v.raw =
       component_raw(m, static_cast<std::size_t>(c - m.components.data()), lookup, strict, where, v.warnings, nullptr);

@@ -105,7 +105,7 @@ std::map<std::pair<int, char>, double> control_model_errors(const PredictionMode
     if (r.workpiece != a) continue;
     const std::string name = r.axis == 'X' ? "e_ctrl_x" : "e_ctrl_y";
     const ErrorComponent* c = m.find(name);
-    if (!c) throw InputError({m.file, 0, name}, "the model has no component '" + name + "' (eq. 5.52-5.53)");
+    if (!c) throw InputError({m.file, 0, name}, "the model has no component '" + printable(name) + "' (eq. 5.52-5.53)");
     const auto lookup = [&](const std::string& v) -> double {
       if (v == c->variable) return r.nominal;
       if (c->ramp && v == c->ramp->variable) return c->ramp->one_at;

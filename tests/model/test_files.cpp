@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <sys/stat.h>
 
@@ -93,4 +94,77 @@ TEST(Files, OutputPermissionsFollowTheUmask) {
   EXPECT_EQ(fs::status(d / "a.csv").permissions() & fs::perms::all, static_cast<fs::perms>(0644));
   EXPECT_EQ(fs::status(d / "b.csv").permissions() & fs::perms::all, static_cast<fs::perms>(0640));
   fs::remove_all(d);
+}
+
+namespace {
+std::string content(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+}  // namespace
+
+TEST(Files, OutputGroupWritesAllOrNothing) {
+  const fs::path d = fresh_dir("group");
+  const fs::path a = d / "a.csv", b = d / "b.html";
+  // Committed files of a group appear only when the group commits.
+  {
+    OutputGroup g;
+    write_file_atomically(a.string(), "A\n");
+    write_file_atomically(b.string(), "B\n");
+    EXPECT_FALSE(fs::exists(a));
+    EXPECT_FALSE(fs::exists(b));
+    g.commit();
+  }
+  EXPECT_EQ(content(a), "A\n");
+  EXPECT_EQ(content(b), "B\n");
+  // A group abandoned (an error after the first output) leaves the old files and no temporaries.
+  {
+    OutputGroup g;
+    write_file_atomically(a.string(), "A2\n");
+  }
+  EXPECT_EQ(content(a), "A\n");
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(d)) ++files;
+  EXPECT_EQ(files, 2u);
+}
+
+TEST(Files, OutputGroupRestoresReplacedTargetsWhenALaterRenameFails) {
+  const fs::path d = fresh_dir("group-undo"), other = fresh_dir("group-undo-b");
+  const fs::path a = d / "a.csv", b = other / "b.csv", fresh = d / "new.csv";
+  std::ofstream(a) << "old A\n";
+  {
+    OutputGroup g;
+    write_file_atomically(a.string(), "new A\n");
+    write_file_atomically(fresh.string(), "new file\n");
+    write_file_atomically(b.string(), "new B\n");
+    fs::remove_all(other);  // the last rename cannot succeed
+    try {
+      g.commit();
+      ADD_FAILURE() << "commit succeeded without b's folder";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("no output written"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(content(a), "old A\n");  // restored
+  EXPECT_FALSE(fs::exists(fresh));   // a new target of the failed group is gone again
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(d)) ++files;
+  EXPECT_EQ(files, 1u);  // no temporaries or backups left
+}
+
+TEST(Files, InputLimitIsALimitError) {
+  const fs::path d = fresh_dir("limit");
+  const fs::path p = d / "big.csv";
+  std::ofstream(p) << std::string(5000, 'x');
+  const auto saved = input_limits();
+  input_limits().text = 4096;
+  try {
+    (void)read_text_file(p.string(), "CSV file");
+    ADD_FAILURE() << "read a file beyond the limit";
+  } catch (const LimitError& e) {
+    EXPECT_EQ(e.limit(), Limit::InputSize);
+    EXPECT_NE(std::string(e.what()).find("larger than 4 KiB"), std::string::npos) << e.what();
+  }
+  input_limits() = saved;
+  EXPECT_EQ(read_text_file(p.string()).size(), 5000u);
 }

@@ -27,6 +27,7 @@ struct ToolpathOptions {
   bool travel_check = true;      // every point inside its axes' travels
   std::size_t chunk = 1u << 16;  // points evaluated per batch
   BatchOptions batch;
+  std::string program = "program";  // where the moves come from (a file name): the location of block errors
 };
 
 // How program coordinates become the machine's joint values: joint k (chain order, internal units)

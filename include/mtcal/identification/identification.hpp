@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -150,6 +151,12 @@ struct SubsetOptions {
   std::string candidates_source = "candidates", always_source = "parameters in every subset",
               choose_source = "subset size", by_residue_source = "ranking by residue",
               rank_tolerance_source = "rank tolerance";
+  // Refuse (LimitError, Limit::Time, located in choose_source) more than this many subsets C(n, k)
+  // before starting; 0: no limit. The search prunes, so this bounds the work from above.
+  std::uint64_t max_subsets = 0;
+  // Called from the workers after each leading member's subsets with the ones finished and the
+  // total (may be empty).
+  std::function<void(std::size_t done, std::size_t total)> progress;
 };
 struct ParameterSubset {
   std::vector<std::size_t> members;  // indices into candidates, ascending
@@ -182,6 +189,8 @@ struct MonteCarloOptions {
   // Workspace grid (per axis values, chain order, internal units) for the VA of each run's model;
   // empty: none.
   std::vector<std::vector<double>> workspace;
+  // Called from the workers after each run with the runs finished and the total (may be empty).
+  std::function<void(std::size_t done, std::size_t total)> progress;
 };
 struct MonteCarloResult {
   std::size_t runs = 0, failed = 0;          // failed: the solver did not converge, or threw
@@ -215,6 +224,7 @@ struct AssessmentOptions {
   // the Monte Carlo spread and the comparison with truth; empty: none.
   std::vector<std::vector<double>> workspace;
   const Machine* truth = nullptr;  // the imposed machine (simulations), or none
+  std::function<void(std::size_t done, std::size_t total)> monte_carlo_progress;  // MonteCarloOptions::progress
 };
 struct IdentificationRun {
   IdentificationResult result;

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace mtcal {
 
@@ -12,10 +13,16 @@ constexpr std::size_t kMaxInputBytes = std::size_t{256} << 20;
 // Largest YAML file (machine, parameters, prediction model): 16 MiB, far beyond any real one.
 constexpr std::size_t kMaxYamlBytes = std::size_t{16} << 20;
 
-// The whole content of a file; throws InputError ("cannot open <what>", or larger than
-// max_bytes) naming the path.
-std::string read_text_file(const std::string& path, const std::string& what = "file",
-                           std::size_t max_bytes = kMaxInputBytes);
+// The limits in force (a program may raise them, e.g. mtcal --max-input-size; docs/reliability.md).
+struct InputLimits {
+  std::size_t text = kMaxInputBytes;  // CSV, .dat, G-code
+  std::size_t yaml = kMaxYamlBytes;   // machine, parameter and prediction model files
+};
+InputLimits& input_limits();
+
+// The whole content of a file; throws InputError ("cannot open <what>") or LimitError (larger
+// than max_bytes; 0: input_limits().text) naming the path.
+std::string read_text_file(const std::string& path, const std::string& what = "file", std::size_t max_bytes = 0);
 
 // The permissions a new file of this process gets: wanted & ~umask.
 unsigned permissions_from_umask(unsigned wanted);
@@ -33,6 +40,9 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   std::ostream& stream() { return out_; }
+  // Throws Error (file-size limit, disk full ...) if a write to the stream has failed: long
+  // streamed outputs call it per block instead of running on to the end after a failure.
+  void check_stream();
   // Flushes and renames the temporary file to path; throws Error if either fails.
   void commit();
 
@@ -41,6 +51,33 @@ class AtomicFile {
   std::ofstream out_;
   bool committed_ = false;
   int slot_ = -1;  // entry in the list the signal handler cleans up
+};
+
+// The outputs of one command appear together or not at all. While a group is open (one at a
+// time, on the main thread), AtomicFile::commit() only completes its temporary file and hands it
+// to the group; OutputGroup::commit() then renames every temporary file onto its target, with
+// SIGINT/SIGTERM/SIGHUP held back meanwhile; if one rename fails, the targets already replaced
+// are restored (hard-linked copies of the old files) and the rest removed. A group destroyed
+// without commit() removes its temporary files: an exception or a failed write leaves no output.
+class OutputGroup {
+ public:
+  OutputGroup();
+  ~OutputGroup();
+  OutputGroup(const OutputGroup&) = delete;
+  OutputGroup& operator=(const OutputGroup&) = delete;
+  // Renames every completed output; throws Error (nothing replaced) if one cannot be.
+  void commit();
+  // The group AtomicFile::commit() hands its file to, or null.
+  static OutputGroup* current();
+  struct Pending {
+    std::string path, target, tmp;
+    int slot = -1;
+  };
+  void add(Pending p);
+
+ private:
+  std::vector<Pending> files_;
+  bool done_ = false;
 };
 
 // Writes text to path through an AtomicFile.

@@ -37,6 +37,25 @@ class InputError : public Error {
   SourceLocation where_;
 };
 
+// A resource limit an input or a request goes beyond (docs/reliability.md): the input size, the
+// memory or time a computation is estimated to need, the size of an output. The program that
+// set the limit knows how to raise it (mtcal names its option).
+enum class Limit { InputSize, Memory, Time, OutputSize };
+class LimitError : public InputError {
+ public:
+  LimitError(Limit limit, SourceLocation where, const std::string& what_happened)
+      : InputError(std::move(where), what_happened), limit_(limit) {}
+  Limit limit() const noexcept { return limit_; }
+
+ private:
+  Limit limit_;
+};
+
+// "48.0 GB", "256 MiB"-like figures for messages: bytes with a binary prefix (KiB MiB GiB TiB).
+std::string format_bytes(double bytes);
+// "3.2 s", "2.5 h", "41 years" for messages.
+std::string format_seconds(double seconds);
+
 // A request the model cannot satisfy (unknown parameter name, axis not in the topology ...).
 class ModelError : public Error {
  public:
