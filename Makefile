@@ -9,7 +9,7 @@ COMPILERS = $(if $(filter default,$(origin CXX)),,-DCMAKE_CXX_COMPILER=$(CXX)) \
             $(if $(filter default,$(origin CC)),,-DCMAKE_C_COMPILER=$(CC))
 MTCAL = $(BUILD)/apps/mtcal/mtcal
 
-.PHONY: all deps configure build demo test test-linuxcnc bench test-sanitize format clean
+.PHONY: all deps configure build demo test test-linuxcnc bench test-sanitize fuzz fuzz-run format clean
 
 all: build
 
@@ -39,15 +39,30 @@ test-linuxcnc: build
 bench: build
 	$(BUILD)/bench/mtcal_bench --benchmark_min_time=0.5
 
-# The suite under AddressSanitizer + UndefinedBehaviorSanitizer (CMake preset "asan").
+# The suite under AddressSanitizer + UndefinedBehaviorSanitizer (CMake preset "asan"; with
+# CXX=clang++ CC=clang the preset "asan-clang", built in build-asan-clang).
+SANITIZE_PRESET = $(if $(findstring clang,$(CXX)),asan-clang,asan)
 test-sanitize: deps
-	cmake --preset asan $(CMAKE_EXTRA_FLAGS)
-	cmake --build --preset asan
-	ctest --preset asan
+	cmake --preset $(SANITIZE_PRESET) $(CMAKE_EXTRA_FLAGS)
+	cmake --build --preset $(SANITIZE_PRESET)
+	ctest --preset $(SANITIZE_PRESET)
+
+# The readers' libFuzzer targets (tests/fuzz, preset "fuzz": Debian's clang, ASan+UBSan) in
+# build-fuzz; `make fuzz-run FUZZ_SECONDS=600` runs each in turn (scripts/run-fuzzers, logs in
+# build-fuzz/fuzz-logs). docs/reliability.md.
+FUZZ_SECONDS ?= 60
+fuzz: CXX = clang++
+fuzz: CC = clang
+fuzz: deps
+	cmake --preset fuzz $(CMAKE_EXTRA_FLAGS)
+	cmake --build --preset fuzz
+
+fuzz-run: fuzz
+	scripts/run-fuzzers build-fuzz/tests/fuzz $(FUZZ_SECONDS) build-fuzz/fuzz-logs
 
 # Reformat every C++ file git knows with .clang-format (clang-format 14, Debian's clang-format).
 format:
 	git ls-files '*.cpp' '*.hpp' '*.h' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD) build-asan
+	rm -rf $(BUILD) build-asan build-asan-clang build-fuzz

@@ -1,0 +1,9 @@
+// libFuzzer target: the ballbar trace CSV.
+#include "fuzz_common.hpp"
+#include "mtcal/io/evaluation_files.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = mtcal::fuzz::write_input(data, size, ".csv");
+  mtcal::fuzz::expect_mtcal_errors_only([&] { (void)mtcal::read_ballbar_csv(path); });
+  return 0;
+}

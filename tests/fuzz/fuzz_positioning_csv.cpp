@@ -1,0 +1,9 @@
+// libFuzzer target: the ISO 230-2 positioning CSV (target, run, direction, measured).
+#include "fuzz_common.hpp"
+#include "mtcal/io/evaluation_files.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = mtcal::fuzz::write_input(data, size, ".csv");
+  mtcal::fuzz::expect_mtcal_errors_only([&] { (void)mtcal::read_positioning_csv(path, "mm"); });
+  return 0;
+}
