@@ -47,7 +47,8 @@ std::string parse_size(std::string& text) {
                                        {"T", 1099511627776.0}})
     if (strip(suffix, factor)) break;
   const auto v = parse_number(s);
-  if (!v || *v * f < 1 || *v * f > 1e18) return "expected a size such as 512M, 8G or 1e9 (bytes), found '" + printable(text) + "'";
+  if (!v || *v * f < 1 || *v * f > 1e18)
+    return "expected a size such as 512M, 8G or 1e9 (bytes), found '" + printable(text) + "'";
   text = fmt::format("{:.0f}", *v * f);
   return {};
 }

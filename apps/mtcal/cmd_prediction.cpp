@@ -92,7 +92,8 @@ std::map<std::string, double> constants_of(const std::string& set) {
     const auto eq = item.find('=');
     const auto v = eq == std::string::npos ? std::nullopt : parse_number(item.substr(eq + 1));
     if (!v || eq == 0)
-      throw InputError({"--set", 0, item}, "expected NAME=VALUE items separated by commas, found '" + printable(item) + "'");
+      throw InputError({"--set", 0, item},
+                       "expected NAME=VALUE items separated by commas, found '" + printable(item) + "'");
     constants[item.substr(0, eq)] = *v;
   }
   return constants;

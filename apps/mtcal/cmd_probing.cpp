@@ -133,9 +133,11 @@ struct SimOptions {
 int run_sim(const SimOptions& o) {
   check_outputs(model_inputs(o.model), {o.out});
   const Machine m = load(o.model);
-  if (o.axis.size() != 1) throw InputError({"--axis", 0, ""}, "expected one axis letter, found '" + printable(o.axis) + "'");
+  if (o.axis.size() != 1)
+    throw InputError({"--axis", 0, ""}, "expected one axis letter, found '" + printable(o.axis) + "'");
   const auto k = m.axis_index(o.axis[0]);
-  if (!k) throw InputError({"--axis", 0, ""}, "axis '" + printable(o.axis) + "' is not in topology " + m.topology.chain);
+  if (!k)
+    throw InputError({"--axis", 0, ""}, "axis '" + printable(o.axis) + "' is not in topology " + m.topology.chain);
   ProbingSimulation sim;
   sim.axis = o.axis[0];
   // --angles lo:hi:count in deg, as a grid of that one axis.
@@ -144,12 +146,13 @@ int run_sim(const SimOptions& o) {
   sim.held = o.hold.empty() ? std::vector<double>(m.axes.size(), 0.0) : parse_joint_values(m, o.hold, "--hold");
   check_joints(m, sim.held, "--hold", false);
   const auto parts = split_list(o.sphere);
-  if (parts.size() != 3) throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + printable(o.sphere) + "'");
+  if (parts.size() != 3)
+    throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + printable(o.sphere) + "'");
   for (int c = 0; c < 3; ++c) {
     const auto v = parse_number(parts[static_cast<std::size_t>(c)]);
     if (!v || std::abs(*v) > 1e6)
-      throw InputError({"--sphere", 0, ""},
-                       "expected a number within +-1e6 mm, found '" + printable(parts[static_cast<std::size_t>(c)]) + "'");
+      throw InputError({"--sphere", 0, ""}, "expected a number within +-1e6 mm, found '" +
+                                                printable(parts[static_cast<std::size_t>(c)]) + "'");
     sim.sphere[c] = *v;
   }
   if (!(o.sphere_diameter > 0) || !(o.stylus_diameter >= 0) || !(o.noise >= 0) || !std::isfinite(o.bias))

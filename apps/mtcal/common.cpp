@@ -47,7 +47,8 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
     if (outputs[i].empty()) continue;
     for (const auto& in : inputs)
       if (!in.empty() && same(outputs[i], in))
-        throw InputError({outputs[i], 0, ""}, "this output would replace the input '" + printable(in) + "'; choose another path");
+        throw InputError({outputs[i], 0, ""},
+                         "this output would replace the input '" + printable(in) + "'; choose another path");
     for (std::size_t j = i + 1; j < outputs.size(); ++j)
       if (!outputs[j].empty() && same(outputs[i], outputs[j]))
         throw InputError({outputs[i], 0, ""}, "two outputs are written to this one path");
@@ -119,7 +120,8 @@ Machine load(const ModelOptions& o) {
   }
   for (const auto& s : o.set) {
     auto eq = s.find('=');
-    if (eq == std::string::npos || eq == 0) throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + printable(s) + "'");
+    if (eq == std::string::npos || eq == 0)
+      throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + printable(s) + "'");
     const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
     const auto v = parse_number(value);
     if (!v) throw InputError({"--set", 0, name}, "expected a number, found '" + printable(value) + "'");
@@ -147,7 +149,8 @@ GcodePosition parse_program_origin(const Machine& m, const std::string& spec) {
   for (const auto& item : split_list(spec)) {
     const auto eq = item.find('=');
     if (eq != 1)
-      throw InputError({"--origin", 0, item}, "expected AXIS=VALUE items separated by commas, found '" + printable(item) + "'");
+      throw InputError({"--origin", 0, item},
+                       "expected AXIS=VALUE items separated by commas, found '" + printable(item) + "'");
     const char letter = item[0];
     const auto slot = std::find(std::begin(kGcodeAxes), std::end(kGcodeAxes), letter) - std::begin(kGcodeAxes);
     if (slot == 6 || !m.axis_index(letter))

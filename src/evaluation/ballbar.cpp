@@ -326,9 +326,10 @@ std::vector<TracePoint> predict_ballbar(const Machine& m, const std::string& pla
       const Vec3 tip = model.actual_pose(q, dir).t;
       const double length = (tip - ball).norm();
       if (!std::isfinite(length))
-        throw ModelError(fmt::format("the predicted bar length is not finite at {:g} deg ({}): the model's errors "
-                                     "are too large for this circle",
-                                     wrap(a) * 180 / kPi, d == CircleDirection::CW ? "cw" : "ccw"));
+        throw ModelError(
+            fmt::format("the predicted bar length is not finite at {:g} deg ({}): the model's errors "
+                        "are too large for this circle",
+                        wrap(a) * 180 / kPi, d == CircleDirection::CW ? "cw" : "ccw"));
       out.push_back({d, wrap(a), length});
     }
   }

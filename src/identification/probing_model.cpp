@@ -26,7 +26,8 @@ std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<s
       for (std::size_t i = 0; i < params.size(); ++i)
         if (params[i].error == *err) add(i), found = true;
     if (!found)
-      throw InputError({option, 0, name}, "unknown parameter or error '" + printable(name) + "' (" + parameter_naming(m) + ")");
+      throw InputError({option, 0, name},
+                       "unknown parameter or error '" + printable(name) + "' (" + parameter_naming(m) + ")");
   }
   return out;
 }
@@ -57,7 +58,8 @@ ProbingModel::ProbingModel(const Machine& base, const ProbingPlan& plan, std::ve
     const auto a = plan_.feature_index(sb.ball_a), b = plan_.feature_index(sb.ball_b);
     for (const auto& [id, idx] : {std::pair{sb.ball_a, a}, std::pair{sb.ball_b, b}})
       if (!idx || plan_.features[*idx].kind != ProbeFeature::Kind::Ball)
-        throw InputError({sb.source, 0, id}, "expected a ball of the measurements, found no ball '" + printable(id) + "'");
+        throw InputError({sb.source, 0, id},
+                         "expected a ball of the measurements, found no ball '" + printable(id) + "'");
     if (*a == *b) throw InputError({sb.source, 0, sb.ball_a}, "a scale bar needs two different balls");
     for (const auto& [id, idx] : {std::pair{sb.ball_a, *a}, std::pair{sb.ball_b, *b}})
       if (!used[idx])

@@ -39,7 +39,8 @@ const CompensationTarget& compensation_target(const std::string& name) {
     if (t.name == name) return t;
     known += (known.empty() ? "" : ", ") + t.name;
   }
-  throw InputError({"", 0, "format"}, "unknown compensation target '" + printable(name) + "' (expected one of: " + known + ")");
+  throw InputError({"", 0, "format"},
+                   "unknown compensation target '" + printable(name) + "' (expected one of: " + known + ")");
 }
 
 namespace {

@@ -38,7 +38,8 @@ std::vector<std::size_t> TextTable::require_columns(const std::vector<std::strin
   std::vector<std::size_t> idx;
   for (const auto& n : names) {
     const int c = column(n);
-    if (c < 0) throw InputError({source, header_line, ""}, "missing column '" + printable(n) + "' (expected " + list + ")");
+    if (c < 0)
+      throw InputError({source, header_line, ""}, "missing column '" + printable(n) + "' (expected " + list + ")");
     idx.push_back(static_cast<std::size_t>(c));
   }
   return idx;
@@ -97,7 +98,8 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
       const std::string& cell = text_table.rows[r][i];
       const auto v = parse_number(cell);
       if (!v)
-        throw InputError({source, text_table.lines[r], t.columns[i]}, "expected a finite number, found '" + printable(cell) + "'");
+        throw InputError({source, text_table.lines[r], t.columns[i]},
+                         "expected a finite number, found '" + printable(cell) + "'");
       row.push_back(*v);
     }
     t.rows.push_back(std::move(row));

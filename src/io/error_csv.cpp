@@ -28,8 +28,8 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
       known = known || c == std::string(1, ax.letter) || c == std::string("dir") + ax.letter;
     for (const char* k : kErrorKeys) known = known || c == k;  // an evaluated file reads back
     if (!known)
-      throw InputError({path, 1, c}, "unknown column '" + printable(c) + "' (expected axis letters of " + m.topology.chain +
-                                         " and optional dir<axis>)");
+      throw InputError({path, 1, c}, "unknown column '" + printable(c) + "' (expected axis letters of " +
+                                         m.topology.chain + " and optional dir<axis>)");
   }
   if (std::all_of(qcol.begin(), qcol.end(), [](int c) { return c < 0; }))
     throw InputError({path, 1, ""}, "no axis column (expected columns named by the axis letters of " +

@@ -37,7 +37,8 @@ double to_number(const std::string& s, const std::string& field, std::string_vie
 std::size_t axis_of(const Machine& m, const std::string& name, std::vector<bool>& seen, std::string_view what) {
   auto idx = name.size() == 1 ? m.axis_index(name[0]) : std::nullopt;
   if (!idx)
-    throw InputError({std::string(what), 0, name}, "axis '" + printable(name) + "' is not in topology " + m.topology.chain);
+    throw InputError({std::string(what), 0, name},
+                     "axis '" + printable(name) + "' is not in topology " + m.topology.chain);
   if (seen[*idx]) throw InputError({std::string(what), 0, name}, "axis '" + printable(name) + "' given twice");
   seen[*idx] = true;
   return *idx;
@@ -67,7 +68,8 @@ JointBox parse_box(const Machine& m, std::string_view spec, std::string_view whe
       b.lo[k] = b.hi[k] = to_number(value, name, where) * f;
     } else {
       if (value.find(':', colon + 1) != std::string::npos)
-        throw InputError({std::string(where), 0, name}, "expected lo:hi or a single value, found '" + printable(value) + "'");
+        throw InputError({std::string(where), 0, name},
+                         "expected lo:hi or a single value, found '" + printable(value) + "'");
       b.lo[k] = to_number(value.substr(0, colon), name, where) * f;
       b.hi[k] = to_number(value.substr(colon + 1), name, where) * f;
       if (b.lo[k] > b.hi[k])
@@ -104,11 +106,13 @@ std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view s
       continue;
     }
     if (parts.size() != 3)
-      throw InputError({std::string(where), 0, name}, "expected lo:hi:count or a single value, found '" + printable(value) + "'");
+      throw InputError({std::string(where), 0, name},
+                       "expected lo:hi:count or a single value, found '" + printable(value) + "'");
     const double lo = to_number(parts[0], name, where), hi = to_number(parts[1], name, where);
     const double cnt = to_number(parts[2], name, where);
     if (cnt < 1 || cnt != std::floor(cnt) || cnt > 1e7)
-      throw InputError({std::string(where), 0, name}, "expected a whole count from 1 to 1e7, found '" + printable(parts[2]) + "'");
+      throw InputError({std::string(where), 0, name},
+                       "expected a whole count from 1 to 1e7, found '" + printable(parts[2]) + "'");
     const auto count = static_cast<std::size_t>(cnt);
     g[k].assign(count, lo * f);
     for (std::size_t i = 1; i < count; ++i) {

@@ -162,7 +162,8 @@ void write_probing_csv(const std::string& path, const Machine& m, const ProbingP
 ScaleBar parse_scale_bar(const std::string& spec, const std::string& where) {
   const auto c1 = spec.find(':'), c2 = c1 == std::string::npos ? c1 : spec.find(':', c1 + 1);
   if (c2 == std::string::npos || spec.find(':', c2 + 1) != std::string::npos)
-    throw InputError({where, 0, spec}, "expected BALL:BALL:LENGTH (mm), e.g. 1:2:304.8, found '" + printable(spec) + "'");
+    throw InputError({where, 0, spec},
+                     "expected BALL:BALL:LENGTH (mm), e.g. 1:2:304.8, found '" + printable(spec) + "'");
   ScaleBar s{trim(spec.substr(0, c1)), trim(spec.substr(c1 + 1, c2 - c1 - 1)), 0.0, where};
   const auto len = parse_number(spec.substr(c2 + 1));
   if (!len || *len <= 0)

@@ -103,7 +103,8 @@ std::vector<DimensionRecord> read_dimension_table(const TextTable& t, const std:
       throw InputError({source, d.line, "workpiece"}, "expected a workpiece name, found an empty cell");
     d.step = step_of(t, r, idx[1], source);
     const std::string ax = trim(t.rows[r][idx[2]]);
-    if (ax != "X" && ax != "Y") throw InputError({source, d.line, "axis"}, "expected X or Y, found '" + printable(ax) + "'");
+    if (ax != "X" && ax != "Y")
+      throw InputError({source, d.line, "axis"}, "expected X or Y, found '" + printable(ax) + "'");
     d.axis = ax[0];
     d.nominal = *cell(t, r, idx[3], source, true);
     d.measured = *cell(t, r, idx[4], source, true);

@@ -210,8 +210,8 @@ void Machine::set_parameter(std::size_t index, double value) {
 void Machine::set_parameter(std::string_view param, double value) {
   auto i = parameter_index(param);
   if (!i)
-    throw ModelError("unknown parameter '" + printable(std::string(param)) + "' for machine '" + printable(name) + "' (" +
-                     parameter_naming(*this) + ")");
+    throw ModelError("unknown parameter '" + printable(std::string(param)) + "' for machine '" + printable(name) +
+                     "' (" + parameter_naming(*this) + ")");
   set_parameter(*i, value);
 }
 
@@ -220,11 +220,13 @@ void Machine::keep_only(const std::vector<std::string>& names) {
   for (const auto& n : names) {
     if (n.find('.') != std::string::npos) {
       if (!parameter_index(n))
-        throw ModelError("unknown parameter '" + printable(n) + "' for machine '" + printable(name) + "' (" + parameter_naming(*this) + ")");
+        throw ModelError("unknown parameter '" + printable(n) + "' for machine '" + printable(name) + "' (" +
+                         parameter_naming(*this) + ")");
       params.insert(n);
     } else {
       auto en = ErrorName::parse(n);
-      if (!en || !has_error(*en)) throw ModelError("unknown error name '" + printable(n) + "' for topology " + topology.chain);
+      if (!en || !has_error(*en))
+        throw ModelError("unknown error name '" + printable(n) + "' for topology " + topology.chain);
       errors.insert(n);
     }
   }

@@ -186,8 +186,8 @@ ErrorName MachineBuilder::error_name(std::string_view name, const SourceLocation
                " (a linear axis has its zero position and two orientation errors, a rotary axis "
                "two position, two orientation errors and its zero position)");
     fail(where, item,
-         "error '" + printable(key) + "' names axis '" + printable(std::string(1, en->body)) + "', which is not in topology " +
-             m_.topology.chain);
+         "error '" + printable(key) + "' names axis '" + printable(std::string(1, en->body)) +
+             "', which is not in topology " + m_.topology.chain);
   }
   return *en;
 }
