@@ -29,6 +29,10 @@ const std::vector<CompensationTarget>& compensation_targets() {
        [](const Machine& m, const CompensationOptions& o) { return klipper_output(compensate_skew(m, o, "klipper")); }},
       {"marlin", "Marlin: M852 I J K skew factors and Configuration.h defines from the squareness errors",
        [](const Machine& m, const CompensationOptions& o) { return marlin_output(compensate_skew(m, o, "marlin")); }},
+      {"rrf", "RepRapFirmware: M556 S X Y Z axis skew compensation from the squareness errors",
+       [](const Machine& m, const CompensationOptions& o) { return rrf_output(compensate_skew(m, o, "rrf")); }},
+      {"fluidnc", "FluidNC: Skewed kinematics section (needs a build with pull request #849) from the squareness",
+       [](const Machine& m, const CompensationOptions& o) { return fluidnc_output(compensate_skew(m, o, "fluidnc")); }},
   };
   return targets;
 }
