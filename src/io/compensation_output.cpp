@@ -21,7 +21,7 @@ const std::vector<CompensationTarget>& compensation_targets() {
   static const std::vector<CompensationTarget> targets = {
       {"linuxcnc", "LinuxCNC: COMP_FILE per linear joint (type 0 or 1), INI snippet, trt-kins pins",
        [](const Machine& m, const CompensationOptions& o) { return linuxcnc_output(compensate_linuxcnc(m, o)); }},
-      {"siemens", "Siemens SINUMERIK: %_N_AX_EEC_INI encoder/leadscrew error tables per linear axis",
+      {"siemens", "Siemens SINUMERIK: %_N_AX_EEC_INI per linear axis, %_N_NC_CEC_INI sag/straightness/squareness tables",
        [](const Machine& m, const CompensationOptions& o) { return siemens_output(compensate_siemens(m, o)); }},
       {"isg", "Beckhoff/ISG TF5280 volumetric compensation: ISO 230-1 parameters in the ISG CSV format",
        [](const Machine& m, const CompensationOptions& o) { return isg_output(compensate_isg(m, o)); }},

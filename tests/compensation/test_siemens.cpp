@@ -22,6 +22,14 @@ namespace {
 
 Machine vmc() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml"); }
 
+// The part of vmc-3axis that EEC and CEC hold: positioning, straightness and squareness of X, Y, Z
+// (the tables are sampled on these alone; the angular errors are listed as not held).
+Machine vmc_held_part() {
+  Machine m = vmc();
+  m.keep_only({"EXX", "EYY", "EZZ", "EYX", "EZX", "EXY", "EZY", "EXZ", "EYZ", "EC0Y", "EA0Z", "EB0Z"});
+  return m;
+}
+
 struct EecTable {
   std::map<int, double> values;
   double step = NAN, min = NAN, max = NAN;
@@ -74,7 +82,7 @@ double mean_error_along(const ErrorModel& model, std::size_t axis, double q) {
 
 TEST(SiemensTarget, TablesReadBackGiveTheModelErrorAtThePoints) {
   const Machine m = vmc();
-  const ErrorModel model(m);
+  const ErrorModel model(vmc_held_part());
   CompensationOptions o;
   o.points = 17;
   const auto tables = read_eec(siemens_output(compensate_siemens(m, o)).files.at(0).text);
@@ -205,7 +213,7 @@ Vec3 mean_error(const ErrorModel& model, const std::array<double, 3>& q) {
 
 TEST(SiemensTarget, CrossTablesReadBackGiveTheModelErrorAlongEachAxisLine) {
   const Machine m = vmc();
-  const ErrorModel model(m);
+  const ErrorModel model(vmc_held_part());
   CompensationOptions o;
   o.points = 17;  // X every 50 mm, Y and Z every 31.25 mm: 0 (the reference) is a node of each
   const TargetOutput out = siemens_output(compensate_siemens(m, o));

@@ -48,14 +48,15 @@ constexpr std::size_t kSiemensMaxPoints = 200;
 // 03/2013 4.4.4.3; an 840D sl sets the points of each table t with MD18342 $MN_MM_CEC_MAX_POINTS[t]).
 constexpr std::size_t kSiemensMaxCecTables = 8;
 
-// EEC tables of the linear axes: the tool point's error along the axis when it alone moves (others
-// at the reference), the mean of both directions (the EEC table is not direction-dependent: the
-// reversal half-difference is listed as not held). CEC tables for every ordered pair of linear
-// axes (base I, compensation O) whose cross error is not zero: minus the tool point's error along O
-// when I alone moves, less its value at I's reference position (the EEC table of O holds that), the
-// mean of both directions — straightness (EYX ...), sag and squareness (EC0Y ...). Every other
-// error is listed as not held; the residual by the control's rule (linear interpolation, ends held,
-// EEC moves the axis by -value, CEC by +value, all tables of an axis summed).
+// The tables are sampled on the errors they hold — positioning (EXX ...), straightness (EYX ...)
+// and squareness (EC0Y ...) of the linear axes — with the other axes at the reference. EEC: per
+// linear axis the tool point's error along it when it alone moves, the mean of both directions (the
+// EEC table is not direction-dependent: the reversal half-difference is listed as not held). CEC:
+// per ordered pair of linear axes (base I, compensation O) whose cross error is not zero, minus the
+// tool point's error along O when I alone moves, less its value at I's reference position (the EEC
+// table of O holds that), the mean of both directions. Every other error is listed as not held
+// with its effect; the residual by the control's rule (linear interpolation, ends held, EEC moves
+// the axis by -value, CEC by +value, all tables of an axis summed) on the whole model.
 SiemensCompensation compensate_siemens(const Machine& m, const CompensationOptions& o);
 
 }  // namespace mtcal
