@@ -99,8 +99,10 @@ SkewCompensation compensate_skew(const Machine& m, const CompensationOptions& o,
   const double len = o.skew_reference_length;
   // GCodes2.cpp case 556 reads S with GetPositiveFValue(); Skewed.cpp takes distance_mm in
   // [1, 100000] and offsets in [-1000, 1000] mm.
-  const bool fluidnc = target == "fluidnc";
-  if (!std::isfinite(len) || len <= 0.0 || (fluidnc && (len < 1.0 || len > 100000.0)))
+  const bool fluidnc = target == "fluidnc", rrf = target == "rrf";
+  if (!fluidnc && !rrf && target != "klipper" && target != "marlin")
+    throw ModelError("compensate_skew: unknown firmware '" + target + "' (klipper, marlin, rrf, fluidnc)");
+  if ((rrf || fluidnc) && (!std::isfinite(len) || len <= 0.0 || (fluidnc && (len < 1.0 || len > 100000.0))))
     throw InputError({m.source, 0, "skew reference length"},
                      fmt::format("expected a {} reference length {}, found {:g} mm", target,
                                  fluidnc ? "from 1 to 100000 mm (distance_mm)" : "above 0 mm (M556 S)", len));
@@ -122,9 +124,9 @@ SkewCompensation compensate_skew(const Machine& m, const CompensationOptions& o,
       ErrorModel(m), grid,
       [&](std::span<const double> q, std::span<const std::int8_t>) {
         const Vec3 programmed(q[ix], q[iy], q[iz]);
-        const Vec3 cmd = target == "rrf" ? rrf_command(m556, programmed)
-                         : fluidnc       ? fluidnc_command(fs, programmed)
-                                         : skew_command(f, programmed);
+        const Vec3 cmd = rrf       ? rrf_command(m556, programmed)
+                         : fluidnc ? fluidnc_command(fs, programmed)
+                                   : skew_command(f, programmed);
         AppliedCorrection c;
         c.joint.assign(m.axes.size(), 0.0);
         c.joint[ix] = cmd.x() - programmed.x();
@@ -133,8 +135,7 @@ SkewCompensation compensate_skew(const Machine& m, const CompensationOptions& o,
       },
       o.threads);
   out.summary.target = target;
-  const bool corrections = target == "rrf" || fluidnc;
-  out.summary.quantity = corrections ? TableQuantity::Correction : TableQuantity::Error;
+  out.summary.quantity = rrf || fluidnc ? TableQuantity::Correction : TableQuantity::Error;
   if (target == "klipper")
     out.summary.sign_source =
         "Klipper klippy/extras/skew_correction.py: calc_unskew() gives the position reached, x + y*xy_skew + "
@@ -143,7 +144,7 @@ SkewCompensation compensate_skew(const Machine& m, const CompensationOptions& o,
     out.summary.sign_source =
         "Marlin Marlin/src/module/planner.h skew()/unskew() and gcode/calibrate/M852.cpp (I = XY, J = XZ, "
         "K = YZ skew factor): the factors are the shear of the axes, the firmware subtracts it";
-  else if (target == "rrf")
+  else if (rrf)
     out.summary.sign_source =
         "RepRapFirmware src/GCodes/GCodes2.cpp case 556 (tanXY = X/S, tanYZ = Y/S, tanXZ = Z/S) and "
         "src/Movement/Move.cpp Move::AxisTransform(): the machine position is x + tanXY*y + tanXZ*z, y + tanYZ*z "

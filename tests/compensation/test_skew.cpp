@@ -262,6 +262,8 @@ TEST(SkewTarget, RrfAndFluidncBadInput) {
   CompensationOptions o;
   o.skew_reference_length = 0.0;
   EXPECT_THROW(compensate_skew(vmc(), o, "rrf"), InputError);
+  EXPECT_NO_THROW(compensate_skew(vmc(), o, "klipper"));  // Klipper's factors have no reference length
+  EXPECT_THROW(compensate_skew(vmc(), {}, "grbl"), ModelError);
   o.skew_reference_length = 0.5;  // FluidNC: distance_mm from 1 mm
   EXPECT_THROW(compensate_skew(vmc(), o, "fluidnc"), InputError);
   EXPECT_NO_THROW(compensate_skew(vmc(), o, "rrf"));
