@@ -24,6 +24,7 @@ struct CompensateOptions {
   std::string format, range, reference, report;
   std::size_t points = 0, residual_points = 11;
   int linuxcnc_type = 1, threads = 0;
+  double fanuc_unit = 0.001;
 };
 
 CompensationOptions library_options(const Machine& m, const CompensateOptions& o) {
@@ -32,6 +33,7 @@ CompensationOptions library_options(const Machine& m, const CompensateOptions& o
   c.residual_points = o.residual_points;
   c.threads = o.threads;
   c.comp_file_type = o.linuxcnc_type;
+  c.detection_unit = o.fanuc_unit;
   if (!o.reference.empty()) c.reference = parse_joint_values(m, o.reference, "--reference");
   if (!o.range.empty()) {
     const JointBox box = parse_box(m, o.range, "--range");
@@ -110,6 +112,9 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
   c->add_option("--linuxcnc-type", o->linuxcnc_type,
                 "LinuxCNC COMP_FILE_TYPE: 0 = columns are the positions reached, 1 = columns are corrections")
       ->check(CLI::IsMember({0, 1}));
+  c->add_option("--fanuc-unit", o->fanuc_unit,
+                "FANUC detection unit: mm (linear) and deg (rotary) per count of a pitch error value (default 0.001)")
+      ->check(CLI::Range(1e-6, 1.0));
   c->add_option("--residual-points", o->residual_points, "Grid values per axis for the residual before/after")
       ->check(CLI::Range(2, 1000));
   c->add_option("--report", o->report, "With --format: an HTML page of the before/after and what is not held");

@@ -76,7 +76,8 @@ struct CompensationOptions {
   std::vector<double> reference;     // internal units, chain order; empty = all zero
   std::size_t residual_points = 11;  // per axis, for the residual grid over the sampled ranges
   int threads = 0;
-  int comp_file_type = 1;  // LinuxCNC COMP_FILE_TYPE: 0 columns are actual positions, 1 corrections
+  int comp_file_type = 1;         // LinuxCNC COMP_FILE_TYPE: 0 columns are actual positions, 1 corrections
+  double detection_unit = 0.001;  // FANUC: mm (linear) and deg (rotary) per count of a pitch error value
 };
 
 // The sampling of every axis: the caller's where given (by axis letter), the travel elsewhere
