@@ -52,6 +52,7 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
                      fmt::format("expected a detection unit in (0, 1] mm/deg, found {}", u));
   const auto sampling = resolve_sampling(m, o, 51, kFanucMaxPoints, kTarget);
   const ErrorModel model(m);
+  const ErrorModel linear_model(linear_axis_errors(m));  // what the linear axes' tables are sampled on
   std::vector<double> reference = o.reference;
   if (reference.empty()) reference.assign(m.axes.size(), 0.0);
   std::string order;
@@ -70,12 +71,23 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
     const AxisSampling& s = sampling[a];
     const std::size_t wanted = s.points - 1;
     long jmin = 0, jmax = 0;
-    if (full_turn(ax)) {
+    const ErrorModel& source = ax.kind == AxisKind::Linear ? linear_model : model;
+    // One turn only where the model's error closes over it (to half a count): a polynomial
+    // positioning error does not, and tabulating it modulo 360 deg would put its jump into the table.
+    const bool turn = full_turn(ax) && std::abs(axis_error(model, a, reference, 360.0) -
+                                                axis_error(model, a, reference, 0.0)) <= 0.5 * u;
+    if (full_turn(ax) && !turn)
+      out.summary.warnings.push_back(
+          fmt::format("{}: its positioning error in the model does not close over one turn ({:.3g} deg between 0 and "
+                      "360 deg); tabulated over its travel as a linear axis (3625 = 0)",
+                      ax.letter,
+                      std::abs(axis_error(model, a, reference, 360.0) - axis_error(model, a, reference, 0.0))));
+    if (turn) {
       // Whole detection units per interval that divide the turn (3625 = 360 deg).
-      const long turn = std::lround(360.0 / u);
+      const long counts_per_turn = std::lround(360.0 / u);
       std::size_t n = std::min<std::size_t>(wanted, kFanucMaxPoints - 1);
-      while (n > 1 && turn % static_cast<long>(n) != 0) --n;
-      t.interval = static_cast<double>(turn / static_cast<long>(n)) * u;
+      while (n > 1 && counts_per_turn % static_cast<long>(n) != 0) --n;
+      t.interval = static_cast<double>(counts_per_turn / static_cast<long>(n)) * u;
       t.travel_per_rev = 360.0;
       jmax = static_cast<long>(n);
     } else {
@@ -90,20 +102,20 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
     }
     // Corrections at the section ends, relative to the reference position (the control's
     // coordinates are set there): C_j = -(e(p_j) - e(0)), e at the position clamped to the sampling.
-    const double e0 = axis_error(model, a, reference, std::clamp(0.0, s.start, s.end));
+    const double e0 = axis_error(source, a, reference, std::clamp(0.0, s.start, s.end));
     std::vector<double> c;
     for (long j = jmin; j <= jmax; ++j) {
       const double p = static_cast<double>(j) * t.interval;
       t.node.push_back(p);
-      const double pe = full_turn(ax) ? p : std::clamp(p, s.start, s.end);
-      c.push_back(-(axis_error(model, a, reference, pe) - e0));
+      const double pe = turn ? p : std::clamp(p, s.start, s.end);
+      c.push_back(-(axis_error(source, a, reference, pe) - e0));
       if (ax.kind == AxisKind::Linear) {
         std::vector<double> q(reference.begin(), reference.end());
         q[a] = pe;
         std::vector<std::int8_t> d(q.size(), 1);
-        const double f = model.evaluate(q, d).translation.dot(ax.direction());
+        const double f = linear_model.evaluate(q, d).translation.dot(ax.direction());
         std::fill(d.begin(), d.end(), std::int8_t{-1});
-        const double r = model.evaluate(q, d).translation.dot(ax.direction());
+        const double r = linear_model.evaluate(q, d).translation.dot(ax.direction());
         reversal = std::max(reversal, 0.5 * std::abs(f - r));
       }
     }
@@ -115,7 +127,7 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
       const double step = u * t.magnification;
       counts.clear();
       for (const double v : c) counts.push_back(std::lround(v / step));
-      if (full_turn(ax)) counts.back() = counts.front();
+      if (turn) counts.back() = counts.front();
       fits = true;
       for (std::size_t i = 1; i < counts.size(); ++i)
         fits = fits && std::abs(counts[i] - counts[i - 1]) <= kFanucMaxValue;
@@ -127,32 +139,48 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
                                    "per interval of {:g} {}; use more points (--points)",
                                    ax.letter, kFanucMaxValue, kFanucMaxMagnification, t.interval, joint_unit_name(ax)));
     const double step = u * t.magnification;
+    if (ax.kind == AxisKind::Rotary) {
+      // A rotary axis's reversal is in deg: named in a warning (the list of errors not held is in mm).
+      const MotionFunction& f = ax.motion[static_cast<std::size_t>(3 + ax.direction_axis)];
+      double rev = 0.0;
+      for (const double p : t.node) {
+        const double q = (turn ? p : std::clamp(p, s.start, s.end)) * joint_unit_factor(ax);
+        rev = std::max(rev, 0.5 * std::abs(f.value(q, 1) - f.value(q, -1)) * 180.0 / std::numbers::pi);
+      }
+      if (rev > 0.0)
+        out.summary.warnings.push_back(fmt::format(
+            "{}: reversal of its positioning error up to {:.3g} deg is not held (bidirectional compensation is not "
+            "written)",
+            ax.letter, rev));
+    }
     bool any = false;
     for (std::size_t i = 0; i < counts.size(); ++i) {
       t.absolute.push_back(static_cast<double>(counts[i]) * step);
-      if (ax.kind == AxisKind::Linear && !(full_turn(ax) && i + 1 == counts.size()))
-        rounding = std::max(rounding, std::abs(t.absolute[i] - c[i]));
+      if (ax.kind == AxisKind::Linear) rounding = std::max(rounding, std::abs(t.absolute[i] - c[i]));
       any = any || counts[i] != 0;
     }
     if (!any) continue;
-    if (full_turn(ax)) {
+    if (turn) {
       t.reference_number = first;
       t.min_number = first;  // "always equal to the compensation position No. of the reference position"
       t.max_number = first + static_cast<int>(jmax);
       t.values.assign(static_cast<std::size_t>(jmax) + 1, 0);
       for (std::size_t i = 1; i < counts.size(); ++i) t.values[i] = static_cast<int>(counts[i] - counts[i - 1]);
       t.values[0] = t.values.back();  // "set the same compensation value as for" the last point (p. 100)
-      const double open = std::abs(c.back() - c.front());
-      if (open > 0.5 * step)
-        out.summary.warnings.push_back(fmt::format(
-            "{}: its correction over one turn does not close ({:.3g} deg between 0 and 360 deg): the values must sum "
-            "to zero, so this part is not held",
-            ax.letter, open));
     } else {
       t.min_number = first;
       t.reference_number = first - static_cast<int>(jmin) - 1;
       t.max_number = t.reference_number + static_cast<int>(jmax);
       for (std::size_t i = 1; i < counts.size(); ++i) t.values.push_back(static_cast<int>(counts[i] - counts[i - 1]));
+    }
+    if (ax.kind == AxisKind::Rotary) {
+      double rounding_deg = 0.0;
+      for (std::size_t i = 0; i < counts.size(); ++i)
+        rounding_deg = std::max(rounding_deg, std::abs(t.absolute[i] - c[i]));
+      out.summary.warnings.push_back(fmt::format(
+          "{}: not held, in deg: its error at the reference position, {:.3g} deg (the reference position shift holds "
+          "it), and the rounding to counts, up to {:.3g} deg",
+          ax.letter, std::abs(e0), rounding_deg));
     }
     if (std::abs(e0) > 0.0 && ax.kind == AxisKind::Linear)
       out.summary.not_compensated.push_back(

@@ -15,6 +15,7 @@ HeidenhainCompensation compensate_heidenhain(const Machine& m, const Compensatio
   constexpr const char* kTarget = "heidenhain";
   const auto sampling = resolve_sampling(m, o, 51, kHeidenhainMaxPoints, kTarget);
   const ErrorModel model(m);
+  const ErrorModel linear_model(linear_axis_errors(m));  // what the tables are sampled on
   std::vector<double> reference = o.reference;
   if (reference.empty()) reference.assign(m.axes.size(), 0.0);
   std::vector<std::size_t> linear;
@@ -23,11 +24,12 @@ HeidenhainCompensation compensate_heidenhain(const Machine& m, const Compensatio
   // The tool point's error at the reference configuration, mean of both directions: held once, by
   // each axis's own table.
   std::vector<std::int8_t> plus(m.axes.size(), 1), minus(m.axes.size(), -1);
-  const Vec3 e_ref = 0.5 * (model.evaluate(reference, plus).translation + model.evaluate(reference, minus).translation);
+  const Vec3 e_ref =
+      0.5 * (linear_model.evaluate(reference, plus).translation + linear_model.evaluate(reference, minus).translation);
   HeidenhainCompensation out;
   double reversal = 0.0;
   for (const std::size_t a : linear) {
-    const JointErrorTable t = sample_joint_error(model, sampling[a], reference, kTarget);
+    const JointErrorTable t = sample_joint_error(linear_model, sampling[a], reference, kTarget);
     HeidenhainComTable table;
     table.axis = m.axes[a].letter;
     table.position = t.position;

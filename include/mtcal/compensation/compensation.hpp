@@ -95,6 +95,11 @@ struct PositioningTable {
   char axis = 'X';
   std::vector<double> position, forward, reverse;
 };
+// The machine with only the errors of its linear axes (their motion and location errors): what the
+// per-axis tables of the linear axes are sampled on, so that a rotary axis's or a set-up error's
+// effect at the reference configuration (right at one angle only) does not enter them as a constant.
+Machine linear_axis_errors(const Machine& m);
+
 // One table per linear axis whose errors are not all zero, in chain order.
 std::vector<PositioningTable> positioning_tables(const ErrorModel& model, const std::vector<AxisSampling>& sampling,
                                                  std::span<const double> reference, const std::string& where);
