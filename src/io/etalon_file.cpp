@@ -56,9 +56,15 @@ std::string upper(std::string_view s) {
   throw InputError({source, line, field}, what);
 }
 
+// Files from Windows programs may start with a UTF-8 byte order mark.
+std::string_view without_bom(std::string_view text) {
+  return text.rfind("\xEF\xBB\xBF", 0) == 0 ? text.substr(3) : text;
+}
+
 }  // namespace
 
 bool looks_like_etalon(std::string_view text) {
+  text = without_bom(text);
   std::size_t pos = 0;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
@@ -72,6 +78,7 @@ bool looks_like_etalon(std::string_view text) {
 }
 
 std::vector<EtalonBlock> parse_etalon(std::string_view text, const std::string& source) {
+  text = without_bom(text);  // line endings: "\r\n" is trimmed with the other white space
   std::vector<EtalonBlock> blocks;
   bool in_grid = false;  // between "Gridpoints = {" and "}"
   bool has_key = false;  // the current block has its VALUE or Gridpoints

@@ -182,6 +182,17 @@ TEST(EtalonReader, ReadsAFileShapedAsTheManualExample) {
   EXPECT_NEAR(ecc.value(std::numbers::pi, 1), -0.00001, 1e-18);
 }
 
+TEST(EtalonReader, ReadsWindowsLineEndingsAndAByteOrderMark) {
+  const std::string text =
+      "\xEF\xBB\xBF// exported\r\n[C0Y]\r\nVALUE = 2e-5\r\n[EXX]\r\nGridpoints = {\r\n-10 1e-3\r\n10 "
+      "-1e-3\r\n}\r\n";
+  ASSERT_TRUE(looks_like_etalon(text));
+  Machine m = example("vmc-3axis.yaml");
+  apply_etalon(m, text, "windows.etalon");
+  EXPECT_EQ(m.parameter(*m.parameter_index("EC0Y")), 2e-5);
+  EXPECT_NEAR(m.axis('X').motion[0].value(5.0, 1), -0.5e-3, 1e-15);
+}
+
 TEST(EtalonReader, IsAParameterFile) {
   const auto path = std::filesystem::temp_directory_path() / "mtcal_test_params.etalon";
   std::ofstream(path) << "// from a measurement\n[C0Y]\nVALUE = 1.5e-5\n";
