@@ -136,9 +136,18 @@ StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource
           x.bad = r;
           break;
         }
-        const double t = std::hypot(v[0], v[1], v[2]), a = std::hypot(v[3], v[4], v[5]);
-        if (t > x.t) x.t = t, x.at_t = r;
-        if (a > x.a) x.a = a, x.at_a = r;
+        // hypot (exact to rounding, as always reported) only where the plain sum of squares,
+        // within 1e-12 relative of it, does not rule out a new largest value (above 1e-100, where
+        // the squares cannot underflow).
+        const double t2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], a2 = v[3] * v[3] + v[4] * v[4] + v[5] * v[5];
+        if (!(x.t > 1e-100 && t2 < x.t * x.t * (1 - 1e-12))) {
+          const double t = std::hypot(v[0], v[1], v[2]);
+          if (t > x.t) x.t = t, x.at_t = r;
+        }
+        if (!(x.a > 1e-100 && a2 < x.a * x.a * (1 - 1e-12))) {
+          const double a = std::hypot(v[3], v[4], v[5]);
+          if (a > x.a) x.a = a, x.at_a = r;
+        }
       }
       ext[c] = x;
     });

@@ -85,39 +85,45 @@ char* put(char* p, double v, std::chars_format f, int precision) {
 
 void ErrorStreamCsv::write(const ErrorChunk& c) {
   const std::size_t n = c.axes, rows = c.size();
-  // Rows formatted in parallel slices into per-slice buffers, written in order: the bytes do not
-  // depend on the slicing. A row is at most n * 24 + n * 3 + 6 * 24 characters.
   std::vector<double> unit(n);
   for (std::size_t k = 0; k < n; ++k) unit[k] = joint_unit_factor(machine_.axes[k]);
+  // Rows formatted in parallel slices of up to kSlice rows into per-slice buffers, written in
+  // order (the bytes do not depend on the slicing), kSlices slices at a time so that the text
+  // held stays small (about 16 MB) whatever the chunk. A row is at most n * 27 + 6 * 24 + 1
+  // characters ("%.12g" is at most 19, "%.9e" 17).
+  constexpr std::size_t kSlice = 4096, kSlices = 16;
   const std::size_t row_max = n * 27 + 6 * 24 + 2;
-  const std::size_t slices = std::min<std::size_t>(64, std::max<std::size_t>(1, rows / 8192));
-  std::vector<std::string> text(slices);
-  const std::size_t per = rows / slices, extra = rows % slices;
-  parallel_for(slices, threads_, [&](std::size_t s, std::size_t) {
-    const std::size_t b = s * per + std::min(s, extra), e = b + per + (s < extra ? 1 : 0);
-    std::string& t = text[s];
-    t.resize((e - b) * row_max);
-    char* p = t.data();
-    for (std::size_t r = b; r < e; ++r) {
-      for (std::size_t k = 0; k < n; ++k) {
-        if (k) *p++ = ',';
-        // The user-unit value as to_user_units gives it: rounded to 12 digits, which "%.12g" is.
-        p = put(p, c.q[r * n + k] / unit[k], std::chars_format::general, 12);
-      }
-      if (!c.dir.empty())
+  if (buffers_.size() < kSlices) buffers_.resize(kSlices);
+  std::vector<std::size_t> used(kSlices);
+  for (std::size_t group = 0; group < rows; group += kSlice * kSlices) {
+    const std::size_t slices = std::min(kSlices, (rows - group + kSlice - 1) / kSlice);
+    parallel_for(slices, threads_, [&](std::size_t s, std::size_t) {
+      const std::size_t b = group + s * kSlice, e = std::min(rows, b + kSlice);
+      auto& buf = buffers_[s];
+      if (!buf) buf.reset(new char[kSlice * row_max]);  // not zero-filled
+      char* p = buf.get();
+      for (std::size_t r = b; r < e; ++r) {
         for (std::size_t k = 0; k < n; ++k) {
-          *p++ = ',';
-          p = std::to_chars(p, p + 8, static_cast<int>(c.dir[r * n + k])).ptr;
+          if (k) *p++ = ',';
+          // The user-unit value as to_user_units gives it: rounded to 12 digits, which "%.12g" is.
+          p = put(p, c.q[r * n + k] / unit[k], std::chars_format::general, 12);
         }
-      for (int x = 0; x < 6; ++x) {
-        *p++ = ',';
-        p = put(p, c.error[r * 6 + static_cast<std::size_t>(x)], std::chars_format::scientific, 9);
+        if (!c.dir.empty())
+          for (std::size_t k = 0; k < n; ++k) {
+            *p++ = ',';
+            p = std::to_chars(p, p + 8, static_cast<int>(c.dir[r * n + k])).ptr;
+          }
+        for (std::size_t x = 0; x < 6; ++x) {
+          *p++ = ',';
+          p = put(p, c.error[r * 6 + x], std::chars_format::scientific, 9);
+        }
+        *p++ = '\n';
       }
-      *p++ = '\n';
-    }
-    t.resize(static_cast<std::size_t>(p - t.data()));
-  });
-  for (const auto& t : text) file_->stream().write(t.data(), static_cast<std::streamsize>(t.size()));
+      used[s] = static_cast<std::size_t>(p - buf.get());
+    });
+    for (std::size_t s = 0; s < slices; ++s)
+      file_->stream().write(buffers_[s].get(), static_cast<std::streamsize>(used[s]));
+  }
 }
 
 void ErrorStreamCsv::commit() { file_->commit(); }

@@ -39,6 +39,7 @@ class ErrorStreamCsv {
   const Machine& machine_;
   std::unique_ptr<AtomicFile> file_;
   int threads_ = 0;
+  std::vector<std::unique_ptr<char[]>> buffers_;  // per-slice text, reused between chunks
 };
 
 // An error map as CSV: axis columns (mm, deg), dir<axis> when the map has directions, dx dy dz (mm).
