@@ -7,6 +7,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include "common.hpp"
 #include "mtcal/io/files.hpp"
@@ -101,6 +102,11 @@ int run_rotary(const RotaryOptions& o) {
                      fmt::format("{} indexations make too many triples for --method triples/both (at most {}); use "
                                  "--method lsq",
                                  centres.centres.size(), kMaxTriplesCentres));
+  if (options.triples && ::isatty(STDERR_FILENO) && centres.centres.size() >= 100)
+    options.triples_options.progress = [](std::size_t done, std::size_t total) {
+      std::cerr << fmt::format("\r  triples: {:.0f}%", 100.0 * static_cast<double>(done) / static_cast<double>(total))
+                << (done == total ? "\r               \r" : "") << std::flush;
+    };
   const RotaryAxisResult r = locate_rotary_axis(axis, std::move(centres), options);
   // A circle of centres far from perpendicular to the axis means the wrong axis or wrong data.
   if (r.tilt() > 0.1)
