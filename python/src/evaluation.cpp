@@ -575,8 +575,10 @@ exact VA without each error (what_if). Configurations in internal units. As `mtc
       .def_property_readonly(
           "down", [](const PositioningRuns& r) { return runs_array(r.down); }, "(m, n) measured");
   m.def("read_positioning", &read_positioning_file, "path"_a, py::kw_only(), "format"_a = "auto", "unit"_a = "mm",
-        "ISO 230-2 runs from a file: CSV target,run,direction,measured (values in unit) or the key=value .dat "
-        "form (it says its unit); format 'auto', 'csv' or 'dat'.");
+        "target_unit"_a = "",
+        "ISO 230-2 runs from a file: a table (target, run, direction, measured or deviation; values in unit "
+        "unless the header says), the key=value .dat form or a Renishaw .rtl/.rta export (they say their "
+        "units); format 'auto', 'csv', 'dat' or 'laser'.");
   py::class_<PositioningEvaluation>(m, "PositioningEvaluation", "ISO 230-2 results (in the runs' unit).")
       .def_readonly("unit", &PositioningEvaluation::unit)
       .def_readonly("runs", &PositioningEvaluation::runs)
