@@ -39,7 +39,7 @@ PositioningDisplay positioning_display(const PositioningRuns& runs, const Positi
     for (const auto* side : {&runs.up[i], &runs.down[i]})
       for (double v : *side) {
         const double x = (runs.deviations ? v : v - runs.targets[i]) * d.factor;
-        const double shown = (runs.deviations ? v : v) * d.factor;
+        const double shown = v * d.factor;
         deviations.push_back(std::abs(x));
         int k = 0;
         while (k < 6 && std::abs(shown * std::pow(10.0, k) - std::round(shown * std::pow(10.0, k))) >
@@ -60,7 +60,8 @@ PositioningDisplay positioning_display(const PositioningRuns& runs, const Positi
   double scale = s.empty() ? median(deviations) / 10 : median(s);
   int noise = 6;
   if (scale > 0) noise = std::clamp(1 - static_cast<int>(std::floor(std::log10(scale))), 0, 6);
-  d.decimals = std::min(resolved, noise);
+  // Means and spreads resolve one digit more than the values they come from.
+  d.decimals = std::min(resolved + 1, noise);
   return d;
 }
 

@@ -12,6 +12,7 @@
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/io/evaluation_files.hpp"
 #include "mtcal/io/laser_files.hpp"
+#include "mtcal/report/evaluation.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;
@@ -334,4 +335,37 @@ TEST(InstrumentFiles, TableBadInputsAreLocated) {
     EXPECT_EQ(w.line, c.line);
     EXPECT_EQ(w.field, c.field);
   }
+}
+
+TEST(InstrumentFiles, ResultsAreShownInMicrometresWithThePrecisionOfTheData) {
+  // Values in mm with 3 decimals (1 um resolution), s = sqrt(2) um: shown in um with 1 decimal.
+  PositioningRuns r;
+  r.targets = {0, 10};
+  r.up = {{0.001, 0.003}, {10.004, 10.006}};
+  r.down = {{-0.001, 0.001}, {10.002, 10.002}};
+  const auto e = evaluate_positioning(r);
+  const auto d = positioning_display(r, e);
+  EXPECT_EQ(d.unit, "um");
+  EXPECT_EQ(d.decimals, 1);
+  EXPECT_EQ(d.format(e.B_mean), "2.5");
+  EXPECT_EQ(d.format(std::nan("")), "n/a");
+  const std::string text = positioning_text(r, e);
+  EXPECT_NE(text.find("B 3.0 (mean 2.5)"), std::string::npos) << text;
+  // 16-digit values (the real logs) with a 1.5 um spread: two significant digits of s, not 16.
+  PositioningRuns fine = r;
+  fine.up = {{0.0012345678901234, 0.0031234567890123}, {10.0041234567890123, 10.0061234567890123}};
+  const auto f = positioning_display(fine, evaluate_positioning(fine));
+  EXPECT_EQ(f.decimals, 1);
+  // A file in arcsec keeps its unit.
+  PositioningRuns as = r;
+  as.unit = "arcsec";
+  as.deviations = true;
+  as.target_unit = "deg";
+  as.up = {{1.25, 3.5}, {4, 6}};
+  as.down = {{-1, 1}, {2, 2}};
+  const auto a = positioning_display(as, evaluate_positioning(as));
+  EXPECT_EQ(a.unit, "arcsec");
+  // 1.25 needs 2 decimals (3 for the means), but the median s is 1.41 arcsec: two significant
+  // digits of it are 1 decimal.
+  EXPECT_EQ(a.decimals, 1);
 }
