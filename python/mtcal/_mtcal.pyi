@@ -1200,10 +1200,11 @@ def compare_methods(data: ComparisonData) -> MethodComparison:
 def compare_models(x: npt.ArrayLike, y: npt.ArrayLike, *, models: str = ...) -> ModelComparison:
     """Fits every form of models ('all' or a comma list of labels) and ranks them by backward prediction and leave-one-out error. As `mtcal regress`."""
 
-def compensate(machine: Machine, target: str, *, sampling: list[AxisSampling] = ..., points: int = ..., reference: npt.ArrayLike | None = ..., residual_points: int = ..., threads: int = ...) -> TargetOutput:
+def compensate(machine: Machine, target: str, *, sampling: list[AxisSampling] = ..., points: int = ..., reference: npt.ArrayLike | None = ..., residual_points: int = ..., threads: int = ..., skew_reference_length: float = ...) -> TargetOutput:
     """Compensation for a controller: `target` names an entry of compensation_targets(). sampling: per
     axis AxisSampling (default: each axis over its travel at `points` positions, or the target's
-    default). reference: the other axes' configuration (internal units). Returns TargetOutput (files,
+    default). reference: the other axes' configuration (internal units). skew_reference_length: mm,
+    RepRapFirmware M556 S / FluidNC distance_mm (as --skew-reference-length). Returns TargetOutput (files,
     summary with the residual before/after; write(dir) writes them all or none).
     """
 

@@ -21,7 +21,7 @@ const std::vector<CompensationTarget>& compensation_targets() {
   static const std::vector<CompensationTarget> targets = {
       {"linuxcnc", "LinuxCNC: COMP_FILE per linear joint (type 0 or 1), INI snippet, trt-kins pins",
        [](const Machine& m, const CompensationOptions& o) { return linuxcnc_output(compensate_linuxcnc(m, o)); }},
-      {"siemens", "Siemens SINUMERIK: %_N_AX_EEC_INI encoder/leadscrew error tables per linear axis",
+      {"siemens", "Siemens SINUMERIK: %_N_AX_EEC_INI per linear axis, %_N_NC_CEC_INI sag/straightness/squareness tables",
        [](const Machine& m, const CompensationOptions& o) { return siemens_output(compensate_siemens(m, o)); }},
       {"isg", "Beckhoff/ISG TF5280 volumetric compensation: ISO 230-1 parameters in the ISG CSV format",
        [](const Machine& m, const CompensationOptions& o) { return isg_output(compensate_isg(m, o)); }},
@@ -29,6 +29,10 @@ const std::vector<CompensationTarget>& compensation_targets() {
        [](const Machine& m, const CompensationOptions& o) { return klipper_output(compensate_skew(m, o, "klipper")); }},
       {"marlin", "Marlin: M852 I J K skew factors and Configuration.h defines from the squareness errors",
        [](const Machine& m, const CompensationOptions& o) { return marlin_output(compensate_skew(m, o, "marlin")); }},
+      {"rrf", "RepRapFirmware: M556 S X Y Z axis skew compensation from the squareness errors",
+       [](const Machine& m, const CompensationOptions& o) { return rrf_output(compensate_skew(m, o, "rrf")); }},
+      {"fluidnc", "FluidNC: Skewed kinematics section (needs a build with pull request #849) from the squareness",
+       [](const Machine& m, const CompensationOptions& o) { return fluidnc_output(compensate_skew(m, o, "fluidnc")); }},
   };
   return targets;
 }

@@ -8,7 +8,8 @@ M3="$EXAMPLES/vmc-3axis.yaml"
 M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
 
 expect_exit 0 "help" -- "$MTCAL" compensate --help
-for word in --format linuxcnc --points --range --reference --linuxcnc-type --gcode Examples; do
+for word in --format linuxcnc siemens isg klipper marlin rrf fluidnc --points --range --reference --linuxcnc-type \
+  --skew-reference-length --gcode Examples; do
   grep -q -- "$word" "$tmp/out" && ok || bad "help lacks $word"
 done
 
@@ -42,8 +43,31 @@ grep -q "^M852 I-0.000015000 J0.000020000 K0.000012000$" "$tmp/ma/marlin.gcode" 
 expect_exit 0 "klipper" -- "$MTCAL" compensate -m "$M3" --format klipper --out "$tmp/kl"
 grep -q "^SKEW_PROFILE LOAD=mtcal$" "$tmp/kl/skew.gcode" && ok || bad "klipper profile load"
 expect_error "klipper on a 5-axis machine" "rotary axis" -- "$MTCAL" compensate -m "$M5" --format klipper --out "$tmp/x6"
-expect_exit 0 "siemens" -- "$MTCAL" compensate -m "$M3" --format siemens --points 9 --out "$tmp/si"
+expect_exit 0 "siemens" -- "$MTCAL" compensate -m "$M3" --format siemens --points 9 --out "$tmp/si" --json
 grep -q "^\$AA_ENC_COMP\[0,8,AX1\]=" "$tmp/si/AX_EEC.INI" && ok || bad "siemens table"
+[ "$(json_get "d['files']")" = "['AX_EEC.INI', 'NC_CEC.INI']" ] && ok || bad "siemens files: $(json_get "d['files']")"
+# Six cross tables on vmc-3axis (straightness/squareness between every pair), each 9 points, M17 last.
+[ "$(grep -c '^\$AN_CEC_OUTPUT_AXIS\[[0-9]\]=(AX[123])$' "$tmp/si/NC_CEC.INI")" -eq 6 ] && ok || bad "6 CEC tables"
+grep -q '^\$AN_CEC\[5,8\]=-\?[0-9.]*$' "$tmp/si/NC_CEC.INI" && [ "$(tail -n1 "$tmp/si/NC_CEC.INI")" = "M17" ] \
+  && [ "$(head -n1 "$tmp/si/NC_CEC.INI")" = "%_N_NC_CEC_INI" ] && ok || bad "NC_CEC.INI layout"
+[ "$(json_get "'EYX' in [n['what'] for n in d['not_compensated']]")" = "False" ] && ok || bad "EYX listed as not held"
+[ "$(json_get "'EAX' in [n['what'] for n in d['not_compensated']]")" = "True" ] && ok || bad "EAX not listed"
+expect_exit 0 "rrf" -- "$MTCAL" compensate -m "$M3" --format rrf --out "$tmp/rrf" --json
+[ "$(json_get "list(d)[:7]")" = "['target', 'quantity', 'sign_source', 'files', 'not_compensated', 'warnings', 'residual']" ] \
+  && ok || bad "rrf json keys: $(json_get "list(d)")"
+[ "$(json_get "d['quantity']")" = "correction" ] && ok || bad "rrf quantity"
+grep -q "^M556 S100 X0.0015 Y-0.0012 Z-0.002000018 P0$" "$tmp/rrf/rrf.gcode" && ok || bad "M556 line: $(cat "$tmp/rrf/rrf.gcode")"
+expect_exit 0 "fluidnc" -- "$MTCAL" compensate -m "$M3" --format fluidnc --skew-reference-length 200 --out "$tmp/fl"
+grep -q "^  Skewed:$" "$tmp/fl/fluidnc-kinematics.yaml" && grep -q "^      offset_x_mm: 0.003$" "$tmp/fl/fluidnc-kinematics.yaml" \
+  && ok || bad "fluidnc yaml: $(cat "$tmp/fl/fluidnc-kinematics.yaml")"
+grep -q "FluidNC/pull/849" "$tmp/fl/fluidnc-kinematics.yaml" && grep -q "warning .*#849" "$tmp/out" && ok || bad "fluidnc needs PR 849"
+expect_error "rrf reference length 0" "reference length" -- "$MTCAL" compensate -m "$M3" --format rrf \
+  --skew-reference-length 0 --out "$tmp/x7"
+[ ! -e "$tmp/x7" ] && ok || bad "output left by a bad reference length"
+expect_error "fluidnc on a 5-axis machine" "rotary axis" -- "$MTCAL" compensate -m "$M5" --format fluidnc --out "$tmp/x8"
+[ ! -e "$tmp/x8" ] && ok || bad "output left by fluidnc on a 5-axis machine"
+expect_error "siemens 201 points" "200" -- "$MTCAL" compensate -m "$M3" --format siemens --points 201 --out "$tmp/x9"
+[ ! -e "$tmp/x9" ] && ok || bad "output left by too many siemens points"
 expect_error "unknown format" "expected one of: linuxcnc" -- "$MTCAL" compensate -m "$M3" --format nope --out "$tmp/x1"
 [ ! -e "$tmp/x1" ] && ok || bad "output left by an unknown format"
 expect_error "too many points" "256" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --points 300 --out "$tmp/x2"

@@ -76,7 +76,8 @@ struct CompensationOptions {
   std::vector<double> reference;     // internal units, chain order; empty = all zero
   std::size_t residual_points = 11;  // per axis, for the residual grid over the sampled ranges
   int threads = 0;
-  int comp_file_type = 1;  // LinuxCNC COMP_FILE_TYPE: 0 columns are actual positions, 1 corrections
+  int comp_file_type = 1;                // LinuxCNC COMP_FILE_TYPE: 0 columns are actual positions, 1 corrections
+  double skew_reference_length = 100.0;  // mm: RepRapFirmware M556 S, FluidNC Skewed distance_mm
 };
 
 // The sampling of every axis: the caller's where given (by axis letter), the travel elsewhere
