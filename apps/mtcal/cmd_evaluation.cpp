@@ -34,9 +34,10 @@ int run_iso230_2(const Iso2302Options& o) {
   check_outputs({o.file}, {o.report});
   PositioningRuns runs = read_positioning_file(o.file, o.format, o.unit, o.target_unit);
   if (o.wrap > 0) runs = merge_wrapped_targets(runs, o.wrap);
-  for (const auto& w : runs.warnings) std::cerr << "mtcal: warning: " << w << "\n";
   const PositioningEvaluation e = evaluate_positioning(runs);
   if (!o.report.empty()) write_positioning_report(o.report, command_line(), runs, e);
+  // After the work: a failure is one line on stderr, never warnings and then an error.
+  for (const auto& w : runs.warnings) std::cerr << "mtcal: warning: " << w << "\n";
   if (o.json_out) {
     Json j = to_json(e);
     Json meta = Json::object();

@@ -39,6 +39,7 @@ int run_fit_motion(const FitMotionOptions& o) {
   if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
   std::vector<EstimatedError> errors;
   std::vector<MotionFit> fits;
+  std::vector<std::string> warnings;
   Json files = Json::array();
   for (const auto& spec : o.files) {
     auto [name, path] = split_spec(spec);
@@ -54,7 +55,7 @@ int run_fit_motion(const FitMotionOptions& o) {
       throw InputError({path, 0, ""},
                        "the file does not say which error it measured: name it, e.g. EXX=" + path + " or EYX=" + path);
     if (o.wrap > 0) runs = merge_wrapped_targets(runs, o.wrap);
-    for (const auto& w : runs.warnings) std::cerr << "mtcal: warning: " << w << "\n";
+    warnings.insert(warnings.end(), runs.warnings.begin(), runs.warnings.end());
     MotionFitOptions fo;
     fo.form = o.form;
     fo.max_degree = o.degree;
@@ -64,6 +65,7 @@ int run_fit_motion(const FitMotionOptions& o) {
     fits.push_back(fit);
   }
   check_distinct(errors);
+  for (const auto& w : warnings) std::cerr << "mtcal: warning: " << w << "\n";
   if (!o.out.empty())
     write_estimated_parameters(o.out, errors,
                                "Motion errors fitted by mtcal fit-motion (internal units mm, rad)\n" + command_line());
@@ -93,6 +95,7 @@ int run_fit_motion(const FitMotionOptions& o) {
     }
     j["errors"] = list;
     j["units"] = "internal: mm and rad";
+    j["warnings"] = warnings;
     if (!o.out.empty()) j["out"] = o.out;
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -137,9 +140,10 @@ std::vector<Command> add_fit_motion_commands(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--wrap", o->wrap, "Rotary tests: targets this far apart (e.g. 360) are one position")
       ->check(CLI::PositiveNumber & kFinite);
-  c->add_flag("--json", o->json_out,
-              "Machine-readable output: errors[] with error, file, form, degree, targets, bidirectional, "
-              "residual_rms, u_mean, reason, notes, parameters {NAME.suffix: {value, u}} (mm, rad)");
+  c->add_flag(
+      "--json", o->json_out,
+      "Machine-readable output: errors[] with error, file, form, degree, targets, bidirectional, "
+      "residual_rms, u_mean, reason, notes, parameters {NAME.suffix: {value, u}} (mm, rad); units, warnings, out");
   c->footer(
       "Examples:\n  mtcal fit-motion x_axis.rtl --out x.yaml\n"
       "  mtcal fit-motion x_axis.rtl EYX=x_straightness.rtl EBX=x_pitch.rtl --out x.yaml --json\n"
