@@ -569,6 +569,12 @@ exact VA without each error (what_if). Configurations in internal units. As `mtc
            "targets (m,), up and down (m, n): measured positions per target and run.")
       .def_readonly("source", &PositioningRuns::source)
       .def_readonly("unit", &PositioningRuns::unit)
+      .def_readonly("target_unit", &PositioningRuns::target_unit, "Unit of the targets ('': the values' unit)")
+      .def_readonly("deviations", &PositioningRuns::deviations,
+                    "True: up and down hold deviations (measured - target) in unit, not measured positions")
+      .def_readonly("metadata", &PositioningRuns::metadata,
+                    "What the file says beside the runs, (key, value) in file order")
+      .def_readonly("warnings", &PositioningRuns::warnings, "What the reader kept but did not use")
       .def_property_readonly("targets", [](const PositioningRuns& r) { return to_array(r.targets); })
       .def_property_readonly(
           "up", [](const PositioningRuns& r) { return runs_array(r.up); }, "(m, n) measured")
