@@ -69,6 +69,8 @@ struct Command {
 std::vector<Command> add_probing_commands(CLI::App& app);
 // Acceptance-test evaluations: iso230-2 (cmd_evaluation.cpp).
 std::vector<Command> add_evaluation_commands(CLI::App& app);
+// Measurements to model parameters: fit-motion (cmd_fit_motion.cpp).
+std::vector<Command> add_fit_motion_commands(CLI::App& app);
 // Method comparison: compare (cmd_compare.cpp).
 std::vector<Command> add_compare_commands(CLI::App& app);
 // Volumetric accuracy: volumetric, contributions, diagonals (cmd_volumetric.cpp).

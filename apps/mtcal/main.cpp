@@ -266,9 +266,9 @@ Command add_effects_command(CLI::App& app) {
 // Every command, in the order of the help text.
 std::vector<Command> add_commands(CLI::App& app) {
   std::vector<Command> all{add_eval_command(app), add_errors_command(app), add_effects_command(app)};
-  for (auto* add :
-       {add_probing_commands, add_evaluation_commands, add_compare_commands, add_volumetric_commands,
-        add_toolpath_commands, add_compensation_commands, add_prediction_commands, add_identification_commands})
+  for (auto* add : {add_probing_commands, add_evaluation_commands, add_fit_motion_commands, add_compare_commands,
+                    add_volumetric_commands, add_toolpath_commands, add_compensation_commands, add_prediction_commands,
+                    add_identification_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
   return all;
 }

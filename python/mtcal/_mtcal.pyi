@@ -1374,8 +1374,8 @@ def read_gcode(path: str, *, axes: str = ...) -> GcodeProgram:
 def read_position_observations(path: str) -> list[PositionObservation]:
     """The CMM/probe position table (Yaqoob 2017 Table 5.3 form): one PositionObservation per filled pair."""
 
-def read_positioning(path: str, *, format: str = ..., unit: str = ...) -> PositioningRuns:
-    """ISO 230-2 runs from a file: CSV target,run,direction,measured (values in unit) or the key=value .dat form (it says its unit); format 'auto', 'csv' or 'dat'."""
+def read_positioning(path: str, *, format: str = ..., unit: str = ..., target_unit: str = ...) -> PositioningRuns:
+    """ISO 230-2 runs from a file: a table (target, run, direction, measured or deviation; values in unit unless the header says), the key=value .dat form or a Renishaw .rtl/.rta export (they say their units); format 'auto', 'csv', 'dat' or 'laser'."""
 
 def read_prediction_model(path: str) -> PredictionModel:
     ...
