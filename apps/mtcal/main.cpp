@@ -102,13 +102,13 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
   }
   StreamOptions so{o.threads, std::size_t{1} << 20, {}};
   so.progress = stream_progress(source.size(), so.chunk);
-  const StreamSummary summary = evaluate_stream(
-      model, source,
-      [&](const ErrorChunk& c) {
-        if (report) report->add(c);
-        if (file) file->write(c);
-      },
-      so);
+  std::function<void(const ErrorChunk&)> sink;  // none without outputs: the stream skips the configurations
+  if (report || file)
+    sink = [&](const ErrorChunk& c) {
+      if (report) report->add(c);
+      if (file) file->write(c);
+    };
+  const StreamSummary summary = evaluate_stream(model, source, sink, so);
   if (so.progress) std::cerr << "\r" << std::string(60, ' ') << "\r" << std::flush;
   if (file) file->commit();
   if (report) report->write(o.report, {command_line(), o.model.params, o.points, o.grid});

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include <fmt/format.h>
 
@@ -96,15 +97,24 @@ StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource
     throw ModelError(
         fmt::format("evaluate_stream: configurations of {} axes for a machine with {} axes", n, model.axis_count()));
   const bool with_dir = source.has_directions();
-  const std::size_t chunk = std::max<std::size_t>(1, options.chunk);
+  const GridValues* grid = source.grid_values();
+  const bool by_grid = grid && model.grid_structured();
+  // Without a sink the grid's errors are only checked and searched for the largest: slices of
+  // 64 Ki configurations (3 MB of errors) stay in cache instead of streaming through memory.
+  const std::size_t chunk =
+      std::max<std::size_t>(1, !sink && by_grid ? std::min<std::size_t>(options.chunk, std::size_t{1} << 16)
+                                                : options.chunk);
   const std::size_t rows = std::min(count, chunk);
-  std::vector<double> q(rows * n), res(rows * 6);
+  // Uninitialised (every element is written before it is read): zero-filling 88 MB per million
+  // configurations would cost more than the grid kernel. The grid kernel needs no
+  // configurations: they are filled only for a sink (and the largest errors' are recomputed).
+  const bool need_q = sink || !by_grid;
+  const std::unique_ptr<double[]> q_buffer(new double[need_q ? rows * n : 0]), res_buffer(new double[rows * 6]);
+  const std::span<double> q(q_buffer.get(), need_q ? rows * n : 0), res(res_buffer.get(), rows * 6);
   std::vector<std::int8_t> dir(with_dir ? rows * n : 0);
   StreamSummary sum;
   sum.count = count;
   double bt = -1, br = -1;  // the first configuration of the largest error wins
-  const GridValues* grid = source.grid_values();
-  const bool by_grid = grid && model.grid_structured();
   struct Extremes {
     double t = -1, a = -1;
     std::size_t at_t = 0, at_a = 0;
@@ -115,38 +125,49 @@ StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource
     // Filling, checking and the largest errors run in contiguous slices over the threads, combined
     // in slice order: the first configuration of the largest error wins as in one pass.
     const std::size_t slices = std::min<std::size_t>(64, std::max<std::size_t>(1, len / 4096));
-    parallel_for_ranges(len, slices, options.threads, [&](std::size_t b, std::size_t e, std::size_t) {
-      source.fill_range(first + b, e - b, &q[b * n], with_dir ? &dir[b * n] : nullptr);
-    });
+    if (need_q)
+      parallel_for_ranges(len, slices, options.threads, [&](std::size_t b, std::size_t e, std::size_t) {
+        source.fill_range(first + b, e - b, &q[b * n], with_dir ? &dir[b * n] : nullptr);
+      });
     const auto t0 = std::chrono::steady_clock::now();
     if (by_grid)
-      model.evaluate_grid(*grid, first, std::span(res).first(len * 6), BatchOptions{options.threads});
+      model.evaluate_grid(*grid, first, res.first(len * 6), BatchOptions{options.threads});
     else
-      model.evaluate_batch(std::span(q).first(len * n), std::span(dir).first(with_dir ? len * n : 0),
-                           std::span(res).first(len * 6), BatchOptions{options.threads});
+      model.evaluate_batch(q.first(len * n), std::span(dir).first(with_dir ? len * n : 0), res.first(len * 6),
+                           BatchOptions{options.threads});
     sum.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::vector<Extremes> ext(slices);
     const std::size_t per = len / slices, extra = len % slices;
     parallel_for(slices, options.threads, [&](std::size_t c, std::size_t) {
       const std::size_t b = c * per + std::min(c, extra), e = b + per + (c < extra ? 1 : 0);
       Extremes x;
+      // Pass 1: finiteness and the largest sums of squares. Pass 2: hypot (exact to rounding, as
+      // always reported) only where the sum of squares is within 1e-12 relative of the largest,
+      // the first configuration of the largest hypot winning; below 1e-100 (where the squares
+      // could underflow) every configuration is a candidate.
+      double mt2 = 0.0, ma2 = 0.0;
+      std::size_t end = e;
       for (std::size_t r = b; r < e; ++r) {
         const double* v = &res[r * 6];
-        if (!std::all_of(v, v + 6, [](double w) { return std::isfinite(w); })) {
+        if (!(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) && std::isfinite(v[3]) &&
+              std::isfinite(v[4]) && std::isfinite(v[5]))) {
           x.bad = r;
+          end = r;
           break;
         }
-        // hypot (exact to rounding, as always reported) only where the plain sum of squares,
-        // within 1e-12 relative of it, does not rule out a new largest value (above 1e-100, where
-        // the squares cannot underflow).
-        const double t2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], a2 = v[3] * v[3] + v[4] * v[4] + v[5] * v[5];
-        if (!(x.t > 1e-100 && t2 < x.t * x.t * (1 - 1e-12))) {
+        mt2 = std::max(mt2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        ma2 = std::max(ma2, v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+      }
+      const double lt = mt2 > 1e-200 ? mt2 * (1 - 1e-12) : 0.0, la = ma2 > 1e-200 ? ma2 * (1 - 1e-12) : 0.0;
+      for (std::size_t r = b; r < end; ++r) {
+        const double* v = &res[r * 6];
+        if (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] >= lt) {
           const double t = std::hypot(v[0], v[1], v[2]);
           if (t > x.t) x.t = t, x.at_t = r;
         }
-        if (!(x.a > 1e-100 && a2 < x.a * x.a * (1 - 1e-12))) {
-          const double a = std::hypot(v[3], v[4], v[5]);
-          if (a > x.a) x.a = a, x.at_a = r;
+        if (v[3] * v[3] + v[4] * v[4] + v[5] * v[5] >= la) {
+          const double w = std::hypot(v[3], v[4], v[5]);
+          if (w > x.a) x.a = w, x.at_a = r;
         }
       }
       ext[c] = x;
@@ -159,14 +180,25 @@ StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource
                         first + x.bad + 1, count));
     }
     for (const Extremes& x : ext) {
-      if (x.t > bt) bt = x.t, sum.max_translation.at.assign(&q[x.at_t * n], &q[x.at_t * n] + n);
-      if (x.a > br) br = x.a, sum.max_rotation.at.assign(&q[x.at_a * n], &q[x.at_a * n] + n);
+      if (x.t > bt) {
+        bt = x.t;
+        sum.max_translation.at.resize(n);
+        source.fill(first + x.at_t, sum.max_translation.at.data(), nullptr);
+      }
+      if (x.a > br) {
+        br = x.a;
+        sum.max_rotation.at.resize(n);
+        source.fill(first + x.at_a, sum.max_rotation.at.data(), nullptr);
+      }
     }
     if (sink)
-      sink(ErrorChunk{first, n, std::span<const double>(q).first(len * n),
+      sink(ErrorChunk{first, n, std::span<const double>(q.first(need_q ? len * n : 0)),
                       std::span<const std::int8_t>(dir).first(with_dir ? len * n : 0),
-                      std::span<const double>(res).first(len * 6)});
-    if (options.progress) options.progress(first + len, count);
+                      std::span<const double>(res.first(len * 6))});
+    // Progress at the caller's chunk size, not per cache-sized slice.
+    if (options.progress && (first + len == count || (first + len) / std::max<std::size_t>(1, options.chunk) !=
+                                                         first / std::max<std::size_t>(1, options.chunk)))
+      options.progress(first + len, count);
   }
   sum.max_translation.value = count ? bt : 0.0;
   sum.max_rotation.value = count ? br : 0.0;

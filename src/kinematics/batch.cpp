@@ -382,6 +382,15 @@ inline void compose(const Pose& a, const double* tab, std::size_t count, std::si
   }
 }
 
+// row[b .. b + kLanes), clamped to row[last - 1] past the end.
+[[gnu::always_inline]] inline void load_lanes(const double* row, std::size_t b, std::size_t last, bool full,
+                                              Lane& dst) {
+  if (full)
+    for (std::size_t l = 0; l < kLanes; ++l) dst[l] = row[b + l];
+  else
+    for (std::size_t l = 0; l < kLanes; ++l) dst[l] = row[std::min(b + l, last - 1)];
+}
+
 // Configurations (outer, l) for l in [l0, l1) of the fastest axis: the poses A * Fa[l] and
 // N * Fn[l] lane by lane, then the same output step as run_block.
 MTCAL_KERNEL_CLONES
@@ -389,14 +398,14 @@ void grid_row(const Pose& A, const Pose& N, const double* fa, const double* fn, 
               std::size_t l1, double* out) {
   for (std::size_t b = l0; b < l1; b += kLanes) {
     const std::size_t len = std::min<std::size_t>(kLanes, l1 - b);
+    const bool full = len == kLanes;  // contiguous loads; a short last block repeats its last value
     Block P, Q;
     for (int which = 0; which < 2; ++which) {
       const Pose& S = which ? N : A;
       const double* tab = which ? fn : fa;
       Block& X = which ? Q : P;
-      Lane f[12];
-      for (std::size_t c = 0; c < 12; ++c)
-        for (std::size_t l = 0; l < kLanes; ++l) f[c][l] = tab[c * count + std::min(b + l, l1 - 1)];
+      Lane f[9];
+      for (std::size_t c = 0; c < 9; ++c) load_lanes(tab + c * count, b, l1, full, f[c]);
       for (int i = 0; i < 3; ++i) {
         const double x = S.r[3 * i], y = S.r[3 * i + 1], z = S.r[3 * i + 2];
         for (int c = 0; c < 3; ++c)
@@ -407,12 +416,12 @@ void grid_row(const Pose& A, const Pose& N, const double* fa, const double* fn, 
     // (hundreds of mm): A.R (fa.t - fn.t) + (A.R - N.R) fn.t + (A.t - N.t) keeps the rounding
     // at the size of the terms that differ.
     Lane dft[3], ftn[3];
-    for (std::size_t c = 0; c < 3; ++c)
-      for (std::size_t l = 0; l < kLanes; ++l) {
-        const std::size_t j = std::min(b + l, l1 - 1);
-        ftn[c][l] = fn[(9 + c) * count + j];
-        dft[c][l] = fa[(9 + c) * count + j] - ftn[c][l];
-      }
+    for (std::size_t c = 0; c < 3; ++c) {
+      Lane fat;
+      load_lanes(fn + (9 + c) * count, b, l1, full, ftn[c]);
+      load_lanes(fa + (9 + c) * count, b, l1, full, fat);
+      for (std::size_t l = 0; l < kLanes; ++l) dft[c][l] = fat[l] - ftn[c][l];
+    }
     for (int i = 0; i < 3; ++i) {
       const double x = A.r[3 * i], y = A.r[3 * i + 1], z = A.r[3 * i + 2];
       const double u = x - N.r[3 * i], v = y - N.r[3 * i + 1], w = z - N.r[3 * i + 2], d = A.t[i] - N.t[i];
