@@ -96,7 +96,7 @@ int run_tables(const CompensateOptions& o) {
 std::vector<Command> add_compensation_commands(CLI::App& app) {
   auto o = std::make_shared<CompensateOptions>();
   std::string formats;
-  for (const auto& t : compensation_targets()) formats += fmt::format("\n  {:<10} {}", t.name, t.description);
+  for (const auto& t : compensation_targets()) formats += fmt::format("\n  {:<12}{}", t.name, t.description);
   auto* c = app.add_subcommand(
       "compensate",
       "Compensation from the error model: the files a controller loads (--format, --out DIR) with the residual "
