@@ -257,6 +257,11 @@ TEST(InstrumentFiles, RenishawLinearExportReadsRunsMetadataAndDirections) {
   const auto path = write_temp("mtcal-inst.rtl", kRtl);
   EXPECT_TRUE(looks_like_laser(path));
   expect_hand_case_um(evaluate_positioning(read_positioning_file(path, "auto", "mm")));
+  // Without the extension the HEADER:: line decides.
+  const auto txt = write_temp("mtcal-inst-laser.txt", kRtl);
+  const auto by_content = read_positioning_file(txt, "auto", "mm");
+  EXPECT_TRUE(by_content.deviations);
+  EXPECT_EQ(by_content.unit, "um");
 }
 
 TEST(InstrumentFiles, RenishawTargetsListedDownwardsAndRotaryExports) {
