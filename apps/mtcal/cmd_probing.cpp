@@ -7,6 +7,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include "common.hpp"
 #include "mtcal/io/files.hpp"
@@ -130,6 +131,11 @@ int run_rotary(const RotaryOptions& o) {
                      fmt::format("{} indexations make too many triples for --method triples/both (at most {}); use "
                                  "--method lsq",
                                  centres.centres.size(), kMaxTriplesCentres));
+  if (options.triples && ::isatty(STDERR_FILENO) && centres.centres.size() >= 100)
+    options.triples_options.progress = [](std::size_t done, std::size_t total) {
+      std::cerr << fmt::format("\r  triples: {:.0f}%", 100.0 * static_cast<double>(done) / static_cast<double>(total))
+                << (done == total ? "\r               \r" : "") << std::flush;
+    };
   const RotaryAxisResult r = locate_rotary_axis(axis, std::move(centres), options);
   if (!r.located) {
     // The measured line only: the location errors (small angles about the nominal line) do not

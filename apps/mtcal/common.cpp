@@ -91,9 +91,11 @@ std::vector<std::string> split_list(const std::string& s) {
 
 void add_model_options(CLI::App* cmd, ModelOptions& o) {
   cmd->add_option("--machine,-m", o.machine, "Machine file (YAML, see docs/machine-file.md)")->required();
-  cmd->add_option("--params", o.params,
-                  "Parameter file(s) whose errors replace the machine's (e.g. from mtcal rotary-axis --out); "
-                  "repeatable, applied in order before --only and --set");
+  cmd->add_option(
+      "--params", o.params,
+      "Parameter file(s) whose errors replace the machine's (e.g. from mtcal rotary-axis --out, or an Etalon "
+      "exchange file); "
+      "repeatable, applied in order before --only and --set");
   cmd->add_option("--set", o.set,
                   "Override a parameter in internal units (mm, rad): NAME=VALUE, e.g. EC0Y=2e-5 or "
                   "EXX.1=5e-6; repeatable");

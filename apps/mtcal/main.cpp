@@ -94,7 +94,7 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
     grid = checked_grid(m, o.grid, !o.no_travel_check);
   const auto source = o.points.empty() ? ConfigurationSource::grid(grid) : ConfigurationSource::list(list);
   std::optional<ErrorStreamCsv> file;
-  if (!o.out.empty()) file.emplace(o.out, m, source.has_directions());
+  if (!o.out.empty()) file.emplace(o.out, m, source.has_directions(), o.threads);
   std::optional<ErrorStreamReport> report;
   if (!o.report.empty()) {
     AtomicFile probe_path(o.report);  // refuse a bad report path before the work

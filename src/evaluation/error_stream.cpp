@@ -8,6 +8,7 @@
 
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parallel.hpp"
 
 namespace mtcal {
 
@@ -67,6 +68,27 @@ void ConfigurationSource::fill(std::size_t index, double* q, std::int8_t* dir) c
   }
 }
 
+void ConfigurationSource::fill_range(std::size_t first, std::size_t count, double* q, std::int8_t* dir) const {
+  const std::size_t n = axes_;
+  if (list_ || count == 0) {
+    for (std::size_t r = 0; r < count; ++r) fill(first + r, q + r * n, dir ? dir + r * n : nullptr);
+    return;
+  }
+  std::vector<std::size_t> digit(n);
+  std::size_t index = first;
+  for (std::size_t k = n; k-- > 0;) {
+    digit[k] = index % (*grid_)[k].size();
+    index /= (*grid_)[k].size();
+  }
+  for (std::size_t r = 0; r < count; ++r) {
+    for (std::size_t k = 0; k < n; ++k) q[r * n + k] = (*grid_)[k][digit[k]];
+    for (std::size_t k = n; k-- > 0;) {
+      if (++digit[k] < (*grid_)[k].size()) break;
+      digit[k] = 0;
+    }
+  }
+}
+
 StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource& source,
                               const std::function<void(const ErrorChunk&)>& sink, const StreamOptions& options) {
   const std::size_t n = source.axes(), count = source.size();
@@ -81,23 +103,64 @@ StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource
   StreamSummary sum;
   sum.count = count;
   double bt = -1, br = -1;  // the first configuration of the largest error wins
+  const GridValues* grid = source.grid_values();
+  const bool by_grid = grid && model.grid_structured();
+  struct Extremes {
+    double t = -1, a = -1;
+    std::size_t at_t = 0, at_a = 0;
+    std::size_t bad = static_cast<std::size_t>(-1);
+  };
   for (std::size_t first = 0; first < count; first += chunk) {
     const std::size_t len = std::min(chunk, count - first);
-    for (std::size_t r = 0; r < len; ++r) source.fill(first + r, &q[r * n], with_dir ? &dir[r * n] : nullptr);
+    // Filling, checking and the largest errors run in contiguous slices over the threads, combined
+    // in slice order: the first configuration of the largest error wins as in one pass.
+    const std::size_t slices = std::min<std::size_t>(64, std::max<std::size_t>(1, len / 4096));
+    parallel_for_ranges(len, slices, options.threads, [&](std::size_t b, std::size_t e, std::size_t) {
+      source.fill_range(first + b, e - b, &q[b * n], with_dir ? &dir[b * n] : nullptr);
+    });
     const auto t0 = std::chrono::steady_clock::now();
-    model.evaluate_batch(std::span(q).first(len * n), std::span(dir).first(with_dir ? len * n : 0),
-                         std::span(res).first(len * 6), BatchOptions{options.threads});
+    if (by_grid)
+      model.evaluate_grid(*grid, first, std::span(res).first(len * 6), BatchOptions{options.threads});
+    else
+      model.evaluate_batch(std::span(q).first(len * n), std::span(dir).first(with_dir ? len * n : 0),
+                           std::span(res).first(len * 6), BatchOptions{options.threads});
     sum.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (std::size_t r = 0; r < len; ++r) {
-      const double* e = &res[r * 6];
-      if (!std::all_of(e, e + 6, [](double v) { return std::isfinite(v); }))
+    std::vector<Extremes> ext(slices);
+    const std::size_t per = len / slices, extra = len % slices;
+    parallel_for(slices, options.threads, [&](std::size_t c, std::size_t) {
+      const std::size_t b = c * per + std::min(c, extra), e = b + per + (c < extra ? 1 : 0);
+      Extremes x;
+      for (std::size_t r = b; r < e; ++r) {
+        const double* v = &res[r * 6];
+        if (!std::all_of(v, v + 6, [](double w) { return std::isfinite(w); })) {
+          x.bad = r;
+          break;
+        }
+        // hypot (exact to rounding, as always reported) only where the plain sum of squares,
+        // within 1e-12 relative of it, does not rule out a new largest value (above 1e-100, where
+        // the squares cannot underflow).
+        const double t2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], a2 = v[3] * v[3] + v[4] * v[4] + v[5] * v[5];
+        if (!(x.t > 1e-100 && t2 < x.t * x.t * (1 - 1e-12))) {
+          const double t = std::hypot(v[0], v[1], v[2]);
+          if (t > x.t) x.t = t, x.at_t = r;
+        }
+        if (!(x.a > 1e-100 && a2 < x.a * x.a * (1 - 1e-12))) {
+          const double a = std::hypot(v[3], v[4], v[5]);
+          if (a > x.a) x.a = a, x.at_a = r;
+        }
+      }
+      ext[c] = x;
+    });
+    for (const Extremes& x : ext) {
+      if (x.bad != static_cast<std::size_t>(-1))
         throw Error(
             fmt::format("the model gives a non-finite error at configuration {} of {} (check the "
                         "machine's error values)",
-                        first + r + 1, count));
-      const double t = std::hypot(e[0], e[1], e[2]), a = std::hypot(e[3], e[4], e[5]);
-      if (t > bt) bt = t, sum.max_translation.at.assign(&q[r * n], &q[r * n] + n);
-      if (a > br) br = a, sum.max_rotation.at.assign(&q[r * n], &q[r * n] + n);
+                        first + x.bad + 1, count));
+    }
+    for (const Extremes& x : ext) {
+      if (x.t > bt) bt = x.t, sum.max_translation.at.assign(&q[x.at_t * n], &q[x.at_t * n] + n);
+      if (x.a > br) br = x.a, sum.max_rotation.at.assign(&q[x.at_a * n], &q[x.at_a * n] + n);
     }
     if (sink)
       sink(ErrorChunk{first, n, std::span<const double>(q).first(len * n),

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -156,6 +157,37 @@ TEST(RotaryAxis, TriplesGiveTheSameBitsWithAnyThreadCount) {
   EXPECT_EQ(a.value, b.value);
   EXPECT_EQ(a.uncertainty, b.uncertainty);
   EXPECT_EQ(a.kept, b.kept);
+}
+
+// The small-angle series in location_from_line against the library's atan2 / asin: the same
+// quantities to 2 ulp (relative 5e-16), for angles on both sides of the 1e-3 rad switch.
+TEST(RotaryAxis, LocationFromLineAnglesEqualTheLibraryFunctions) {
+  const auto axis = NominalRotaryAxis::by_letter('C');
+  for (double a : {0.0, 3e-9, -2e-6, 4.5e-5, -9.9e-4, 1.01e-3, -0.02, 0.3})
+    for (double b : {0.0, -7e-8, 1.2e-5, -8e-4, 2e-3, -0.1}) {
+      const Point3 n(std::cos(a) * std::sin(b), -std::sin(a), std::cos(a) * std::cos(b));
+      const auto q = location_from_line(axis, Point3(0.1, -0.2, 0.0), n, 50.0);
+      const Point3 u = n.normalized();
+      const double ref[3] = {-std::asin(u.y()), std::atan2(u.x(), u.z()), std::atan2(std::hypot(u.x(), u.y()), u.z())};
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(q[static_cast<std::size_t>(2 + (k == 2 ? 3 : k))], ref[k], 5e-16 * std::abs(ref[k]))
+            << a << " " << b << " quantity " << k;
+    }
+}
+
+TEST(RotaryAxis, TriplesReportProgressOverBothPasses) {
+  const Case c = probe('C', {{"EX0C", 0.01}}, steps(0, 350, 10), 0.001, 9);
+  const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
+  std::vector<std::size_t> seen;
+  TriplesOptions o{2.0, 40, 2};
+  o.progress = [&](std::size_t done, std::size_t total) {
+    seen.push_back(done);
+    EXPECT_EQ(total, 128u);
+  };
+  const auto with = estimate_by_triples(axis, c.centres, o);
+  ASSERT_EQ(seen.size(), 128u);
+  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], i + 1);
+  EXPECT_EQ(with.value, estimate_by_triples(axis, c.centres, TriplesOptions{2.0, 40, 1}).value);
 }
 
 TEST(RotaryAxis, AnOutlierIsRejectedByTheSigmaRule) {
