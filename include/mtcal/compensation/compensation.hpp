@@ -78,7 +78,6 @@ struct CompensationOptions {
   int threads = 0;
   int comp_file_type = 1;                // LinuxCNC COMP_FILE_TYPE: 0 columns are actual positions, 1 corrections
   double skew_reference_length = 100.0;  // mm: RepRapFirmware M556 S, FluidNC Skewed distance_mm
-  int comp_file_type = 1;                // LinuxCNC COMP_FILE_TYPE: 0 columns are actual positions, 1 corrections
   double detection_unit = 0.001;         // FANUC: mm (linear) and deg (rotary) per count of a pitch error value
 };
 
