@@ -147,7 +147,10 @@ bool plain_key(std::string_view k) {
 }  // namespace
 
 PositioningRuns read_positioning_dat(const std::string& path) {
-  const std::string text = read_text_file(path, "positioning file");
+  return parse_positioning_dat(read_text_file(path, "positioning file"), path);
+}
+
+PositioningRuns parse_positioning_dat(const std::string& text, const std::string& path) {
   std::istringstream in(text);
   std::string line;
   int lineno = 0;
@@ -233,16 +236,28 @@ PositioningRuns read_positioning_dat(const std::string& path) {
   return r;
 }
 
-bool looks_like_dat(const std::string& path) {
-  if (path.size() >= 4 && path.substr(path.size() - 4) == ".dat") return true;
-  return read_text_file(path, "positioning file").find("TGT_DATA[") != std::string::npos;
+namespace {
+
+bool has_extension(const std::string& path, std::string_view ext) {
+  if (path.size() < ext.size()) return false;
+  for (std::size_t i = 0; i < ext.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(path[path.size() - ext.size() + i])) != ext[i]) return false;
+  return true;
 }
+
+}  // namespace
 
 PositioningRuns read_positioning_file(const std::string& path, const std::string& format, const std::string& unit,
                                       const std::string& target_unit) {
-  if (format == "laser" || (format == "auto" && looks_like_laser(path))) return read_laser_file(path).runs;
-  const bool dat = format == "dat" || (format == "auto" && looks_like_dat(path));
-  return dat ? read_positioning_dat(path) : read_positioning_csv(path, unit, target_unit);
+  const bool laser_ext = has_extension(path, ".rtl") || has_extension(path, ".rta");
+  if (format == "laser" || (format == "auto" && laser_ext)) return read_laser_file(path).runs;
+  if (format == "dat" || (format == "auto" && has_extension(path, ".dat"))) return read_positioning_dat(path);
+  // One read; the content decides: a section line is a laser export, a TGT_DATA[ key the .dat form.
+  const std::string text = read_text_file(path, "positioning file");
+  if (format == "auto" && text.substr(0, 4096).find("HEADER::") != std::string::npos)
+    return parse_laser_file(text, path, false).runs;
+  if (format == "auto" && text.find("TGT_DATA[") != std::string::npos) return parse_positioning_dat(text, path);
+  return parse_positioning_csv(text, path, unit, target_unit);
 }
 
 BallbarTrace read_ballbar_csv(const std::string& path) {

@@ -117,7 +117,7 @@ PositioningRuns parse_positioning_csv(const std::string& text, const std::string
   std::istringstream in(bom ? text.substr(3) : text);
   std::string line;
   int lineno = 0, header_line = 0;
-  char delim = ',';
+  char delim = ',', forced_delim = 0;
   std::vector<std::string> names;
   std::map<Role, std::size_t> col;
   PositioningRuns r;
@@ -131,8 +131,15 @@ PositioningRuns parse_positioning_csv(const std::string& text, const std::string
     ++lineno;
     const std::string s = trim(line);
     if (s.empty() || s[0] == '#') continue;
+    if (header_line == 0 && !forced_delim && s.size() == 5 && s.rfind("sep=", 0) == 0) {
+      forced_delim = s[4];  // a spreadsheet's "sep=;" line before the header
+      continue;
+    }
     if (header_line == 0) {
-      delim = s.find('\t') != std::string::npos ? '\t' : s.find(';') != std::string::npos ? ';' : ',';
+      delim = forced_delim                        ? forced_delim
+              : s.find('\t') != std::string::npos ? '\t'
+              : s.find(';') != std::string::npos  ? ';'
+                                                  : ',';
       names = split(s, delim);
       std::string value_unit, tgt_unit;
       for (std::size_t k = 0; k < names.size(); ++k) {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mtcal/report/report.hpp"
+#include "mtcal/util/units.hpp"
 
 namespace mtcal {
 namespace {
@@ -90,7 +91,9 @@ std::string positioning_text(const PositioningRuns& runs, const PositioningEvalu
 
 void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
                               const PositioningEvaluation& e) {
-  Report r("ISO 230-2 positioning of a linear axis", command);
+  const auto target_unit = find_unit(e.target_unit.empty() ? e.unit : e.target_unit);
+  const bool rotary = target_unit && target_unit->dimension == Dimension::Angle;
+  Report r(rotary ? "ISO 230-2 positioning of a rotary axis" : "ISO 230-2 positioning of a linear axis", command);
   r.add_input("measurements", runs.source);
   const PositioningDisplay shown = positioning_display(runs, e);
   const std::string u = shown.unit;

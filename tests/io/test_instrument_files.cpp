@@ -155,6 +155,14 @@ TEST(InstrumentFiles, TablesWithSemicolonsDecimalCommasAndOtherDirectionWords) {
       "10,2,pos,6\n10,1,negative,2\n10,2,neg,2\n",
       "comma.csv", "um", "mm");
   expect_hand_case_um(evaluate_positioning(comma));
+  // A spreadsheet's "sep=" line names the separator (here against a header that holds a ';').
+  const auto sep = parse_positioning_csv(
+      "sep=,\ntarget,direction,deviation,comment;remark\n0,up,1,a;b\n0,up,3,\n0,down,-1,\n0,down,1,\n10,up,4,\n"
+      "10,up,6,\n10,down,2,\n10,down,2,\n",
+      "sep.csv", "um", "mm");
+  ASSERT_EQ(sep.warnings.size(), 1u);
+  EXPECT_NE(sep.warnings[0].find("comment;remark"), std::string::npos);
+  expect_hand_case_um(evaluate_positioning(sep));
 }
 
 TEST(InstrumentFiles, UnidirectionalTestsGiveOnlyTheirQuantities) {
@@ -249,6 +257,11 @@ TEST(InstrumentFiles, RenishawLinearExportReadsRunsMetadataAndDirections) {
   const auto path = write_temp("mtcal-inst.rtl", kRtl);
   EXPECT_TRUE(looks_like_laser(path));
   expect_hand_case_um(evaluate_positioning(read_positioning_file(path, "auto", "mm")));
+  // Without the extension the HEADER:: line decides.
+  const auto txt = write_temp("mtcal-inst-laser.txt", kRtl);
+  const auto by_content = read_positioning_file(txt, "auto", "mm");
+  EXPECT_TRUE(by_content.deviations);
+  EXPECT_EQ(by_content.unit, "um");
 }
 
 TEST(InstrumentFiles, RenishawTargetsListedDownwardsAndRotaryExports) {

@@ -27,6 +27,7 @@ PositioningRuns parse_positioning_csv(const std::string& text, const std::string
 // Other keys (TEST_DATA, REF_PV, TEST_PV, TGT_SET_PV, DEC ...) are kept as metadata with a
 // warning; a line that is no KEY=VALUE or a malformed index of a data key is an error.
 PositioningRuns read_positioning_dat(const std::string& path);
+PositioningRuns parse_positioning_dat(const std::string& text, const std::string& source);
 // Any form: format "dat", "csv", "laser" (Renishaw .rtl/.rta, io/laser_files.hpp) or "auto"
 // (the .rtl/.rta extension or a HEADER:: line: laser; the .dat extension or a TGT_DATA[ key:
 // .dat; else the table). unit / target_unit: of a table (the other forms say their own).
