@@ -116,9 +116,9 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
   c->add_option("--threads", o->threads, "Threads for the residual (0: all cores)")->check(CLI::Range(0, 4096));
   c->footer(
       "Examples:\n"
-      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format linuxcnc --out comp/\n"
-      "  mtcal compensate -m machine.yaml --params identified.yaml --format linuxcnc --linuxcnc-type 0 \\\n"
-      "      --points 101 --range \"X=-300:300\" --out comp/ --json\n"
+      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format linuxcnc --out comp-vmc/\n"
+      "  mtcal compensate -m examples/machines/hu40t-wCBXfYZt.yaml --params identified.yaml --format linuxcnc \\\n"
+      "      --linuxcnc-type 0 --points 101 --range \"X=-300:300\" --out comp-hu40t/ --json\n"
       "  mtcal compensate -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/pocket.nc \\\n"
       "      --origin \"X=-40,Y=-25,Z=-400\" --out pocket-corrected.nc\n"
       "Tables: --out is a new (or empty) directory, written completely or not at all. Program: --out is a file.\n"
