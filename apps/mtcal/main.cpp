@@ -19,6 +19,7 @@
 #include "mtcal/io/error_map_json.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/joints.hpp"
+#include "mtcal/io/number_format.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/report/error_map.hpp"
 #include "mtcal/util/errors.hpp"
@@ -31,7 +32,7 @@ using namespace mtcal::cli;
 
 namespace {
 
-std::string fmt_num(double v) { return fmt::format("{:.9g}", v); }
+std::string fmt_num(double v) { return format_number(v); }
 
 struct EvalOptions {
   ModelOptions model;
@@ -334,6 +335,14 @@ std::vector<Command> add_commands(CLI::App& app) {
        {add_probing_commands, add_evaluation_commands, add_compare_commands, add_volumetric_commands,
         add_toolpath_commands, add_compensation_commands, add_prediction_commands, add_identification_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
+  // --precision on every command: the digits of the numbers it writes to CSV files and prints
+  // unrounded (JSON always carries every double exactly).
+  for (auto* sub : app.get_subcommands({}))
+    sub->add_option_function<int>(
+           "--precision", [](const int& d) { set_significant_digits(d); },
+           "Significant digits of written numbers (CSV cells, unrounded printed values): 10 by default, up to 17 "
+           "(every double read back bit for bit); JSON is always exact")
+        ->check(CLI::Range(1, 17));
   for (const auto& [name, text] : kExamples)
     for (auto* sub : app.get_subcommands({}))
       if (sub->get_name() == name && sub->get_footer().empty()) sub->footer(std::string("Examples:\n") + text);

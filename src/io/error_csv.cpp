@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "mtcal/io/number_format.hpp"
+
 #include "mtcal/io/csv.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/model/joints.hpp"
@@ -72,14 +74,15 @@ ErrorStreamCsv::~ErrorStreamCsv() = default;
 
 void ErrorStreamCsv::write(const ErrorChunk& c) {
   const std::size_t n = c.axes;
+  const int position_digits = std::max(12, significant_digits()), error_decimals = significant_digits() - 1;
   fmt::memory_buffer buf;
   for (std::size_t r = 0; r < c.size(); ++r) {
     for (std::size_t k = 0; k < n; ++k)
-      fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "",
-                     to_user_units(machine_.axes[k], c.q[r * n + k]));
+      fmt::format_to(std::back_inserter(buf), "{}{:.{}g}", k ? "," : "",
+                     to_user_units(machine_.axes[k], c.q[r * n + k]), position_digits);
     if (!c.dir.empty())
       for (std::size_t k = 0; k < n; ++k) fmt::format_to(std::back_inserter(buf), ",{}", c.dir[r * n + k]);
-    for (int e = 0; e < 6; ++e) fmt::format_to(std::back_inserter(buf), ",{:.9e}", c.error[r * 6 + e]);
+    for (int e = 0; e < 6; ++e) fmt::format_to(std::back_inserter(buf), ",{:.{}e}", c.error[r * 6 + e], error_decimals);
     buf.push_back('\n');
   }
   file_->stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
@@ -89,6 +92,7 @@ void ErrorStreamCsv::commit() { file_->commit(); }
 
 void write_error_map_csv(const std::string& path, const Machine& m, const ErrorMap& map) {
   AtomicFile out(path);
+  const int position_digits = std::max(12, significant_digits()), error_decimals = significant_digits() - 1;
   const std::size_t n = m.axes.size();
   std::string header;
   for (std::size_t k = 0; k < n; ++k) header += (k ? "," : "") + std::string(1, m.axes[k].letter);
@@ -98,10 +102,11 @@ void write_error_map_csv(const std::string& path, const Machine& m, const ErrorM
   fmt::memory_buffer buf;
   for (std::size_t i = 0; i < map.size(); ++i) {
     for (std::size_t k = 0; k < n; ++k)
-      fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "", to_user_units(m.axes[k], map.q[i * n + k]));
+      fmt::format_to(std::back_inserter(buf), "{}{:.{}g}", k ? "," : "", to_user_units(m.axes[k], map.q[i * n + k]),
+                     position_digits);
     for (const std::int8_t d : map.direction(i)) fmt::format_to(std::back_inserter(buf), ",{}", d);
-    fmt::format_to(std::back_inserter(buf), ",{:.9e},{:.9e},{:.9e}\n", map.error[i].x(), map.error[i].y(),
-                   map.error[i].z());
+    fmt::format_to(std::back_inserter(buf), ",{:.{}e},{:.{}e},{:.{}e}\n", map.error[i].x(), error_decimals,
+                   map.error[i].y(), error_decimals, map.error[i].z(), error_decimals);
     if (buf.size() > (1u << 20)) out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size())), buf.clear();
   }
   out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
@@ -113,7 +118,8 @@ void write_diagonals_csv(const std::string& path, const std::vector<DiagonalProf
   out.stream() << "diagonal,position,deviation\n";
   for (const auto& d : diagonals)
     for (std::size_t i = 0; i < d.position.size(); ++i)
-      out.stream() << fmt::format("{},{:.9g},{:.9e}\n", d.name, d.position[i], d.deviation[i]);
+      out.stream() << fmt::format("{},{:.{}g},{:.{}e}\n", d.name, d.position[i], std::max(9, significant_digits()),
+                                  d.deviation[i], significant_digits() - 1);
   out.commit();
 }
 
@@ -129,14 +135,15 @@ ToolpathCsv::~ToolpathCsv() = default;
 
 void ToolpathCsv::write(const ToolpathChunk& c) {
   const std::size_t n = inv_.size();
+  const int position_digits = std::max(12, significant_digits()), error_decimals = significant_digits() - 1;
   fmt::memory_buffer buf;
   auto out = std::back_inserter(buf);
   for (std::size_t i = 0; i < c.size(); ++i) {
     fmt::format_to(out, "{},", c.line[i]);
     if (c.n[i] >= 0) fmt::format_to(out, "{}", c.n[i]);
     fmt::format_to(out, ",{},{:.6f}", to_string(c.motion[i]), c.s[i]);
-    for (std::size_t k = 0; k < n; ++k) fmt::format_to(out, ",{:.12g}", c.q[i * n + k] * inv_[k]);
-    for (std::size_t e = 0; e < 6; ++e) fmt::format_to(out, ",{:.9e}", c.error[i * 6 + e]);
+    for (std::size_t k = 0; k < n; ++k) fmt::format_to(out, ",{:.{}g}", c.q[i * n + k] * inv_[k], position_digits);
+    for (std::size_t e = 0; e < 6; ++e) fmt::format_to(out, ",{:.{}e}", c.error[i * 6 + e], error_decimals);
     buf.push_back('\n');
   }
   file_->stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));

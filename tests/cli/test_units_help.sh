@@ -90,4 +90,50 @@ expect_error "mistyped --errors" "(did you mean 'EXX'?)" -- "$MTCAL" effects -m 
 expect_error "mistyped --estimate" "(did you mean 'EX0C'?)" -- "$MTCAL" identifiability -m "$M5" --plan "$P" --estimate EXOC
 expect_error "nothing close" "unknown parameter 'QQQQ' for machine" -- "$MTCAL" eval -m "$M3" --at X=1 --set QQQQ=1
 grep -q "did you mean" "$tmp/err" && bad "a suggestion for a name nothing is close to" || ok
+# --precision: 10 significant digits by default in CSV cells; 17 round-trips every double bit for
+# bit (checked against the JSON of the same configurations, which nlohmann writes exactly).
+"$MTCAL" eval -m "$M5" --grid "X=-300:300:3,B=-90:90:3,C=0:270:4" --out "$tmp/p10.csv" >/dev/null &&
+  "$MTCAL" eval -m "$M5" --grid "X=-300:300:3,B=-90:90:3,C=0:270:4" --out "$tmp/p17.csv" --precision 17 >/dev/null && ok ||
+  bad "eval --precision"
+python3 - "$tmp/p10.csv" <<'PY' && ok || bad "default CSV cells do not carry 10 significant digits"
+import csv, re, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+for r in rows:
+    for k in ("dx", "dy", "dz", "rx", "ry", "rz"):
+        m = re.fullmatch(r"-?(\d)\.(\d+)e[-+]\d+", r[k])
+        assert m and len(m.group(1) + m.group(2)) == 10, r[k]
+PY
+# Bit for bit: the same diagonals written as CSV with 17 digits and as JSON (exact) read back equal;
+# with the default 10 digits they do not (so the check can fail).
+"$MTCAL" diagonals -m "$M3" --box "X=-400:400,Y=-250:250,Z=-500:0" --points 11 --out "$tmp/d17.csv" --precision 17 \
+  --json >"$tmp/d.json" && "$MTCAL" diagonals -m "$M3" --box "X=-400:400,Y=-250:250,Z=-500:0" --points 11 \
+  --out "$tmp/d10.csv" >/dev/null && ok || bad "diagonals --precision 17"
+python3 - "$tmp/d17.csv" "$tmp/d10.csv" "$tmp/d.json" <<'PY' && ok || bad "--precision 17 does not round-trip"
+import csv, json, sys
+d = json.load(open(sys.argv[3]))
+exact = {(g["name"], i): (p, v) for g in d["diagonals"] for i, (p, v) in enumerate(zip(g["position"], g["deviation"]))}
+def read(path):
+    rows, count = {}, {}
+    for r in csv.reader(open(path)):
+        if r[0] == "diagonal": continue
+        i = count.get(r[0], 0); count[r[0]] = i + 1
+        rows[(r[0], i)] = (float(r[1]), float(r[2]))
+    return rows
+r17, r10 = read(sys.argv[1]), read(sys.argv[2])
+assert len(r17) == len(exact) == 16 * 11, len(r17)  # 4 body and 12 face diagonals
+assert all(r17[k][0].hex() == exact[k][0].hex() and r17[k][1].hex() == exact[k][1].hex() for k in exact)  # bit for bit
+assert any(r10[k][1] != exact[k][1] for k in exact)  # 10 digits are not
+PY
+"$MTCAL" eval -m "$M5" --at "X=100,B=30,C=90" --precision 17 >"$tmp/out" &&
+  python3 - "$tmp/out" "$MTCAL" "$M5" <<'PY' && ok || bad "eval --at --precision 17 text is not exact"
+import json, subprocess, sys
+text = {l.split()[0]: l.split()[1] for l in open(sys.argv[1])}
+j = json.loads(subprocess.run([sys.argv[2], "eval", "-m", sys.argv[3], "--at", "X=100,B=30,C=90", "--json"],
+                              check=True, capture_output=True, text=True).stdout)
+assert all(float(text[k]) == j[k] for k in j), (text, j)
+PY
+expect_error "precision 18" "--precision" -- "$MTCAL" eval -m "$M5" --at X=1 --precision 18
+for c in $("$MTCAL" --help | awk '/^Subcommands:/ { on = 1; next } on && /^  [a-z]/ { print $1 } on && /^$/ { on = 0 }'); do
+  "$MTCAL" "$c" --help | grep -q -- "--precision" && ok || bad "mtcal $c has no --precision"
+done
 summary_and_exit
