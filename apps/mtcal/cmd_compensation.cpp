@@ -126,8 +126,9 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
   c->add_option("--threads", o->threads, "Threads for the residual (0: all cores)")->check(CLI::Range(0, 4096));
   c->footer(
       "Examples:\n"
-      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format linuxcnc --out comp/\n"
-      "  mtcal compensate -m machine.yaml --params identified.yaml --format linuxcnc --linuxcnc-type 0 \\\n"
+      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format linuxcnc --out comp-vmc/\n"
+      "  mtcal compensate -m examples/machines/hu40t-wCBXfYZt.yaml --params identified.yaml --format linuxcnc "
+      "--linuxcnc-type 0 \\\n"
       "      --points 101 --range \"X=-300:300\" --out comp/ --json\n"
       "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format rrf --skew-reference-length 200 --out rrf/\n"
       "  mtcal compensate -m examples/machines/hu40t-wCBXfYZt.yaml --format etalon --out etalon/\n"

@@ -56,7 +56,7 @@ int run_iso230_2(const Iso2302Options& o) {
 struct BallbarCliOptions {
   std::string trace, plane = "XY", direction, report, out, centre, to_params, terms = "squareness,scale,backlash";
   ModelOptions model;
-  double radius = 150, feed = 0, overshoot_start = 0, overshoot_stop = 0, step_deg = 1;
+  double radius = 0, feed = 0, overshoot_start = 0, overshoot_stop = 0, step_deg = 1;
   bool predict = false, json_out = false;
 };
 
@@ -115,6 +115,11 @@ void print_ballbar(const BallbarCliOptions& o, const BallbarEvaluation& e,
 }
 
 int run_ballbar(const BallbarCliOptions& o) {
+  // The bar's length defines the test: no default that could silently differ from the one used.
+  if (o.radius <= 0)
+    throw InputError({"--radius", 0, ""},
+                     "expected the nominal radius of the test (the ballbar's length, e.g. "
+                     "--radius 150 or --radius 150mm); it has no default");
   if (o.predict) return run_ballbar_predict(o);
   if (o.trace.empty()) throw InputError({"ballbar", 0, ""}, "expected a trace file (or --predict)");
   check_outputs({o.trace}, {o.report, o.to_params});
@@ -218,16 +223,19 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
                                 "centres), G(b), H, F from a ballbar trace; or --predict the trace of a "
                                 "machine model");
   bb->add_option("trace", b->trace, "Trace CSV direction,angle_deg,radius_mm (direction cw or ccw)");
-  bb->add_option("--radius", b->radius, "Nominal radius, mm")
-      ->check(CLI::PositiveNumber & kFinite)
-      ->capture_default_str();
+  bb->add_option("--radius", b->radius,
+                 "Nominal radius (the ballbar's length), mm or with a unit: 150, 150mm, 6in; required")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(CLI::PositiveNumber & kFinite);
   bb->add_option("--plane", b->plane, "Test plane: XY, YZ or ZX")
       ->check(CLI::IsMember({"XY", "YZ", "ZX"}))
       ->capture_default_str();
   bb->add_option("--feed", b->feed, "Feed, mm/min (recorded in the output)")->check(kFinite);
   bb->add_option("--overshoot-start", b->overshoot_start, "Degrees of travel ignored after each direction's start")
+      ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
       ->check(CLI::Range(0.0, 180.0) & kFinite);
   bb->add_option("--overshoot-stop", b->overshoot_stop, "Degrees of travel ignored before each direction's end")
+      ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
       ->check(CLI::Range(0.0, 180.0) & kFinite);
   bb->add_option("--direction", b->direction, "Evaluate one direction only: cw or ccw (no G(b), no H)")
       ->check(CLI::IsMember({"cw", "ccw"}));
@@ -240,6 +248,7 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
   bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict");
   bb->add_option("--centre", b->centre, "Centre of the circle as joint values, e.g. \"X=0,Y=0,Z=-100\" (mm, deg)");
   bb->add_option("--step-deg", b->step_deg, "Angle between predicted samples, deg")
+      ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
       ->check(CLI::Range(0.01, 10.0) & kFinite);
   bb->add_option("--out", b->out, "Trace CSV to write, with --predict");
   bb->add_option("--to-params", b->to_params,

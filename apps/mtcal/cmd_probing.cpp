@@ -236,8 +236,11 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
                 "centre x,y,z (mm), approach_x,approach_y,approach_z (direction of probe motion)");
   r->add_option("--centres", ro->centres, "CSV of sphere centres already known: the axis's angle (deg), x,y,z (mm)");
   r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)")
+      ->transform(length_in(1.0, "LENGTH"))
       ->check(kFinite);
-  r->add_option("--stylus-diameter", ro->stylus_diameter, "Stylus tip diameter, mm (with --contacts)")->check(kFinite);
+  r->add_option("--stylus-diameter", ro->stylus_diameter, "Stylus tip diameter, mm (with --contacts)")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite);
   r->add_option("--machine", ro->machine,
                 "Machine file giving the axis's nominal point and direction (default: "
                 "through the origin along its letter's axis)");
@@ -250,6 +253,7 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
       ->check(CLI::Range(0.0, 100.0) & kFinite)
       ->capture_default_str();
   r->add_option("--max-rms", ro->max_rms, "Largest rms distance (mm) of contacts from their sphere")
+      ->transform(length_in(1.0, "LENGTH"))
       ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
   r->add_option("--bins", ro->bins, "Histogram bins of the triples' distributions")->check(CLI::Range(1, 10000));
@@ -278,12 +282,20 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
   s->add_option("--hold", so->hold, "Other joints, e.g. \"A=0\" (mm, deg; not named: 0)");
   s->add_option("--sphere", so->sphere, "Sphere centre at zero indexation, machine coordinates x,y,z in mm")
       ->capture_default_str();
-  s->add_option("--sphere-diameter", so->sphere_diameter, "mm")->check(kFinite)->capture_default_str();
-  s->add_option("--stylus-diameter", so->stylus_diameter, "mm")->check(kFinite)->capture_default_str();
+  s->add_option("--sphere-diameter", so->sphere_diameter, "mm")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite)
+      ->capture_default_str();
+  s->add_option("--stylus-diameter", so->stylus_diameter, "mm")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite)
+      ->capture_default_str();
   s->add_option("--noise", so->noise, "Standard deviation of each recorded coordinate, mm")
+      ->transform(length_in(1.0, "LENGTH"))
       ->check(kFinite)
       ->capture_default_str();
   s->add_option("--trigger-bias", so->bias, "Probe pre-travel along the approach, mm")
+      ->transform(length_in(1.0, "LENGTH"))
       ->check(kFinite)
       ->capture_default_str();
   s->add_option("--seed", so->seed, "Random seed of the noise")->capture_default_str();

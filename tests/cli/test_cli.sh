@@ -372,7 +372,7 @@ expect_error "ballbar bad direction" "badtrace.csv:2" -- "$MTCAL" ballbar "$tmp/
 expect_error "ballbar predict with a huge centre" "--centre: field 'Z'" -- "$MTCAL" ballbar --predict -m "$M3" --plane XY \
   --radius 100 --centre "Z=1e308" --out "$tmp/nan-trace.csv"
 [ ! -e "$tmp/nan-trace.csv" ] && ok || bad "a trace was written for a huge centre"
-expect_error "ballbar predict without machine" "needs --machine" -- "$MTCAL" ballbar --predict --out "$tmp/x.csv"
+expect_error "ballbar predict without machine" "needs --machine" -- "$MTCAL" ballbar --predict --radius 150 --out "$tmp/x.csv"
 expect_error "ballbar predict bad plane" "plane" -- "$MTCAL" ballbar --predict -m "$M5" --plane XB --out "$tmp/x.csv"
 
 summary_and_exit

@@ -50,5 +50,24 @@ for f in configs.csv errors.csv contacts.csv c-axis.yaml iso230-2.html trace.csv
   path-errors.csv samba.csv identified.yaml pocket-c.nc; do
   [ -s "$clone/$f" ] && ok || bad "the tour did not write $f"
 done
+# Every command's --help ends with examples, and each of them runs in the same folder after the
+# tour (some read files the tour made: contacts.csv, trace.csv, samba.csv).
+commands=$("$MTCAL" --help | awk '/^Subcommands:/ { on = 1; next } on && /^  [a-z]/ { print $1 } on && /^$/ { on = 0 }')
+[ "$(echo "$commands" | wc -w)" -ge 19 ] && ok || bad "mtcal --help lists $(echo "$commands" | wc -w) commands"
+for c in $commands; do
+  "$MTCAL" "$c" --help >"$tmp/help" 2>&1
+  if ! grep -q '^Examples:' "$tmp/help"; then
+    bad "mtcal $c --help has no examples"
+    continue
+  fi
+  # The example lines, continuation lines joined.
+  awk '/^Examples:/ { on = 1; next } on && /^  / { sub(/^  +/, ""); line = line $0; if (line ~ /\\$/) { sub(/\\$/, "", line); next } print line; line = "" }' \
+    "$tmp/help" >"$tmp/examples-$c.sh"
+  n=$(grep -c '^mtcal ' "$tmp/examples-$c.sh")
+  [ "$n" -ge 1 ] && ok || bad "mtcal $c --help: no example starts with 'mtcal '"
+  (cd "$clone" && env -i HOME="$tmp" PATH="$clone/build/apps/mtcal:/usr/bin:/bin" LANG=C.UTF-8 \
+    bash -e -o pipefail "$tmp/examples-$c.sh") >"$tmp/ex.out" 2>"$tmp/ex.err" && ok ||
+    bad "an example of mtcal $c --help fails: $(tail -1 "$tmp/ex.err")"
+done
 chmod -R u+w "$clone/examples"
 summary_and_exit
