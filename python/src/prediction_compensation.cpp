@@ -379,9 +379,10 @@ void bind_prediction_compensation(py::module_& m) {
   m.def(
       "compensate",
       [](const Machine& mm, const std::string& target, const std::vector<AxisSampling>& sampling, std::size_t points,
-         py::handle reference, std::size_t residual_points, int threads) {
+         py::handle reference, std::size_t residual_points, int threads, double skew_reference_length) {
         const CompensationTarget& t = compensation_target(target);
         CompensationOptions o;
+        o.skew_reference_length = skew_reference_length;
         o.sampling = sampling;
         o.points = points;
         if (!reference.is_none()) o.reference = configuration(mm, reference, "reference");
@@ -392,9 +393,11 @@ void bind_prediction_compensation(py::module_& m) {
       },
       "machine"_a, "target"_a, py::kw_only(), "sampling"_a = std::vector<AxisSampling>{}, "points"_a = std::size_t{0},
       "reference"_a = py::none(), "residual_points"_a = std::size_t{11}, "threads"_a = 0,
+      "skew_reference_length"_a = 100.0,
       R"(Compensation for a controller: `target` names an entry of compensation_targets(). sampling: per
 axis AxisSampling (default: each axis over its travel at `points` positions, or the target's
-default). reference: the other axes' configuration (internal units). Returns TargetOutput (files,
+default). reference: the other axes' configuration (internal units). skew_reference_length: mm,
+RepRapFirmware M556 S / FluidNC distance_mm (as --skew-reference-length). Returns TargetOutput (files,
 summary with the residual before/after; write(dir) writes them all or none).)");
 }
 

@@ -87,6 +87,9 @@ def test_compensation_registry_by_name(vmc, hu40t, tmp_path):
             assert all((where / f).read_text() == text for f, text in out.files.items())
             written.append(m)
         assert written, f"target {name} wrote for none of the example machines"
+    # The firmware skew targets' reference length: M556 S and the deviations scale with it.
+    gcode = mtcal.compensate(vmc, "rrf", skew_reference_length=200).files["rrf.gcode"]
+    assert "\nM556 S200 X0.003 Y-0.0024 Z-0.004000036 P0\n" in gcode, gcode
     with pytest.raises(mtcal.InputError) as e:
         mtcal.compensate(vmc, "no-such-controller")
     assert "unknown compensation target 'no-such-controller'" in str(e.value) and e.value.field == "format"

@@ -56,4 +56,39 @@ TargetOutput marlin_output(const SkewCompensation& c) {
   return out;
 }
 
+TargetOutput rrf_output(const SkewCompensation& c) {
+  TargetOutput out;
+  out.summary = c.summary;
+  const RrfM556 m = rrf_m556(c.tangents, c.reference_length);
+  out.files.push_back(
+      {"rrf.gcode",
+       fmt::format("; Written by mtcal compensate --format rrf: axis skew compensation for config.g (RepRapFirmware).\n"
+                   "; X, Y, Z are corrections in mm over S mm (GCodes2.cpp case 556: tanXY = X/S, tanYZ = Y/S,\n"
+                   "; tanXZ = Z/S); Move::AxisTransform() commands x + tanXY*y + tanXZ*z, y + tanYZ*z (P0: the X\n"
+                   "; coordinate takes the XY correction). Remove any other M556 from config.g.\n"
+                   "M556 S{:.9g} X{:.9g} Y{:.9g} Z{:.9g} P0\n",
+                   m.s, m.x, m.y, m.z)});
+  return out;
+}
+
+TargetOutput fluidnc_output(const SkewCompensation& c) {
+  TargetOutput out;
+  out.summary = c.summary;
+  const FluidncSkew s = fluidnc_skew(c.tangents, c.reference_length);
+  std::string text =
+      "# Written by mtcal compensate --format fluidnc: the kinematics section of the machine's config.yaml.\n"
+      "# NEEDS A FLUIDNC BUILD WITH THE Skewed KINEMATICS: it is only in the unmerged pull request\n"
+      "# https://github.com/bdring/FluidNC/pull/849 (src/Kinematics/Skewed.cpp), not in released FluidNC.\n"
+      "# Under axis section i, offset_<j>_mm is the correction added to axis j's motors per distance_mm\n"
+      "# of travel of axis i (Skewed::init(), GenericCartesian Mtx::transform()): corrections, mm.\n"
+      "kinematics:\n  Skewed:\n";
+  const char* names = "xyz";
+  for (int i = 0; i < 3; ++i) {
+    text += fmt::format("    {}:\n      distance_mm: {:.9g}\n", names[i], s.distance[i]);
+    for (int j = 0; j < 3; ++j) text += fmt::format("      offset_{}_mm: {:.9g}\n", names[j], s.offset[i][j]);
+  }
+  out.files.push_back({"fluidnc-kinematics.yaml", std::move(text)});
+  return out;
+}
+
 }  // namespace mtcal

@@ -1,6 +1,7 @@
 // HTML reports of the acceptance-test evaluations (report/evaluation.hpp).
 #include "mtcal/report/evaluation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mtcal/report/report.hpp"
+#include "mtcal/util/units.hpp"
 
 namespace mtcal {
 namespace {
@@ -22,18 +24,107 @@ std::string r_text(const std::optional<double>& v) { return v ? fmt::format("{:.
 
 }  // namespace
 
+std::string PositioningDisplay::format(double v) const {
+  if (v != v) return "n/a";
+  return fmt::format("{:.{}f}", v * factor, decimals);
+}
+
+PositioningDisplay positioning_display(const PositioningRuns& runs, const PositioningEvaluation& e) {
+  PositioningDisplay d;
+  d.unit = e.unit;
+  if (e.unit == "mm") d.unit = "um", d.factor = 1e3;
+  // Decimals that write every input value exactly, in the unit shown.
+  std::vector<double> deviations;
+  int resolved = 0;
+  for (std::size_t i = 0; i < runs.targets.size(); ++i)
+    for (const auto* side : {&runs.up[i], &runs.down[i]})
+      for (double v : *side) {
+        const double x = (runs.deviations ? v : v - runs.targets[i]) * d.factor;
+        const double shown = v * d.factor;
+        deviations.push_back(std::abs(x));
+        int k = 0;
+        while (k < 6 && std::abs(shown * std::pow(10.0, k) - std::round(shown * std::pow(10.0, k))) >
+                            1e-6 * std::max(1.0, std::abs(shown * std::pow(10.0, k))))
+          ++k;
+        resolved = std::max(resolved, k);
+      }
+  // Two significant digits of the scatter: the median standard deviation (or a tenth of the
+  // median deviation with a single run).
+  std::vector<double> s;
+  for (const auto& t : e.targets)
+    for (double v : {t.s_up, t.s_down})
+      if (v == v && v > 0) s.push_back(v * d.factor);
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+  };
+  double scale = s.empty() ? median(deviations) / 10 : median(s);
+  int noise = 6;
+  if (scale > 0) noise = std::clamp(1 - static_cast<int>(std::floor(std::log10(scale))), 0, 6);
+  // Means and spreads resolve one digit more than the values they come from.
+  d.decimals = std::min(resolved + 1, noise);
+  return d;
+}
+
+std::string positioning_text(const PositioningRuns& runs, const PositioningEvaluation& e) {
+  const PositioningDisplay d = positioning_display(runs, e);
+  auto f = [&](double v) { return d.format(v); };
+  const std::string tu = e.target_unit.empty() ? e.unit : e.target_unit;
+  std::string s;
+  s += fmt::format("ISO 230-2: {} targets x {} runs per direction{}; deviations in {}\n", e.targets.size(), e.runs,
+                   e.directions == TestDirections::Both     ? ""
+                   : e.directions == TestDirections::UpOnly ? " (unidirectional, up)"
+                                                            : " (unidirectional, down)",
+                   d.unit);
+  s += fmt::format("{:>12} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "target " + tu, "mean_up", "mean_down",
+                   "B_i", "s_up", "s_down", "R_i", "mean");
+  for (const auto& t : e.targets)
+    s += fmt::format("{:>12g} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", t.target, f(t.mean_up),
+                     f(t.mean_down), f(t.reversal), f(t.s_up), f(t.s_down), f(t.R), f(t.mean));
+  s += fmt::format("A {} (up {}, down {})   R {} (up {}, down {})\n", f(e.A), f(e.A_up), f(e.A_down), f(e.R), f(e.R_up),
+                   f(e.R_down));
+  s += fmt::format("B {} (mean {})   E {} (up {}, down {})   M {}   [{}]\n", f(e.B), f(e.B_mean), f(e.E), f(e.E_up),
+                   f(e.E_down), f(e.M), d.unit);
+  for (const auto& n : e.notes) s += "note: " + n + "\n";
+  return s;
+}
+
 void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
                               const PositioningEvaluation& e) {
-  Report r("ISO 230-2 positioning of a linear axis", command);
+  const auto target_unit = find_unit(e.target_unit.empty() ? e.unit : e.target_unit);
+  const bool rotary = target_unit && target_unit->dimension == Dimension::Angle;
+  Report r(rotary ? "ISO 230-2 positioning of a rotary axis" : "ISO 230-2 positioning of a linear axis", command);
   r.add_input("measurements", runs.source);
-  const std::string u = e.unit;
-  r.add_figure("accuracy A", fmt::format("{:.4f}", e.A), u);
-  r.add_figure("repeatability R", fmt::format("{:.4f}", e.R), u);
-  r.add_figure("reversal value B", fmt::format("{:.4f}", e.B), u);
-  r.add_figure("systematic positioning error E", fmt::format("{:.4f}", e.E), u);
-  r.add_figure("mean positioning error M", fmt::format("{:.4f}", e.M), u);
+  const PositioningDisplay shown = positioning_display(runs, e);
+  const std::string u = shown.unit;
+  const bool has_up = e.directions != TestDirections::DownOnly, has_down = e.directions != TestDirections::UpOnly;
+  const bool both = has_up && has_down;
+  r.add_figure(both     ? "accuracy A"
+               : has_up ? "accuracy A↑"
+                        : "accuracy A↓",
+               shown.format(both     ? e.A
+                            : has_up ? e.A_up
+                                     : e.A_down),
+               u);
+  r.add_figure(both     ? "repeatability R"
+               : has_up ? "repeatability R↑"
+                        : "repeatability R↓",
+               shown.format(both     ? e.R
+                            : has_up ? e.R_up
+                                     : e.R_down),
+               u);
+  if (both) r.add_figure("reversal value B", shown.format(e.B), u);
+  r.add_figure(both     ? "systematic positioning error E"
+               : has_up ? "systematic positioning error E↑"
+                        : "systematic positioning error E↓",
+               shown.format(both     ? e.E
+                            : has_up ? e.E_up
+                                     : e.E_down),
+               u);
+  if (both) r.add_figure("mean positioning error M", shown.format(e.M), u);
   r.add_figure("targets x runs", fmt::format("{} x {}", e.targets.size(), e.runs), "per direction");
-  if (e.runs < 5) r.add_warning(fmt::format("ISO 230-2 asks for 5 runs per direction; this has {}.", e.runs));
+  for (const auto& n : e.notes) r.add_warning(n);
+  for (const auto& w : runs.warnings) r.add_warning(w);
 
   r.add_section("Deviations");
   r.add_paragraph(
@@ -41,18 +132,21 @@ void write_positioning_report(const std::string& path, const std::string& comman
       "define the accuracy A, and every run's deviation as a point.");
   json x = json::array(), up = x, dn = x, up_hi = x, up_lo = x, dn_hi = x, dn_lo = x, mean = x;
   json rx_up = x, ry_up = x, rx_dn = x, ry_dn = x;
+  const double k = shown.factor;
+  const std::string tu = e.target_unit.empty() ? e.unit : e.target_unit;
   for (std::size_t i = 0; i < e.targets.size(); ++i) {
     const auto& t = e.targets[i];
     x.push_back(t.target);
-    up.push_back(t.mean_up);
-    dn.push_back(t.mean_down);
-    mean.push_back(t.mean);
-    up_hi.push_back(t.mean_up + 2 * t.s_up);
-    up_lo.push_back(t.mean_up - 2 * t.s_up);
-    dn_hi.push_back(t.mean_down + 2 * t.s_down);
-    dn_lo.push_back(t.mean_down - 2 * t.s_down);
-    for (double v : runs.up[i]) rx_up.push_back(t.target), ry_up.push_back(v - t.target);
-    for (double v : runs.down[i]) rx_dn.push_back(t.target), ry_dn.push_back(v - t.target);
+    up.push_back(k * t.mean_up);
+    dn.push_back(k * t.mean_down);
+    mean.push_back(k * t.mean);
+    up_hi.push_back(k * (t.mean_up + 2 * t.s_up));
+    up_lo.push_back(k * (t.mean_up - 2 * t.s_up));
+    dn_hi.push_back(k * (t.mean_down + 2 * t.s_down));
+    dn_lo.push_back(k * (t.mean_down - 2 * t.s_down));
+    const double off = runs.deviations ? 0.0 : t.target;
+    for (double v : runs.up[i]) rx_up.push_back(t.target), ry_up.push_back(k * (v - off));
+    for (double v : runs.down[i]) rx_dn.push_back(t.target), ry_dn.push_back(k * (v - off));
   }
   auto band = [&](const json& lo, const json& hi, const char* colour, const char* name) {
     return json::array({json{{"type", "scatter"},
@@ -104,26 +198,29 @@ void write_positioning_report(const std::string& path, const std::string& comman
                   {"y", ry_dn},
                   {"name", "runs down"},
                   {"marker", {{"size", 4}, {"color", "rgb(214,39,40)"}}}});
-  r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + u + ")",
+  r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + tu + ")",
              {{"data", data},
               {"layout",
-               {{"xaxis", {{"title", {{"text", "target (" + u + ")"}}}}},
+               {{"xaxis", {{"title", {{"text", "target (" + tu + ")"}}}}},
                 {"yaxis", {{"title", {{"text", "deviation (" + u + ")"}}}}}}}});
 
   r.add_section("Per target");
   std::vector<std::vector<std::string>> rows;
   for (const auto& t : e.targets)
-    rows.push_back({fmt::format("{:g}", t.target), fmt::format("{:.5f}", t.mean_up), fmt::format("{:.5f}", t.mean_down),
-                    fmt::format("{:.5f}", t.mean), fmt::format("{:.5f}", t.reversal), fmt::format("{:.5f}", t.s_up),
-                    fmt::format("{:.5f}", t.s_down), fmt::format("{:.5f}", t.R_up), fmt::format("{:.5f}", t.R_down),
-                    fmt::format("{:.5f}", t.R)});
+    rows.push_back({fmt::format("{:g}", t.target), shown.format(t.mean_up), shown.format(t.mean_down),
+                    shown.format(t.mean), shown.format(t.reversal), shown.format(t.s_up), shown.format(t.s_down),
+                    shown.format(t.R_up), shown.format(t.R_down), shown.format(t.R)});
   r.add_table("ISO 230-2 quantities per target (" + u + ")",
               {"target", "x̄↑", "x̄↓", "x̄", "B_i", "s↑", "s↓", "R↑", "R↓", "R_i"}, rows);
   r.add_table("Axis (" + u + ")", {"A", "A↑", "A↓", "B", "B̄", "R", "R↑", "R↓", "E", "E↑", "E↓", "M"},
-              {{fmt::format("{:.5f}", e.A), fmt::format("{:.5f}", e.A_up), fmt::format("{:.5f}", e.A_down),
-                fmt::format("{:.5f}", e.B), fmt::format("{:.5f}", e.B_mean), fmt::format("{:.5f}", e.R),
-                fmt::format("{:.5f}", e.R_up), fmt::format("{:.5f}", e.R_down), fmt::format("{:.5f}", e.E),
-                fmt::format("{:.5f}", e.E_up), fmt::format("{:.5f}", e.E_down), fmt::format("{:.5f}", e.M)}});
+              {{shown.format(e.A), shown.format(e.A_up), shown.format(e.A_down), shown.format(e.B),
+                shown.format(e.B_mean), shown.format(e.R), shown.format(e.R_up), shown.format(e.R_down),
+                shown.format(e.E), shown.format(e.E_up), shown.format(e.E_down), shown.format(e.M)}});
+  if (!runs.metadata.empty()) {
+    std::vector<std::vector<std::string>> meta;
+    for (const auto& [key, value] : runs.metadata) meta.push_back({key, value});
+    r.add_table("What the file says beside the runs", {"key", "value"}, meta);
+  }
   r.write(path);
 }
 

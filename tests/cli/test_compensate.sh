@@ -8,7 +8,8 @@ M3="$EXAMPLES/vmc-3axis.yaml"
 M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
 
 expect_exit 0 "help" -- "$MTCAL" compensate --help
-for word in --format linuxcnc --points --range --reference --linuxcnc-type --gcode Examples; do
+for word in --format linuxcnc siemens isg etalon heidenhain fanuc klipper marlin rrf fluidnc --fanuc-unit \
+  --points --range --reference --linuxcnc-type --skew-reference-length --gcode Examples; do
   grep -q -- "$word" "$tmp/out" && ok || bad "help lacks $word"
 done
 
@@ -42,8 +43,71 @@ grep -q "^M852 I-0.000015000 J0.000020000 K0.000012000$" "$tmp/ma/marlin.gcode" 
 expect_exit 0 "klipper" -- "$MTCAL" compensate -m "$M3" --format klipper --out "$tmp/kl"
 grep -q "^SKEW_PROFILE LOAD=mtcal$" "$tmp/kl/skew.gcode" && ok || bad "klipper profile load"
 expect_error "klipper on a 5-axis machine" "rotary axis" -- "$MTCAL" compensate -m "$M5" --format klipper --out "$tmp/x6"
-expect_exit 0 "siemens" -- "$MTCAL" compensate -m "$M3" --format siemens --points 9 --out "$tmp/si"
+expect_exit 0 "siemens" -- "$MTCAL" compensate -m "$M3" --format siemens --points 9 --out "$tmp/si" --json
 grep -q "^\$AA_ENC_COMP\[0,8,AX1\]=" "$tmp/si/AX_EEC.INI" && ok || bad "siemens table"
+[ "$(json_get "d['files']")" = "['AX_EEC.INI', 'NC_CEC.INI']" ] && ok || bad "siemens files: $(json_get "d['files']")"
+# Six cross tables on vmc-3axis (straightness/squareness between every pair), each 9 points, M17 last.
+[ "$(grep -c '^\$AN_CEC_OUTPUT_AXIS\[[0-9]\]=(AX[123])$' "$tmp/si/NC_CEC.INI")" -eq 6 ] && ok || bad "6 CEC tables"
+grep -q '^\$AN_CEC\[5,8\]=-\?[0-9.]*$' "$tmp/si/NC_CEC.INI" && [ "$(tail -n1 "$tmp/si/NC_CEC.INI")" = "M17" ] \
+  && [ "$(head -n1 "$tmp/si/NC_CEC.INI")" = "%_N_NC_CEC_INI" ] && ok || bad "NC_CEC.INI layout"
+[ "$(json_get "'EYX' in [n['what'] for n in d['not_compensated']]")" = "False" ] && ok || bad "EYX listed as not held"
+[ "$(json_get "'EAX' in [n['what'] for n in d['not_compensated']]")" = "True" ] && ok || bad "EAX not listed"
+expect_exit 0 "rrf" -- "$MTCAL" compensate -m "$M3" --format rrf --out "$tmp/rrf" --json
+[ "$(json_get "list(d)[:7]")" = "['target', 'quantity', 'sign_source', 'files', 'not_compensated', 'warnings', 'residual']" ] \
+  && ok || bad "rrf json keys: $(json_get "list(d)")"
+[ "$(json_get "d['quantity']")" = "correction" ] && ok || bad "rrf quantity"
+grep -q "^M556 S100 X0.0015 Y-0.0012 Z-0.002000018 P0$" "$tmp/rrf/rrf.gcode" && ok || bad "M556 line: $(cat "$tmp/rrf/rrf.gcode")"
+expect_exit 0 "fluidnc" -- "$MTCAL" compensate -m "$M3" --format fluidnc --skew-reference-length 200 --out "$tmp/fl"
+grep -q "^  Skewed:$" "$tmp/fl/fluidnc-kinematics.yaml" && grep -q "^      offset_x_mm: 0.003$" "$tmp/fl/fluidnc-kinematics.yaml" \
+  && ok || bad "fluidnc yaml: $(cat "$tmp/fl/fluidnc-kinematics.yaml")"
+grep -q "FluidNC/pull/849" "$tmp/fl/fluidnc-kinematics.yaml" && grep -q "warning .*#849" "$tmp/out" && ok || bad "fluidnc needs PR 849"
+expect_error "rrf reference length 0" "reference length" -- "$MTCAL" compensate -m "$M3" --format rrf \
+  --skew-reference-length 0 --out "$tmp/x7"
+[ ! -e "$tmp/x7" ] && ok || bad "output left by a bad reference length"
+expect_error "fluidnc on a 5-axis machine" "rotary axis" -- "$MTCAL" compensate -m "$M5" --format fluidnc --out "$tmp/x8"
+[ ! -e "$tmp/x8" ] && ok || bad "output left by fluidnc on a 5-axis machine"
+expect_error "siemens 201 points" "200" -- "$MTCAL" compensate -m "$M3" --format siemens --points 201 --out "$tmp/x9"
+[ ! -e "$tmp/x9" ] && ok || bad "output left by too many siemens points"
+# Etalon: the ISG parameters in the Etalon exchange format, read back as a parameter file.
+KEYS="['target', 'quantity', 'sign_source', 'files', 'not_compensated', 'warnings', 'residual']"
+expect_exit 0 "etalon json" -- "$MTCAL" compensate -m "$M5" --format etalon --points 11 --residual-points 3 \
+  --out "$tmp/et" --json
+[ "$(json_get "list(d)[:7]")" = "$KEYS" ] && ok || bad "etalon json keys: $(json_get "list(d)")"
+[ "$(json_get "d['target'], d['quantity'], d['files']")" = "etalon error ['volcomp.etalon', 'README.txt']" ] \
+  && ok || bad "etalon target: $(json_get "d['target'], d['quantity'], d['files']")"
+grep -q "^\[C0Y\]$" "$tmp/et/volcomp.etalon" && grep -q "^Gridpoints = {$" "$tmp/et/volcomp.etalon" \
+  && ok || bad "etalon blocks"
+expect_exit 0 "etalon as --params" -- "$MTCAL" errors -m "$M5" --params "$tmp/et/volcomp.etalon"
+grep -q "EC0Y" "$tmp/out" && ok || bad "errors with an Etalon parameter file"
+printf '[C0Y]\nVALUE = 1e-5\n[EXX]\nGridpoints = {\n0 0\n10 zz\n}\n' >"$tmp/bad.etalon"
+expect_error "bad etalon parameter file" "bad.etalon:6" -- "$MTCAL" compensate -m "$M5" --params "$tmp/bad.etalon" \
+  --format etalon --out "$tmp/x17"
+[ ! -e "$tmp/x17" ] && ok || bad "output left by a bad Etalon parameter file"
+# HEIDENHAIN: *.COM per linear axis and config.cma, sign to be checked on the control.
+expect_exit 0 "heidenhain json" -- "$MTCAL" compensate -m "$M3" --format heidenhain --points 21 --out "$tmp/hh" --json
+[ "$(json_get "list(d)[:7]")" = "$KEYS" ] && ok || bad "heidenhain json keys"
+[ "$(json_get "d['files']")" = "['X.COM', 'Y.COM', 'Z.COM', 'config.cma', 'README.txt']" ] && ok \
+  || bad "heidenhain files: $(json_get "d['files']")"
+for f in X.COM Y.COM Z.COM config.cma README.txt; do [ -f "$tmp/hh/$f" ] && ok || bad "no $f"; done
+head -2 "$tmp/hh/X.COM" | grep -q "^NR    AXISPOS         X " && ok || bad "X.COM header: $(head -2 "$tmp/hh/X.COM")"
+[ "$(tail -1 "$tmp/hh/X.COM")" = "[END]" ] && [ "$(grep -c '^[0-9]' "$tmp/hh/X.COM")" -eq 21 ] && ok || bad "X.COM rows"
+grep -q "CHECKED ON THE CONTROL" "$tmp/hh/README.txt" && ok || bad "heidenhain sign warning"
+expect_error "heidenhain too many points" "256" -- "$MTCAL" compensate -m "$M3" --format heidenhain --points 300 \
+  --out "$tmp/x18"
+[ ! -e "$tmp/x18" ] && ok || bad "output left by heidenhain --points 300"
+# FANUC: parameters 3620-3625 and pitch values, corrections, sign to be checked.
+expect_exit 0 "fanuc json" -- "$MTCAL" compensate -m "$M5" --format fanuc --residual-points 3 --out "$tmp/fa" --json
+[ "$(json_get "list(d)[:7]")" = "$KEYS" ] && ok || bad "fanuc json keys"
+[ "$(json_get "d['quantity'], d['files']")" = "correction ['fanuc-pitch.txt', 'README.txt']" ] && ok \
+  || bad "fanuc: $(json_get "d['quantity'], d['files']")"
+for p in 3620 3621 3622 3623 3624 3625; do grep -q "^PARAMETER $p " "$tmp/fa/fanuc-pitch.txt" && ok || bad "no $p"; done
+grep -q "CHECK IT ON THE CONTROL" "$tmp/fa/fanuc-pitch.txt" && ok || bad "fanuc sign warning"
+awk '$1 == "PITCH" && ($3 > 127 || $3 < -128) {exit 1}' "$tmp/fa/fanuc-pitch.txt" && ok || bad "fanuc value range"
+expect_error "fanuc too many points" "128" -- "$MTCAL" compensate -m "$M3" --format fanuc --points 129 --out "$tmp/x19"
+[ ! -e "$tmp/x19" ] && ok || bad "output left by fanuc --points 129"
+expect_error "fanuc nothing to compensate" "nothing to compensate" -- "$MTCAL" compensate -m "$M3" --only EC0Y \
+  --format fanuc --out "$tmp/x20"
+[ ! -e "$tmp/x20" ] && ok || bad "output left when fanuc has nothing to compensate"
 expect_error "unknown format" "expected one of: linuxcnc" -- "$MTCAL" compensate -m "$M3" --format nope --out "$tmp/x1"
 [ ! -e "$tmp/x1" ] && ok || bad "output left by an unknown format"
 expect_error "too many points" "256" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --points 300 --out "$tmp/x2"

@@ -1,8 +1,12 @@
 // Firmware skew targets: factors against docs/conventions.md, files read back by the test's own
 // readers, the firmware's rule applied to the model, Klipper's diagonal formula, bad input.
+// RepRapFirmware M556 and FluidNC Skewed: the rules written again here from the firmware source
+// (RepRapFirmware src/Movement/Move.cpp AxisTransform(), FluidNC PR #849 GenericCartesian.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -101,6 +105,175 @@ TEST(SkewTarget, BadInputIsRefused) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("no squareness"), std::string::npos) << e.what();
   }
+}
+
+// The RepRapFirmware rule, written again from Move::AxisTransform() (compensateXY = true) with
+// GCodes2.cpp case 556 (tangents[0] = X/S is tanXY, tangents[1] = Y/S tanYZ, tangents[2] = Z/S tanXZ).
+struct ReadM556 {
+  double s = NAN, x = NAN, y = NAN, z = NAN, p = NAN;
+};
+ReadM556 read_m556(const std::string& text) {
+  ReadM556 r;
+  std::istringstream in(text);
+  std::string line;
+  int commands = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == ';') continue;
+    std::istringstream words(line);
+    std::string w;
+    words >> w;
+    EXPECT_EQ(w, "M556") << line;
+    ++commands;
+    while (words >> w) {
+      const double v = std::stod(w.substr(1));
+      switch (w[0]) {
+        case 'S': r.s = v; break;
+        case 'X': r.x = v; break;
+        case 'Y': r.y = v; break;
+        case 'Z': r.z = v; break;
+        case 'P': r.p = v; break;
+        default: ADD_FAILURE() << "unexpected word " << w;
+      }
+    }
+  }
+  EXPECT_EQ(commands, 1);
+  return r;
+}
+Vec3 rrf_axis_transform(const ReadM556& m, const Vec3& user) {
+  EXPECT_EQ(m.p, 0.0);  // P <= 0: compensateXY, the X coordinate takes tanXY * Y
+  Vec3 machine = user;
+  machine.x() += m.x / m.s * user.y() + m.z / m.s * user.z();
+  machine.y() += m.y / m.s * user.z();
+  return machine;
+}
+
+// The FluidNC rule, written again from Skewed::init() and Mtx::transform(): row i (axis section i)
+// = offset_<j>_mm / distance_mm + identity, motor_j = sum_i p_i row_i[j].
+std::map<std::string, std::map<std::string, double>> read_fluidnc(const std::string& text) {
+  std::map<std::string, std::map<std::string, double>> sections;
+  std::istringstream in(text);
+  std::string line;
+  std::vector<std::string> path;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::size_t indent = line.find_first_not_of(' ');
+    const std::size_t colon = line.find(':');
+    if (colon == std::string::npos) {
+      ADD_FAILURE() << "not a YAML key: " << line;
+      continue;
+    }
+    const std::string key = line.substr(indent, colon - indent);
+    const std::string value = line.substr(colon + 1);
+    if (value.empty()) {
+      path.resize(indent / 2);
+      path.push_back(key);
+      continue;
+    }
+    EXPECT_EQ(path.size(), 3u) << line;
+    EXPECT_EQ(path[0], "kinematics");
+    EXPECT_EQ(path[1], "Skewed");
+    sections[path[2]][key] = std::stod(value);
+  }
+  return sections;
+}
+Vec3 fluidnc_transform(const std::map<std::string, std::map<std::string, double>>& s, const Vec3& p) {
+  const char* names[] = {"x", "y", "z"};
+  Vec3 motors = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) {
+    const auto& sec = s.at(names[i]);
+    for (int j = 0; j < 3; ++j)
+      motors[j] += p[i] * (sec.at(std::string("offset_") + names[j] + "_mm") / sec.at("distance_mm") + (i == j));
+  }
+  return motors;
+}
+
+// The error the firmware holds at a commanded point: the position it was asked for less the
+// command (the rule is linear and triangular: solved from z down).
+Vec3 implied_error(const std::function<Vec3(const Vec3&)>& rule, const Vec3& command) {
+  Vec3 p = command;
+  for (int it = 0; it < 50; ++it) p += command - rule(p);  // fixed point: |T| ~ 1e-5
+  return p - command;
+}
+
+TEST(SkewTarget, RrfAndFluidncSignsByHand) {
+  // vmc-3axis: e_x = -EC0Y y = -15e-6 y, so RepRapFirmware must command x + 15e-6 y: over S = 100
+  // mm, X = +0.0015; Y = -yz S = -0.0012; Z = (xy yz - xz) S = (-15e-6 * 12e-6 - 20e-6) * 100.
+  const auto c = compensate_skew(vmc(), {}, "rrf");
+  const ReadM556 m = read_m556(text_of(rrf_output(c), "rrf.gcode"));
+  EXPECT_EQ(m.s, 100.0);
+  EXPECT_NEAR(m.x, 0.0015, 1e-12);
+  EXPECT_NEAR(m.y, -0.0012, 1e-12);
+  EXPECT_NEAR(m.z, -0.002000018, 1e-12);
+  EXPECT_EQ(c.summary.quantity, TableQuantity::Correction);
+  CompensationOptions o;
+  o.skew_reference_length = 250;
+  const auto f = read_fluidnc(text_of(fluidnc_output(compensate_skew(vmc(), o, "fluidnc")), "fluidnc-kinematics.yaml"));
+  EXPECT_EQ(f.at("y").at("distance_mm"), 250.0);
+  EXPECT_NEAR(f.at("y").at("offset_x_mm"), 15e-6 * 250, 1e-12);
+  EXPECT_NEAR(f.at("z").at("offset_y_mm"), -12e-6 * 250, 1e-12);
+  EXPECT_EQ(f.at("x").at("offset_y_mm"), 0.0);
+}
+
+// Round trip: the files read back, the firmware's rule applied, the model's squareness error
+// recovered along the axis lines, where a shear holds it exactly (the model's error components
+// there are first order in the angles; elsewhere the shear differs by angle^2 x distance).
+TEST(SkewTarget, RrfAndFluidncRoundTripRecoverTheModelError) {
+  Machine m = vmc();
+  m.keep_only({"EC0Y", "EB0Z", "EA0Z"});
+  const ErrorModel model(m);
+  CompensationOptions o;
+  o.skew_reference_length = 137.5;
+  const ReadM556 m556 = read_m556(text_of(rrf_output(compensate_skew(m, o, "rrf")), "rrf.gcode"));
+  const auto fl = read_fluidnc(text_of(fluidnc_output(compensate_skew(m, o, "fluidnc")), "fluidnc-kinematics.yaml"));
+  const std::function<Vec3(const Vec3&)> rules[] = {[&](const Vec3& p) { return rrf_axis_transform(m556, p); },
+                                                    [&](const Vec3& p) { return fluidnc_transform(fl, p); }};
+  const Vec3 e0 = model.evaluate(std::vector<double>{0, 0, 0}).translation;
+  for (const auto& rule : rules) {
+    for (double y : {-250.0, -100.0, 130.0, 250.0}) {
+      const Vec3 e = model.evaluate(std::vector<double>{0, y, 0}).translation - e0;
+      EXPECT_NEAR(implied_error(rule, {0, y, 0}).x(), e.x(), 1e-9) << y;
+    }
+    for (double z : {-500.0, -250.0, -40.0}) {
+      const Vec3 e = model.evaluate(std::vector<double>{0, 0, z}).translation - e0;
+      const Vec3 held = implied_error(rule, {0, 0, z});
+      EXPECT_NEAR(held.x(), e.x(), 1e-9) << z;
+      EXPECT_NEAR(held.y(), e.y(), 1e-9) << z;
+    }
+    // Commanded by the firmware, the tool lands where programmed up to the shear/rotation difference.
+    double worst = 0.0;
+    for (double x : {-400.0, 400.0})
+      for (double y : {-250.0, 250.0})
+        for (double z : {-500.0, 0.0}) {
+          const Vec3 p(x, y, z), cmd = rule(p);
+          worst = std::max(
+              worst,
+              (cmd + model.evaluate(std::vector<double>{cmd.x(), cmd.y(), cmd.z()}).translation - e0 - p).norm());
+        }
+    EXPECT_LT(worst, 3e-7);
+  }
+  for (const char* t : {"rrf", "fluidnc"}) {
+    const auto c = compensate_skew(m, o, t);
+    EXPECT_LT(c.summary.residual.max_norm_after, 0.01 * c.summary.residual.max_norm_before) << t;
+    EXPECT_TRUE(c.summary.not_compensated.empty()) << t;
+  }
+}
+
+TEST(SkewTarget, RrfAndFluidncBadInput) {
+  CompensationOptions o;
+  o.skew_reference_length = 0.0;
+  EXPECT_THROW(compensate_skew(vmc(), o, "rrf"), InputError);
+  EXPECT_NO_THROW(compensate_skew(vmc(), o, "klipper"));  // Klipper's factors have no reference length
+  EXPECT_THROW(compensate_skew(vmc(), {}, "grbl"), ModelError);
+  o.skew_reference_length = 0.5;  // FluidNC: distance_mm from 1 mm
+  EXPECT_THROW(compensate_skew(vmc(), o, "fluidnc"), InputError);
+  EXPECT_NO_THROW(compensate_skew(vmc(), o, "rrf"));
+  const Machine five = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml");
+  EXPECT_THROW(compensate_skew(five, {}, "fluidnc"), InputError);
+  const auto c = compensate_skew(vmc(), {}, "fluidnc");
+  ASSERT_FALSE(c.summary.warnings.empty());
+  EXPECT_NE(c.summary.warnings[0].find("#849"), std::string::npos);
+  const std::string yaml = text_of(fluidnc_output(c), "fluidnc-kinematics.yaml");
+  EXPECT_NE(yaml.find("NEEDS A FLUIDNC BUILD"), std::string::npos);
 }
 
 }  // namespace

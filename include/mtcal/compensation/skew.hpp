@@ -1,4 +1,5 @@
-// Axis skew (squareness) compensation of open printer/CNC firmware: Klipper SET_SKEW / skew profiles, Marlin M852.
+// Axis skew (squareness) compensation of open printer/CNC firmware: Klipper SET_SKEW, Marlin M852, RepRapFirmware
+// M556, FluidNC Skewed kinematics.
 #pragma once
 
 #include <string>
@@ -17,14 +18,47 @@ struct SkewFactors {
   double xy = 0.0, xz = 0.0, yz = 0.0;
 };
 
+// The corrections RepRapFirmware and FluidNC hold: tangents added to the commanded coordinates,
+// x_cmd = x + y·xy + z·xz, y_cmd = y + z·yz (RepRapFirmware src/Movement/Move.cpp,
+// Move::AxisTransform() with M556 P0; FluidNC PR #849 Kinematics/Skewed.cpp with the offsets
+// under y and z). They invert the shear of SkewFactors exactly: xy = -f.xy, yz = -f.yz,
+// xz = f.xy·f.yz - f.xz.
+struct SkewTangents {
+  double xy = 0.0, xz = 0.0, yz = 0.0;
+};
+SkewTangents skew_tangents(const SkewFactors& f);
+
+// RepRapFirmware's M556 S<len> X<dev> Y<dev> Z<dev>: GCodes2.cpp case 556 stores X/S as
+// tangents[0] (tanXY), Y/S as tangents[1] (tanYZ), Z/S as tangents[2] (tanXZ).
+struct RrfM556 {
+  double s = 100.0, x = 0.0, y = 0.0, z = 0.0;
+};
+RrfM556 rrf_m556(const SkewTangents& t, double reference_length);
+// Move::AxisTransform() with compensateXY = true (M556 P0, the default): the machine position
+// commanded for a user position, axis X first (it reads the untransformed Y).
+Vec3 rrf_command(const RrfM556& m556, const Vec3& programmed);
+
+// FluidNC Skewed kinematics (PR #849, not in a release): per axis section i, distance_mm and
+// offset_<j>_mm; the matrix row i is offset_j / distance_mm + (i == j) and the motors get
+// m_j = sum_i p_i·row_i[j] (GenericCartesian::Mtx::transform()).
+struct FluidncSkew {
+  double distance[3] = {100.0, 100.0, 100.0};  // distance_mm of sections x, y, z
+  double offset[3][3] = {};                    // offset[i][j]: section i (x y z), offset_<j>_mm
+};
+FluidncSkew fluidnc_skew(const SkewTangents& t, double reference_length);
+Vec3 fluidnc_command(const FluidncSkew& s, const Vec3& programmed);
+
 struct SkewCompensation {
   SkewFactors factors;
+  SkewTangents tangents;          // the corrections (rrf, fluidnc)
+  double reference_length = 100;  // mm: M556 S, FluidNC distance_mm
   CompensationSummary summary;
 };
 
 // The factors of a machine with linear axes X, Y, Z along +x, +y, +z, from its squareness errors
 // (the orientation location errors of the linear axes, EC0Y EB0Z EA0Z ...), the residual by the
-// firmware's rule, and every other error listed as not held. `target` is "klipper" or "marlin".
+// firmware's rule, and every other error listed as not held. `target` is "klipper", "marlin",
+// "rrf" or "fluidnc"; o.skew_reference_length is the length M556 S / distance_mm refer to.
 // Throws InputError for another axis layout and when the model has no squareness to compensate.
 SkewCompensation compensate_skew(const Machine& m, const CompensationOptions& o, const std::string& target);
 

@@ -1,4 +1,5 @@
-// Open-firmware skew files: a Klipper skew profile and SET_SKEW line, Marlin's M852 line and Configuration.h defines.
+// Open-firmware skew files: a Klipper skew profile and SET_SKEW line, Marlin's M852 line and Configuration.h defines,
+// RepRapFirmware's M556 line, a FluidNC Skewed kinematics snippet.
 #pragma once
 
 #include <array>
@@ -16,6 +17,15 @@ TargetOutput klipper_output(const SkewCompensation& c);
 
 // marlin.gcode (M852 I J K, then M500) and Configuration.h (SKEW_CORRECTION, XY/XZ/YZ_SKEW_FACTOR).
 TargetOutput marlin_output(const SkewCompensation& c);
+
+// rrf.gcode: "M556 S<len> X<dev> Y<dev> Z<dev> P0" (deviations = corrections over S mm, nine
+// significant digits), for config.g.
+TargetOutput rrf_output(const SkewCompensation& c);
+
+// fluidnc-kinematics.yaml: the kinematics: Skewed: section (x, y, z with distance_mm and
+// offset_x_mm, offset_y_mm, offset_z_mm) of FluidNC pull request #849, with comments saying it
+// needs a build with that kinematics.
+TargetOutput fluidnc_output(const SkewCompensation& c);
 
 // The lengths AC, BD, AD of a square of side `side` that Klipper's calc_skew_factor() turns into
 // `factor`: a parallelogram with both sides `side` and cot(angle at A) = factor.
