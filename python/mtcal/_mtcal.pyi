@@ -835,11 +835,20 @@ class PositioningRuns:
     def __init__(self, targets: npt.ArrayLike, up: npt.ArrayLike, down: npt.ArrayLike, *, unit: str = ..., source: str = ...) -> None:
         """targets (m,), up and down (m, n): measured positions per target and run."""
     @property
+    def deviations(self) -> bool:
+        """True: up and down hold deviations (measured - target) in unit, not measured positions"""
+    @property
     def down(self) -> Any:
         """(m, n) measured"""
     @property
+    def metadata(self) -> list[tuple[str, str]]:
+        """What the file says beside the runs, (key, value) in file order"""
+    @property
     def source(self) -> str:
         ...
+    @property
+    def target_unit(self) -> str:
+        """Unit of the targets ('': the values' unit)"""
     @property
     def targets(self) -> npt.NDArray[np.float64]:
         ...
@@ -849,6 +858,9 @@ class PositioningRuns:
     @property
     def up(self) -> Any:
         """(m, n) measured"""
+    @property
+    def warnings(self) -> list[str]:
+        """What the reader kept but did not use"""
 
 class PredictionModel:
     """A workpiece error prediction model (YAML, docs/prediction.md)."""
