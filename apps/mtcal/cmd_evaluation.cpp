@@ -215,8 +215,10 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
               "targets, notes, metadata, warnings");
   c->add_option("--report", o->report, "Write an HTML report: deviations with ±2s bands per direction, tables");
   c->footer(
-      "Examples:\n  mtcal iso230-2 x_axis.dat\n  mtcal iso230-2 runs.csv --unit um --target-unit mm --json\n"
-      "  mtcal iso230-2 x_axis.rtl --report x.html\n  mtcal iso230-2 c_axis.rta --wrap 360");
+      "Examples:\n  mtcal iso230-2 examples/data/iso230-2-x-axis.csv\n"
+      "  mtcal iso230-2 examples/data/iso230-2-x-axis.csv --unit mm --json\n"
+      "  mtcal iso230-2 examples/instruments/x-axis.rtl --report x.html\n"
+      "Other forms: mtcal iso230-2 x_axis.dat; runs.csv --unit um --target-unit mm; c_axis.rta --wrap 360");
   auto b = std::make_shared<BallbarCliOptions>();
   auto* bb = app.add_subcommand("ballbar",
                                 "ISO 230-4 circular test: G per direction (least-squares and minimum-zone "
@@ -258,7 +260,7 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
   bb->footer(
       "Examples:\n  mtcal ballbar trace.csv --radius 150 --plane XY\n"
       "  mtcal ballbar trace.csv --radius 150 --to-params xy.yaml --terms squareness\n"
-      "  mtcal compensate -m machine.yaml --params xy.yaml --format klipper --out skew.cfg");
+      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --params xy.yaml --format klipper --out skew.cfg");
   return {{c, [o] { return run_iso230_2(*o); }}, {bb, [b] { return run_ballbar(*b); }}};
 }
 

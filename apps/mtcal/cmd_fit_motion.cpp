@@ -145,10 +145,11 @@ std::vector<Command> add_fit_motion_commands(CLI::App& app) {
       "Machine-readable output: errors[] with error, file, form, degree, targets, bidirectional, "
       "residual_rms, u_mean, reason, notes, parameters {NAME.suffix: {value, u}} (mm, rad); units, warnings, out");
   c->footer(
-      "Examples:\n  mtcal fit-motion x_axis.rtl --out x.yaml\n"
-      "  mtcal fit-motion x_axis.rtl EYX=x_straightness.rtl EBX=x_pitch.rtl --out x.yaml --json\n"
-      "  mtcal fit-motion EXX=x_axis.dat --form table --out x.yaml\n"
-      "  mtcal compensate -m machine.yaml --params x.yaml --format linuxcnc --out comp");
+      "Examples:\n  mtcal fit-motion examples/instruments/x-axis.rtl --out x-axis.yaml\n"
+      "  mtcal fit-motion EXX=examples/instruments/x-axis.rtl --form table --out x-table.yaml --json\n"
+      "  mtcal compensate -m examples/instruments/mill.yaml --params x-axis.yaml --format linuxcnc \\\n"
+      "      --linuxcnc-type 1 --points 11 --out comp-x\n"
+      "Several files: mtcal fit-motion x.rtl EYX=x-straightness.rtl EBX=x-pitch.rtl --out x.yaml");
   return {{c, [o] { return run_fit_motion(*o); }}};
 }
 
