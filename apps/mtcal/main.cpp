@@ -23,6 +23,7 @@
 #include "mtcal/report/error_map.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/version.hpp"
+#include "acceptance.hpp"
 #include "common.hpp"
 
 using namespace mtcal;
@@ -49,7 +50,7 @@ int run_eval_at(const EvalOptions& o, const Machine& m) {
     throw Error("the model gives a non-finite error at --at " + o.at + " (check the machine's error values)");
   const Json j = to_json(e);
   if (o.json_out) {
-    std::cout << j.dump(2) << "\n";
+    print_json(j);
     return 0;
   }
   int c = 0;
@@ -119,7 +120,7 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
   Json j = to_json(m, summary);
   if (!o.out.empty()) j["out"] = o.out;
   if (!o.report.empty()) j["report"] = o.report;
-  std::cout << j.dump(2) << "\n";
+  print_json(j);
   return 0;
 }
 
@@ -149,7 +150,7 @@ int run_errors(const ErrorsOptions& o) {
     write_parameters_report(o.report, m, listed, m.parameter_count(), o.nonzero,
                             {command_line(), o.model.params, "", ""});
   if (o.json_out) {
-    std::cout << to_json(m, std::span<const ErrorParameter>(listed)).dump(2) << "\n";
+    print_json(to_json(m, std::span<const ErrorParameter>(listed)));
     return 0;
   }
   std::cout << fmt::format("{:<10} {:<9} {:<10} {:>16}\n", "name", "kind", "unit", "value");
@@ -200,7 +201,7 @@ int run_effects(const EffectsOptions& o) {
   if (!o.report.empty())
     write_effects_report(o.report, m, q, o.around, effects, {command_line(), o.model.params, "", ""});
   if (o.json_out)
-    std::cout << to_json(m, q, o.around, effects).dump(2) << "\n";
+    print_json(to_json(m, q, o.around, effects));
   else
     print_effects(effects);
   return 0;
@@ -291,7 +292,10 @@ int run_command(const std::vector<Command>& commands) {
   try {
     const int rc = [&] {
       for (const auto& c : commands)
-        if (c.app->parsed()) return c.run();
+        if (c.app->parsed()) {
+          load_session_metadata();
+          return c.run();
+        }
       throw Error("no command");
     }();
     std::cout.flush();
@@ -318,6 +322,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
   app.require_subcommand(1);
   const std::vector<Command> commands = add_commands(app);
+  add_metadata_options(app);
   if (unknown_command(app, argc, argv)) return 2;
   try {
     app.parse(argc, argv);

@@ -1,6 +1,8 @@
 // HTML reports of the acceptance-test evaluations (report/evaluation.hpp).
 #include "mtcal/report/evaluation.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -23,36 +25,70 @@ std::string r_text(const std::optional<double>& v) { return v ? fmt::format("{:.
 }  // namespace
 
 void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
-                              const PositioningEvaluation& e) {
+                              const PositioningEvaluation& e, const ToleranceVerdict& verdict) {
   Report r("ISO 230-2 positioning of a linear axis", command);
   r.add_input("measurements", runs.source);
-  const std::string u = e.unit;
-  r.add_figure("accuracy A", fmt::format("{:.4f}", e.A), u);
-  r.add_figure("repeatability R", fmt::format("{:.4f}", e.R), u);
-  r.add_figure("reversal value B", fmt::format("{:.4f}", e.B), u);
-  r.add_figure("systematic positioning error E", fmt::format("{:.4f}", e.E), u);
-  r.add_figure("mean positioning error M", fmt::format("{:.4f}", e.M), u);
+  r.set_verdict(verdict);
+  // ISO 230-2:2014 reports in µm; an input in another length unit is converted.
+  const auto per = micrometres_per(e.unit);
+  const double k = per.value_or(1.0);
+  const std::string u = per ? "µm" : e.unit;
+  if (!per)
+    r.add_warning("The input's unit '" + e.unit + "' is not a known length unit: values are shown in it, not in µm.");
+  auto f2 = [&](double v) { return fmt::format("{:.2f}", v * k); };
+  r.add_figure("accuracy A", f2(e.A), u);
+  r.add_figure("systematic positioning error E", f2(e.E), u);
+  r.add_figure("mean positioning error M", f2(e.M), u);
+  r.add_figure("repeatability R", f2(e.R), u);
+  r.add_figure("reversal value B", f2(e.B), u);
   r.add_figure("targets x runs", fmt::format("{} x {}", e.targets.size(), e.runs), "per direction");
-  if (e.runs < 5) r.add_warning(fmt::format("ISO 230-2 asks for 5 runs per direction; this has {}.", e.runs));
+  if (e.runs < 5)
+    r.add_warning(
+        fmt::format("ISO 230-2:2014 clause 4.3 asks for 5 runs in each direction at each target; this "
+                    "test has {}: the standard deviations, and A and R with them, are less certain.",
+                    e.runs));
+  for (const auto& w : missing_acceptance_fields(r.metadata(), AcceptanceTest::Iso230_2))
+    r.add_warning("Test conditions: " + w + ".");
+
+  r.add_section("Results (ISO 230-2:2014 clause 2)");
+  r.add_table("Axis results (" + u + "): bidirectional and per approach direction",
+              {"quantity", "bidirectional", "unidirectional ↑", "unidirectional ↓"},
+              {{"accuracy A", f2(e.A), f2(e.A_up), f2(e.A_down)},
+               {"systematic positioning error E", f2(e.E), f2(e.E_up), f2(e.E_down)},
+               {"mean positioning error M", f2(e.M), "-", "-"},
+               {"repeatability R", f2(e.R), f2(e.R_up), f2(e.R_down)},
+               {"reversal value B", f2(e.B), "-", "-"},
+               {"mean reversal value B̄", f2(e.B_mean), "-", "-"}});
 
   r.add_section("Deviations");
   r.add_paragraph(
-      "Mean positional deviation per target and direction (x̄↑ up, x̄↓ down) with the ±2s bands that "
-      "define the accuracy A, and every run's deviation as a point.");
+      "Mean positional deviation per target and direction (x̄↑ up, x̄↓ down) with the ±2s bands that define the "
+      "accuracy A, every run's deviation as a point; the brackets right of the curves show A, E and M, those at a "
+      "target the largest repeatability R_i and reversal B_i.");
   json x = json::array(), up = x, dn = x, up_hi = x, up_lo = x, dn_hi = x, dn_lo = x, mean = x;
   json rx_up = x, ry_up = x, rx_dn = x, ry_dn = x;
+  double lo_a = 1e300, hi_a = -1e300, lo_e = 1e300, hi_e = -1e300, lo_m = 1e300, hi_m = -1e300;
+  std::size_t i_r = 0, i_b = 0;
   for (std::size_t i = 0; i < e.targets.size(); ++i) {
     const auto& t = e.targets[i];
     x.push_back(t.target);
-    up.push_back(t.mean_up);
-    dn.push_back(t.mean_down);
-    mean.push_back(t.mean);
-    up_hi.push_back(t.mean_up + 2 * t.s_up);
-    up_lo.push_back(t.mean_up - 2 * t.s_up);
-    dn_hi.push_back(t.mean_down + 2 * t.s_down);
-    dn_lo.push_back(t.mean_down - 2 * t.s_down);
-    for (double v : runs.up[i]) rx_up.push_back(t.target), ry_up.push_back(v - t.target);
-    for (double v : runs.down[i]) rx_dn.push_back(t.target), ry_dn.push_back(v - t.target);
+    up.push_back(t.mean_up * k);
+    dn.push_back(t.mean_down * k);
+    mean.push_back(t.mean * k);
+    up_hi.push_back((t.mean_up + 2 * t.s_up) * k);
+    up_lo.push_back((t.mean_up - 2 * t.s_up) * k);
+    dn_hi.push_back((t.mean_down + 2 * t.s_down) * k);
+    dn_lo.push_back((t.mean_down - 2 * t.s_down) * k);
+    lo_a = std::min({lo_a, t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down});
+    hi_a = std::max({hi_a, t.mean_up + 2 * t.s_up, t.mean_down + 2 * t.s_down});
+    lo_e = std::min({lo_e, t.mean_up, t.mean_down});
+    hi_e = std::max({hi_e, t.mean_up, t.mean_down});
+    lo_m = std::min(lo_m, t.mean);
+    hi_m = std::max(hi_m, t.mean);
+    if (t.R > e.targets[i_r].R) i_r = i;
+    if (std::abs(t.reversal) > std::abs(e.targets[i_b].reversal)) i_b = i;
+    for (double v : runs.up[i]) rx_up.push_back(t.target), ry_up.push_back((v - t.target) * k);
+    for (double v : runs.down[i]) rx_dn.push_back(t.target), ry_dn.push_back((v - t.target) * k);
   }
   auto band = [&](const json& lo, const json& hi, const char* colour, const char* name) {
     return json::array({json{{"type", "scatter"},
@@ -104,35 +140,103 @@ void write_positioning_report(const std::string& path, const std::string& comman
                   {"y", ry_dn},
                   {"name", "runs down"},
                   {"marker", {{"size", 4}, {"color", "rgb(214,39,40)"}}}});
-  r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + u + ")",
+  // Brackets: a vertical segment with end ticks and a label, in data coordinates.
+  const double x0 = e.targets.front().target, x1 = e.targets.back().target;
+  const double span = std::abs(x1 - x0) > 0 ? std::abs(x1 - x0) : 1.0;
+  json shapes = json::array(), notes = json::array();
+  auto bracket = [&](double xb, double lo, double hi, const std::string& label, const char* colour) {
+    const double tick = span * 0.008;
+    for (auto [xa, ya, xc, yc] : {std::array{xb, lo * k, xb, hi * k}, std::array{xb - tick, lo * k, xb + tick, lo * k},
+                                  std::array{xb - tick, hi * k, xb + tick, hi * k}})
+      shapes.push_back({{"type", "line"},
+                        {"x0", xa},
+                        {"y0", ya},
+                        {"x1", xc},
+                        {"y1", yc},
+                        {"line", {{"color", colour}, {"width", 2}}}});
+    notes.push_back({{"x", xb},
+                     {"y", hi * k},
+                     {"text", label},
+                     {"showarrow", false},
+                     {"yanchor", "bottom"},
+                     {"font", {{"color", colour}, {"size", 13}}}});
+  };
+  const double right = std::max(x0, x1);
+  bracket(right + 0.04 * span, lo_e, hi_e, fmt::format("E {:.2f}", e.E * k), "rgb(44,160,44)");
+  bracket(right + 0.10 * span, lo_m, hi_m, fmt::format("M {:.2f}", e.M * k), "rgb(0,0,0)");
+  bracket(right + 0.16 * span, lo_a, hi_a, fmt::format("A {:.2f}", e.A * k), "rgb(148,103,189)");
+  {
+    const auto& t = e.targets[i_r];
+    double lo = std::min(t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down);
+    double hi = std::max(t.mean_up + 2 * t.s_up, t.mean_down + 2 * t.s_down);
+    if (t.R == t.R_up && t.R_up > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
+      lo = t.mean_up - 2 * t.s_up, hi = t.mean_up + 2 * t.s_up;
+    else if (t.R == t.R_down && t.R_down > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
+      lo = t.mean_down - 2 * t.s_down, hi = t.mean_down + 2 * t.s_down;
+    bracket(t.target + 0.012 * span, lo, hi, fmt::format("R {:.2f}", e.R * k), "rgb(255,127,14)");
+    const auto& b = e.targets[i_b];
+    bracket(b.target - 0.012 * span, std::min(b.mean_up, b.mean_down), std::max(b.mean_up, b.mean_down),
+            fmt::format("B {:.2f}", e.B * k), "rgb(140,86,75)");
+  }
+  r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + runs.unit +
+                 "), ISO 230-2:2014 figure layout",
              {{"data", data},
               {"layout",
-               {{"xaxis", {{"title", {{"text", "target (" + u + ")"}}}}},
-                {"yaxis", {{"title", {{"text", "deviation (" + u + ")"}}}}}}}});
+               {{"xaxis",
+                 {{"title", {{"text", "target position (" + runs.unit + ")"}}},
+                  {"range", {std::min(x0, x1) - 0.03 * span, right + 0.22 * span}}}},
+                {"yaxis", {{"title", {{"text", "positional deviation (" + u + ")"}}}}},
+                {"legend", {{"orientation", "h"}, {"y", -0.18}}},
+                {"shapes", shapes},
+                {"annotations", notes}}}});
 
-  r.add_section("Per target");
+  r.add_section("Per target (ISO 230-2:2014 table layout)");
+  std::vector<std::string> cols = {"target i"};
+  for (std::size_t i = 0; i < e.targets.size(); ++i) cols.push_back(fmt::format("{}", i + 1));
   std::vector<std::vector<std::string>> rows;
-  for (const auto& t : e.targets)
-    rows.push_back({fmt::format("{:g}", t.target), fmt::format("{:.5f}", t.mean_up), fmt::format("{:.5f}", t.mean_down),
-                    fmt::format("{:.5f}", t.mean), fmt::format("{:.5f}", t.reversal), fmt::format("{:.5f}", t.s_up),
-                    fmt::format("{:.5f}", t.s_down), fmt::format("{:.5f}", t.R_up), fmt::format("{:.5f}", t.R_down),
-                    fmt::format("{:.5f}", t.R)});
-  r.add_table("ISO 230-2 quantities per target (" + u + ")",
-              {"target", "x̄↑", "x̄↓", "x̄", "B_i", "s↑", "s↓", "R↑", "R↓", "R_i"}, rows);
-  r.add_table("Axis (" + u + ")", {"A", "A↑", "A↓", "B", "B̄", "R", "R↑", "R↓", "E", "E↑", "E↓", "M"},
-              {{fmt::format("{:.5f}", e.A), fmt::format("{:.5f}", e.A_up), fmt::format("{:.5f}", e.A_down),
-                fmt::format("{:.5f}", e.B), fmt::format("{:.5f}", e.B_mean), fmt::format("{:.5f}", e.R),
-                fmt::format("{:.5f}", e.R_up), fmt::format("{:.5f}", e.R_down), fmt::format("{:.5f}", e.E),
-                fmt::format("{:.5f}", e.E_up), fmt::format("{:.5f}", e.E_down), fmt::format("{:.5f}", e.M)}});
+  auto row = [&](const std::string& label, auto&& value) {
+    std::vector<std::string> rr{label};
+    for (std::size_t i = 0; i < e.targets.size(); ++i) rr.push_back(value(i));
+    rows.push_back(std::move(rr));
+  };
+  row("target position P_i (" + runs.unit + ")",
+      [&](std::size_t i) { return fmt::format("{:g}", e.targets[i].target); });
+  for (std::size_t j = 0; j < e.runs; ++j)
+    row(fmt::format("x_i{} ↑ run {}", j + 1, j + 1), [&](std::size_t i) {
+      return j < runs.up[i].size() ? f2(runs.up[i][j] - e.targets[i].target) : std::string("-");
+    });
+  for (std::size_t j = 0; j < e.runs; ++j)
+    row(fmt::format("x_i{} ↓ run {}", j + 1, j + 1), [&](std::size_t i) {
+      return j < runs.down[i].size() ? f2(runs.down[i][j] - e.targets[i].target) : std::string("-");
+    });
+  const auto& T = e.targets;
+  row("x̄_i↑", [&](std::size_t i) { return f2(T[i].mean_up); });
+  row("x̄_i↓", [&](std::size_t i) { return f2(T[i].mean_down); });
+  row("x̄_i", [&](std::size_t i) { return f2(T[i].mean); });
+  row("s_i↑", [&](std::size_t i) { return f2(T[i].s_up); });
+  row("s_i↓", [&](std::size_t i) { return f2(T[i].s_down); });
+  row("x̄_i↑ + 2s_i↑", [&](std::size_t i) { return f2(T[i].mean_up + 2 * T[i].s_up); });
+  row("x̄_i↑ − 2s_i↑", [&](std::size_t i) { return f2(T[i].mean_up - 2 * T[i].s_up); });
+  row("x̄_i↓ + 2s_i↓", [&](std::size_t i) { return f2(T[i].mean_down + 2 * T[i].s_down); });
+  row("x̄_i↓ − 2s_i↓", [&](std::size_t i) { return f2(T[i].mean_down - 2 * T[i].s_down); });
+  row("reversal B_i", [&](std::size_t i) { return f2(T[i].reversal); });
+  row("R_i↑ = 4s_i↑", [&](std::size_t i) { return f2(T[i].R_up); });
+  row("R_i↓ = 4s_i↓", [&](std::size_t i) { return f2(T[i].R_down); });
+  row("R_i", [&](std::size_t i) { return f2(T[i].R); });
+  r.add_table("Deviations x_ij = measured − target and the statistics per target (" + u + ")", cols, rows);
   r.write(path);
 }
 
 void write_ballbar_report(const std::string& path, const std::string& command, const BallbarTrace& trace,
                           const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis,
-                          const std::string& plane, double radius, double feed) {
+                          const std::string& plane, double radius, double feed, const ToleranceVerdict& verdict) {
   const std::vector<TracePoint>& t = trace.points;
   Report r("ISO 230-4 circular test, plane " + plane, command);
   r.add_input("trace", trace.source);
+  r.set_verdict(verdict);
+  const ReportMetadata& meta = r.metadata();
+  for (const auto& w : missing_acceptance_fields(meta, AcceptanceTest::Iso230_4))
+    if (!(feed > 0 && w.find("(feed)") != std::string::npos)) r.add_warning("Recording conditions: " + w + ".");
   r.add_figure("nominal radius", fmt::format("{:g}", radius), "mm");
   if (feed > 0) r.add_figure("feed", fmt::format("{:g}", feed), "mm/min");
   if (e.cw) r.add_figure("G (CW)", fmt::format("{:.2f}", e.cw->G * 1e3), "µm");
@@ -140,6 +244,34 @@ void write_ballbar_report(const std::string& path, const std::string& command, c
   if (e.G_b) r.add_figure("G(b)", fmt::format("{:.2f}", *e.G_b * 1e3), "µm");
   if (e.H) r.add_figure("H", fmt::format("{:.2f}", *e.H * 1e3), "µm");
   r.add_figure("F max / min", fmt::format("{:.2f} / {:.2f}", e.F_max * 1e3, e.F_min * 1e3), "µm");
+  {
+    // ISO 230-4:2005 clause 6: the conditions a circular test's result is only valid with.
+    auto given = [&](std::string_view key) {
+      const std::string* v = meta.get(key);
+      return v ? *v : std::string("not stated");
+    };
+    bool cw = false, ccw = false;
+    for (const auto& s : t) (s.direction == CircleDirection::CW ? cw : ccw) = true;
+    std::string temperature = "not stated";
+    for (std::string_view key : {"temperature", "temperature_air", "temperature_machine", "temperature_material"})
+      if (const std::string* v = meta.get(key))
+        temperature = (temperature == "not stated" ? std::string() : temperature + "; ") +
+                      std::string(metadata_label(key)) + " " + *v;
+    r.add_section("Recording conditions (ISO 230-4:2005 clause 6)");
+    r.add_table("Conditions of the test", {"condition", "value"},
+                {{"plane", plane},
+                 {"nominal radius", fmt::format("{:g} mm", radius)},
+                 {"feed", feed > 0 ? fmt::format("{:g} mm/min", feed) : given("feed")},
+                 {"direction of the contouring", cw && ccw ? "clockwise and counter-clockwise"
+                                                 : cw      ? "clockwise"
+                                                           : "counter-clockwise"},
+                 {"start position", given("start")},
+                 {"data capture", given("data_capture")},
+                 {"compensation", given("compensation")},
+                 {"position of the centre", given("centre")},
+                 {"temperature", temperature},
+                 {"instrument", given("instrument")}});
+  }
   r.add_section("Trace");
   r.add_paragraph(
       "Radial deviation of the bar from the nominal radius (µm), magnified round the circle, for both "
