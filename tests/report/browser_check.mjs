@@ -83,7 +83,8 @@ for (const spec of specs) {
   page.on('pageerror', (e) => problems.push(`JavaScript error: ${e.message}`));
   page.on('console', (m) => { if (m.type() === 'error') problems.push(`console error: ${m.text()}`); });
   page.on('dialog', async (d) => { problems.push(`dialog opened: ${d.message()}`); await d.dismiss(); });
-  page.on('request', (r) => { if (!r.url().startsWith('file:') && !r.url().startsWith('data:')) problems.push(`external request: ${r.url()}`); });
+  // blob: URLs are objects of the page itself (Plotly.toImage draws the SVG through one).
+  page.on('request', (r) => { if (!/^(file|data|blob):/.test(r.url())) problems.push(`external request: ${r.url()}`); });
   await page.goto('file://' + file, { waitUntil: 'load' });
   // Every plot div must hold a rendered Plotly graph with at least one trace with data.
   await page.waitForFunction((n) => document.querySelectorAll('.plot .main-svg').length >= n || n === 0, expected,
@@ -118,6 +119,8 @@ for (const spec of specs) {
   if (tables < 1) problems.push('no summary table');
   const shot = join(outDir, basename(file).replace(/\.html$/, '') + '.png');
   await page.screenshot({ path: shot, fullPage: true });
+  // One 1280x800 screen with the first plot in view, as a reader sees it.
+  await page.evaluate(() => { const p = document.querySelector('figure'); if (p) p.scrollIntoView({ block: 'center' }); });
   await page.screenshot({ path: shot.replace(/\.png$/, '-1280x800.png') });
   const pdf = join(outDir, basename(file).replace(/\.html$/, '') + '.pdf');
   await page.pdf({ path: pdf, format: 'A4', printBackground: true });
