@@ -23,7 +23,10 @@ nlohmann::json machine_scene_layout() {
            {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
             {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
             {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
-            {"aspectmode", "data"}}},
+            {"aspectmode", "data"},
+            // Plotly's default eye (1.25, 1.25, 1.25) crops the corners of a long workspace at
+            // a 1280x800 window; from further out the whole scene and its tick labels show.
+            {"camera", {{"eye", {{"x", 1.7}, {"y", 1.7}, {"z", 1.2}}}}}}},
           {"showlegend", false}};
 }
 
