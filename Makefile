@@ -36,8 +36,12 @@ test-linuxcnc: DEPS_FLAGS = --linuxcnc
 test-linuxcnc: build
 	tests/linuxcnc/run $(MTCAL)
 
+# The benchmarks, then the ratios against their baselines of the same run (bench/ratios.py) and
+# `eval --grid` against the grid-aware numpy peer (bench/grid_peer.py); docs/performance.md.
 bench: build
-	$(BUILD)/bench/mtcal_bench --benchmark_min_time=0.5
+	$(BUILD)/bench/mtcal_bench --benchmark_min_time=0.5 --benchmark_out=$(BUILD)/bench.json
+	/usr/bin/python3 bench/ratios.py $(BUILD)/bench.json
+	/usr/bin/python3 bench/grid_peer.py --build $(BUILD)
 
 # The suite under AddressSanitizer + UndefinedBehaviorSanitizer (CMake preset "asan").
 test-sanitize: deps

@@ -40,6 +40,18 @@ void threads(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_Triples_360)->Apply(threads);
+
+// 1,000 indexations: C(1000, 3) = 166 M triples, two passes (issue 18 target: <= 10 s on 2 cores).
+void BM_Triples_1000(benchmark::State& state) {
+  const auto c = circle_centres(1000);
+  const auto axis = NominalRotaryAxis::by_letter('C');
+  for (auto _ : state) {
+    auto e = estimate_by_triples(axis, c, TriplesOptions{2.0, 40, static_cast<int>(state.range(0))});
+    benchmark::DoNotOptimize(e.value.data());
+  }
+  state.SetItemsProcessed(state.iterations() * 1000 * 999 * 998 / 6);
+}
+BENCHMARK(BM_Triples_1000)->ArgName("threads")->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_LeastSquares_360)->Unit(benchmark::kMillisecond);
 
 }  // namespace

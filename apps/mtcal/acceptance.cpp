@@ -56,7 +56,11 @@ void warn_missing_metadata(AcceptanceTest test, bool acceptance_run) {
 }
 
 void print_json(Json j) {
-  if (j.is_object() && !session_metadata().empty()) j["metadata"] = to_json(session_metadata());
+  // The user's fields join (and win over) what an input file's header gave under "metadata".
+  if (j.is_object() && !session_metadata().empty()) {
+    if (!j.contains("metadata") || !j["metadata"].is_object()) j["metadata"] = Json::object();
+    for (const auto& [k, v] : session_metadata().entries()) j["metadata"][k] = v;
+  }
   std::cout << j.dump(2) << "\n";
 }
 

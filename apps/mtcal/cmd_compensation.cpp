@@ -26,6 +26,7 @@ struct CompensateOptions {
   std::size_t points = 0, residual_points = 11;
   int linuxcnc_type = 1, threads = 0;
   double skew_reference_length = 100.0;
+  double fanuc_unit = 0.001;
 };
 
 CompensationOptions library_options(const Machine& m, const CompensateOptions& o) {
@@ -35,6 +36,7 @@ CompensationOptions library_options(const Machine& m, const CompensateOptions& o
   c.threads = o.threads;
   c.comp_file_type = o.linuxcnc_type;
   c.skew_reference_length = o.skew_reference_length;
+  c.detection_unit = o.fanuc_unit;
   if (!o.reference.empty()) c.reference = parse_joint_values(m, o.reference, "--reference");
   if (!o.range.empty()) {
     const JointBox box = parse_box(m, o.range, "--range");
@@ -95,7 +97,7 @@ int run_tables(const CompensateOptions& o) {
 std::vector<Command> add_compensation_commands(CLI::App& app) {
   auto o = std::make_shared<CompensateOptions>();
   std::string formats;
-  for (const auto& t : compensation_targets()) formats += fmt::format("\n  {:<10} {}", t.name, t.description);
+  for (const auto& t : compensation_targets()) formats += fmt::format("\n  {:<12}{}", t.name, t.description);
   auto* c = app.add_subcommand(
       "compensate",
       "Compensation from the error model: the files a controller loads (--format, --out DIR) with the residual "
@@ -116,16 +118,23 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
   c->add_option(
       "--skew-reference-length", o->skew_reference_length,
       "rrf, fluidnc: the length (mm) the skew corrections refer to, M556 S / FluidNC distance_mm (default 100)");
+  c->add_option("--fanuc-unit", o->fanuc_unit,
+                "FANUC detection unit: mm (linear) and deg (rotary) per count of a pitch error value (default 0.001)")
+      ->check(CLI::Range(1e-6, 1.0));
   c->add_option("--residual-points", o->residual_points, "Grid values per axis for the residual before/after")
       ->check(CLI::Range(2, 1000));
   c->add_option("--report", o->report, "With --format: an HTML page of the before/after and what is not held");
   c->add_option("--threads", o->threads, "Threads for the residual (0: all cores)")->check(CLI::Range(0, 4096));
   c->footer(
       "Examples:\n"
-      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format linuxcnc --out comp/\n"
-      "  mtcal compensate -m machine.yaml --params identified.yaml --format linuxcnc --linuxcnc-type 0 \\\n"
+      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format linuxcnc --out comp-vmc/\n"
+      "  mtcal compensate -m examples/machines/hu40t-wCBXfYZt.yaml --params identified.yaml --format linuxcnc "
+      "--linuxcnc-type 0 \\\n"
       "      --points 101 --range \"X=-300:300\" --out comp/ --json\n"
       "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format rrf --skew-reference-length 200 --out rrf/\n"
+      "  mtcal compensate -m examples/machines/hu40t-wCBXfYZt.yaml --format etalon --out etalon/\n"
+      "  mtcal errors -m examples/machines/hu40t-wCBXfYZt.yaml --params etalon/volcomp.etalon   # read back\n"
+      "  mtcal compensate -m machine.yaml --format fanuc --fanuc-unit 0.0001 --out fanuc/\n"
       "  mtcal compensate -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/pocket.nc \\\n"
       "      --origin \"X=-40,Y=-25,Z=-400\" --out pocket-corrected.nc\n"
       "Tables: --out is a new (or empty) directory, written completely or not at all. Program: --out is a file.\n"

@@ -13,7 +13,10 @@
 #include "common.hpp"
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/identification/machine_params.hpp"
+#include "mtcal/io/estimated_parameters_file.hpp"
 #include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/io/files.hpp"
 #include "mtcal/io/evaluation_json.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
@@ -24,7 +27,8 @@ namespace mtcal::cli {
 namespace {
 
 struct Iso2302Options {
-  std::string file, unit = "mm", report, format = "auto";
+  std::string file, unit = "mm", target_unit, report, format = "auto";
+  double wrap = 0;
   bool json_out = false;
   ToleranceOptions tol;
 };
@@ -38,52 +42,44 @@ std::vector<std::pair<std::string, double>> positioning_values(const Positioning
   return {{"A", e.A * *k}, {"E", e.E * *k}, {"M", e.M * *k}, {"R", e.R * *k}, {"B", e.B * *k}};
 }
 
-void print_positioning(const PositioningEvaluation& e) {
-  std::cout << fmt::format("ISO 230-2: {} targets x {} runs per direction, unit {}\n", e.targets.size(), e.runs,
-                           e.unit);
-  std::cout << fmt::format("{:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "target", "mean_up",
-                           "mean_down", "B_i", "s_up", "s_down", "R_i", "mean");
-  for (const auto& t : e.targets)
-    std::cout << fmt::format("{:>10g} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f} {:>10.5f}\n",
-                             t.target, t.mean_up, t.mean_down, t.reversal, t.s_up, t.s_down, t.R, t.mean);
-  std::cout << fmt::format("A {:.5f} (up {:.5f}, down {:.5f})   R {:.5f} (up {:.5f}, down {:.5f})\n", e.A, e.A_up,
-                           e.A_down, e.R, e.R_up, e.R_down);
-  std::cout << fmt::format("B {:.5f} (mean {:.5f})   E {:.5f} (up {:.5f}, down {:.5f})   M {:.5f}   [{}]\n", e.B,
-                           e.B_mean, e.E, e.E_up, e.E_down, e.M, e.unit);
-}
-
 int run_iso230_2(const Iso2302Options& o) {
   std::vector<std::string> inputs = metadata_inputs();
   inputs.insert(inputs.end(), {o.file, o.tol.file});
   check_outputs(inputs, {o.report});
-  const PositioningRuns runs = read_positioning_file(o.file, o.format, o.unit);
+  PositioningRuns runs = read_positioning_file(o.file, o.format, o.unit, o.target_unit);
+  if (o.wrap > 0) runs = merge_wrapped_targets(runs, o.wrap);
   const PositioningEvaluation e = evaluate_positioning(runs);
   const std::string* axis = session_metadata().get("axis");
   const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Iso230_2, axis ? *axis : "");
   const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(positioning_values(e), limits);
+  if (!o.report.empty()) write_positioning_report(o.report, command_line(), runs, e, verdict);
+  // After the work: a failure is one line on stderr, never warnings and then an error.
+  for (const auto& w : runs.warnings) std::cerr << "mtcal: warning: " << w << "\n";
   if (o.tol.given() && limits.empty())
     std::cerr << "mtcal: warning: the tolerance file has no iso230-2 entry for axis '" << (axis ? *axis : "")
               << "' nor 'any': nothing checked\n";
-  if (!o.report.empty()) write_positioning_report(o.report, command_line(), runs, e, verdict);
-  // After the work, so that a failing run says one thing: its error.
   warn_missing_metadata(AcceptanceTest::Iso230_2, !o.report.empty() || o.tol.given());
   if (o.json_out) {
     Json j = to_json(e);
+    Json meta = Json::object();
+    for (const auto& [k, v] : runs.metadata) meta[k] = v;  // a key given twice keeps its last value
+    j["metadata"] = meta;                                  // print_json adds the user's --meta/--meta-file fields to it
+    j["warnings"] = runs.warnings;
     if (!verdict.empty()) j["tolerances"] = to_json(verdict);
     if (!o.report.empty()) j["report"] = o.report;
     print_json(j);
     return verdict_exit_code(o.tol, verdict);
   }
-  print_positioning(e);
+  std::cout << positioning_text(runs, e);
   print_verdict(verdict);
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
   return verdict_exit_code(o.tol, verdict);
 }
 
 struct BallbarCliOptions {
-  std::string trace, plane = "XY", direction, report, out, centre;
+  std::string trace, plane = "XY", direction, report, out, centre, to_params, terms = "squareness,scale,backlash";
   ModelOptions model;
-  double radius = 150, feed = 0, overshoot_start = 0, overshoot_stop = 0, step_deg = 1;
+  double radius = 0, feed = 0, overshoot_start = 0, overshoot_stop = 0, step_deg = 1;
   bool predict = false, json_out = false;
   ToleranceOptions tol;
 };
@@ -143,17 +139,37 @@ void print_ballbar(const BallbarCliOptions& o, const BallbarEvaluation& e,
 }
 
 int run_ballbar(const BallbarCliOptions& o) {
+  // The bar's length defines the test: no default that could silently differ from the one used.
+  if (o.radius <= 0)
+    throw InputError({"--radius", 0, ""},
+                     "expected the nominal radius of the test (the ballbar's length, e.g. "
+                     "--radius 150 or --radius 150mm); it has no default");
   if (o.predict) return run_ballbar_predict(o);
   if (o.trace.empty()) throw InputError({"ballbar", 0, ""}, "expected a trace file (or --predict)");
   std::vector<std::string> inputs = metadata_inputs();
   inputs.insert(inputs.end(), {o.trace, o.tol.file});
-  check_outputs(inputs, {o.report});
+  check_outputs(inputs, {o.report, o.to_params});
   BallbarOptions bo;
   bo.nominal_radius = o.radius;
   bo.overshoot_start = o.overshoot_start;
   bo.overshoot_stop = o.overshoot_stop;
   if (o.direction == "cw") bo.only = CircleDirection::CW;
   if (o.direction == "ccw") bo.only = CircleDirection::CCW;
+  BallbarParamsOptions po{false, false, false};
+  if (!o.to_params.empty()) {
+    if (bo.only) throw InputError({"--to-params", 0, ""}, "--to-params needs both directions (not with --direction)");
+    for (const auto& term : split_list(o.terms)) {
+      if (term == "squareness")
+        po.squareness = true;
+      else if (term == "scale")
+        po.scale = true;
+      else if (term == "backlash")
+        po.backlash = true;
+      else
+        throw InputError({"--terms", 0, ""}, "expected squareness, scale or backlash, found '" + term + "'");
+    }
+    AtomicFile check(o.to_params);  // refuse a bad path before the work
+  }
   const BallbarTrace t = read_ballbar_csv(o.trace);
   check_directions(t, bo);
   const auto e = evaluate_ballbar(t, bo);
@@ -175,6 +191,15 @@ int run_ballbar(const BallbarCliOptions& o) {
     m.set("feed", fmt::format("{:g} mm/min", o.feed));
     set_session_metadata(std::move(m));
   }
+  std::vector<EstimatedError> params;
+  if (!o.to_params.empty()) {
+    params = ballbar_parameters(*diagnosis, o.plane, po, t.source);
+    write_estimated_parameters(
+        o.to_params, params,
+        fmt::format("Squareness, scale and reversal of the {} plane from a ballbar trace (mtcal ballbar "
+                    "--to-params; internal units mm, rad)\n{}",
+                    o.plane, command_line()));
+  }
   if (!o.report.empty())
     write_ballbar_report(o.report, command_line(), t, e, diagnosis, o.plane, o.radius, o.feed, verdict);
   warn_missing_metadata(AcceptanceTest::Iso230_4, !o.report.empty() || o.tol.given());
@@ -182,11 +207,28 @@ int run_ballbar(const BallbarCliOptions& o) {
     Json j = to_json(e, diagnosis, o.plane, o.radius, o.feed);
     if (!verdict.empty()) j["tolerances"] = to_json(verdict);
     if (!o.report.empty()) j["report"] = o.report;
+    if (!o.to_params.empty()) {
+      Json pj = Json::object();
+      for (const auto& p : params) {
+        if (p.motion) {
+          for (std::size_t k = 0; k < p.motion->parameter_count(); ++k)
+            if (p.motion->parameter(k) != 0)
+              pj[p.name.str() + "." + p.motion->parameter_suffix(k)] = {{"value", p.motion->parameter(k)},
+                                                                        {"u", p.uncertainty[k]}};
+        } else {
+          pj[p.name.str()] = {{"value", p.value}, {"u", p.uncertainty[0]}};
+        }
+      }
+      j["parameters"] = pj;
+      j["to_params"] = o.to_params;
+    }
     print_json(j);
     return verdict_exit_code(o.tol, verdict);
   }
   print_ballbar(o, e, diagnosis);
   print_verdict(verdict);
+  for (const auto& p : params) std::cout << fmt::format("parameter {}: {}\n", p.name.str(), p.method);
+  if (!o.to_params.empty()) std::cout << "wrote " << o.to_params << "\n";
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
   return verdict_exit_code(o.tol, verdict);
 }
@@ -199,36 +241,50 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
                                "ISO 230-2 linear positioning: accuracy A, repeatability R, reversal B, "
                                "systematic and mean positioning errors E and M, per target and per axis");
   c->add_option("file", o->file,
-                "Measurements: CSV target,run,direction,measured (direction up/down or +/-), or "
-                "the key=value .dat form (TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT)")
+                "Measurements: a table (CSV/TSV, ';' ',' or tab, headers such as target,run,direction,measured "
+                "or target,direction,deviation), the key=value .dat form (TGT_DATA[i], REF_DATA_FWD[i,j], "
+                "REF_DATA_BWD[i,j], UNIT), or a Renishaw LaserXL/CARTO .rtl/.rta export")
       ->required();
-  c->add_option("--unit", o->unit, "Unit of a CSV's values (a .dat file says its own)")->capture_default_str();
-  c->add_option("--format", o->format, "Input format: auto (by .dat extension or content), csv or dat")
-      ->check(CLI::IsMember({"auto", "csv", "dat"}))
+  c->add_option("--unit", o->unit, "Unit of a table's values unless its header says ('deviation [um]')")
       ->capture_default_str();
+  c->add_option("--target-unit", o->target_unit, "Unit of a table's targets (default: the values' unit)");
+  c->add_option("--format", o->format, "Input format: auto (by extension or content), csv, dat or laser")
+      ->check(CLI::IsMember({"auto", "csv", "dat", "laser"}))
+      ->capture_default_str();
+  c->add_option("--wrap", o->wrap,
+                "Rotary test: targets one turn apart (this many target units, e.g. 360) are one position "
+                "of the axis; their runs are pooled")
+      ->check(CLI::PositiveNumber & kFinite);
   c->add_flag("--json", o->json_out,
-              "Machine-readable output: A A_up A_down B B_mean R R_up R_down E E_up E_down M at "
-              "the top level (input unit), per-target values under targets");
+              "Machine-readable output, full precision: A A_up A_down B B_mean R R_up R_down E E_up E_down M at "
+              "the top level (input unit; null where the test does not define them), per-target values under "
+              "targets, notes, metadata, warnings");
   c->add_option("--report", o->report,
                 "Write an HTML report (µm): results A, E, M, R, B, deviations with ±2s bands per direction and "
                 "the results marked, the per-target table in ISO 230-2's layout");
   add_tolerance_options(c, o->tol, "A, E, M, R, B (bidirectional; a tolerance file picks the entry of --meta axis=)");
+  c->footer(
+      "Examples:\n  mtcal iso230-2 x_axis.dat\n  mtcal iso230-2 runs.csv --unit um --target-unit mm --json\n"
+      "  mtcal iso230-2 x_axis.rtl --report x.html\n  mtcal iso230-2 c_axis.rta --wrap 360");
   auto b = std::make_shared<BallbarCliOptions>();
   auto* bb = app.add_subcommand("ballbar",
                                 "ISO 230-4 circular test: G per direction (least-squares and minimum-zone "
                                 "centres), G(b), H, F from a ballbar trace; or --predict the trace of a "
                                 "machine model");
   bb->add_option("trace", b->trace, "Trace CSV direction,angle_deg,radius_mm (direction cw or ccw)");
-  bb->add_option("--radius", b->radius, "Nominal radius, mm")
-      ->check(CLI::PositiveNumber & kFinite)
-      ->capture_default_str();
+  bb->add_option("--radius", b->radius,
+                 "Nominal radius (the ballbar's length), mm or with a unit: 150, 150mm, 6in; required")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(CLI::PositiveNumber & kFinite);
   bb->add_option("--plane", b->plane, "Test plane: XY, YZ or ZX")
       ->check(CLI::IsMember({"XY", "YZ", "ZX"}))
       ->capture_default_str();
   bb->add_option("--feed", b->feed, "Feed, mm/min (recorded in the output)")->check(kFinite);
   bb->add_option("--overshoot-start", b->overshoot_start, "Degrees of travel ignored after each direction's start")
+      ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
       ->check(CLI::Range(0.0, 180.0) & kFinite);
   bb->add_option("--overshoot-stop", b->overshoot_stop, "Degrees of travel ignored before each direction's end")
+      ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
       ->check(CLI::Range(0.0, 180.0) & kFinite);
   bb->add_option("--direction", b->direction, "Evaluate one direction only: cw or ccw (no G(b), no H)")
       ->check(CLI::IsMember({"cw", "ccw"}));
@@ -243,8 +299,17 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
   bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict");
   bb->add_option("--centre", b->centre, "Centre of the circle as joint values, e.g. \"X=0,Y=0,Z=-100\" (mm, deg)");
   bb->add_option("--step-deg", b->step_deg, "Angle between predicted samples, deg")
+      ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
       ->check(CLI::Range(0.01, 10.0) & kFinite);
   bb->add_option("--out", b->out, "Trace CSV to write, with --predict");
+  bb->add_option("--to-params", b->to_params,
+                 "Write the diagnostics as a parameter file (--params): squareness (EC0Y for XY, EA0Z for YZ, "
+                 "EB0Z for ZX), scale mismatch and backlash as the two axes' positioning errors");
+  bb->add_option("--terms", b->terms, "With --to-params: which of squareness, scale, backlash")->capture_default_str();
+  bb->footer(
+      "Examples:\n  mtcal ballbar trace.csv --radius 150 --plane XY\n"
+      "  mtcal ballbar trace.csv --radius 150 --to-params xy.yaml --terms squareness\n"
+      "  mtcal compensate -m machine.yaml --params xy.yaml --format klipper --out skew.cfg");
   return {{c, [o] { return run_iso230_2(*o); }}, {bb, [b] { return run_ballbar(*b); }}};
 }
 

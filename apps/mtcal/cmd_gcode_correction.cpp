@@ -1,5 +1,4 @@
-// mtcal compensate --gcode: the corrected G-code program (issue 14,
-// docs/compensation-gcode.md).
+// mtcal compensate --gcode: the corrected G-code program (docs/compensation-gcode.md).
 #include "cmd_gcode_correction.hpp"
 
 #include "acceptance.hpp"

@@ -45,6 +45,7 @@ void add_estimate_options(CLI::App* c, EstimateOptions& e, bool required) {
   c->add_flag("--pretravel", e.pretravel, "Also estimate one probe pre-travel for all facet touches (mm)");
   c->add_option("--sigma-um", e.sigma_um,
                 "Standard deviation of a reading, um (weights; the uncertainties use the residuals)")
+      ->transform(length_in(1e-3, "LENGTH"))
       ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
   c->add_option("--rank-tolerance", e.rank_tolerance,
@@ -300,10 +301,12 @@ std::vector<Command> add_identification_commands(CLI::App& app) {
     add_model_options(c, o->model);
     c->add_option("--plan", o->plan, "Probing plan CSV (docs/identification.md)")->required();
     c->add_option("--noise-um", o->noise_um, "Standard deviation of each reading, um")
+        ->transform(length_in(1e-3, "LENGTH"))
         ->check(CLI::NonNegativeNumber & kFinite)
         ->capture_default_str();
     c->add_option("--artefact-error-um", o->artefact_um,
                   "Standard deviation of the features' true positions about the plan's, um")
+        ->transform(length_in(1e-3, "LENGTH"))
         ->check(CLI::NonNegativeNumber & kFinite)
         ->capture_default_str();
     c->add_option("--seed", o->seed, "Random seed")->capture_default_str();

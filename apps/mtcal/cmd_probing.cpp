@@ -7,6 +7,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include "acceptance.hpp"
 #include "common.hpp"
@@ -27,7 +28,7 @@ namespace {
 
 struct RotaryOptions {
   std::string axis = "C";
-  std::string contacts, centres, machine, method = "both", out, report;
+  std::string contacts, centres, machine, method = "both", out, report, frame;
   double sphere_diameter = 0, stylus_diameter = 0, reject_sigma = 2.0, max_rms = 0.01;
   int bins = 40, threads = 0;
   bool json_out = false;
@@ -81,6 +82,34 @@ void print_rotary(const RotaryAxisResult& r, const RotaryOptions& o) {
                              tri->degenerate, o.reject_sigma, tri->kept[0], tri->triples - tri->degenerate);
 }
 
+// "rx,ry,rz[,tx,ty,tz]": rotation angles in deg (Rz Ry Rx) and a translation in mm.
+InstrumentFrame parse_frame(const std::string& spec) {
+  const auto parts = split_list(spec);
+  if (parts.size() != 3 && parts.size() != 6)
+    throw InputError({"--frame", 0, ""},
+                     "expected rx,ry,rz (deg) or rx,ry,rz,tx,ty,tz (deg, mm), found '" + spec + "'");
+  std::vector<double> v;
+  for (const auto& p : parts) {
+    const auto x = parse_number(p);
+    if (!x) throw InputError({"--frame", 0, ""}, "expected a number, found '" + p + "'");
+    v.push_back(*x);
+  }
+  const double d = std::numbers::pi / 180;
+  return frame_from_angles(v[0] * d, v[1] * d, v[2] * d,
+                           v.size() == 6 ? Point3(v[3], v[4], v[5]) : Point3(Point3::Zero()));
+}
+
+void print_line(const RotaryAxisResult& r) {
+  std::cout << fmt::format("rotary axis {}: {} positions; measured line (least-squares circle of the centres)\n",
+                           r.axis.letter, r.centres.centres.size());
+  std::cout << fmt::format("  direction  {:.9f} {:.9f} {:.9f}   ({:.4f} deg from the nominal direction)\n",
+                           r.line.direction.x(), r.line.direction.y(), r.line.direction.z(),
+                           r.line.tilt * 180 / std::numbers::pi);
+  std::cout << fmt::format("  point      {:.6f} {:.6f} {:.6f} mm (nearest the nominal point)\n", r.line.point.x(),
+                           r.line.point.y(), r.line.point.z());
+  std::cout << fmt::format("  radius     {:.6f} mm, centres' rms {:.3f} um\n", r.line.radius, r.line.rms * 1e3);
+}
+
 int run_rotary(const RotaryOptions& o) {
   check_rotary_options(o);
   NominalRotaryAxis axis = NominalRotaryAxis::by_letter(o.axis[0]);
@@ -93,22 +122,49 @@ int run_rotary(const RotaryOptions& o) {
                                ? read_centres_csv(o.centres, o.axis[0])
                                : centres_from_contacts(read_contacts_csv(o.contacts, o.axis[0]),
                                                        SphereProbing{o.sphere_diameter, o.stylus_diameter, o.max_rms});
+  if (!o.frame.empty()) apply_frame(centres, parse_frame(o.frame));
   if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
   if (!o.report.empty()) AtomicFile check(o.report);
-  RotaryAxisOptions options{o.method != "lsq", o.method != "triples",
-                            TriplesOptions{o.reject_sigma, o.bins, o.threads}};
+  RotaryAxisOptions options{o.method != "lsq", o.method != "triples", TriplesOptions{o.reject_sigma, o.bins, o.threads},
+                            0.1};
   if (options.triples && centres.centres.size() > kMaxTriplesCentres)
     throw InputError({centres.source, 0, ""},
                      fmt::format("{} indexations make too many triples for --method triples/both (at most {}); use "
                                  "--method lsq",
                                  centres.centres.size(), kMaxTriplesCentres));
+  if (options.triples && ::isatty(STDERR_FILENO) && centres.centres.size() >= 100)
+    options.triples_options.progress = [](std::size_t done, std::size_t total) {
+      std::cerr << fmt::format("\r  triples: {:.0f}%", 100.0 * static_cast<double>(done) / static_cast<double>(total))
+                << (done == total ? "\r               \r" : "") << std::flush;
+    };
   const RotaryAxisResult r = locate_rotary_axis(axis, std::move(centres), options);
-  // A circle of centres far from perpendicular to the axis means the wrong axis or wrong data.
-  if (r.tilt() > 0.1)
-    throw InputError(
-        {"--axis", 0, o.axis},
-        fmt::format("the centres turn about a line {:.1f} deg from the nominal direction of {}: wrong --axis?",
-                    r.tilt() * 180 / std::numbers::pi, o.axis));
+  if (!r.located) {
+    // The measured line only: the location errors (small angles about the nominal line) do not
+    // exist for it, so neither a parameter file nor the report of them is written.
+    if (!o.out.empty() || !o.report.empty())
+      throw InputError({"--axis", 0, o.axis},
+                       fmt::format("the centres turn about a line {:.1f} deg from the nominal direction of {}: no "
+                                   "location errors to write (--frame gives the instrument's axes; wrong --axis?)",
+                                   r.line.tilt * 180 / std::numbers::pi, o.axis));
+    for (const auto& n : r.notes) std::cerr << "mtcal: note: " << n << "\n";
+    if (o.json_out) {
+      Json j;
+      j["axis"] = std::string(1, r.axis.letter);
+      j["located"] = false;
+      j["indexations"] = r.centres.centres.size();
+      j["axis_point"] = {r.line.point.x(), r.line.point.y(), r.line.point.z()};
+      j["axis_direction"] = {r.line.direction.x(), r.line.direction.y(), r.line.direction.z()};
+      j["radius"] = r.line.radius;
+      j["tilt"] = r.line.tilt;
+      j["rms"] = r.line.rms;
+      j["notes"] = r.notes;
+      std::cout << j.dump(2) << "\n";
+      return 0;
+    }
+    print_line(r);
+    return 0;
+  }
+  for (const auto& n : r.notes) std::cerr << "mtcal: note: " << n << "\n";
   if (!o.out.empty()) write_rotary_parameters(o.out, r);
   if (!o.report.empty()) write_rotary_report(o.report, command_line(), machine ? &*machine : nullptr, r, o.max_rms);
   if (o.json_out) {
@@ -119,6 +175,7 @@ int run_rotary(const RotaryOptions& o) {
     return 0;
   }
   print_rotary(r, o);
+  print_line(r);
   if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
   return 0;
@@ -180,8 +237,11 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
                 "centre x,y,z (mm), approach_x,approach_y,approach_z (direction of probe motion)");
   r->add_option("--centres", ro->centres, "CSV of sphere centres already known: the axis's angle (deg), x,y,z (mm)");
   r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)")
+      ->transform(length_in(1.0, "LENGTH"))
       ->check(kFinite);
-  r->add_option("--stylus-diameter", ro->stylus_diameter, "Stylus tip diameter, mm (with --contacts)")->check(kFinite);
+  r->add_option("--stylus-diameter", ro->stylus_diameter, "Stylus tip diameter, mm (with --contacts)")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite);
   r->add_option("--machine", ro->machine,
                 "Machine file giving the axis's nominal point and direction (default: "
                 "through the origin along its letter's axis)");
@@ -194,6 +254,7 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
       ->check(CLI::Range(0.0, 100.0) & kFinite)
       ->capture_default_str();
   r->add_option("--max-rms", ro->max_rms, "Largest rms distance (mm) of contacts from their sphere")
+      ->transform(length_in(1.0, "LENGTH"))
       ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
   r->add_option("--bins", ro->bins, "Histogram bins of the triples' distributions")->check(CLI::Range(1, 10000));
@@ -204,6 +265,9 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
   r->add_option("--out", ro->out,
                 "Write the location errors as a parameter file (mtcal eval --params ...); with "
                 "--method both the least-squares values");
+  r->add_option("--frame", ro->frame,
+                "The instrument's axes in the machine's: rx,ry,rz in deg (rotation Rz Ry Rx) and optionally "
+                "tx,ty,tz in mm; machine = R * instrument + t");
   r->add_option("--report", ro->report,
                 "Write an HTML report: both estimators, centres and circle, residuals, "
                 "the triples' distributions");
@@ -219,12 +283,20 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
   s->add_option("--hold", so->hold, "Other joints, e.g. \"A=0\" (mm, deg; not named: 0)");
   s->add_option("--sphere", so->sphere, "Sphere centre at zero indexation, machine coordinates x,y,z in mm")
       ->capture_default_str();
-  s->add_option("--sphere-diameter", so->sphere_diameter, "mm")->check(kFinite)->capture_default_str();
-  s->add_option("--stylus-diameter", so->stylus_diameter, "mm")->check(kFinite)->capture_default_str();
+  s->add_option("--sphere-diameter", so->sphere_diameter, "mm")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite)
+      ->capture_default_str();
+  s->add_option("--stylus-diameter", so->stylus_diameter, "mm")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite)
+      ->capture_default_str();
   s->add_option("--noise", so->noise, "Standard deviation of each recorded coordinate, mm")
+      ->transform(length_in(1.0, "LENGTH"))
       ->check(kFinite)
       ->capture_default_str();
   s->add_option("--trigger-bias", so->bias, "Probe pre-travel along the approach, mm")
+      ->transform(length_in(1.0, "LENGTH"))
       ->check(kFinite)
       ->capture_default_str();
   s->add_option("--seed", so->seed, "Random seed of the noise")->capture_default_str();

@@ -1,4 +1,5 @@
 // mtcal toolpath: the volumetric error along a G-code program (Fletcher 2009, 4.3).
+#include <numbers>
 #include <algorithm>
 #include <iostream>
 #include <iterator>
@@ -127,8 +128,11 @@ std::vector<Command> add_toolpath_commands(CLI::App& app) {
                 "G-code program (RS274 subset, docs/toolpath.md); axis words only for the "
                 "machine's axes")
       ->required();
-  c->add_option("--step", o->step, "Largest X Y Z path length between points, mm (default 0.5)")->check(kFinite);
+  c->add_option("--step", o->step, "Largest X Y Z path length between points, mm (default 0.5)")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite);
   c->add_option("--angle-step", o->angle_step, "Largest A B C motion between points, deg (default 0.5)")
+      ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
       ->check(kFinite);
   c->add_option("--origin", o->origin,
                 "Program zero in machine axis positions, like G54: \"X=..,Y=..,Z=..\" (mm, deg; default all 0). "

@@ -211,6 +211,7 @@ struct ContributionOptions {
   MapSource source;
   std::string at, pair, report;
   std::size_t top = 10;
+  std::optional<double> target_va;  // mm
   bool json_out = false, no_what_if = false;
 };
 
@@ -233,7 +234,16 @@ ContributionStudy contribution_study(const Machine& m, const ErrorModel& model, 
     check_joints(m, a, "--pair", travel);
     return contributions_between(m, std::move(b), std::move(a));
   }
-  return critical_pair_contributions(m, build_map(m, model, o.source), !o.no_what_if, o.source.threads);
+  return critical_pair_contributions(m, build_map(m, model, o.source), !o.no_what_if, o.source.threads, o.target_va);
+}
+
+// "EC0Y (7.500 um against it), EXX (6.528), EXZ (4.500)": the first three errors it cancelled.
+std::string cancelled_list(const WhatIf& w, const char* unit) {
+  std::string out;
+  for (std::size_t k = 0; k < w.cancelled.size() && k < 3; ++k)
+    out += fmt::format("{}{} ({}{})", k ? ", " : "", w.cancelled[k].first.str(), um(w.cancelled[k].second),
+                       k ? "" : fmt::format(" {} against it", unit));
+  return out;
 }
 
 void print_contribution_study(const ContributionOptions& o, const Machine& m, const ContributionStudy& s) {
@@ -248,10 +258,33 @@ void print_contribution_study(const ContributionOptions& o, const Machine& m, co
   if (s.va) std::cout << fmt::format("VA {} um: that is the critical pair of the map\n", um(s.va->va.value));
   print_contributions(c, o.top);
   if (!s.what_if.empty()) {
-    std::cout << "VA with one error removed (exact), best first:\n";
+    std::cout << "VA with one error removed (exact, recomputed over the map), best first:\n";
     for (std::size_t k = 0; k < s.what_if.size() && k < o.top; ++k)
       std::cout << fmt::format("  {:<6} VA {} um  (gain {} um)\n", s.what_if[k].error.str(), um(s.what_if[k].va),
                                um(s.va->va.value - s.what_if[k].va));
+    // Where the first-order share and the exact removal disagree, and why.
+    for (const auto& w : s.what_if) {
+      if (!w.disagrees) continue;
+      std::cout << fmt::format(
+          "  note: {} has a first-order share of {:.1f}% of the critical difference, yet removing it {} the VA "
+          "from {} to {} um: without it the pair from {} to {} is critical",
+          w.error.str(), 100 * w.share, w.va > s.va->va.value ? "raises" : "lowers", um(s.va->va.value), um(w.va),
+          format_joint_values(m, w.from), format_joint_values(m, w.to));
+      if (w.along_there < 0 && !w.cancelled.empty())
+        std::cout << fmt::format(", where {} ({} um along it) was cancelling {}", w.error.str(), um(w.along_there),
+                                 cancelled_list(w, "um"));
+      std::cout << "\n";
+    }
+  }
+  if (s.sequence) {
+    const auto& q = *s.sequence;
+    std::cout << fmt::format("correct these errors in this order to reach VA <= {} um (greedy, exact VA after each):\n",
+                             um(q.target));
+    std::cout << fmt::format("  start  VA {} um\n", um(q.start));
+    for (std::size_t k = 0; k < q.steps.size(); ++k)
+      std::cout << fmt::format("  {:>2}. {:<6} VA {} um\n", k + 1, q.steps[k].error.str(), um(q.steps[k].va));
+    std::cout << (q.reached ? fmt::format("  target reached with {} error(s) corrected\n", q.steps.size())
+                            : std::string("  target not reached: every error removed\n"));
   }
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
 }
@@ -386,6 +419,11 @@ std::vector<Command> add_volumetric_commands(CLI::App& app) {
                   "Two configurations FROM;TO, e.g. \"X=0,Y=0,Z=0;X=500,Y=400,Z=-300\": e(TO) - e(FROM)");
     c->add_option("--top", o->top, "Errors listed")->check(CLI::Range(1, 100000))->capture_default_str();
     c->add_flag("--no-what-if", o->no_what_if, "With --grid/--points: skip the VA with each error removed");
+    c->add_option("--target-va", o->target_va,
+                  "With --grid/--points: the greedy sequence of errors to correct to reach this VA, mm or with a "
+                  "unit (20um)")
+        ->transform(length_in(1.0, "LENGTH"))
+        ->check(CLI::NonNegativeNumber & kFinite);
     c->add_option("--report", o->report, "Write an HTML report");
     c->add_flag("--json", o->json_out,
                 "Machine-readable output: exact first_order residual items[error effect along share] (mm)");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 
 #include <fmt/format.h>
 
@@ -11,6 +12,7 @@
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
+#include "mtcal/util/units.hpp"
 
 namespace mtcal::cli {
 
@@ -91,16 +93,21 @@ std::vector<std::string> split_list(const std::string& s) {
 
 void add_model_options(CLI::App* cmd, ModelOptions& o) {
   cmd->add_option("--machine,-m", o.machine, "Machine file (YAML, see docs/machine-file.md)")->required();
-  cmd->add_option("--params", o.params,
-                  "Parameter file(s) whose errors replace the machine's (e.g. from mtcal rotary-axis --out); "
-                  "repeatable, applied in order before --only and --set");
+  cmd->add_option(
+      "--params", o.params,
+      "Parameter file(s) whose errors replace the machine's (e.g. from mtcal rotary-axis --out, or an Etalon "
+      "exchange file); "
+      "repeatable, applied in order before --only and --set");
   cmd->add_option("--set", o.set,
-                  "Override a parameter in internal units (mm, rad): NAME=VALUE, e.g. EC0Y=2e-5 or "
-                  "EXX.1=5e-6; repeatable");
+                  "Override a parameter: NAME=VALUE with a unit (EC0Y=20urad, EC0Y=20um/m, EX0C=3um, "
+                  "EXX.1=5ppm) or a bare number in the parameter's internal unit that `mtcal errors` lists "
+                  "(mm, rad, mm/mm ...: EC0Y=2e-5); repeatable");
   cmd->add_option("--only", o.only,
                   "Keep only these errors or parameters (comma-separated, e.g. EXX,EC0Y); all "
                   "others are set to zero before --set applies");
-  cmd->add_option("--tool-length", o.tool_length, "Tool length in mm (overrides the machine file)");
+  cmd->add_option("--tool-length", o.tool_length,
+                  "Tool length in mm, or with a unit: 200mm, 8in (overrides the machine file)")
+      ->transform(length_in(1.0, "LENGTH"));
 }
 
 Machine load(const ModelOptions& o) {
@@ -121,11 +128,43 @@ Machine load(const ModelOptions& o) {
     auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0) throw InputError({"--set", 0, s}, "expected NAME=VALUE, found '" + s + "'");
     const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
-    const auto v = parse_number(value);
-    if (!v) throw InputError({"--set", 0, name}, "expected a number, found '" + value + "'");
-    m.set_parameter(name, *v);
+    const auto i = m.parameter_index(name);
+    if (!i) m.set_parameter(name, 0.0);  // throws: the message says what a valid name looks like
+    const std::string unit = m.parameters()[*i].unit;
+    const double v = parse_in_unit(value, unit, {"--set", 0, name});
+    if (const auto w = implausible_parameter(name, unit, v); !w.empty()) warn("--set " + s + ": " + w);
+    m.set_parameter(*i, v);
   }
   return m;
+}
+
+void warn(const std::string& message) { std::cerr << "mtcal: warning: " << message << "\n"; }
+
+namespace {
+CLI::Validator quantity_validator(Dimension d, double bare_factor, const char* unit_name) {
+  return CLI::Validator(
+      [=](std::string& s) -> std::string {
+        try {
+          // Rewritten as a bare number in the option's unit, which CLI11 then converts.
+          s = fmt::format("{:.17g}", parse_quantity(s, d, bare_factor, false, {}) / bare_factor);
+          return {};
+        } catch (const InputError& e) {
+          std::string msg = std::string(e.what()).substr(e.where().describe().size() + 2);
+          if (msg.rfind("expected a number", 0) == 0)  // no number at all: say what the option wants
+            msg = fmt::format("expected {}: a finite number, optionally with a unit ({}), found '{}'",
+                              d == Dimension::Length ? "a length" : "an angle", accepted_units(d, false), s);
+          return msg;
+        }
+      },
+      unit_name);
+}
+}  // namespace
+
+CLI::Validator length_in(double mm_per_unit, const char* unit_name) {
+  return quantity_validator(Dimension::Length, mm_per_unit, unit_name);
+}
+CLI::Validator angle_in(double rad_per_unit, const char* unit_name) {
+  return quantity_validator(Dimension::Angle, rad_per_unit, unit_name);
 }
 
 }  // namespace mtcal::cli
@@ -136,6 +175,18 @@ std::vector<std::vector<double>> checked_grid(const Machine& m, const std::strin
                                               std::size_t max_count) {
   auto values = parse_grid(m, spec, "--grid");
   check_grid(m, values, "--grid", travel_check, max_count);
+  // A grid typed in metres on a machine in mm: the span is a tiny part of the axis' travel.
+  for (std::size_t k = 0; k < m.axes.size(); ++k) {
+    const Axis& ax = m.axes[k];
+    const auto [lo, hi] = std::minmax_element(values[k].begin(), values[k].end());
+    if (ax.kind != AxisKind::Linear || !ax.travel || values[k].size() < 2) continue;
+    const double span = *hi - *lo, travel = ax.travel->max - ax.travel->min;
+    if (std::isfinite(travel) && travel > 10.0 && span < 0.01 * travel)
+      warn(
+          fmt::format("--grid: axis {} spans {:g} mm, under 1% of its {:g} mm travel; values are mm "
+                      "(write -0.4m:0.4m:21 for metres)",
+                      ax.letter, span, travel));
+  }
   return values;
 }
 

@@ -36,6 +36,14 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
 std::vector<std::string> model_inputs(const ModelOptions& o);
 // CLI11 check: a finite number (CLI11's Range lets NaN through).
 extern const CLI::Validator kFinite;
+// CLI11 transforms for a length or angle option: a value with a unit suffix ("150mm", "0.5um",
+// "6in"; "90deg", "20urad") is rewritten as a bare number in the option's own unit (mm_per_unit:
+// mm per that unit, 1 for mm, 1e-3 for um); a bare number stays as it is. Errors list the units.
+CLI::Validator length_in(double mm_per_unit, const char* unit_name);
+CLI::Validator angle_in(double rad_per_unit, const char* unit_name);
+
+// "mtcal: warning: MESSAGE" on stderr: a value that is accepted but probably not meant.
+void warn(const std::string& message);
 
 // The grid of option --grid (parse_grid), refused beyond max_count configurations and with its
 // corners checked against the travels (check_grid); errors located in "--grid".
@@ -69,6 +77,8 @@ struct Command {
 std::vector<Command> add_probing_commands(CLI::App& app);
 // Acceptance-test evaluations: iso230-2 (cmd_evaluation.cpp).
 std::vector<Command> add_evaluation_commands(CLI::App& app);
+// Measurements to model parameters: fit-motion (cmd_fit_motion.cpp).
+std::vector<Command> add_fit_motion_commands(CLI::App& app);
 // Method comparison: compare (cmd_compare.cpp).
 std::vector<Command> add_compare_commands(CLI::App& app);
 // Volumetric accuracy: volumetric, contributions, diagonals (cmd_volumetric.cpp).

@@ -19,9 +19,11 @@
 #include "mtcal/io/error_map_json.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/joints.hpp"
+#include "mtcal/io/number_format.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/report/error_map.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/suggest.hpp"
 #include "mtcal/version.hpp"
 #include "acceptance.hpp"
 #include "common.hpp"
@@ -31,7 +33,7 @@ using namespace mtcal::cli;
 
 namespace {
 
-std::string fmt_num(double v) { return fmt::format("{:.9g}", v); }
+std::string fmt_num(double v) { return format_number(v); }
 
 struct EvalOptions {
   ModelOptions model;
@@ -95,7 +97,7 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
     grid = checked_grid(m, o.grid, !o.no_travel_check);
   const auto source = o.points.empty() ? ConfigurationSource::grid(grid) : ConfigurationSource::list(list);
   std::optional<ErrorStreamCsv> file;
-  if (!o.out.empty()) file.emplace(o.out, m, source.has_directions());
+  if (!o.out.empty()) file.emplace(o.out, m, source.has_directions(), o.threads);
   std::optional<ErrorStreamReport> report;
   if (!o.report.empty()) {
     AtomicFile probe_path(o.report);  // refuse a bad report path before the work
@@ -103,13 +105,13 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
   }
   StreamOptions so{o.threads, std::size_t{1} << 20, {}};
   so.progress = stream_progress(source.size(), so.chunk);
-  const StreamSummary summary = evaluate_stream(
-      model, source,
-      [&](const ErrorChunk& c) {
-        if (report) report->add(c);
-        if (file) file->write(c);
-      },
-      so);
+  std::function<void(const ErrorChunk&)> sink;  // none without outputs: the stream skips the configurations
+  if (report || file)
+    sink = [&](const ErrorChunk& c) {
+      if (report) report->add(c);
+      if (file) file->write(c);
+    };
+  const StreamSummary summary = evaluate_stream(model, source, sink, so);
   if (so.progress) std::cerr << "\r" << std::string(60, ' ') << "\r" << std::flush;
   if (file) file->commit();
   if (report) report->write(o.report, {command_line(), o.model.params, o.points, o.grid});
@@ -165,7 +167,8 @@ std::vector<ErrorName> wanted_errors(const Machine& m, const std::string& list) 
   for (const auto& w : split_list(list)) {
     auto en = ErrorName::parse(w);
     if (!en || !m.has_error(*en))
-      throw InputError({"--errors", 0, w}, "unknown error name '" + w + "' for topology " + m.topology.chain);
+      throw InputError({"--errors", 0, w},
+                       "unknown error name '" + w + "'" + name_hint(m, w) + " for topology " + m.topology.chain);
     out.push_back(*en);
   }
   return out;
@@ -214,12 +217,17 @@ Command add_eval_command(CLI::App& app) {
                                   "relative to the workpiece at joint configurations");
   add_model_options(eval, o->model);
   eval->add_option("--at", o->at,
-                   "One configuration, e.g. \"X=100,Y=50,Z=-20,B=30,C=90\" (mm, deg; "
-                   "axes not named are 0)");
+                   "One configuration, e.g. \"X=100,Y=50,Z=-20,B=30,C=90\" (mm, deg, or with a unit: X=0.1m, "
+                   "B=0.5rad; axes not named are 0)");
   eval->add_option("--points", o->points,
                    "CSV of configurations: columns named by axis letters (mm, deg), "
                    "optional dirX ... = +1/-1 directions of motion");
-  eval->add_option("--grid", o->grid, "Full grid, e.g. \"X=-300:300:7,B=-90:90:5\" (lo:hi:count per axis)");
+  eval->add_option("--grid", o->grid,
+                   "Full grid, e.g. \"X=-300:300:7,B=-90:90:5\": per axis lo:hi:count, count values evenly spaced "
+                   "from lo to hi inclusive (step (hi-lo)/(count-1)), or one value; axes not named are 0; mm and deg, "
+                   "or with a unit (-0.3m:0.3m:7, -1.5rad:1.5rad:5). Configurations (and --out rows) run through the "
+                   "grid with the last axis of the topology's chain varying fastest (wCBXfYZt: C slowest, then B, X, "
+                   "Y, Z fastest)");
   eval->add_option("--out", o->out, "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV");
   eval->add_option("--report", o->report,
                    "Write an HTML report (error map, distribution, largest errors; "
@@ -264,13 +272,81 @@ Command add_effects_command(CLI::App& app) {
   return {effects, [o] { return run_effects(*o); }};
 }
 
+// Examples at the end of each command's --help, run from a clone's top folder. The ctest
+// readme_tour runs every one of them after README's tour (whose files some of them read), so an
+// example cannot name an option the command does not take.
+constexpr std::pair<const char*, const char*> kExamples[] = {
+    {"eval",
+     "  mtcal eval -m examples/machines/hu40t-wCBXfYZt.yaml --at \"X=100,Y=50,Z=-20,B=30,C=90\"\n"
+     "  mtcal eval -m examples/machines/vmc-3axis.yaml --grid \"X=-400:400:5,Y=-250:250:3\" --out grid-errors.csv\n"
+     "  mtcal eval -m examples/machines/vmc-3axis.yaml --at \"Y=200\" --set EC0Y=20urad --only EC0Y\n"},
+    {"errors",
+     "  mtcal errors -m examples/machines/vmc-3axis.yaml --nonzero\n"
+     "  mtcal errors -m examples/machines/hu40t-wCBXfYZt.yaml --json\n"},
+    {"effects",
+     "  mtcal effects -m examples/machines/hu40t-wCBXfYZt.yaml --at \"X=100,B=30,C=90\" --errors EX0C,EA0C,EXX\n"},
+    {"probe-sim",
+     "  mtcal probe-sim -m examples/machines/hu40t-wCBXfYZt.yaml --axis C --angles 0:350:36 --noise 0.001 "
+     "--out contacts.csv\n"},
+    {"rotary-axis",
+     "  mtcal rotary-axis --axis C --contacts contacts.csv --sphere-diameter 30 --stylus-diameter 6 \\\n"
+     "      --machine examples/machines/hu40t-wCBXfYZt.yaml --out c-axis.yaml\n"},
+    {"iso230-2",
+     "  mtcal iso230-2 examples/data/iso230-2-x-axis.csv\n"
+     "  mtcal iso230-2 examples/data/iso230-2-x-axis.csv --unit mm --json --report iso230-2.html\n"},
+    {"ballbar",
+     "  mtcal ballbar --predict -m examples/machines/hu40t-wCBXfYZt.yaml --plane XY --radius 150 --centre "
+     "\"Z=-100\" --out trace.csv\n"
+     "  mtcal ballbar trace.csv --radius 150 --report ballbar.html\n"},
+    {"compare", "  mtcal compare examples/data/mohammed2019-ballbar-vs-samba.csv --json\n"},
+    {"volumetric",
+     "  mtcal volumetric -m examples/machines/vmc-3axis.yaml --grid \"X=-400:400:21,Y=-250:250:21,Z=-500:0:21\"\n"
+     "  mtcal volumetric -m examples/machines/vmc-3axis.yaml --grid \"X=-400:400:11,Y=-250:250:11,Z=-500:0:11\" \\\n"
+     "      --histogram auto --box \"X=-200:200,Y=-125:125\" --report va.html\n"},
+    {"contributions",
+     "  mtcal contributions -m examples/machines/vmc-3axis.yaml --grid \"X=-400:400:21,Y=-250:250:21,Z=-500:0:21\"\n"
+     "  mtcal contributions -m examples/machines/vmc-3axis.yaml --at \"X=400,Y=250,Z=0\"\n"},
+    {"diagonals", "  mtcal diagonals -m examples/machines/vmc-3axis.yaml --box \"X=-400:400,Y=-250:250,Z=-500:0\"\n"},
+    {"toolpath",
+     "  mtcal toolpath -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/pocket.nc \\\n"
+     "      --origin \"X=-40,Y=-25,Z=-400\" --step 0.5 --out path-errors.csv\n"},
+    {"simulate",
+     "  mtcal simulate -m examples/machines/hu40t-wCBXfYZt.yaml --plan examples/plans/hu40t-samba-tango.csv \\\n"
+     "      --noise-um 1 --seed 7 --scale-bar 1:2:304.8 --out samba.csv\n"},
+    {"identify",
+     "  mtcal identify -m examples/machines/hu40t-wCBXfYZt.yaml --measurements samba.csv --scale-bar 1:2:304.8 \\\n"
+     "      --estimate EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C --out identified.yaml\n"},
+    {"identifiability",
+     "  mtcal identifiability -m examples/machines/hu40t-wCBXfYZt.yaml --plan examples/plans/hu40t-samba-tango.csv \\\n"
+     "      --estimate EX0C,EX0B,EX0X,EXt\n"},
+    {"regress", "  mtcal regress examples/prediction/yaqoob2017-table5_8.csv --x t --y e_splz\n"},
+    {"predict",
+     "  mtcal predict --model examples/prediction/yaqoob2017-model.yaml --points "
+     "examples/prediction/yaqoob2017-w2-points.csv\n"},
+    {"separate",
+     "  mtcal separate position examples/prediction/yaqoob2017-table5_3.csv\n"
+     "  mtcal separate control examples/prediction/yaqoob2017-table5_6.csv --a W2 --b W5\n"},
+    {"process-error", "  mtcal process-error --feed 100,200,400,800,1600 --speed 3500 --ae 1 --ap 5\n"},
+};
+
 // Every command, in the order of the help text.
 std::vector<Command> add_commands(CLI::App& app) {
   std::vector<Command> all{add_eval_command(app), add_errors_command(app), add_effects_command(app)};
-  for (auto* add :
-       {add_probing_commands, add_evaluation_commands, add_compare_commands, add_volumetric_commands,
-        add_toolpath_commands, add_compensation_commands, add_prediction_commands, add_identification_commands})
+  for (auto* add : {add_probing_commands, add_evaluation_commands, add_fit_motion_commands, add_compare_commands,
+                    add_volumetric_commands, add_toolpath_commands, add_compensation_commands, add_prediction_commands,
+                    add_identification_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
+  // --precision on every command: the digits of the numbers it writes to CSV files and prints
+  // unrounded (JSON always carries every double exactly).
+  for (auto* sub : app.get_subcommands({}))
+    sub->add_option_function<int>(
+           "--precision", [](const int& d) { set_significant_digits(d); },
+           "Significant digits of written numbers (CSV cells, unrounded printed values): 10 by default, up to 17 "
+           "(every double read back bit for bit); JSON is always exact")
+        ->check(CLI::Range(1, 17));
+  for (const auto& [name, text] : kExamples)
+    for (auto* sub : app.get_subcommands({}))
+      if (sub->get_name() == name && sub->get_footer().empty()) sub->footer(std::string("Examples:\n") + text);
   return all;
 }
 
@@ -279,12 +355,33 @@ bool unknown_command(CLI::App& app, int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') return false;
   const std::string cmd = argv[1];
   std::string names;
+  std::vector<std::string> all;
   for (const auto* sub : app.get_subcommands({})) {
     if (sub->get_name() == cmd) return false;
     names += (names.empty() ? "" : ", ") + sub->get_name();
+    all.push_back(sub->get_name());
   }
-  std::cerr << "mtcal: error: unknown command '" << cmd << "' (expected one of " << names << "; see 'mtcal --help')\n";
+  std::cerr << "mtcal: error: unknown command '" << cmd << "'" << did_you_mean(cmd, all) << " (expected one of "
+            << names << "; see 'mtcal --help')\n";
   return true;
+}
+
+// An argument the command does not take: its closest option name, if one is close ("--grdi" ->
+// "--grid"), and where the command's help is.
+std::string extras_hint(CLI::App& app) {
+  for (auto* sub : app.get_subcommands()) {
+    std::vector<std::string> names;
+    for (const auto* opt : sub->get_options())
+      for (const auto& l : opt->get_lnames()) names.push_back("--" + l);
+    std::string hint;
+    for (const auto& extra : sub->remaining()) {
+      if (extra.rfind("--", 0) != 0) continue;
+      const auto c = closest_name(extra.substr(0, extra.find('=')), names);
+      if (c) hint += " (did you mean '" + *c + "' for '" + extra + "'?)";
+    }
+    return hint + " (see 'mtcal " + sub->get_name() + " --help')";
+  }
+  return " (see 'mtcal --help')";
 }
 
 // Runs the parsed command; an error is one line on stderr and exit 1.
@@ -322,6 +419,12 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
   app.require_subcommand(1);
   const std::vector<Command> commands = add_commands(app);
+  // After the commands: they would inherit it.
+  app.footer(
+      "Examples (from a clone's top folder; 'mtcal COMMAND --help' for each command's own):\n"
+      "  mtcal eval -m examples/machines/hu40t-wCBXfYZt.yaml --at \"X=100,Y=50,Z=-20,B=30,C=90\"\n"
+      "  mtcal volumetric -m examples/machines/vmc-3axis.yaml --grid \"X=-400:400:21,Y=-250:250:21,Z=-500:0:21\"\n"
+      "README.md has a tour of every command; docs/ has a page per topic.");
   add_metadata_options(app);
   if (unknown_command(app, argc, argv)) return 2;
   try {
@@ -332,6 +435,9 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::ExtrasError& e) {
+    std::cerr << "mtcal: error: " << e.what() << extras_hint(app) << "\n";
+    return 2;
   } catch (const CLI::ParseError& e) {
     // Usage errors: one line, exit 2 (help goes to stdout only when asked for).
     std::cerr << "mtcal: error: " << e.what() << " (see 'mtcal --help')\n";

@@ -835,11 +835,20 @@ class PositioningRuns:
     def __init__(self, targets: npt.ArrayLike, up: npt.ArrayLike, down: npt.ArrayLike, *, unit: str = ..., source: str = ...) -> None:
         """targets (m,), up and down (m, n): measured positions per target and run."""
     @property
+    def deviations(self) -> bool:
+        """True: up and down hold deviations (measured - target) in unit, not measured positions"""
+    @property
     def down(self) -> Any:
         """(m, n) measured"""
     @property
+    def metadata(self) -> list[tuple[str, str]]:
+        """What the file says beside the runs, (key, value) in file order"""
+    @property
     def source(self) -> str:
         ...
+    @property
+    def target_unit(self) -> str:
+        """Unit of the targets ('': the values' unit)"""
     @property
     def targets(self) -> npt.NDArray[np.float64]:
         ...
@@ -849,6 +858,9 @@ class PositioningRuns:
     @property
     def up(self) -> Any:
         """(m, n) measured"""
+    @property
+    def warnings(self) -> list[str]:
+        """What the reader kept but did not use"""
 
 class PredictionModel:
     """A workpiece error prediction model (YAML, docs/prediction.md)."""
@@ -1374,8 +1386,8 @@ def read_gcode(path: str, *, axes: str = ...) -> GcodeProgram:
 def read_position_observations(path: str) -> list[PositionObservation]:
     """The CMM/probe position table (Yaqoob 2017 Table 5.3 form): one PositionObservation per filled pair."""
 
-def read_positioning(path: str, *, format: str = ..., unit: str = ...) -> PositioningRuns:
-    """ISO 230-2 runs from a file: CSV target,run,direction,measured (values in unit) or the key=value .dat form (it says its unit); format 'auto', 'csv' or 'dat'."""
+def read_positioning(path: str, *, format: str = ..., unit: str = ..., target_unit: str = ...) -> PositioningRuns:
+    """ISO 230-2 runs from a file: a table (target, run, direction, measured or deviation; values in unit unless the header says), the key=value .dat form or a Renishaw .rtl/.rta export (they say their units); format 'auto', 'csv', 'dat' or 'laser'."""
 
 def read_prediction_model(path: str) -> PredictionModel:
     ...

@@ -569,14 +569,22 @@ exact VA without each error (what_if). Configurations in internal units. As `mtc
            "targets (m,), up and down (m, n): measured positions per target and run.")
       .def_readonly("source", &PositioningRuns::source)
       .def_readonly("unit", &PositioningRuns::unit)
+      .def_readonly("target_unit", &PositioningRuns::target_unit, "Unit of the targets ('': the values' unit)")
+      .def_readonly("deviations", &PositioningRuns::deviations,
+                    "True: up and down hold deviations (measured - target) in unit, not measured positions")
+      .def_readonly("metadata", &PositioningRuns::metadata,
+                    "What the file says beside the runs, (key, value) in file order")
+      .def_readonly("warnings", &PositioningRuns::warnings, "What the reader kept but did not use")
       .def_property_readonly("targets", [](const PositioningRuns& r) { return to_array(r.targets); })
       .def_property_readonly(
           "up", [](const PositioningRuns& r) { return runs_array(r.up); }, "(m, n) measured")
       .def_property_readonly(
           "down", [](const PositioningRuns& r) { return runs_array(r.down); }, "(m, n) measured");
   m.def("read_positioning", &read_positioning_file, "path"_a, py::kw_only(), "format"_a = "auto", "unit"_a = "mm",
-        "ISO 230-2 runs from a file: CSV target,run,direction,measured (values in unit) or the key=value .dat "
-        "form (it says its unit); format 'auto', 'csv' or 'dat'.");
+        "target_unit"_a = "",
+        "ISO 230-2 runs from a file: a table (target, run, direction, measured or deviation; values in unit "
+        "unless the header says), the key=value .dat form or a Renishaw .rtl/.rta export (they say their "
+        "units); format 'auto', 'csv', 'dat' or 'laser'.");
   py::class_<PositioningEvaluation>(m, "PositioningEvaluation", "ISO 230-2 results (in the runs' unit).")
       .def_readonly("unit", &PositioningEvaluation::unit)
       .def_readonly("runs", &PositioningEvaluation::runs)

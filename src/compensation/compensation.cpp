@@ -142,6 +142,17 @@ std::vector<NotCompensated> errors_not_held(const Machine& m, const std::vector<
   return out;
 }
 
+Machine linear_axis_errors(const Machine& m) {
+  Machine out = m;
+  const auto params = m.parameters();
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const ErrorName& n = params[i].error;
+    const auto a = n.kind == ErrorKind::Mounting ? std::nullopt : m.axis_index(n.body);
+    if (params[i].value != 0.0 && (!a || m.axes[*a].kind != AxisKind::Linear)) out.set_parameter(i, 0.0);
+  }
+  return out;
+}
+
 std::vector<PositioningTable> positioning_tables(const ErrorModel& model, const std::vector<AxisSampling>& sampling,
                                                  std::span<const double> reference, const std::string& where) {
   const Machine& m = model.machine();

@@ -90,4 +90,20 @@ IsgCompensation compensate_isg(const Machine& m, const CompensationOptions& o) {
   return out;
 }
 
+IsgCompensation compensate_etalon(const Machine& m, const CompensationOptions& o) {
+  IsgCompensation out = compensate_isg(m, o);
+  out.summary.target = "etalon";
+  out.summary.sign_source =
+      "Beckhoff TF5280 Volumetric Compensation (ISG kernel manual), 'Etalon Exchange Format' (vendor variant): one "
+      "block per parameter, [C0B] VALUE = ... for position errors, [EXY] Gridpoints = { argument value ... } for "
+      "component errors; errors (e = actual - nominal) in mm or rad, arguments in mm or deg as for the ISG CSV format "
+      "('Units of measure'; the Etalon page gives no units: assumed the same)";
+  for (auto& w : out.summary.warnings)
+    if (w.find(".lis") != std::string::npos)
+      w = "the control corrects the tool position, not its orientation; position errors are named without the "
+          "leading E ([C0B]) and component errors with it ([EXY]), as in the manual's Etalon example; the .lis "
+          "configuration that names this file is not written";
+  return out;
+}
+
 }  // namespace mtcal

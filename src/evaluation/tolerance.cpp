@@ -2,6 +2,7 @@
 #include "mtcal/evaluation/tolerance.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "mtcal/util/errors.hpp"
 
@@ -31,6 +32,10 @@ ToleranceVerdict check_tolerances(const std::vector<std::pair<std::string, doubl
       throw InputError({where, 0, q},
                        "a tolerance for '" + printable(q) + "', which this test does not give (it gives " + list + ")");
     }
+    if (!std::isfinite(it->second))
+      throw InputError({where, 0, q}, "a tolerance for '" + q +
+                                          "', which this test does not define (e.g. a "
+                                          "unidirectional test has no reversal B)");
     if (!(limit >= 0)) throw InputError({where, 0, q}, "expected a permitted value >= 0, found a negative one");
     v.checks.push_back({q, it->second, limit, it->second <= limit});
   }

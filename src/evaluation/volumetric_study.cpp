@@ -108,7 +108,8 @@ ContributionStudy contributions_between(const Machine& m, std::vector<double> fr
   return s;
 }
 
-ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& map, bool what_if, int threads) {
+ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& map, bool what_if, int threads,
+                                              std::optional<double> target_va) {
   ContributionStudy s;
   s.mode = "critical_pair";
   s.va = volumetric_accuracy(map.error);
@@ -117,16 +118,71 @@ ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& 
   s.dir_b.assign(map.direction(s.va->va.i).begin(), map.direction(s.va->va.i).end());
   s.dir_a.assign(map.direction(s.va->va.j).begin(), map.direction(s.va->va.j).end());
   s.what_if_asked = what_if;
+  s.analysis = contributions(m, s.a, s.dir_a, std::optional<std::span<const double>>(s.b), s.dir_b);
   // The exact answer to "which error first": the VA with that error removed, every other kept.
   if (what_if)
     for (const auto& e : nonzero_errors(m)) {
       const ErrorModel without(without_error(m, e));
       const ErrorMap wm = error_map(without, map.q, map.dir, {threads});
-      s.what_if.push_back({e, volumetric_accuracy(wm.error).va.value});
+      const auto va = volumetric_accuracy(wm.error).va;
+      WhatIf w;
+      w.error = e;
+      w.va = va.value;
+      w.from = config(map, va.i);
+      w.to = config(map, va.j);
+      for (const auto& c : s.analysis.items)
+        if (c.error == e) w.share = c.share;
+      const double full = s.va->va.value;
+      w.disagrees = (w.share > 0 && w.va > full) || (w.share <= 0 && w.va < full);
+      if (w.disagrees) {
+        // Why: the error's part in the pair that is critical without it, on the full machine.
+        const auto there =
+            contributions(m, map.configuration(va.j), map.direction(va.j),
+                          std::optional<std::span<const double>>(map.configuration(va.i)), map.direction(va.i));
+        Vec3 own = Vec3::Zero();
+        for (const auto& c : there.items)
+          if (c.error == e) w.along_there = c.along, own = c.effect;
+        // The error it cancels: the largest effect against its own there (same component,
+        // opposite sign), e.g. a squareness against the straightness along the same axis.
+        if (own.norm() > 0)
+          for (const auto& c : there.items) {
+            const double against = -c.effect.dot(own) / own.norm();
+            if (c.error != e && against > 0) w.cancelled.emplace_back(c.error, against);
+          }
+        std::stable_sort(w.cancelled.begin(), w.cancelled.end(),
+                         [](const auto& x, const auto& y) { return x.second > y.second; });
+      }
+      s.what_if.push_back(w);
     }
   std::stable_sort(s.what_if.begin(), s.what_if.end(), [](const WhatIf& x, const WhatIf& y) { return x.va < y.va; });
-  s.analysis = contributions(m, s.a, s.dir_a, std::optional<std::span<const double>>(s.b), s.dir_b);
+  if (target_va) s.sequence = correction_sequence(m, map, *target_va, threads);
   return s;
+}
+
+CorrectionSequence correction_sequence(const Machine& m, const ErrorMap& map, double target_va, int threads) {
+  if (!std::isfinite(target_va) || target_va < 0)
+    throw InputError({"target VA", 0, ""}, fmt::format("expected a VA >= 0 in mm, found {}", target_va));
+  CorrectionSequence seq;
+  seq.target = target_va;
+  seq.start = volumetric_accuracy(map.error).va.value;
+  double va = seq.start;
+  Machine current = m;
+  std::vector<ErrorName> left = nonzero_errors(m);
+  while (va > target_va && !left.empty()) {
+    std::size_t best = 0;
+    double best_va = INFINITY;
+    for (std::size_t k = 0; k < left.size(); ++k) {
+      const ErrorModel without(without_error(current, left[k]));
+      const double v = volumetric_accuracy(error_map(without, map.q, map.dir, {threads}).error).va.value;
+      if (v < best_va) best_va = v, best = k;
+    }
+    current = without_error(current, left[best]);
+    seq.steps.push_back({left[best], best_va});
+    va = best_va;
+    left.erase(left.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+  seq.reached = va <= target_va;
+  return seq;
 }
 
 }  // namespace mtcal

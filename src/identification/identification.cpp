@@ -357,8 +357,11 @@ Solve run_ceres(const ProbingModel& pm, Eigen::VectorXd x, const IdentificationO
   return s;
 }
 
+// statistics false: the solution only (values, convergence, the identified machine and artefact),
+// without the Jacobian analyses (rank, covariance, residual RMS) that a Monte Carlo run discards.
 IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas, const IdentificationOptions& o,
-                                   const std::vector<std::size_t>* fixed_params, const Eigen::VectorXd* start) {
+                                   const std::vector<std::size_t>* fixed_params, const Eigen::VectorXd* start,
+                                   bool statistics = true) {
   if (!meas.measured)
     throw InputError({meas.source, 0, ""}, "expected measurements (columns X, Y, Z with the readings), found a plan");
   const std::vector<std::size_t> requested =
@@ -411,6 +414,16 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   res.final_cost = s.summary.final_cost;
   res.residuals = pm.residuals();
   res.unknowns = pm.unknowns();
+  if (!statistics) {
+    const auto all = prior.parameters();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t i = 0; i < params.size(); ++i)
+      res.parameters.push_back({all[params[i]].name, s.x[static_cast<Eigen::Index>(i)], nan, all[params[i]].unit});
+    res.artefact = pm.artefact(s.x.data());
+    if (pm.has_pretravel()) res.pretravel = s.x[static_cast<Eigen::Index>(pm.pretravel_column())];
+    res.machine = pm.machine(s.x.data());
+    return res;
+  }
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
   pm.evaluate(s.x, r, &J);
@@ -541,7 +554,7 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
       const ProbingPlan meas =
           simulate_readings(result.machine, measurements, result.artefact, pm.has_pretravel() ? result.pretravel : 0.0,
                             noise_ball, noise_facet, rng);
-      const IdentificationResult r = identify_with(prior, meas, run_options, &params, &x0);
+      const IdentificationResult r = identify_with(prior, meas, run_options, &params, &x0, false);
       for (std::size_t j = 0; j < k; ++j) out.samples[run][j] = r.parameters[j].value;
       if (!mc.workspace.empty()) {
         const ErrorMap map = grid_error_map(ErrorModel(r.machine), mc.workspace, {1});

@@ -26,7 +26,8 @@ std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<s
       for (std::size_t i = 0; i < params.size(); ++i)
         if (params[i].error == *err) add(i), found = true;
     if (!found)
-      throw InputError({option, 0, name}, "unknown parameter or error '" + name + "' (" + parameter_naming(m) + ")");
+      throw InputError({option, 0, name}, "unknown parameter or error '" + name + "'" + name_hint(m, name) + " (" +
+                                              parameter_naming(m) + ")");
   }
   return out;
 }

@@ -5,7 +5,10 @@
 #include <fstream>
 #include <system_error>
 
+#include "mtcal/io/compensation_etalon.hpp"
+#include "mtcal/io/compensation_fanuc.hpp"
 #include "mtcal/io/compensation_firmware.hpp"
+#include "mtcal/io/compensation_heidenhain.hpp"
 #include "mtcal/io/compensation_isg.hpp"
 #include "mtcal/io/compensation_linuxcnc.hpp"
 #include "mtcal/io/compensation_siemens.hpp"
@@ -25,6 +28,12 @@ const std::vector<CompensationTarget>& compensation_targets() {
        [](const Machine& m, const CompensationOptions& o) { return siemens_output(compensate_siemens(m, o)); }},
       {"isg", "Beckhoff/ISG TF5280 volumetric compensation: ISO 230-1 parameters in the ISG CSV format",
        [](const Machine& m, const CompensationOptions& o) { return isg_output(compensate_isg(m, o)); }},
+      {"etalon", "Beckhoff/ISG TF5280: the same parameters in the Etalon exchange format (vendor variant)",
+       [](const Machine& m, const CompensationOptions& o) { return etalon_output(compensate_etalon(m, o)); }},
+      {"heidenhain", "HEIDENHAIN TNC: nonlinear axis-error tables *.COM (axis = F(axis), sag) and their config.cma",
+       [](const Machine& m, const CompensationOptions& o) { return heidenhain_output(compensate_heidenhain(m, o)); }},
+      {"fanuc", "FANUC: pitch error compensation parameters 3620-3625 and values per point (sign to check)",
+       [](const Machine& m, const CompensationOptions& o) { return fanuc_output(compensate_fanuc(m, o)); }},
       {"klipper", "Klipper: skew profile (xy_skew, xz_skew, yz_skew) and SET_SKEW from the squareness errors",
        [](const Machine& m, const CompensationOptions& o) { return klipper_output(compensate_skew(m, o, "klipper")); }},
       {"marlin", "Marlin: M852 I J K skew factors and Configuration.h defines from the squareness errors",

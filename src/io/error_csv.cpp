@@ -1,14 +1,18 @@
 #include "mtcal/io/error_csv.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <iterator>
 
 #include <fmt/format.h>
+
+#include "mtcal/io/number_format.hpp"
 
 #include "mtcal/io/csv.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parallel.hpp"
 
 namespace mtcal {
 
@@ -57,8 +61,8 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
   return out;
 }
 
-ErrorStreamCsv::ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions)
-    : machine_(m), file_(std::make_unique<AtomicFile>(path)) {
+ErrorStreamCsv::ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads)
+    : machine_(m), file_(std::make_unique<AtomicFile>(path)), threads_(threads) {
   const std::size_t n = m.axes.size();
   std::string header;
   for (std::size_t k = 0; k < n; ++k) header += (k ? "," : "") + std::string(1, m.axes[k].letter);
@@ -70,25 +74,70 @@ ErrorStreamCsv::ErrorStreamCsv(const std::string& path, const Machine& m, bool w
 
 ErrorStreamCsv::~ErrorStreamCsv() = default;
 
+namespace {
+
+// One row's numbers as printf would write them ("%.12g" for axis values in user units, "%d" for
+// directions, "%.9e" for errors): std::to_chars is specified as printf in the C locale, without
+// a locale or an allocation per number.
+char* put(char* p, double v, std::chars_format f, int precision) {
+  return std::to_chars(p, p + 64, v, f, precision).ptr;
+}
+
+}  // namespace
+
 void ErrorStreamCsv::write(const ErrorChunk& c) {
-  const std::size_t n = c.axes;
-  fmt::memory_buffer buf;
-  for (std::size_t r = 0; r < c.size(); ++r) {
-    for (std::size_t k = 0; k < n; ++k)
-      fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "",
-                     to_user_units(machine_.axes[k], c.q[r * n + k]));
-    if (!c.dir.empty())
-      for (std::size_t k = 0; k < n; ++k) fmt::format_to(std::back_inserter(buf), ",{}", c.dir[r * n + k]);
-    for (int e = 0; e < 6; ++e) fmt::format_to(std::back_inserter(buf), ",{:.9e}", c.error[r * 6 + e]);
-    buf.push_back('\n');
+  const std::size_t n = c.axes, rows = c.size();
+  // Axis values with at least 12 digits ("%.12g", as to_user_units rounds them), errors with the
+  // chosen significant digits ("%.9e" by default): --precision up to 17 (io/number_format).
+  const int position_digits = std::max(12, significant_digits()), error_decimals = significant_digits() - 1;
+  std::vector<double> unit(n);
+  for (std::size_t k = 0; k < n; ++k) unit[k] = joint_unit_factor(machine_.axes[k]);
+  // Rows formatted in parallel slices of up to kSlice rows into per-slice buffers, written in
+  // order (the bytes do not depend on the slicing), kSlices slices at a time so that the text
+  // held stays small whatever the chunk. A row is at most n * (position_digits + 7 + 1 + 4)
+  // + 6 * (error_decimals + 8 + 1) + 1 characters ("%.Pg" is at most P + 7, "%.De" D + 8, a
+  // direction 2, and the commas).
+  constexpr std::size_t kSlice = 4096, kSlices = 16;
+  const std::size_t row_max =
+      n * static_cast<std::size_t>(position_digits + 12) + 6 * static_cast<std::size_t>(error_decimals + 9) + 2;
+  if (buffers_.size() < kSlices) buffers_.resize(kSlices);
+  std::vector<std::size_t> used(kSlices);
+  for (std::size_t group = 0; group < rows; group += kSlice * kSlices) {
+    const std::size_t slices = std::min(kSlices, (rows - group + kSlice - 1) / kSlice);
+    parallel_for(slices, threads_, [&](std::size_t s, std::size_t) {
+      const std::size_t b = group + s * kSlice, e = std::min(rows, b + kSlice);
+      auto& buf = buffers_[s];
+      if (!buf) buf.reset(new char[kSlice * row_max]);  // not zero-filled
+      char* p = buf.get();
+      for (std::size_t r = b; r < e; ++r) {
+        for (std::size_t k = 0; k < n; ++k) {
+          if (k) *p++ = ',';
+          // The user-unit value as to_user_units gives it (rounded to 12 digits) at the default.
+          p = put(p, c.q[r * n + k] / unit[k], std::chars_format::general, position_digits);
+        }
+        if (!c.dir.empty())
+          for (std::size_t k = 0; k < n; ++k) {
+            *p++ = ',';
+            p = std::to_chars(p, p + 8, static_cast<int>(c.dir[r * n + k])).ptr;
+          }
+        for (std::size_t x = 0; x < 6; ++x) {
+          *p++ = ',';
+          p = put(p, c.error[r * 6 + x], std::chars_format::scientific, error_decimals);
+        }
+        *p++ = '\n';
+      }
+      used[s] = static_cast<std::size_t>(p - buf.get());
+    });
+    for (std::size_t s = 0; s < slices; ++s)
+      file_->stream().write(buffers_[s].get(), static_cast<std::streamsize>(used[s]));
   }
-  file_->stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
 }
 
 void ErrorStreamCsv::commit() { file_->commit(); }
 
 void write_error_map_csv(const std::string& path, const Machine& m, const ErrorMap& map) {
   AtomicFile out(path);
+  const int position_digits = std::max(12, significant_digits()), error_decimals = significant_digits() - 1;
   const std::size_t n = m.axes.size();
   std::string header;
   for (std::size_t k = 0; k < n; ++k) header += (k ? "," : "") + std::string(1, m.axes[k].letter);
@@ -98,10 +147,11 @@ void write_error_map_csv(const std::string& path, const Machine& m, const ErrorM
   fmt::memory_buffer buf;
   for (std::size_t i = 0; i < map.size(); ++i) {
     for (std::size_t k = 0; k < n; ++k)
-      fmt::format_to(std::back_inserter(buf), "{}{:.12g}", k ? "," : "", to_user_units(m.axes[k], map.q[i * n + k]));
+      fmt::format_to(std::back_inserter(buf), "{}{:.{}g}", k ? "," : "", to_user_units(m.axes[k], map.q[i * n + k]),
+                     position_digits);
     for (const std::int8_t d : map.direction(i)) fmt::format_to(std::back_inserter(buf), ",{}", d);
-    fmt::format_to(std::back_inserter(buf), ",{:.9e},{:.9e},{:.9e}\n", map.error[i].x(), map.error[i].y(),
-                   map.error[i].z());
+    fmt::format_to(std::back_inserter(buf), ",{:.{}e},{:.{}e},{:.{}e}\n", map.error[i].x(), error_decimals,
+                   map.error[i].y(), error_decimals, map.error[i].z(), error_decimals);
     if (buf.size() > (1u << 20)) out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size())), buf.clear();
   }
   out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
@@ -113,7 +163,8 @@ void write_diagonals_csv(const std::string& path, const std::vector<DiagonalProf
   out.stream() << "diagonal,position,deviation\n";
   for (const auto& d : diagonals)
     for (std::size_t i = 0; i < d.position.size(); ++i)
-      out.stream() << fmt::format("{},{:.9g},{:.9e}\n", d.name, d.position[i], d.deviation[i]);
+      out.stream() << fmt::format("{},{:.{}g},{:.{}e}\n", d.name, d.position[i], std::max(9, significant_digits()),
+                                  d.deviation[i], significant_digits() - 1);
   out.commit();
 }
 
@@ -129,14 +180,15 @@ ToolpathCsv::~ToolpathCsv() = default;
 
 void ToolpathCsv::write(const ToolpathChunk& c) {
   const std::size_t n = inv_.size();
+  const int position_digits = std::max(12, significant_digits()), error_decimals = significant_digits() - 1;
   fmt::memory_buffer buf;
   auto out = std::back_inserter(buf);
   for (std::size_t i = 0; i < c.size(); ++i) {
     fmt::format_to(out, "{},", c.line[i]);
     if (c.n[i] >= 0) fmt::format_to(out, "{}", c.n[i]);
     fmt::format_to(out, ",{},{:.6f}", to_string(c.motion[i]), c.s[i]);
-    for (std::size_t k = 0; k < n; ++k) fmt::format_to(out, ",{:.12g}", c.q[i * n + k] * inv_[k]);
-    for (std::size_t e = 0; e < 6; ++e) fmt::format_to(out, ",{:.9e}", c.error[i * 6 + e]);
+    for (std::size_t k = 0; k < n; ++k) fmt::format_to(out, ",{:.{}g}", c.q[i * n + k] * inv_[k], position_digits);
+    for (std::size_t e = 0; e < 6; ++e) fmt::format_to(out, ",{:.{}e}", c.error[i * 6 + e], error_decimals);
     buf.push_back('\n');
   }
   file_->stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));

@@ -16,6 +16,7 @@
 
 #include "mtcal/io/csv.hpp"
 #include "mtcal/io/files.hpp"
+#include "mtcal/io/laser_files.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 
@@ -84,51 +85,6 @@ std::string join(const std::vector<std::string>& v) {
 
 }  // namespace
 
-PositioningRuns read_positioning_csv(const std::string& path, const std::string& unit) {
-  const TextTable table = read_text_csv(path, "positioning file");
-  const auto c = table.require_columns({"target", "run", "direction", "measured"}, path);
-  // target value -> direction -> run -> measured
-  std::vector<double> order;
-  std::map<double, std::map<int, std::map<long, double>>> data;
-  for (std::size_t r = 0; r < table.rows.size(); ++r) {
-    const auto& cells = table.rows[r];
-    const int lineno = table.lines[r];
-    auto num = [&](std::size_t col, const char* name) {
-      const auto v = parse_number(cells[col]);
-      if (!v) throw InputError({path, lineno, name}, "expected a number, found '" + cells[col] + "'");
-      return *v;
-    };
-    const double target = num(c[0], "target"), measured = num(c[3], "measured"), run = num(c[1], "run");
-    if (run != std::floor(run)) throw InputError({path, lineno, "run"}, "expected a whole run number");
-    const std::string& d = cells[c[2]];
-    int dir = 0;
-    if (d == "up" || d == "+")
-      dir = 1;
-    else if (d == "down" || d == "-")
-      dir = -1;
-    else
-      throw InputError({path, lineno, "direction"}, "expected up, down, + or -, found '" + d + "'");
-    if (!data.count(target)) order.push_back(target);
-    auto& runs = data[target][dir];
-    if (runs.count(static_cast<long>(run)))
-      throw InputError({path, lineno, "run"}, fmt::format("run {} of target {:g} ({}) given twice", run, target, d));
-    runs[static_cast<long>(run)] = measured;
-  }
-  PositioningRuns r;
-  r.source = path;
-  r.unit = unit;
-  std::sort(order.begin(), order.end());
-  for (double t : order) {
-    r.targets.push_back(t);
-    std::vector<double> up, down;
-    for (const auto& [run, v] : data[t][1]) up.push_back(v);
-    for (const auto& [run, v] : data[t][-1]) down.push_back(v);
-    r.up.push_back(up);
-    r.down.push_back(down);
-  }
-  return r;
-}
-
 namespace {
 
 // A key of an ISO 230-2 .dat file, NAME[i] or NAME[i,j] (NAME of A-Z and _): scanned by hand,
@@ -173,14 +129,37 @@ std::optional<IndexedKey> scan_indexed_key(std::string_view s) {
 
 }  // namespace
 
+namespace {
+
+// A key of the .dat layout as a name: letters, digits and '_', optionally followed by indices in
+// brackets (the form of the keys the evaluation uses, and of the data keys other tools add).
+bool plain_key(std::string_view k) {
+  std::size_t i = 0;
+  while (i < k.size() && (std::isalnum(static_cast<unsigned char>(k[i])) || k[i] == '_')) ++i;
+  if (i == 0) return false;
+  if (i == k.size()) return true;
+  if (k[i] != '[' || k.back() != ']') return false;
+  for (++i; i + 1 < k.size(); ++i)
+    if (!std::isdigit(static_cast<unsigned char>(k[i])) && k[i] != ',' && k[i] != ' ') return false;
+  return true;
+}
+
+}  // namespace
+
 PositioningRuns read_positioning_dat(const std::string& path) {
-  const std::string text = read_text_file(path, "positioning file");
+  return parse_positioning_dat(read_text_file(path, "positioning file"), path);
+}
+
+PositioningRuns parse_positioning_dat(const std::string& text, const std::string& path) {
   std::istringstream in(text);
   std::string line;
   int lineno = 0;
   std::map<long, double> targets;
   std::map<long, std::map<long, double>> fwd, bwd;
   std::string unit = "mm";
+  PositioningRuns r;
+  std::map<std::string, std::pair<int, int>> unknown;  // key name -> first line, count
+  std::vector<std::string> unknown_order;
   while (std::getline(in, line)) {
     ++lineno;
     const std::string s = trim(line.substr(0, line.find('#')));
@@ -198,26 +177,46 @@ PositioningRuns read_positioning_dat(const std::string& path) {
     }
     if (key == "CYCLES" || key == "POSITIONS") continue;  // implied by the data
     const auto m = scan_indexed_key(key);
+    const std::string name = m ? m->name : key.substr(0, key.find('['));
+    const bool known = name == "TGT_DATA" || name == "REF_DATA_FWD" || name == "REF_DATA_BWD";
+    if (!known) {
+      // Keys of other tools (TEST_DATA, REF_PV, TEST_PV, TGT_SET_PV, DEC ...): kept, not used.
+      if (!plain_key(key))
+        throw InputError({path, lineno, printable(key)},
+                         "expected a key of letters, digits and '_' (with [i] or [i,j] indices), found '" +
+                             printable(key) + "'");
+      r.metadata.emplace_back(key, printable(value, 200));
+      auto [it, fresh] = unknown.try_emplace(name, lineno, 0);
+      if (fresh) unknown_order.push_back(name);
+      ++it->second.second;
+      continue;
+    }
     if (!m)
-      throw InputError({path, lineno, key}, "unknown key '" + printable(key) +
-                                                "' (expected TGT_DATA[i], REF_DATA_FWD[i,j], REF_DATA_BWD[i,j], UNIT; "
-                                                "indices of at most 9 digits)");
+      throw InputError({path, lineno, printable(key)}, "expected " + name + (name == "TGT_DATA" ? "[i]" : "[i,j]") +
+                                                           " with indices of at most 9 digits, found '" +
+                                                           printable(key) + "'");
     const auto v = parse_number(value);
     if (!v) throw InputError({path, lineno, key}, "expected a number, found '" + printable(value) + "'");
     const long i = m->i;
-    const std::string& name = m->name;
     if (name == "TGT_DATA" && !m->j) {
+      if (targets.count(i)) throw InputError({path, lineno, key}, "given twice");
       targets[i] = *v;
-    } else if ((name == "REF_DATA_FWD" || name == "REF_DATA_BWD") && m->j) {
+    } else if (name != "TGT_DATA" && m->j) {
       auto& dst = name == "REF_DATA_FWD" ? fwd : bwd;
       const long j = *m->j;
       if (dst[i].count(j)) throw InputError({path, lineno, key}, "given twice");
       dst[i][j] = *v;
     } else {
-      throw InputError({path, lineno, key}, "unknown key '" + printable(key) + "'");
+      throw InputError({path, lineno, key},
+                       "expected " + name + (name == "TGT_DATA" ? "[i]" : "[i,j]") + ", found '" + key + "'");
     }
   }
-  PositioningRuns r;
+  for (const auto& n : unknown_order) {
+    const auto [first, count] = unknown.at(n);
+    r.warnings.push_back(fmt::format("{}:{}: key {} ({} line{}) is not used by the evaluation; kept as metadata", path,
+                                     first, n, count, count == 1 ? "" : "s"));
+  }
+  if (targets.empty()) throw InputError({path, 0, "TGT_DATA"}, "no targets (expected TGT_DATA[i]=... lines)");
   r.source = path;
   r.unit = unit;
   for (const auto& [i, t] : targets) {
@@ -237,14 +236,28 @@ PositioningRuns read_positioning_dat(const std::string& path) {
   return r;
 }
 
-bool looks_like_dat(const std::string& path) {
-  if (path.size() >= 4 && path.substr(path.size() - 4) == ".dat") return true;
-  return read_text_file(path, "positioning file").find("TGT_DATA[") != std::string::npos;
+namespace {
+
+bool has_extension(const std::string& path, std::string_view ext) {
+  if (path.size() < ext.size()) return false;
+  for (std::size_t i = 0; i < ext.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(path[path.size() - ext.size() + i])) != ext[i]) return false;
+  return true;
 }
 
-PositioningRuns read_positioning_file(const std::string& path, const std::string& format, const std::string& unit) {
-  const bool dat = format == "dat" || (format == "auto" && looks_like_dat(path));
-  return dat ? read_positioning_dat(path) : read_positioning_csv(path, unit);
+}  // namespace
+
+PositioningRuns read_positioning_file(const std::string& path, const std::string& format, const std::string& unit,
+                                      const std::string& target_unit) {
+  const bool laser_ext = has_extension(path, ".rtl") || has_extension(path, ".rta");
+  if (format == "laser" || (format == "auto" && laser_ext)) return read_laser_file(path).runs;
+  if (format == "dat" || (format == "auto" && has_extension(path, ".dat"))) return read_positioning_dat(path);
+  // One read; the content decides: a section line is a laser export, a TGT_DATA[ key the .dat form.
+  const std::string text = read_text_file(path, "positioning file");
+  if (format == "auto" && text.substr(0, 4096).find("HEADER::") != std::string::npos)
+    return parse_laser_file(text, path, false).runs;
+  if (format == "auto" && text.find("TGT_DATA[") != std::string::npos) return parse_positioning_dat(text, path);
+  return parse_positioning_csv(text, path, unit, target_unit);
 }
 
 BallbarTrace read_ballbar_csv(const std::string& path) {

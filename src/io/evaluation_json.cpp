@@ -30,10 +30,17 @@ Json to_json(const PositioningEvaluation& e) {
                                                                                   {"M", e.M}})
     j[k] = v;
   j["unit"] = e.unit;
+  j["target_unit"] = e.target_unit;
   j["runs"] = e.runs;
+  j["directions"] = e.directions == TestDirections::Both     ? "both"
+                    : e.directions == TestDirections::UpOnly ? "up"
+                                                             : "down";
+  j["notes"] = e.notes;
   Json ts = Json::array();
   for (const auto& t : e.targets)
     ts.push_back({{"target", t.target},
+                  {"n_up", t.n_up},
+                  {"n_down", t.n_down},
                   {"mean_up", t.mean_up},
                   {"mean_down", t.mean_down},
                   {"mean", t.mean},

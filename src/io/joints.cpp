@@ -7,6 +7,7 @@
 
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
+#include "mtcal/util/units.hpp"
 
 namespace mtcal {
 namespace {
@@ -34,6 +35,13 @@ double to_number(const std::string& s, const std::string& field, std::string_vie
   return *v;
 }
 
+// A joint position as typed: a bare number in the machine's user unit (mm, deg), or with a unit
+// suffix of the axis' dimension ("0.4m", "30deg", "0.5rad").
+double joint_value(const Axis& ax, const std::string& s, const std::string& field, std::string_view what) {
+  return parse_quantity(s, ax.kind == AxisKind::Linear ? Dimension::Length : Dimension::Angle, joint_unit_factor(ax),
+                        false, {std::string(what), 0, field});
+}
+
 std::size_t axis_of(const Machine& m, const std::string& name, std::vector<bool>& seen, std::string_view what) {
   auto idx = name.size() == 1 ? m.axis_index(name[0]) : std::nullopt;
   if (!idx)
@@ -50,7 +58,7 @@ std::vector<double> parse_joint_values(const Machine& m, std::string_view spec, 
   std::vector<bool> seen(m.axes.size(), false);
   for (const auto& [name, value] : items(spec, where)) {
     const std::size_t k = axis_of(m, name, seen, where);
-    q[k] = to_number(value, name, where) * joint_unit_factor(m.axes[k]);
+    q[k] = joint_value(m.axes[k], value, name, where);
   }
   return q;
 }
@@ -61,15 +69,14 @@ JointBox parse_box(const Machine& m, std::string_view spec, std::string_view whe
   std::vector<bool> seen(n, false);
   for (const auto& [name, value] : items(spec, where)) {
     const std::size_t k = axis_of(m, name, seen, where);
-    const double f = joint_unit_factor(m.axes[k]);
     const auto colon = value.find(':');
     if (colon == std::string::npos) {
-      b.lo[k] = b.hi[k] = to_number(value, name, where) * f;
+      b.lo[k] = b.hi[k] = joint_value(m.axes[k], value, name, where);
     } else {
       if (value.find(':', colon + 1) != std::string::npos)
         throw InputError({std::string(where), 0, name}, "expected lo:hi or a single value, found '" + value + "'");
-      b.lo[k] = to_number(value.substr(0, colon), name, where) * f;
-      b.hi[k] = to_number(value.substr(colon + 1), name, where) * f;
+      b.lo[k] = joint_value(m.axes[k], value.substr(0, colon), name, where);
+      b.hi[k] = joint_value(m.axes[k], value.substr(colon + 1), name, where);
       if (b.lo[k] > b.hi[k])
         throw InputError({std::string(where), 0, name}, "expected lo <= hi, found '" + value + "'");
     }
@@ -100,12 +107,14 @@ std::vector<std::vector<double>> parse_grid(const Machine& m, std::string_view s
       s = c + 1;
     }
     if (parts.size() == 1) {
-      g[k] = {to_number(parts[0], name, where) * f};
+      g[k] = {joint_value(m.axes[k], parts[0], name, where)};
       continue;
     }
     if (parts.size() != 3)
       throw InputError({std::string(where), 0, name}, "expected lo:hi:count or a single value, found '" + value + "'");
-    const double lo = to_number(parts[0], name, where), hi = to_number(parts[1], name, where);
+    // In the machine's user unit, as the samples are spaced there.
+    const double lo = joint_value(m.axes[k], parts[0], name, where) / f,
+                 hi = joint_value(m.axes[k], parts[1], name, where) / f;
     const double cnt = to_number(parts[2], name, where);
     if (cnt < 1 || cnt != std::floor(cnt) || cnt > 1e7)
       throw InputError({std::string(where), 0, name}, "expected a whole count from 1 to 1e7, found '" + parts[2] + "'");

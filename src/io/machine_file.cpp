@@ -1,4 +1,6 @@
 #include "mtcal/io/machine_file.hpp"
+
+#include "mtcal/io/etalon_file.hpp"
 #include "mtcal/io/files.hpp"
 
 #include <cmath>
@@ -364,7 +366,10 @@ void apply_parameters(Machine& m, std::string_view yaml_text, const std::string&
 }
 
 void load_parameters(Machine& m, const std::string& path) {
-  apply_parameters(m, read_text_file(path, "parameter file", kMaxYamlBytes), path);
+  const std::string text = read_text_file(path, "parameter file", kMaxYamlBytes);
+  // An Etalon exchange file (what --format etalon writes) is a parameter file too (docs/compensation.md).
+  if (looks_like_etalon(text)) return apply_etalon(m, text, path);
+  apply_parameters(m, text, path);
 }
 
 Machine load_machine(const std::string& path) {

@@ -27,7 +27,8 @@ Json to_json(const FitResult& f) {
             {"max", f.backward.max},
             {"mean_relative", number_or_null(f.backward.mean_relative)},
             {"abs_diff", f.backward.abs_diff}}},
-          {"loocv_rmse", f.loocv_rmse ? Json(*f.loocv_rmse) : Json(nullptr)}};
+          {"loocv_rmse", f.loocv_rmse ? Json(*f.loocv_rmse) : Json(nullptr)},
+          {"loocv_method", f.loocv_method.empty() ? Json(nullptr) : Json(f.loocv_method)}};
 }
 
 Json to_json(const ModelComparison& c, const std::string& file, const std::string& x, const std::string& y,

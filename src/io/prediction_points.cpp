@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "mtcal/io/number_format.hpp"
+
 #include "mtcal/io/csv.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -48,9 +50,9 @@ std::string prediction_csv(const PredictionRun& run, const PredictionModel& m) {
   out += "ex,ey,ez\n";
   for (std::size_t r = 0; r < run.points.rows.size() && r < run.predictions.size(); ++r) {
     const auto& p = run.predictions[r];
-    for (double v : run.points.rows[r]) out += fmt::format("{:.10g},", v);
-    for (double v : p.values) out += fmt::format("{:.9g},", v);
-    out += fmt::format("{:.9g},{:.9g},{:.9g}\n", p.e[0], p.e[1], p.e[2]);
+    for (double v : run.points.rows[r]) out += format_number(v) + ",";
+    for (double v : p.values) out += format_number(v) + ",";
+    out += format_number(p.e[0]) + "," + format_number(p.e[1]) + "," + format_number(p.e[2]) + "\n";
   }
   return out;
 }
@@ -58,7 +60,8 @@ std::string prediction_csv(const PredictionRun& run, const PredictionModel& m) {
 std::string compensation_csv(const PredictionRun& run) {
   std::string out = "step,offset_x,offset_y,offset_z\n";
   for (const auto& c : run.compensation)
-    out += fmt::format("{:g},{:.9g},{:.9g},{:.9g}\n", c.step, c.offset[0], c.offset[1], c.offset[2]);
+    out += fmt::format("{:g},{},{},{}\n", c.step, format_number(c.offset[0]), format_number(c.offset[1]),
+                       format_number(c.offset[2]));
   return out;
 }
 

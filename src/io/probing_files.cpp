@@ -78,14 +78,9 @@ IndexedCentres read_centres_csv(const std::string& path, char axis) {
   const std::size_t cx = require(t, path, "x"), cy = require(t, path, "y"), cz = require(t, path, "z");
   IndexedCentres out;
   out.source = path;
-  std::map<double, int> seen;
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const auto& row = t.rows[r];
-    const double angle = row[ca];
-    if (seen.count(angle))
-      throw InputError({path, t.lines[r], letter},
-                       fmt::format("{}={:g} is given twice (lines {} and {})", letter, angle, seen[angle], t.lines[r]));
-    seen[angle] = t.lines[r];
+    const double angle = row[ca];  // an angle given twice is one position measured twice: averaged later
     out.centres.push_back({angle * kDeg, Point3(row[cx], row[cy], row[cz])});
   }
   return out;

@@ -72,6 +72,12 @@ Json to_json(const RotaryAxisResult& r) {
     cs.push_back(cj);
   }
   j["centres"] = cs;
+  j["measured_line"] = {{"point", {r.line.point.x(), r.line.point.y(), r.line.point.z()}},
+                        {"direction", {r.line.direction.x(), r.line.direction.y(), r.line.direction.z()}},
+                        {"radius", r.line.radius},
+                        {"tilt", r.line.tilt},
+                        {"rms", r.line.rms}};
+  j["notes"] = r.notes;
   return j;
 }
 

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "mtcal/io/number_format.hpp"
+
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 
@@ -130,13 +132,14 @@ std::vector<DimensionRecord> read_dimension_table(const std::string& path) {
 std::string separation_csv(const PositionSeparation& s) {
   std::string csv = "axis,step,distance,e_pos,count\n";
   for (const auto& p : s.steps)
-    csv += fmt::format("{},{},{:g},{:.9g},{}\n", p.axis, p.step, p.distance, p.e_pos, p.count);
+    csv += fmt::format("{},{},{:g},{},{}\n", p.axis, p.step, p.distance, format_number(p.e_pos), p.count);
   return csv;
 }
 
 std::string separation_csv(const ControlSeparation& s) {
   std::string csv = "axis,step,distance," + s.quantity + "\n";
-  for (const auto& c : s.steps) csv += fmt::format("{},{},{:g},{:.9g}\n", c.axis, c.step, c.distance, c.value);
+  for (const auto& c : s.steps)
+    csv += fmt::format("{},{},{:g},{}\n", c.axis, c.step, c.distance, format_number(c.value));
   return csv;
 }
 

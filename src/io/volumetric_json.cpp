@@ -112,8 +112,29 @@ Json to_json(const Machine& m, const ContributionStudy& s, std::size_t top) {
   for (auto it = cj.begin(); it != cj.end(); ++it) j[it.key()] = it.value();
   if (s.va && s.what_if_asked) {
     j["what_if"] = Json::array();
-    for (const auto& w : s.what_if)
-      j["what_if"].push_back({{"error", w.error.str()}, {"va_without", w.va}, {"gain", s.va->va.value - w.va}});
+    for (const auto& w : s.what_if) {
+      Json x = {{"error", w.error.str()},
+                {"va_without", w.va},
+                {"gain", s.va->va.value - w.va},
+                {"share", w.share},
+                {"disagrees", w.disagrees}};
+      if (w.disagrees) {
+        x["critical_pair_without"] = {{"from", joint_json(m, w.from)}, {"to", joint_json(m, w.to)}};
+        x["along_there"] = w.along_there;
+        x["cancelled"] = Json::array();
+        for (const auto& [e, against] : w.cancelled)
+          x["cancelled"].push_back({{"error", e.str()}, {"against", against}});
+      }
+      j["what_if"].push_back(x);
+    }
+  }
+  if (s.sequence) {
+    Json steps = Json::array();
+    for (const auto& st : s.sequence->steps) steps.push_back({{"error", st.error.str()}, {"va", st.va}});
+    j["correction_sequence"] = {{"target_va", s.sequence->target},
+                                {"start_va", s.sequence->start},
+                                {"reached", s.sequence->reached},
+                                {"steps", steps}};
   }
   return j;
 }

@@ -52,6 +52,21 @@ ErrorModel::Program::Program(const Machine& m)
   compile(chain, true, actual_ops);
   compile(nominal_chain, false, nominal_ops);
 
+  auto segments = [&](const std::vector<Op>& ops, std::vector<std::size_t>& seg) {
+    const std::size_t n = m.axes.size();
+    seg.assign(n + 1, ops.size());
+    int current = -1;
+    for (std::size_t i = 0; i < ops.size(); ++i) {
+      const int a = ops[i].kind == Op::Kind::Const ? current : ops[i].axis;
+      if (a == current) continue;
+      if (a != current + 1) return false;  // an axis out of chain order: no product structure
+      current = a;
+      seg[static_cast<std::size_t>(a)] = i;
+    }
+    return current == static_cast<int>(n) - 1;
+  };
+  grid_structured = segments(actual_ops, actual_segment) && segments(nominal_ops, nominal_segment);
+
   for (const Axis& ax : m.axes) {
     AxisInfo a;
     a.rotary = ax.kind == AxisKind::Rotary;
@@ -209,9 +224,12 @@ struct AxisLanes {
 // applies the zero positions. A function, not a lambda: lambdas do not inherit the kernel's
 // target_clones, always-inlined functions do.
 [[gnu::always_inline]] inline void run_program(const ErrorModel::Program& prog, const Machine& m, const AxisLanes* ax,
-                                               const std::vector<Op>& ops, Block& B, bool actual) {
+                                               const std::vector<Op>& ops, Block& B, bool actual, std::size_t begin = 0,
+                                               std::size_t end = static_cast<std::size_t>(-1)) {
   set_identity(B);
-  for (const Op& op : ops) {
+  end = std::min(end, ops.size());
+  for (std::size_t i = begin; i < end; ++i) {
+    const Op& op = ops[i];
     if (op.kind == Op::Kind::Const) {
       mul_const(B, op.value);
       continue;
@@ -243,38 +261,24 @@ struct AxisLanes {
   }
 }
 
-MTCAL_KERNEL_CLONES
-void run_block(const ErrorModel::Program& prog, const Machine& m, const double* q, const std::int8_t* dir,
-               std::size_t count, double* out) {
-  const std::size_t n = prog.axes.size();
-  AxisLanes ax[6];
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto& a = prog.axes[k];
-    AxisLanes& L = ax[k];
+// The joint's sines and cosines (rotary) or displacements (linear) of L.q, nominal and actual.
+[[gnu::always_inline]] inline void prepare_axis(const ErrorModel::Program::AxisInfo& a, AxisLanes& L) {
+  if (a.rotary) {
+    for (int l = 0; l < kLanes; ++l) sincos_lane(a.sign * L.q[l], L.nom_s[l], L.nom_c[l]);
     for (int l = 0; l < kLanes; ++l) {
-      const std::size_t src = std::min<std::size_t>(static_cast<std::size_t>(l), count - 1);
-      L.q[l] = q[src * n + k];
-      L.dir[l] = dir ? static_cast<double>(dir[src * n + k]) : 0.0;
+      L.act_c[l] = L.nom_c[l] * a.cos_zero - L.nom_s[l] * a.sin_zero;
+      L.act_s[l] = L.nom_s[l] * a.cos_zero + L.nom_c[l] * a.sin_zero;
     }
-    if (a.rotary) {
-      for (int l = 0; l < kLanes; ++l) sincos_lane(a.sign * L.q[l], L.nom_s[l], L.nom_c[l]);
-      for (int l = 0; l < kLanes; ++l) {
-        L.act_c[l] = L.nom_c[l] * a.cos_zero - L.nom_s[l] * a.sin_zero;
-        L.act_s[l] = L.nom_s[l] * a.cos_zero + L.nom_c[l] * a.sin_zero;
-      }
-    } else {
-      for (int l = 0; l < kLanes; ++l) {
-        L.nom_d[l] = a.sign * L.q[l];
-        L.act_d[l] = a.sign * (L.q[l] + a.zero);
-      }
+  } else {
+    for (int l = 0; l < kLanes; ++l) {
+      L.nom_d[l] = a.sign * L.q[l];
+      L.act_d[l] = a.sign * (L.q[l] + a.zero);
     }
   }
+}
 
-  Block P, N;
-  run_program(prog, m, ax, prog.actual_ops, P, true);
-  run_program(prog, m, ax, prog.nominal_ops, N, false);
-
-  // Output: translation difference and rotation vector of dR = R_actual R_nominal^T.
+// Output: translation difference and rotation vector of dR = R_actual R_nominal^T.
+[[gnu::always_inline]] inline void finish_block(const Block& P, const Block& N, std::size_t count, double* out) {
   Lane res[6], sin_t, cos_t;
   bool small = true;
   for (int l = 0; l < kLanes; ++l) {
@@ -316,7 +320,201 @@ void run_block(const ErrorModel::Program& prog, const Machine& m, const double* 
     for (int c = 0; c < 6; ++c) out[l * 6 + c] = res[c][l];
 }
 
+MTCAL_KERNEL_CLONES
+void run_block(const ErrorModel::Program& prog, const Machine& m, const double* q, const std::int8_t* dir,
+               std::size_t count, double* out) {
+  const std::size_t n = prog.axes.size();
+  AxisLanes ax[6];
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto& a = prog.axes[k];
+    AxisLanes& L = ax[k];
+    for (int l = 0; l < kLanes; ++l) {
+      const std::size_t src = std::min<std::size_t>(static_cast<std::size_t>(l), count - 1);
+      L.q[l] = q[src * n + k];
+      L.dir[l] = dir ? static_cast<double>(dir[src * n + k]) : 0.0;
+    }
+    prepare_axis(a, L);
+  }
+
+  Block P, N;
+  run_program(prog, m, ax, prog.actual_ops, P, true);
+  run_program(prog, m, ax, prog.nominal_ops, N, false);
+  finish_block(P, N, count, out);
+}
+
+// A Joint or Motion op of the factor of one axis of a grid, per grid value (lane): the tables
+// hold the factor's rotation (row-major) and translation, SoA: tab[c * count + j], c < 12.
+MTCAL_KERNEL_CLONES
+void axis_factors(const ErrorModel::Program& prog, const Machine& m, std::size_t k, const std::vector<double>& v,
+                  const std::vector<Op>& ops, std::size_t begin, std::size_t end, bool actual, double* tab) {
+  AxisLanes ax[6]{};  // the segment's ops read axis k only
+  const std::size_t count = v.size();
+  for (std::size_t j0 = 0; j0 < count; j0 += kLanes) {
+    AxisLanes& L = ax[k];
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      L.q[l] = v[std::min(j0 + l, count - 1)];
+      L.dir[l] = 0.0;  // a grid has no directions of motion
+    }
+    prepare_axis(prog.axes[k], L);
+    Block B;
+    run_program(prog, m, ax, ops, B, actual, begin, end);
+    for (std::size_t l = 0; l < kLanes && j0 + l < count; ++l) {
+      for (std::size_t c = 0; c < 9; ++c) tab[c * count + j0 + l] = B.r[c][l];
+      for (std::size_t c = 0; c < 3; ++c) tab[(9 + c) * count + j0 + l] = B.t[c][l];
+    }
+  }
+}
+
+// A rigid transform of one configuration, rotation row-major.
+struct Pose {
+  double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double t[3] = {0, 0, 0};
+};
+
+// out = a * F_j, F from a factor table of `count` values.
+inline void compose(const Pose& a, const double* tab, std::size_t count, std::size_t j, Pose& out) {
+  double f[12];
+  for (std::size_t c = 0; c < 12; ++c) f[c] = tab[c * count + j];
+  for (int i = 0; i < 3; ++i) {
+    const double x = a.r[3 * i], y = a.r[3 * i + 1], z = a.r[3 * i + 2];
+    for (int c = 0; c < 3; ++c) out.r[3 * i + c] = x * f[c] + y * f[3 + c] + z * f[6 + c];
+    out.t[i] = a.t[i] + (x * f[9] + y * f[10] + z * f[11]);
+  }
+}
+
+// row[b .. b + kLanes), clamped to row[last - 1] past the end.
+[[gnu::always_inline]] inline void load_lanes(const double* row, std::size_t b, std::size_t last, bool full,
+                                              Lane& dst) {
+  if (full)
+    for (std::size_t l = 0; l < kLanes; ++l) dst[l] = row[b + l];
+  else
+    for (std::size_t l = 0; l < kLanes; ++l) dst[l] = row[std::min(b + l, last - 1)];
+}
+
+// Configurations (outer, l) for l in [l0, l1) of the fastest axis: the poses A * Fa[l] and
+// N * Fn[l] lane by lane, then the same output step as run_block.
+MTCAL_KERNEL_CLONES
+void grid_row(const Pose& A, const Pose& N, const double* fa, const double* fn, std::size_t count, std::size_t l0,
+              std::size_t l1, double* out) {
+  for (std::size_t b = l0; b < l1; b += kLanes) {
+    const std::size_t len = std::min<std::size_t>(kLanes, l1 - b);
+    const bool full = len == kLanes;  // contiguous loads; a short last block repeats its last value
+    Block P, Q;
+    for (int which = 0; which < 2; ++which) {
+      const Pose& S = which ? N : A;
+      const double* tab = which ? fn : fa;
+      Block& X = which ? Q : P;
+      Lane f[9];
+      for (std::size_t c = 0; c < 9; ++c) load_lanes(tab + c * count, b, l1, full, f[c]);
+      for (int i = 0; i < 3; ++i) {
+        const double x = S.r[3 * i], y = S.r[3 * i + 1], z = S.r[3 * i + 2];
+        for (int c = 0; c < 3; ++c)
+          for (int l = 0; l < kLanes; ++l) X.r[3 * i + c][l] = x * f[c][l] + y * f[3 + c][l] + z * f[6 + c][l];
+      }
+    }
+    // The translation error as a sum of differences, not a difference of two tool positions
+    // (hundreds of mm): A.R (fa.t - fn.t) + (A.R - N.R) fn.t + (A.t - N.t) keeps the rounding
+    // at the size of the terms that differ.
+    Lane dft[3], ftn[3];
+    for (std::size_t c = 0; c < 3; ++c) {
+      Lane fat;
+      load_lanes(fn + (9 + c) * count, b, l1, full, ftn[c]);
+      load_lanes(fa + (9 + c) * count, b, l1, full, fat);
+      for (std::size_t l = 0; l < kLanes; ++l) dft[c][l] = fat[l] - ftn[c][l];
+    }
+    for (int i = 0; i < 3; ++i) {
+      const double x = A.r[3 * i], y = A.r[3 * i + 1], z = A.r[3 * i + 2];
+      const double u = x - N.r[3 * i], v = y - N.r[3 * i + 1], w = z - N.r[3 * i + 2], d = A.t[i] - N.t[i];
+      for (int l = 0; l < kLanes; ++l) {
+        P.t[i][l] =
+            (x * dft[0][l] + y * dft[1][l] + z * dft[2][l]) + (u * ftn[0][l] + v * ftn[1][l] + w * ftn[2][l]) + d;
+        Q.t[i][l] = 0.0;
+      }
+    }
+    finish_block(P, Q, len, out + (b - l0) * 6);
+  }
+}
+
 }  // namespace
+
+bool ErrorModel::grid_structured() const { return program_->grid_structured; }
+
+void ErrorModel::evaluate_grid(std::span<const std::vector<double>> values, std::size_t first, std::span<double> out,
+                               const BatchOptions& options) const {
+  const std::size_t n = axis_count();
+  if (values.size() != n)
+    throw ModelError("grid of " + std::to_string(values.size()) + " axes for a machine with " + std::to_string(n));
+  std::size_t total = 1;
+  for (const auto& v : values) {
+    if (v.empty()) throw ModelError("grid axis without values");
+    total *= v.size();
+  }
+  const std::size_t count = out.size() / 6;
+  if (out.size() % 6 != 0 || first > total || count > total - first)
+    throw ModelError("grid output of " + std::to_string(out.size()) + " values from configuration " +
+                     std::to_string(first) + " does not fit a grid of " + std::to_string(total));
+  if (count == 0) return;
+  const Program& prog = *program_;
+  if (!prog.grid_structured) {  // point by point, in slices of bounded memory
+    constexpr std::size_t kSlice = 1 << 14;
+    std::vector<double> q(std::min(count, kSlice) * n);
+    for (std::size_t s = 0; s < count; s += kSlice) {
+      const std::size_t len = std::min(kSlice, count - s);
+      for (std::size_t r = 0; r < len; ++r) {
+        std::size_t index = first + s + r;
+        for (std::size_t k = n; k-- > 0;) {
+          q[r * n + k] = values[k][index % values[k].size()];
+          index /= values[k].size();
+        }
+      }
+      evaluate_batch(std::span(q).first(len * n), {}, out.subspan(s * 6, len * 6), options);
+    }
+    return;
+  }
+  // Each axis' factor once per grid value; the constants before axis 0 go into axis 0's factor.
+  std::vector<std::vector<double>> act(n), nom(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    act[k].resize(12 * values[k].size());
+    nom[k].resize(12 * values[k].size());
+    axis_factors(prog, machine_, k, values[k], prog.actual_ops, k ? prog.actual_segment[k] : 0,
+                 prog.actual_segment[k + 1], true, act[k].data());
+    axis_factors(prog, machine_, k, values[k], prog.nominal_ops, k ? prog.nominal_segment[k] : 0,
+                 prog.nominal_segment[k + 1], false, nom[k].data());
+  }
+  const std::size_t last = values[n - 1].size();
+  auto work = [&](std::size_t b, std::size_t e) {
+    // Prefix products over the outer axes 0..n-2 (axis n-2 varies fastest among them).
+    std::size_t digit[6] = {};
+    Pose pa[6], pn[6];
+    std::size_t outer = (first + b) / last;
+    for (std::size_t k = n - 1; k-- > 0;) {
+      digit[k] = outer % values[k].size();
+      outer /= values[k].size();
+    }
+    auto rebuild = [&](std::size_t from) {
+      for (std::size_t k = from; k + 1 < n; ++k) {
+        compose(k ? pa[k - 1] : Pose{}, act[k].data(), values[k].size(), digit[k], pa[k]);
+        compose(k ? pn[k - 1] : Pose{}, nom[k].data(), values[k].size(), digit[k], pn[k]);
+      }
+    };
+    rebuild(0);
+    const Pose identity;
+    for (std::size_t i = b; i < e;) {
+      const std::size_t l0 = (first + i) % last, l1 = std::min(last, l0 + (e - i));
+      grid_row(n > 1 ? pa[n - 2] : identity, n > 1 ? pn[n - 2] : identity, act[n - 1].data(), nom[n - 1].data(), last,
+               l0, l1, out.data() + i * 6);
+      i += l1 - l0;
+      if (i >= e || n == 1) continue;
+      std::size_t k = n - 2;
+      while (++digit[k] == values[k].size() && k > 0) digit[k--] = 0;
+      rebuild(k);
+    }
+  };
+  std::size_t threads = worker_count(options.threads, count);
+  threads = std::min(threads, std::max<std::size_t>(1, count / 4096));
+  parallel_for_ranges(count, threads, static_cast<int>(threads),
+                      [&](std::size_t b, std::size_t e, std::size_t) { work(b, e); });
+}
 
 ErrorModel::ErrorModel(const Machine& machine) : machine_(machine), program_(std::make_unique<Program>(machine_)) {
   if (machine_.axes.size() > 6) throw ModelError("at most 6 axes are supported");

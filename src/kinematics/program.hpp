@@ -30,6 +30,13 @@ struct ErrorModel::Program {
   std::vector<Op> actual_ops, nominal_ops;
   std::vector<AxisInfo> axes;
 
+  // Grid structure: when each program's ops name the axes in chain order (constants before the
+  // first axis, then the ops of axis 0, of axis 1 ...), the pose is S * F_0(q_0) * ... * F_n-1(q_n-1)
+  // with one factor per axis, so that a grid needs each factor once per grid value.
+  // segment[k] = first op of axis k's factor; segment[n] = ops.size().
+  bool grid_structured = false;
+  std::vector<std::size_t> actual_segment, nominal_segment;
+
   explicit Program(const Machine& m);
 };
 

@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/suggest.hpp"
 
 namespace mtcal {
 
@@ -152,6 +153,17 @@ std::string parameter_naming(const Machine& m) {
   return s + " or a mounting error such as EXt, EAw";
 }
 
+std::string name_hint(const Machine& m, std::string_view typed) {
+  std::vector<std::string> names;
+  walk(m, [&](const ErrorParameter& p, auto&&) {
+    const std::string e = p.error.str();
+    if (std::find(names.begin(), names.end(), e) == names.end()) names.push_back(e);
+    if (p.name != e) names.push_back(p.name);
+    return true;
+  });
+  return did_you_mean(typed, names);
+}
+
 std::vector<ErrorParameter> Machine::parameters() const {
   std::vector<ErrorParameter> out;
   walk(*this, [&](const ErrorParameter& p, auto&&) {
@@ -210,8 +222,8 @@ void Machine::set_parameter(std::size_t index, double value) {
 void Machine::set_parameter(std::string_view param, double value) {
   auto i = parameter_index(param);
   if (!i)
-    throw ModelError("unknown parameter '" + std::string(param) + "' for machine '" + name + "' (" +
-                     parameter_naming(*this) + ")");
+    throw ModelError("unknown parameter '" + std::string(param) + "'" + name_hint(*this, param) + " for machine '" +
+                     name + "' (" + parameter_naming(*this) + ")");
   set_parameter(*i, value);
 }
 
@@ -220,11 +232,13 @@ void Machine::keep_only(const std::vector<std::string>& names) {
   for (const auto& n : names) {
     if (n.find('.') != std::string::npos) {
       if (!parameter_index(n))
-        throw ModelError("unknown parameter '" + n + "' for machine '" + name + "' (" + parameter_naming(*this) + ")");
+        throw ModelError("unknown parameter '" + n + "'" + name_hint(*this, n) + " for machine '" + name + "' (" +
+                         parameter_naming(*this) + ")");
       params.insert(n);
     } else {
       auto en = ErrorName::parse(n);
-      if (!en || !has_error(*en)) throw ModelError("unknown error name '" + n + "' for topology " + topology.chain);
+      if (!en || !has_error(*en))
+        throw ModelError("unknown error name '" + n + "'" + name_hint(*this, n) + " for topology " + topology.chain);
       errors.insert(n);
     }
   }

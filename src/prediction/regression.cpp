@@ -699,7 +699,41 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
   }
   r.identifiable = full_rank && std::all_of(r.identified.begin(), r.identified.end(), [](bool b) { return b; });
 
-  if (options.loocv && n >= np + 1) {
+  if (options.loocv && n >= np + 1 && n > options.loocv_refit_max) {
+    // PRESS residuals e_i = r_i / (1 - h_ii), h_ii = |row i of Q|^2 for J = QR (Allen 1974; Cook &
+    // Weisberg, Residuals and Influence in Regression, 1982, eq. 2.2.23): exact for linear least
+    // squares, for a nonlinear form the prediction of a refit that takes one Gauss-Newton step
+    // from the full solution. Parameters on a bound stay fixed, as in a refit.
+    std::vector<Eigen::Index> cols;
+    for (std::size_t k = 0; k < np; ++k)
+      if (!r.at_bound[k]) cols.push_back(static_cast<Eigen::Index>(k));
+    Eigen::MatrixXd A(J.rows(), static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      A.col(static_cast<Eigen::Index>(c)) = J.col(cols[c]);
+      const double norm = A.col(static_cast<Eigen::Index>(c)).norm();
+      if (norm > 0.0) A.col(static_cast<Eigen::Index>(c)) /= norm;  // units out of the rank test
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+    qr.setThreshold(1e-12);
+    const Eigen::Index rank = qr.rank();
+    // The thin Q only (n x rank): the full one would be n x n.
+    const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(A.rows(), rank);
+    std::vector<double> errors(n);
+    double sum = 0.0;
+    bool ok = rank == static_cast<Eigen::Index>(cols.size()) && r.converged;
+    for (std::size_t i = 0; i < n && ok; ++i) {
+      const double h = Q.row(static_cast<Eigen::Index>(i)).squaredNorm();
+      const double e = (y[i] - r.model(x[i])) / (1.0 - h);
+      ok = h < 1.0 - 1e-12 && std::isfinite(e);
+      errors[i] = e;
+      sum += e * e;
+    }
+    if (ok) {
+      r.loocv_errors = errors;
+      r.loocv_rmse = std::sqrt(sum / static_cast<double>(n));
+      r.loocv_method = spec.form == ModelForm::Polynomial ? "hat_matrix" : "linearised";
+    }
+  } else if (options.loocv && n >= np + 1) {
     std::vector<double> xs(n - 1), ys(n - 1), errors;
     double sum = 0.0;
     bool ok = true;
@@ -719,6 +753,7 @@ FitResult fit_model(const ModelSpec& spec, std::span<const double> x, std::span<
     if (ok) {
       r.loocv_errors = errors;
       r.loocv_rmse = std::sqrt(sum / static_cast<double>(n));
+      r.loocv_method = "refit";
     }
   }
   return r;

@@ -2,7 +2,8 @@
 #include "mtcal/probing/rotary_probing.hpp"
 
 #include <cmath>
-#include <map>
+
+#include <Eigen/Geometry>
 #include <numbers>
 #include <utility>
 
@@ -18,26 +19,18 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 }  // namespace
 
 IndexedCentres centres_from_contacts(const ContactSet& set, const SphereProbing& probing) {
-  // Consecutive contacts with the same angle form one indexation; an angle met again later is an
-  // error.
+  // Consecutive contacts with the same angle form one indexation. An angle met again later is a
+  // second probing of that position: fitted on its own (never merged into the first fit), its
+  // centre then averaged with the first by merge_wrapped_centres.
   struct Group {
     double angle;
     int line;
     std::vector<ProbeContact> contacts;
   };
   std::vector<Group> groups;
-  std::map<double, int> seen;
   const std::string axis(1, set.axis);
   for (const auto& c : set.contacts) {
-    if (groups.empty() || groups.back().angle != c.angle_deg) {
-      if (seen.count(c.angle_deg))
-        throw InputError(
-            {set.source, c.line, axis},
-            fmt::format("{}={:g} was probed already (from line {}); keep each indexation's contacts together", axis,
-                        c.angle_deg, seen[c.angle_deg]));
-      seen[c.angle_deg] = c.line;
-      groups.push_back({c.angle_deg, c.line, {}});
-    }
+    if (groups.empty() || groups.back().angle != c.angle_deg) groups.push_back({c.angle_deg, c.line, {}});
     groups.back().contacts.push_back(c.contact);
   }
   IndexedCentres out;
@@ -52,6 +45,96 @@ IndexedCentres centres_from_contacts(const ContactSet& set, const SphereProbing&
     out.fits.push_back(sc);
   }
   return out;
+}
+
+InstrumentFrame frame_from_angles(double rx, double ry, double rz, const Point3& translation) {
+  InstrumentFrame f;
+  f.rotation = (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(rx, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  f.translation = translation;
+  return f;
+}
+
+void apply_frame(IndexedCentres& centres, const InstrumentFrame& frame) {
+  for (auto& c : centres.centres) c.centre = frame.rotation * c.centre + frame.translation;
+  for (auto& f : centres.fits) {
+    f.least_squares = frame.rotation * f.least_squares + frame.translation;
+    if (f.five_point) f.five_point = frame.rotation * *f.five_point + frame.translation;
+    for (auto& c : f.subset_centres) c = frame.rotation * c + frame.translation;
+  }
+}
+
+std::vector<std::string> merge_wrapped_centres(IndexedCentres& in) {
+  constexpr double turn = 2 * std::numbers::pi;
+  auto reduce = [&](double a) {
+    double r = std::fmod(a, turn);
+    if (r < 0) r += turn;
+    return r > turn - 1e-9 ? 0.0 : r;
+  };
+  std::vector<std::string> notes;
+  std::vector<std::vector<std::size_t>> groups;
+  std::vector<double> reduced;
+  for (std::size_t i = 0; i < in.centres.size(); ++i) {
+    const double r = reduce(in.centres[i].angle);
+    std::size_t g = 0;
+    while (g < reduced.size() && std::abs(reduced[g] - r) > 1e-9) ++g;
+    if (g == reduced.size()) reduced.push_back(r), groups.emplace_back();
+    groups[g].push_back(i);
+  }
+  if (groups.size() == in.centres.size()) return notes;
+  IndexedCentres out;
+  out.source = in.source;
+  out.method = in.method;
+  for (const auto& g : groups) {
+    std::size_t rep = g[0];
+    Point3 sum = Point3::Zero();
+    std::string angles;
+    for (std::size_t i : g) {
+      sum += in.centres[i].centre;
+      if (std::abs(in.centres[i].angle) < std::abs(in.centres[rep].angle)) rep = i;
+      angles += fmt::format("{}{:g}", angles.empty() ? "" : ", ", in.centres[i].angle / kDeg);
+    }
+    out.centres.push_back({in.centres[rep].angle, sum / static_cast<double>(g.size())});
+    if (!in.fits.empty()) out.fits.push_back(in.fits[rep]);
+    if (g.size() > 1)
+      notes.push_back(
+          fmt::format("indexations at {} deg are one position of the axis: their centres are averaged "
+                      "(spread {:.3g} mm)",
+                      angles, [&] {
+                        double d = 0;
+                        for (std::size_t i : g)
+                          d = std::max(d, (in.centres[i].centre - sum / static_cast<double>(g.size())).norm());
+                        return d;
+                      }()));
+  }
+  in = std::move(out);
+  return notes;
+}
+
+MeasuredAxisLine measure_axis_line(const NominalRotaryAxis& axis, const std::vector<MeasuredCentre>& centres) {
+  std::vector<Point3> pts;
+  for (const auto& c : centres) pts.push_back(c.centre);
+  const auto fit = pts.size() >= 3 ? fit_circle(pts) : std::nullopt;
+  if (!fit)
+    throw InputError({"centres", 0, ""}, "the sphere centres lie on one line (or coincide): no circle, no axis");
+  MeasuredAxisLine l;
+  const int k = axis.direction_axis;
+  Point3 n = fit->normal.normalized();
+  if (std::abs(n[k]) > 1e-12) {
+    if (n[k] < 0) n = -n;
+  } else {
+    int m = 0;
+    n.cwiseAbs().maxCoeff(&m);
+    if (n[m] < 0) n = -n;
+  }
+  l.direction = n;
+  // The line's point nearest the nominal point.
+  l.point = fit->centre + (axis.point - fit->centre).dot(n) * n;
+  l.radius = fit->radius;
+  l.tilt = std::atan2(std::hypot(n[(k + 1) % 3], n[(k + 2) % 3]), std::abs(n[k]));
+  l.rms = fit->quality.sigma;
+  return l;
 }
 
 const RotaryEstimate& RotaryAxisResult::best() const {
@@ -70,7 +153,22 @@ RotaryAxisResult locate_rotary_axis(const NominalRotaryAxis& axis, IndexedCentre
   RotaryAxisResult r;
   r.axis = axis;
   r.centres = std::move(centres);
+  r.notes = merge_wrapped_centres(r.centres);
   r.reject_sigma = options.triples_options.reject_sigma;
+  if (r.centres.centres.size() < 3)
+    throw InputError({r.centres.source, 0, ""},
+                     fmt::format("expected at least 3 positions of the axis, found {}{}", r.centres.centres.size(),
+                                 r.notes.empty() ? "" : " (after merging angles a turn apart)"));
+  r.line = measure_axis_line(axis, r.centres.centres);
+  if (r.line.tilt > options.max_tilt) {
+    r.located = false;
+    r.notes.push_back(fmt::format(
+        "the measured axis is {:.2f} deg from the nominal direction of {}: ISO 230-7 location errors are small "
+        "angles about the nominal line, so only the measured line is given (give the instrument's frame if its "
+        "axes are not the machine's, or check the axis letter)",
+        r.line.tilt / kDeg, axis.letter));
+    return r;
+  }
   if (options.least_squares) r.least_squares = estimate_by_least_squares(axis, r.centres.centres);
   if (options.triples) r.triples = estimate_by_triples(axis, r.centres.centres, options.triples_options);
   const auto names = rotary_quantity_names(axis.letter);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mtcal/report/report.hpp"
+#include "mtcal/util/units.hpp"
 
 namespace mtcal {
 namespace {
@@ -24,24 +25,108 @@ std::string r_text(const std::optional<double>& v) { return v ? fmt::format("{:.
 
 }  // namespace
 
+std::string PositioningDisplay::format(double v) const {
+  if (v != v) return "n/a";
+  return fmt::format("{:.{}f}", v * factor, decimals);
+}
+
+PositioningDisplay positioning_display(const PositioningRuns& runs, const PositioningEvaluation& e) {
+  PositioningDisplay d;
+  d.unit = e.unit;
+  if (e.unit == "mm") d.unit = "um", d.factor = 1e3;
+  // Decimals that write every input value exactly, in the unit shown.
+  std::vector<double> deviations;
+  int resolved = 0;
+  for (std::size_t i = 0; i < runs.targets.size(); ++i)
+    for (const auto* side : {&runs.up[i], &runs.down[i]})
+      for (double v : *side) {
+        const double x = (runs.deviations ? v : v - runs.targets[i]) * d.factor;
+        const double shown = v * d.factor;
+        deviations.push_back(std::abs(x));
+        int k = 0;
+        while (k < 6 && std::abs(shown * std::pow(10.0, k) - std::round(shown * std::pow(10.0, k))) >
+                            1e-6 * std::max(1.0, std::abs(shown * std::pow(10.0, k))))
+          ++k;
+        resolved = std::max(resolved, k);
+      }
+  // Two significant digits of the scatter: the median standard deviation (or a tenth of the
+  // median deviation with a single run).
+  std::vector<double> s;
+  for (const auto& t : e.targets)
+    for (double v : {t.s_up, t.s_down})
+      if (v == v && v > 0) s.push_back(v * d.factor);
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+  };
+  double scale = s.empty() ? median(deviations) / 10 : median(s);
+  int noise = 6;
+  if (scale > 0) noise = std::clamp(1 - static_cast<int>(std::floor(std::log10(scale))), 0, 6);
+  // Means and spreads resolve one digit more than the values they come from.
+  d.decimals = std::min(resolved + 1, noise);
+  return d;
+}
+
+std::string positioning_text(const PositioningRuns& runs, const PositioningEvaluation& e) {
+  const PositioningDisplay d = positioning_display(runs, e);
+  auto f = [&](double v) { return d.format(v); };
+  const std::string tu = e.target_unit.empty() ? e.unit : e.target_unit;
+  std::string s;
+  s += fmt::format("ISO 230-2: {} targets x {} runs per direction{}; deviations in {}\n", e.targets.size(), e.runs,
+                   e.directions == TestDirections::Both     ? ""
+                   : e.directions == TestDirections::UpOnly ? " (unidirectional, up)"
+                                                            : " (unidirectional, down)",
+                   d.unit);
+  s += fmt::format("{:>12} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "target " + tu, "mean_up", "mean_down",
+                   "B_i", "s_up", "s_down", "R_i", "mean");
+  for (const auto& t : e.targets)
+    s += fmt::format("{:>12g} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", t.target, f(t.mean_up),
+                     f(t.mean_down), f(t.reversal), f(t.s_up), f(t.s_down), f(t.R), f(t.mean));
+  s += fmt::format("A {} (up {}, down {})   R {} (up {}, down {})\n", f(e.A), f(e.A_up), f(e.A_down), f(e.R), f(e.R_up),
+                   f(e.R_down));
+  s += fmt::format("B {} (mean {})   E {} (up {}, down {})   M {}   [{}]\n", f(e.B), f(e.B_mean), f(e.E), f(e.E_up),
+                   f(e.E_down), f(e.M), d.unit);
+  for (const auto& n : e.notes) s += "note: " + n + "\n";
+  return s;
+}
+
 void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
                               const PositioningEvaluation& e, const ToleranceVerdict& verdict) {
-  Report r("ISO 230-2 positioning of a linear axis", command);
+  const auto target_unit = find_unit(e.target_unit.empty() ? e.unit : e.target_unit);
+  const bool rotary = target_unit && target_unit->dimension == Dimension::Angle;
+  Report r(rotary ? "ISO 230-2 positioning of a rotary axis" : "ISO 230-2 positioning of a linear axis", command);
   r.add_input("measurements", runs.source);
   r.set_verdict(verdict);
-  // ISO 230-2:2014 reports in µm; an input in another length unit is converted.
-  const auto per = micrometres_per(e.unit);
-  const double k = per.value_or(1.0);
-  const std::string u = per ? "µm" : e.unit;
-  if (!per)
-    r.add_warning("The input's unit '" + e.unit + "' is not a known length unit: values are shown in it, not in µm.");
-  auto f2 = [&](double v) { return fmt::format("{:.2f}", v * k); };
-  r.add_figure("accuracy A", f2(e.A), u);
-  r.add_figure("systematic positioning error E", f2(e.E), u);
-  r.add_figure("mean positioning error M", f2(e.M), u);
-  r.add_figure("repeatability R", f2(e.R), u);
-  r.add_figure("reversal value B", f2(e.B), u);
+  const PositioningDisplay shown = positioning_display(runs, e);
+  const std::string u = shown.unit;
+  const bool has_up = e.directions != TestDirections::DownOnly, has_down = e.directions != TestDirections::UpOnly;
+  const bool both = has_up && has_down;
+  r.add_figure(both     ? "accuracy A"
+               : has_up ? "accuracy A↑"
+                        : "accuracy A↓",
+               shown.format(both     ? e.A
+                            : has_up ? e.A_up
+                                     : e.A_down),
+               u);
+  r.add_figure(both     ? "repeatability R"
+               : has_up ? "repeatability R↑"
+                        : "repeatability R↓",
+               shown.format(both     ? e.R
+                            : has_up ? e.R_up
+                                     : e.R_down),
+               u);
+  if (both) r.add_figure("reversal value B", shown.format(e.B), u);
+  r.add_figure(both     ? "systematic positioning error E"
+               : has_up ? "systematic positioning error E↑"
+                        : "systematic positioning error E↓",
+               shown.format(both     ? e.E
+                            : has_up ? e.E_up
+                                     : e.E_down),
+               u);
+  if (both) r.add_figure("mean positioning error M", shown.format(e.M), u);
   r.add_figure("targets x runs", fmt::format("{} x {}", e.targets.size(), e.runs), "per direction");
+  for (const auto& n : e.notes) r.add_warning(n);
+  for (const auto& w : runs.warnings) r.add_warning(w);
   if (e.runs < 5)
     r.add_warning(
         fmt::format("ISO 230-2:2014 clause 4.3 asks for 5 runs in each direction at each target; this "
@@ -50,45 +135,27 @@ void write_positioning_report(const std::string& path, const std::string& comman
   for (const auto& w : missing_acceptance_fields(r.metadata(), AcceptanceTest::Iso230_2))
     r.add_warning("Test conditions: " + w + ".");
 
-  r.add_section("Results (ISO 230-2:2014 clause 2)");
-  r.add_table("Axis results (" + u + "): bidirectional and per approach direction",
-              {"quantity", "bidirectional", "unidirectional ↑", "unidirectional ↓"},
-              {{"accuracy A", f2(e.A), f2(e.A_up), f2(e.A_down)},
-               {"systematic positioning error E", f2(e.E), f2(e.E_up), f2(e.E_down)},
-               {"mean positioning error M", f2(e.M), "-", "-"},
-               {"repeatability R", f2(e.R), f2(e.R_up), f2(e.R_down)},
-               {"reversal value B", f2(e.B), "-", "-"},
-               {"mean reversal value B̄", f2(e.B_mean), "-", "-"}});
-
   r.add_section("Deviations");
   r.add_paragraph(
-      "Mean positional deviation per target and direction (x̄↑ up, x̄↓ down) with the ±2s bands that define the "
-      "accuracy A, every run's deviation as a point; the brackets right of the curves show A, E and M, those at a "
-      "target the largest repeatability R_i and reversal B_i.");
+      "Mean positional deviation per target and direction (x̄↑ up, x̄↓ down) with the ±2s bands that "
+      "define the accuracy A, and every run's deviation as a point.");
   json x = json::array(), up = x, dn = x, up_hi = x, up_lo = x, dn_hi = x, dn_lo = x, mean = x;
   json rx_up = x, ry_up = x, rx_dn = x, ry_dn = x;
-  double lo_a = 1e300, hi_a = -1e300, lo_e = 1e300, hi_e = -1e300, lo_m = 1e300, hi_m = -1e300;
-  std::size_t i_r = 0, i_b = 0;
+  const double k = shown.factor;
+  const std::string tu = e.target_unit.empty() ? e.unit : e.target_unit;
   for (std::size_t i = 0; i < e.targets.size(); ++i) {
     const auto& t = e.targets[i];
     x.push_back(t.target);
-    up.push_back(t.mean_up * k);
-    dn.push_back(t.mean_down * k);
-    mean.push_back(t.mean * k);
-    up_hi.push_back((t.mean_up + 2 * t.s_up) * k);
-    up_lo.push_back((t.mean_up - 2 * t.s_up) * k);
-    dn_hi.push_back((t.mean_down + 2 * t.s_down) * k);
-    dn_lo.push_back((t.mean_down - 2 * t.s_down) * k);
-    lo_a = std::min({lo_a, t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down});
-    hi_a = std::max({hi_a, t.mean_up + 2 * t.s_up, t.mean_down + 2 * t.s_down});
-    lo_e = std::min({lo_e, t.mean_up, t.mean_down});
-    hi_e = std::max({hi_e, t.mean_up, t.mean_down});
-    lo_m = std::min(lo_m, t.mean);
-    hi_m = std::max(hi_m, t.mean);
-    if (t.R > e.targets[i_r].R) i_r = i;
-    if (std::abs(t.reversal) > std::abs(e.targets[i_b].reversal)) i_b = i;
-    for (double v : runs.up[i]) rx_up.push_back(t.target), ry_up.push_back((v - t.target) * k);
-    for (double v : runs.down[i]) rx_dn.push_back(t.target), ry_dn.push_back((v - t.target) * k);
+    up.push_back(k * t.mean_up);
+    dn.push_back(k * t.mean_down);
+    mean.push_back(k * t.mean);
+    up_hi.push_back(k * (t.mean_up + 2 * t.s_up));
+    up_lo.push_back(k * (t.mean_up - 2 * t.s_up));
+    dn_hi.push_back(k * (t.mean_down + 2 * t.s_down));
+    dn_lo.push_back(k * (t.mean_down - 2 * t.s_down));
+    const double off = runs.deviations ? 0.0 : t.target;
+    for (double v : runs.up[i]) rx_up.push_back(t.target), ry_up.push_back(k * (v - off));
+    for (double v : runs.down[i]) rx_dn.push_back(t.target), ry_dn.push_back(k * (v - off));
   }
   auto band = [&](const json& lo, const json& hi, const char* colour, const char* name) {
     return json::array({json{{"type", "scatter"},
@@ -140,90 +207,88 @@ void write_positioning_report(const std::string& path, const std::string& comman
                   {"y", ry_dn},
                   {"name", "runs down"},
                   {"marker", {{"size", 4}, {"color", "rgb(214,39,40)"}}}});
-  // Brackets: a vertical segment with end ticks and a label, in data coordinates.
-  const double x0 = e.targets.front().target, x1 = e.targets.back().target;
-  const double span = std::abs(x1 - x0) > 0 ? std::abs(x1 - x0) : 1.0;
-  json shapes = json::array(), notes = json::array();
-  auto bracket = [&](double xb, double lo, double hi, const std::string& label, const char* colour) {
-    const double tick = span * 0.008;
-    for (auto [xa, ya, xc, yc] : {std::array{xb, lo * k, xb, hi * k}, std::array{xb - tick, lo * k, xb + tick, lo * k},
-                                  std::array{xb - tick, hi * k, xb + tick, hi * k}})
-      shapes.push_back({{"type", "line"},
-                        {"x0", xa},
-                        {"y0", ya},
-                        {"x1", xc},
-                        {"y1", yc},
-                        {"line", {{"color", colour}, {"width", 2}}}});
-    notes.push_back({{"x", xb},
-                     {"y", hi * k},
-                     {"text", label},
-                     {"showarrow", false},
-                     {"yanchor", "bottom"},
-                     {"font", {{"color", colour}, {"size", 13}}}});
-  };
-  const double right = std::max(x0, x1);
-  bracket(right + 0.04 * span, lo_e, hi_e, fmt::format("E {:.2f}", e.E * k), "rgb(44,160,44)");
-  bracket(right + 0.10 * span, lo_m, hi_m, fmt::format("M {:.2f}", e.M * k), "rgb(0,0,0)");
-  bracket(right + 0.16 * span, lo_a, hi_a, fmt::format("A {:.2f}", e.A * k), "rgb(148,103,189)");
-  {
-    const auto& t = e.targets[i_r];
-    double lo = std::min(t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down);
-    double hi = std::max(t.mean_up + 2 * t.s_up, t.mean_down + 2 * t.s_down);
-    if (t.R == t.R_up && t.R_up > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
-      lo = t.mean_up - 2 * t.s_up, hi = t.mean_up + 2 * t.s_up;
-    else if (t.R == t.R_down && t.R_down > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
-      lo = t.mean_down - 2 * t.s_down, hi = t.mean_down + 2 * t.s_down;
-    bracket(t.target + 0.012 * span, lo, hi, fmt::format("R {:.2f}", e.R * k), "rgb(255,127,14)");
-    const auto& b = e.targets[i_b];
-    bracket(b.target - 0.012 * span, std::min(b.mean_up, b.mean_down), std::max(b.mean_up, b.mean_down),
-            fmt::format("B {:.2f}", e.B * k), "rgb(140,86,75)");
+  // A, E, M, R and B marked as brackets (ISO 230-2:2014 figures), for a bidirectional test.
+  json layout = {{"xaxis", {{"title", {{"text", "target (" + tu + ")"}}}}},
+                 {"yaxis", {{"title", {{"text", "deviation (" + u + ")"}}}}},
+                 {"legend", {{"orientation", "h"}, {"y", -0.2}}}};
+  if (both && !e.targets.empty()) {
+    double lo_a = 1e300, hi_a = -1e300, lo_e = 1e300, hi_e = -1e300, lo_m = 1e300, hi_m = -1e300;
+    std::size_t i_r = 0, i_b = 0;
+    for (std::size_t i = 0; i < e.targets.size(); ++i) {
+      const auto& t = e.targets[i];
+      lo_a = std::min({lo_a, t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down});
+      hi_a = std::max({hi_a, t.mean_up + 2 * t.s_up, t.mean_down + 2 * t.s_down});
+      lo_e = std::min({lo_e, t.mean_up, t.mean_down});
+      hi_e = std::max({hi_e, t.mean_up, t.mean_down});
+      lo_m = std::min(lo_m, t.mean);
+      hi_m = std::max(hi_m, t.mean);
+      if (t.R > e.targets[i_r].R) i_r = i;
+      if (std::abs(t.reversal) > std::abs(e.targets[i_b].reversal)) i_b = i;
+    }
+    // Brackets: a vertical segment with end ticks and a label, in data coordinates.
+    const double x0 = e.targets.front().target, x1 = e.targets.back().target;
+    const double span = std::abs(x1 - x0) > 0 ? std::abs(x1 - x0) : 1.0;
+    json shapes = json::array(), notes = json::array();
+    auto bracket = [&](double xb, double lo, double hi, const std::string& label, const char* colour) {
+      const double tick = span * 0.008;
+      for (auto [xa, ya, xc, yc] :
+           {std::array{xb, lo * k, xb, hi * k}, std::array{xb - tick, lo * k, xb + tick, lo * k},
+            std::array{xb - tick, hi * k, xb + tick, hi * k}})
+        shapes.push_back({{"type", "line"},
+                          {"x0", xa},
+                          {"y0", ya},
+                          {"x1", xc},
+                          {"y1", yc},
+                          {"line", {{"color", colour}, {"width", 2}}}});
+      notes.push_back({{"x", xb},
+                       {"y", hi * k},
+                       {"text", label},
+                       {"showarrow", false},
+                       {"yanchor", "bottom"},
+                       {"font", {{"color", colour}, {"size", 13}}}});
+    };
+    const double right = std::max(x0, x1);
+    bracket(right + 0.04 * span, lo_e, hi_e, fmt::format("E {:.2f}", e.E * k), "rgb(44,160,44)");
+    bracket(right + 0.10 * span, lo_m, hi_m, fmt::format("M {:.2f}", e.M * k), "rgb(0,0,0)");
+    bracket(right + 0.16 * span, lo_a, hi_a, fmt::format("A {:.2f}", e.A * k), "rgb(148,103,189)");
+    {
+      const auto& t = e.targets[i_r];
+      double lo = std::min(t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down);
+      double hi = std::max(t.mean_up + 2 * t.s_up, t.mean_down + 2 * t.s_down);
+      if (t.R == t.R_up && t.R_up > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
+        lo = t.mean_up - 2 * t.s_up, hi = t.mean_up + 2 * t.s_up;
+      else if (t.R == t.R_down && t.R_down > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
+        lo = t.mean_down - 2 * t.s_down, hi = t.mean_down + 2 * t.s_down;
+      bracket(t.target + 0.012 * span, lo, hi, fmt::format("R {:.2f}", e.R * k), "rgb(255,127,14)");
+      const auto& b = e.targets[i_b];
+      bracket(b.target - 0.012 * span, std::min(b.mean_up, b.mean_down), std::max(b.mean_up, b.mean_down),
+              fmt::format("B {:.2f}", e.B * k), "rgb(140,86,75)");
+    }
+    layout["xaxis"]["range"] = {std::min(x0, x1) - 0.03 * span, right + 0.22 * span};
+    layout["shapes"] = shapes;
+    layout["annotations"] = notes;
   }
-  r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + runs.unit +
-                 "), ISO 230-2:2014 figure layout",
-             {{"data", data},
-              {"layout",
-               {{"xaxis",
-                 {{"title", {{"text", "target position (" + runs.unit + ")"}}},
-                  {"range", {std::min(x0, x1) - 0.03 * span, right + 0.22 * span}}}},
-                {"yaxis", {{"title", {{"text", "positional deviation (" + u + ")"}}}}},
-                {"legend", {{"orientation", "h"}, {"y", -0.18}}},
-                {"shapes", shapes},
-                {"annotations", notes}}}});
+  r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + tu +
+                 "); A, E, M, R, B marked",
+             {{"data", data}, {"layout", layout}});
 
-  r.add_section("Per target (ISO 230-2:2014 table layout)");
-  std::vector<std::string> cols = {"target i"};
-  for (std::size_t i = 0; i < e.targets.size(); ++i) cols.push_back(fmt::format("{}", i + 1));
+  r.add_section("Per target");
   std::vector<std::vector<std::string>> rows;
-  auto row = [&](const std::string& label, auto&& value) {
-    std::vector<std::string> rr{label};
-    for (std::size_t i = 0; i < e.targets.size(); ++i) rr.push_back(value(i));
-    rows.push_back(std::move(rr));
-  };
-  row("target position P_i (" + runs.unit + ")",
-      [&](std::size_t i) { return fmt::format("{:g}", e.targets[i].target); });
-  for (std::size_t j = 0; j < e.runs; ++j)
-    row(fmt::format("x_i{} ↑ run {}", j + 1, j + 1), [&](std::size_t i) {
-      return j < runs.up[i].size() ? f2(runs.up[i][j] - e.targets[i].target) : std::string("-");
-    });
-  for (std::size_t j = 0; j < e.runs; ++j)
-    row(fmt::format("x_i{} ↓ run {}", j + 1, j + 1), [&](std::size_t i) {
-      return j < runs.down[i].size() ? f2(runs.down[i][j] - e.targets[i].target) : std::string("-");
-    });
-  const auto& T = e.targets;
-  row("x̄_i↑", [&](std::size_t i) { return f2(T[i].mean_up); });
-  row("x̄_i↓", [&](std::size_t i) { return f2(T[i].mean_down); });
-  row("x̄_i", [&](std::size_t i) { return f2(T[i].mean); });
-  row("s_i↑", [&](std::size_t i) { return f2(T[i].s_up); });
-  row("s_i↓", [&](std::size_t i) { return f2(T[i].s_down); });
-  row("x̄_i↑ + 2s_i↑", [&](std::size_t i) { return f2(T[i].mean_up + 2 * T[i].s_up); });
-  row("x̄_i↑ − 2s_i↑", [&](std::size_t i) { return f2(T[i].mean_up - 2 * T[i].s_up); });
-  row("x̄_i↓ + 2s_i↓", [&](std::size_t i) { return f2(T[i].mean_down + 2 * T[i].s_down); });
-  row("x̄_i↓ − 2s_i↓", [&](std::size_t i) { return f2(T[i].mean_down - 2 * T[i].s_down); });
-  row("reversal B_i", [&](std::size_t i) { return f2(T[i].reversal); });
-  row("R_i↑ = 4s_i↑", [&](std::size_t i) { return f2(T[i].R_up); });
-  row("R_i↓ = 4s_i↓", [&](std::size_t i) { return f2(T[i].R_down); });
-  row("R_i", [&](std::size_t i) { return f2(T[i].R); });
-  r.add_table("Deviations x_ij = measured − target and the statistics per target (" + u + ")", cols, rows);
+  for (const auto& t : e.targets)
+    rows.push_back({fmt::format("{:g}", t.target), shown.format(t.mean_up), shown.format(t.mean_down),
+                    shown.format(t.mean), shown.format(t.reversal), shown.format(t.s_up), shown.format(t.s_down),
+                    shown.format(t.R_up), shown.format(t.R_down), shown.format(t.R)});
+  r.add_table("ISO 230-2 quantities per target (" + u + ")",
+              {"target", "x̄↑", "x̄↓", "x̄", "B_i", "s↑", "s↓", "R↑", "R↓", "R_i"}, rows);
+  r.add_table("Axis (" + u + ")", {"A", "A↑", "A↓", "B", "B̄", "R", "R↑", "R↓", "E", "E↑", "E↓", "M"},
+              {{shown.format(e.A), shown.format(e.A_up), shown.format(e.A_down), shown.format(e.B),
+                shown.format(e.B_mean), shown.format(e.R), shown.format(e.R_up), shown.format(e.R_down),
+                shown.format(e.E), shown.format(e.E_up), shown.format(e.E_down), shown.format(e.M)}});
+  if (!runs.metadata.empty()) {
+    std::vector<std::vector<std::string>> meta;
+    for (const auto& [key, value] : runs.metadata) meta.push_back({key, value});
+    r.add_table("What the file says beside the runs", {"key", "value"}, meta);
+  }
   r.write(path);
 }
 

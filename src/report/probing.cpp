@@ -49,6 +49,7 @@ void write_rotary_report(const std::string& path, const std::string& command, co
                  std::string(unit) +
                      (lsq ? " (least squares, standard uncertainty)" : " (triples, standard uncertainty)"));
   }
+  for (const auto& note : result.notes) r.add_warning(note);
   if (tri) {
     const double kept = static_cast<double>(tri->kept[0]) /
                         static_cast<double>(std::max<std::size_t>(1, tri->triples - tri->degenerate));

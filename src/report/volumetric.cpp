@@ -171,6 +171,15 @@ void write_volumetric_report(const std::string& path, const ErrorModel& model, c
   r.write(path);
 }
 
+// "EC0Y (7.500 µm against it), EXX (6.528), EXZ (4.500)": the first three errors it cancelled.
+static std::string cancelled_list(const WhatIf& w) {
+  std::string out;
+  for (std::size_t k = 0; k < w.cancelled.size() && k < 3; ++k)
+    out += fmt::format("{}{} ({}{})", k ? ", " : "", w.cancelled[k].first.str(), um(w.cancelled[k].second),
+                       k ? "" : " µm against it");
+  return out;
+}
+
 void write_contributions_report(const std::string& path, const Machine& m, const ContributionStudy& s,
                                 const ReportSources& sources) {
   Report r("Error contributions on " + m.name, sources.command);
@@ -204,6 +213,28 @@ void write_contributions_report(const std::string& path, const Machine& m, const
                {{"data", {{{"type", "bar"}, {"x", names}, {"y", gains}, {"name", "gain"}}}},
                 {"layout", {{"yaxis", {{"title", {{"text", "VA − VA without the error (µm)"}}}}}}}});
     r.add_table("VA without each error", {"error removed", "VA (µm)", "gain (µm)"}, rows);
+    for (const auto& w : s.what_if)
+      if (w.disagrees)
+        r.add_paragraph(fmt::format(
+            "{} has a first-order share of {:.1f}% of the critical difference, yet removing it {} the VA from {} "
+            "to {} µm: without it the pair from {} to {} is critical{}.",
+            w.error.str(), 100 * w.share, w.va > s.va->va.value ? "raises" : "lowers", um(s.va->va.value), um(w.va),
+            format_joint_values(m, w.from, ", "), format_joint_values(m, w.to, ", "),
+            w.along_there < 0 && !w.cancelled.empty() ? fmt::format(", where {} ({} µm along it) was cancelling {}",
+                                                                    w.error.str(), um(w.along_there), cancelled_list(w))
+                                                      : std::string()));
+  }
+  if (s.sequence) {
+    const auto& q = *s.sequence;
+    r.add_section("Errors to correct to reach the target VA");
+    r.add_paragraph(
+        fmt::format("Greedy sequence: at each step the error whose removal gives the smallest exact VA over the map is "
+                    "removed, until the VA is at most {} µm{}.",
+                    um(q.target), q.reached ? "" : " (not reached: every error removed)"));
+    std::vector<std::vector<std::string>> rows{{"0", "(none)", um(q.start)}};
+    for (std::size_t k = 0; k < q.steps.size(); ++k)
+      rows.push_back({std::to_string(k + 1), q.steps[k].error.str(), um(q.steps[k].va)});
+    r.add_table("Correction sequence", {"step", "error corrected", "VA after (µm)"}, rows);
   }
   r.write(path);
 }

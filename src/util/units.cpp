@@ -1,7 +1,12 @@
 #include "mtcal/util/units.hpp"
 
 #include <array>
+#include <cmath>
 #include <numbers>
+
+#include <fmt/format.h>
+
+#include "mtcal/util/parse.hpp"
 
 namespace mtcal {
 namespace {
@@ -14,7 +19,7 @@ struct Entry {
 };
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr std::array<Entry, 18> kUnits{{
+constexpr std::array<Entry, 19> kUnits{{
     {"mm", "mm", Dimension::Length, 1.0},
     {"um", "um", Dimension::Length, 1e-3},
     {"\xC2\xB5m", "um", Dimension::Length, 1e-3},  // micro sign
@@ -34,14 +39,18 @@ constexpr std::array<Entry, 18> kUnits{{
     {"\xC2\xB5m/m", "um/m", Dimension::Angle, 1e-6},
     {"\xCE\xBCm/m", "um/m", Dimension::Angle, 1e-6},
     {"mm/m", "mm/m", Dimension::Angle, 1e-3},
+    {"ppm", "ppm", Dimension::Angle, 1e-6},  // parts per million: um/m
 }};
+
+bool is_ratio(std::string_view canonical) {
+  return canonical.find('/') != std::string_view::npos || canonical == "ppm";
+}
 
 }  // namespace
 
 std::optional<Unit> find_unit(std::string_view name) {
   for (const auto& e : kUnits)
-    if (e.name == name)
-      return Unit{std::string(e.canonical), e.dimension, e.factor, e.canonical.find('/') != std::string_view::npos};
+    if (e.name == name) return Unit{std::string(e.canonical), e.dimension, e.factor, is_ratio(e.canonical)};
   return std::nullopt;
 }
 
@@ -49,11 +58,89 @@ std::string accepted_units(Dimension d, bool with_ratios) {
   std::string out;
   for (const auto& e : kUnits) {
     if (e.dimension != d || e.name != e.canonical) continue;
-    if (!with_ratios && e.canonical.find('/') != std::string_view::npos) continue;
+    if (!with_ratios && is_ratio(e.canonical)) continue;
     if (!out.empty()) out += ", ";
     out += e.name;
   }
   return out;
+}
+
+TypedValue parse_typed_value(std::string_view text, Dimension d, const SourceLocation& where) {
+  const std::string t = trim(text);
+  // The longest number prefix whose rest is empty or a unit: "1e-5" is a number, "5m" 5 metres.
+  for (std::size_t k = t.size(); k > 0; --k) {
+    const auto v = parse_number(std::string_view(t).substr(0, k));
+    if (!v) continue;
+    const std::string rest = trim(std::string_view(t).substr(k));
+    if (rest.empty()) return {*v, std::nullopt};
+    if (const auto u = find_unit(rest)) return {*v, u};
+    throw InputError(where,
+                     fmt::format("unknown unit '{}' in '{}' (expected {} unit: {})", printable(rest), printable(t),
+                                 d == Dimension::Length ? "a length" : "an angle", accepted_units(d)));
+  }
+  throw InputError(where, fmt::format("expected a number with an optional unit, found '{}'", printable(t)));
+}
+
+double parse_quantity(std::string_view text, Dimension d, double bare_factor, bool slopes,
+                      const SourceLocation& where) {
+  const TypedValue v = parse_typed_value(text, d, where);
+  if (!v.unit) return v.number * bare_factor;
+  const char* kind = d == Dimension::Length ? "a length" : "an angle";
+  if (v.unit->dimension != d || (v.unit->ratio && !slopes))
+    throw InputError(where, fmt::format("'{}' is {}; expected {} unit: {}", v.unit->name,
+                                        v.unit->ratio                            ? "a slope"
+                                        : v.unit->dimension == Dimension::Length ? "a length"
+                                                                                 : "an angle",
+                                        kind, accepted_units(d, slopes)));
+  const double out = v.number * v.unit->to_internal;
+  if (!std::isfinite(out))
+    throw InputError(where, fmt::format("'{}' is beyond the range of a number", printable(text)));
+  return out;
+}
+
+double parse_in_unit(std::string_view text, std::string_view internal_unit, const SourceLocation& where) {
+  if (internal_unit == "mm") return parse_quantity(text, Dimension::Length, 1.0, false, where);
+  if (internal_unit == "rad") return parse_quantity(text, Dimension::Angle, 1.0, true, where);
+  const std::string t = trim(text);
+  const bool slope = internal_unit == "mm/mm" || internal_unit == "rad/rad";
+  // Its own unit as suffix: "2e-9 rad/mm^2".
+  if (t.size() > internal_unit.size() && t.ends_with(internal_unit)) {
+    const auto v = parse_number(trim(std::string_view(t).substr(0, t.size() - internal_unit.size())));
+    if (v) return *v;
+  }
+  if (slope) {
+    const TypedValue v = parse_typed_value(t, Dimension::Angle, where);
+    if (!v.unit) return v.number;
+    if (!v.unit->ratio)
+      throw InputError(where, fmt::format("'{}' does not fit a value in {}; expected a bare number or a slope: {}",
+                                          v.unit->name, internal_unit, "um/m, ppm, mm/m"));
+    return v.number * v.unit->to_internal;
+  }
+  const auto v = parse_number(t);
+  if (!v)
+    throw InputError(where, fmt::format("expected a number in {} (no other unit fits this coefficient), found '{}'",
+                                        internal_unit, printable(t)));
+  return *v;
+}
+
+std::string implausible_parameter(std::string_view name, std::string_view internal_unit, double value) {
+  const double a = std::abs(value);
+  if (internal_unit == "rad" && a > 1e-2)
+    return fmt::format(
+        "{} = {:g} rad ({:g} urad) is far beyond any machine's angular error (at most about "
+        "10 mrad); was it meant in urad? Write 20urad, 20um/m or 2e-5",
+        name, value, value * 1e6);
+  if (internal_unit == "mm" && a > 5.0)
+    return fmt::format(
+        "{} = {:g} mm is far beyond any machine's error (at most a few mm); was it meant in um? "
+        "Write 20um or 0.02",
+        name, value);
+  if ((internal_unit == "mm/mm" || internal_unit == "rad/rad") && a > 1e-2)
+    return fmt::format(
+        "{} = {:g} {} ({:g} um/m) is far beyond any machine's scale error; was it meant in um/m? "
+        "Write 20um/m, 20ppm or 2e-5",
+        name, value, internal_unit, value * 1e6);
+  return {};
 }
 
 }  // namespace mtcal

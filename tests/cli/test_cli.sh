@@ -324,14 +324,28 @@ for r in rows[1:]:   # rotate every contact 90 deg about x: the circle now turns
     out.append(','.join([c, x, str(-float(z)), y, ax, str(-float(az)), ay]))
 open(sys.argv[2], 'w').write('\n'.join(out) + '\n')
 PY
-expect_error "rotary tilted data" "wrong --axis" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc_tilted.csv" --sphere-diameter 30 --stylus-diameter 6
+# An axis far from its nominal direction: the measured line is given, the location errors are not.
+expect_exit 0 "rotary tilted data" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc_tilted.csv" --sphere-diameter 30 --stylus-diameter 6 --json
+json_get "d['located'] is False and abs(abs(d['axis_direction'][1]) - 1) < 1e-6 and abs(d['tilt'] - 1.5707963) < 1e-4" | grep -qx True && ok || bad "rotary tilted line: $(cat "$tmp/out")"
+expect_error "rotary tilted data, --out" "wrong --axis" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc_tilted.csv" --sphere-diameter 30 --stylus-diameter 6 --machine "$MR" --out "$tmp/tilted.yaml"
+[ ! -e "$tmp/tilted.yaml" ] && ok || bad "a tilted axis wrote --out"
+# The instrument's frame given: the contacts were turned +90 deg about x, so the frame turns them back.
+expect_exit 0 "rotary tilted data with --frame" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc_tilted.csv" --sphere-diameter 30 --stylus-diameter 6 --frame "-90,0,0" --json
+cp "$tmp/out" "$tmp/framed.json"
+expect_exit 0 "rotary untilted data" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6 --json
+python3 -c "
+import json, sys
+a, b = json.load(open('$tmp/framed.json')), json.load(open('$tmp/out'))
+assert all(abs(a['least_squares'][k] - b['least_squares'][k]) < 1e-9 for k in ('EX0C', 'EY0C', 'EA0C', 'EB0C')), (a['least_squares'], b['least_squares'])
+" && ok || bad "--frame gives the untilted result"
 expect_error "reject-sigma below 1" "at least 1" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6 --reject-sigma 0.5
 expect_error "reject-sigma nan" "finite" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6 --reject-sigma nan
 expect_error "max-rms nan" "finite" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc.csv" --sphere-diameter 30 --stylus-diameter 6 --max-rms nan
 { head -6 "$tmp/rc.csv"; tail -n +12 "$tmp/rc.csv"; sed -n 2,6p "$tmp/rc.csv"; } >"$tmp/rc_repeat.csv"
-expect_error "an angle probed twice" "probed already" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc_repeat.csv" --sphere-diameter 30 --stylus-diameter 6
+expect_exit 0 "an angle probed twice" -- "$MTCAL" rotary-axis --axis C --contacts "$tmp/rc_repeat.csv" --sphere-diameter 30 --stylus-diameter 6
+grep -q "note: indexations at 0, 0 deg are one position of the axis" "$tmp/err" && ok || bad "an angle probed twice: note: $(cat "$tmp/err")"
 printf 'C,x,y,z\n0,1,0,0\n120,-0.5,0.8,0\n0,-0.5,-0.8,0\n' >"$tmp/dupc.csv"
-expect_error "a centre angle given twice" "given twice" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/dupc.csv"
+expect_error "a centre angle given twice" "at least 3 positions of the axis, found 2" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/dupc.csv"
 printf 'C,x,y,z\n0,100,0,0\n120,-50,86.6025403784,0\n240,-50,-86.6025403784,0\n' >"$tmp/three.csv"
 expect_exit 0 "three centres" -- "$MTCAL" rotary-axis --axis C --centres "$tmp/three.csv" --json
 python3 -c "import json; d=json.load(open('$tmp/out')); assert d['least_squares']['EX0C_u'] is None and d['triples']['EX0C_u'] is None, d" && ok || bad "three centres: uncertainty not null"
@@ -358,7 +372,7 @@ expect_error "ballbar bad direction" "badtrace.csv:2" -- "$MTCAL" ballbar "$tmp/
 expect_error "ballbar predict with a huge centre" "--centre: field 'Z'" -- "$MTCAL" ballbar --predict -m "$M3" --plane XY \
   --radius 100 --centre "Z=1e308" --out "$tmp/nan-trace.csv"
 [ ! -e "$tmp/nan-trace.csv" ] && ok || bad "a trace was written for a huge centre"
-expect_error "ballbar predict without machine" "needs --machine" -- "$MTCAL" ballbar --predict --out "$tmp/x.csv"
+expect_error "ballbar predict without machine" "needs --machine" -- "$MTCAL" ballbar --predict --radius 150 --out "$tmp/x.csv"
 expect_error "ballbar predict bad plane" "plane" -- "$MTCAL" ballbar --predict -m "$M5" --plane XB --out "$tmp/x.csv"
 
 summary_and_exit

@@ -8,8 +8,8 @@ M3="$EXAMPLES/vmc-3axis.yaml"
 M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
 
 expect_exit 0 "help" -- "$MTCAL" compensate --help
-for word in --format linuxcnc siemens isg klipper marlin rrf fluidnc --points --range --reference --linuxcnc-type \
-  --skew-reference-length --gcode Examples; do
+for word in --format linuxcnc siemens isg etalon heidenhain fanuc klipper marlin rrf fluidnc --fanuc-unit \
+  --points --range --reference --linuxcnc-type --skew-reference-length --gcode Examples; do
   grep -q -- "$word" "$tmp/out" && ok || bad "help lacks $word"
 done
 
@@ -68,6 +68,46 @@ expect_error "fluidnc on a 5-axis machine" "rotary axis" -- "$MTCAL" compensate 
 [ ! -e "$tmp/x8" ] && ok || bad "output left by fluidnc on a 5-axis machine"
 expect_error "siemens 201 points" "200" -- "$MTCAL" compensate -m "$M3" --format siemens --points 201 --out "$tmp/x9"
 [ ! -e "$tmp/x9" ] && ok || bad "output left by too many siemens points"
+# Etalon: the ISG parameters in the Etalon exchange format, read back as a parameter file.
+KEYS="['target', 'quantity', 'sign_source', 'files', 'not_compensated', 'warnings', 'residual']"
+expect_exit 0 "etalon json" -- "$MTCAL" compensate -m "$M5" --format etalon --points 11 --residual-points 3 \
+  --out "$tmp/et" --json
+[ "$(json_get "list(d)[:7]")" = "$KEYS" ] && ok || bad "etalon json keys: $(json_get "list(d)")"
+[ "$(json_get "d['target'], d['quantity'], d['files']")" = "etalon error ['volcomp.etalon', 'README.txt']" ] \
+  && ok || bad "etalon target: $(json_get "d['target'], d['quantity'], d['files']")"
+grep -q "^\[C0Y\]$" "$tmp/et/volcomp.etalon" && grep -q "^Gridpoints = {$" "$tmp/et/volcomp.etalon" \
+  && ok || bad "etalon blocks"
+expect_exit 0 "etalon as --params" -- "$MTCAL" errors -m "$M5" --params "$tmp/et/volcomp.etalon"
+grep -q "EC0Y" "$tmp/out" && ok || bad "errors with an Etalon parameter file"
+printf '[C0Y]\nVALUE = 1e-5\n[EXX]\nGridpoints = {\n0 0\n10 zz\n}\n' >"$tmp/bad.etalon"
+expect_error "bad etalon parameter file" "bad.etalon:6" -- "$MTCAL" compensate -m "$M5" --params "$tmp/bad.etalon" \
+  --format etalon --out "$tmp/x17"
+[ ! -e "$tmp/x17" ] && ok || bad "output left by a bad Etalon parameter file"
+# HEIDENHAIN: *.COM per linear axis and config.cma, sign to be checked on the control.
+expect_exit 0 "heidenhain json" -- "$MTCAL" compensate -m "$M3" --format heidenhain --points 21 --out "$tmp/hh" --json
+[ "$(json_get "list(d)[:7]")" = "$KEYS" ] && ok || bad "heidenhain json keys"
+[ "$(json_get "d['files']")" = "['X.COM', 'Y.COM', 'Z.COM', 'config.cma', 'README.txt']" ] && ok \
+  || bad "heidenhain files: $(json_get "d['files']")"
+for f in X.COM Y.COM Z.COM config.cma README.txt; do [ -f "$tmp/hh/$f" ] && ok || bad "no $f"; done
+head -2 "$tmp/hh/X.COM" | grep -q "^NR    AXISPOS         X " && ok || bad "X.COM header: $(head -2 "$tmp/hh/X.COM")"
+[ "$(tail -1 "$tmp/hh/X.COM")" = "[END]" ] && [ "$(grep -c '^[0-9]' "$tmp/hh/X.COM")" -eq 21 ] && ok || bad "X.COM rows"
+grep -q "CHECKED ON THE CONTROL" "$tmp/hh/README.txt" && ok || bad "heidenhain sign warning"
+expect_error "heidenhain too many points" "256" -- "$MTCAL" compensate -m "$M3" --format heidenhain --points 300 \
+  --out "$tmp/x18"
+[ ! -e "$tmp/x18" ] && ok || bad "output left by heidenhain --points 300"
+# FANUC: parameters 3620-3625 and pitch values, corrections, sign to be checked.
+expect_exit 0 "fanuc json" -- "$MTCAL" compensate -m "$M5" --format fanuc --residual-points 3 --out "$tmp/fa" --json
+[ "$(json_get "list(d)[:7]")" = "$KEYS" ] && ok || bad "fanuc json keys"
+[ "$(json_get "d['quantity'], d['files']")" = "correction ['fanuc-pitch.txt', 'README.txt']" ] && ok \
+  || bad "fanuc: $(json_get "d['quantity'], d['files']")"
+for p in 3620 3621 3622 3623 3624 3625; do grep -q "^PARAMETER $p " "$tmp/fa/fanuc-pitch.txt" && ok || bad "no $p"; done
+grep -q "CHECK IT ON THE CONTROL" "$tmp/fa/fanuc-pitch.txt" && ok || bad "fanuc sign warning"
+awk '$1 == "PITCH" && ($3 > 127 || $3 < -128) {exit 1}' "$tmp/fa/fanuc-pitch.txt" && ok || bad "fanuc value range"
+expect_error "fanuc too many points" "128" -- "$MTCAL" compensate -m "$M3" --format fanuc --points 129 --out "$tmp/x19"
+[ ! -e "$tmp/x19" ] && ok || bad "output left by fanuc --points 129"
+expect_error "fanuc nothing to compensate" "nothing to compensate" -- "$MTCAL" compensate -m "$M3" --only EC0Y \
+  --format fanuc --out "$tmp/x20"
+[ ! -e "$tmp/x20" ] && ok || bad "output left when fanuc has nothing to compensate"
 expect_error "unknown format" "expected one of: linuxcnc" -- "$MTCAL" compensate -m "$M3" --format nope --out "$tmp/x1"
 [ ! -e "$tmp/x1" ] && ok || bad "output left by an unknown format"
 expect_error "too many points" "256" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --points 300 --out "$tmp/x2"

@@ -25,7 +25,7 @@ import json; d=json.load(open('$tmp/out'))
 f=[f for f in d['fits'] if f['model']=='exp_approach'][0]
 assert abs(f['parameters']['c']['value']-0.0188882) < 1e-8, f
 assert d['best_backward']=='exp_approach' and d['best_loocv']=='exp_approach', d
-assert sorted(f.keys())==['aicc','backward','dof','form','identifiable','loocv_rmse','model','parameters','r_squared','rss','sigma'], f.keys()
+assert sorted(f.keys())==['aicc','backward','dof','form','identifiable','loocv_method','loocv_rmse','model','parameters','r_squared','rss','sigma'], f.keys()
 " && ok || bad "regress recovers eq. 5.6"
 expect_exit 0 "regress Table 5.8 with report" -- "$MTCAL" regress "$P/yaqoob2017-table5_8.csv" --x t --y e_splz --report "$tmp/r.html"
 [ -s "$tmp/r.html" ] && grep -q "backward" "$tmp/r.html" && ok || bad "regress report written"

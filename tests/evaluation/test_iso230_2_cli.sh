@@ -38,12 +38,13 @@ ref = {
     'M': max((mu[i] + md[i]) / 2 for i in T) - min((mu[i] + md[i]) / 2 for i in T),
 }
 got = json.load(open(sys.argv[2]))
-keys = [k for k in got if k not in ('unit', 'runs', 'targets')]
+keys = [k for k in got if k not in ('unit', 'target_unit', 'runs', 'directions', 'notes', 'metadata', 'warnings', 'targets')]
+assert got['notes'] == [] and got['metadata'] == {} and got['warnings'] == [] and got['directions'] == 'both', got
 assert keys == ['A', 'A_up', 'A_down', 'B', 'B_mean', 'R', 'R_up', 'R_down', 'E', 'E_up', 'E_down', 'M'], keys
 for k, v in ref.items():
     assert abs(got[k] - v) < 1e-12, (k, got[k], v)
 assert len(got['targets']) == len(T)
-assert sorted(got['targets'][0]) == sorted(['target', 'mean_up', 'mean_down', 'mean', 'B', 's_up', 's_down', 'R_up', 'R_down', 'R'])
+assert sorted(got['targets'][0]) == sorted(['target', 'n_up', 'n_down', 'mean_up', 'mean_down', 'mean', 'B', 's_up', 's_down', 'R_up', 'R_down', 'R'])
 for t, i in zip(got['targets'], T):
     assert abs(t['mean_up'] - mu[i]) < 1e-12 and abs(t['s_down'] - sd[i]) < 1e-12
 PY
@@ -59,12 +60,22 @@ python3 -c "import json; d=json.load(open('$tmp/out.json')); assert d['unit']=='
 grep -q 'Plotly.newPlot' "$tmp/r.html" && ok || bad "report not written"
 
 # Bad inputs: one line on stderr, non-zero exit.
+# Tests ISO 230-2 does not define in full: evaluated as far as they define the quantities, with
+# notes; undefined quantities are null in JSON and n/a in text.
 printf 'target,run,direction,measured\n0,1,up,1\n0,2,up,3\n0,1,down,-1\n10,1,up,14\n10,2,up,16\n10,1,down,12\n10,2,down,12\n' >"$tmp/unequal.csv"
-expect_error "unequal runs" "unequal run counts" -- "$MTCAL" iso230-2 "$tmp/unequal.csv"
+"$MTCAL" iso230-2 "$tmp/unequal.csv" --json >"$tmp/out.json" 2>"$tmp/err" && ok || bad "unequal runs: $(cat "$tmp/err")"
+python3 -c "import json; d=json.load(open('$tmp/out.json')); assert d['runs']==1 and d['R'] is None and any('differs' in n for n in d['notes']) and abs(d['B']-3)<1e-12, d" && ok || bad "unequal runs values"
 printf 'target,run,direction,measured\n0,1,up,1\n0,2,up,3\n10,1,up,14\n10,2,up,16\n' >"$tmp/oneway.csv"
-expect_error "missing direction" "down" -- "$MTCAL" iso230-2 "$tmp/oneway.csv"
+"$MTCAL" iso230-2 "$tmp/oneway.csv" --json >"$tmp/out.json" 2>"$tmp/err" && ok || bad "unidirectional: $(cat "$tmp/err")"
+python3 -c "import json; d=json.load(open('$tmp/out.json')); assert d['directions']=='up' and d['B'] is None and d['M'] is None and abs(d['E_up']-3)<1e-12 and abs(d['R_up']-4*2**0.5)<1e-12, d" && ok || bad "unidirectional values"
 printf 'target,run,direction,measured\n0,1,up,1\n0,1,down,3\n10,1,up,14\n10,1,down,16\n' >"$tmp/onerun.csv"
-expect_error "one run" "at least 2 runs" -- "$MTCAL" iso230-2 "$tmp/onerun.csv"
+"$MTCAL" iso230-2 "$tmp/onerun.csv" --unit um >"$tmp/out" 2>"$tmp/err" && ok || bad "one run: $(cat "$tmp/err")"
+grep -q '^A n/a' "$tmp/out" && grep -q 'ISO 230-2 asks for 5 runs' "$tmp/out" && grep -q '^B 2.0 (mean -2.0)' "$tmp/out" && ok || bad "one run text: $(cat "$tmp/out")"
+# .dat files as other tools write them: unknown keys kept with a warning, same figures.
+printf 'REF_PV=IOC:m1\nDEC=3\nUNIT=um\nTGT_DATA[1]=0\nTGT_DATA[2]=10\nREF_DATA_FWD[1,1]=1\nREF_DATA_FWD[1,2]=3\nREF_DATA_BWD[1,1]=-1\nREF_DATA_BWD[1,2]=1\nREF_DATA_FWD[2,1]=14\nREF_DATA_FWD[2,2]=16\nREF_DATA_BWD[2,1]=12\nREF_DATA_BWD[2,2]=12\n' >"$tmp/tagged.dat"
+"$MTCAL" iso230-2 "$tmp/tagged.dat" --json >"$tmp/out.json" 2>"$tmp/err" && ok || bad "tagged dat: $(cat "$tmp/err")"
+grep -q 'warning: .*tagged.dat:1: key REF_PV' "$tmp/err" && ok || bad "tagged dat warning: $(cat "$tmp/err")"
+python3 -c "import json; d=json.load(open('$tmp/out.json')); assert d['metadata']=={'REF_PV':'IOC:m1','DEC':'3'} and abs(d['E']-5)<1e-12, d" && ok || bad "tagged dat values"
 printf 'TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=oops\n' >"$tmp/bad.dat"
 expect_error "bad dat value" "bad.dat:2" -- "$MTCAL" iso230-2 "$tmp/bad.dat"
 expect_error "missing file" "cannot open" -- "$MTCAL" iso230-2 "$tmp/none.csv"

@@ -1,12 +1,18 @@
 // Readers and writer of the acceptance tests' files: round trip of the ballbar trace, sources kept, bad input located.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <string>
+#include <vector>
 
+#include "mtcal/io/error_csv.hpp"
 #include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/io/machine_file.hpp"
+#include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 
 #include "input_errors.hpp"
@@ -118,4 +124,47 @@ TEST(EvaluationFiles, ComparisonKeepsItsSource) {
   EXPECT_EQ(w.file, "t.csv");
   EXPECT_EQ(w.line, 2);
   EXPECT_EQ(w.field, "value");
+}
+
+// The error-stream CSV, formatted in parallel slices with std::to_chars, against printf's "%.12g"
+// of the user-unit value (what the writer printed before, through to_user_units) and "%.9e" of the
+// errors: the same bytes for awkward values (negative zero, subnormal, huge, exact ties) and
+// across the slices of a chunk of 20,000 rows.
+TEST(ErrorStreamCsvTest, RowsArePrintfsTextInOrder) {
+  const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml");
+  const std::size_t n = m.axes.size(), rows = 20000;
+  const double awkward[] = {0.0, -0.0, 1e-310, -2.5e-7, 123456789012345.0, 0.1 + 0.2, 1.0 / 3.0, -1e300, 5e-324};
+  std::vector<double> q(rows * n), e(rows * 6);
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t k = 0; k < n; ++k)
+      q[r * n + k] = r < 9 ? awkward[(r + k) % 9] : std::sin(0.37 * static_cast<double>(r * n + k)) * 300.0;
+    for (std::size_t c = 0; c < 6; ++c)
+      e[r * 6 + c] = r < 9 ? awkward[(r + c + 3) % 9] : std::cos(1.3 * static_cast<double>(r * 6 + c)) * 1e-3;
+  }
+  const std::string path = (std::filesystem::temp_directory_path() / "mtcal-error-stream.csv").string();
+  {
+    ErrorStreamCsv csv(path, m, false, 2);
+    csv.write(ErrorChunk{0, n, q, {}, e});
+    csv.commit();
+  }
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "C,B,X,Y,Z,dx,dy,dz,rx,ry,rz");
+  char buf[64];
+  for (std::size_t r = 0; r < rows; ++r) {
+    ASSERT_TRUE(std::getline(in, line)) << r;
+    std::string want;
+    for (std::size_t k = 0; k < n; ++k) {
+      std::snprintf(buf, sizeof buf, "%s%.12g", k ? "," : "", to_user_units(m.axes[k], q[r * n + k]));
+      want += buf;
+    }
+    for (std::size_t c = 0; c < 6; ++c) {
+      std::snprintf(buf, sizeof buf, ",%.9e", e[r * 6 + c]);
+      want += buf;
+    }
+    ASSERT_EQ(line, want) << "row " << r;
+  }
+  EXPECT_FALSE(std::getline(in, line));
+  std::filesystem::remove(path);
 }

@@ -114,9 +114,10 @@ TEST(PredictionJson, FitKeysInOrder) {
   std::vector<std::string> keys;
   for (const auto& [k, v] : j.items()) keys.push_back(k);
   EXPECT_EQ(keys, (std::vector<std::string>{"model", "form", "parameters", "identifiable", "rss", "sigma", "dof",
-                                            "r_squared", "aicc", "backward", "loocv_rmse"}));
+                                            "r_squared", "aicc", "backward", "loocv_rmse", "loocv_method"}));
   EXPECT_EQ(j["form"], "polynomial");
   EXPECT_EQ(j["dof"], 2);
+  EXPECT_EQ(j["loocv_method"], "refit");
 }
 
 }  // namespace

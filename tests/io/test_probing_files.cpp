@@ -30,7 +30,6 @@ std::string write_temp(const std::string& name, const std::string& text) {
   return p;
 }
 
-
 // A perfect C axis: a sphere of 30 mm probed with a 6 mm stylus at 8 indexations about z.
 std::vector<ProbedIndexation> ideal_probing() {
   std::vector<ProbedIndexation> out;
@@ -110,16 +109,17 @@ TEST(ProbingFiles, BadContactsAndCentresAreLocated) {
   w = error_at([&] { read_contacts_csv(zero, 'C'); });
   EXPECT_EQ(w.line, 3);
   EXPECT_EQ(w.field, "approach_x");
-  // An indexation probed again after another: the line of the second visit, the axis's column.
-  const auto again = write_temp("mtcal-contacts-again.csv", "C,x,y,z\n0,1,2,3\n10,1,2,3\n0,1,2,3\n");
-  w = error_at([&] { centres_from_contacts(read_contacts_csv(again, 'C'), SphereProbing{30, 6, 0.01}); });
-  EXPECT_EQ(w.file, again);
-  EXPECT_EQ(w.line, 4);
-  EXPECT_EQ(w.field, "C");
-  const auto dup = write_temp("mtcal-centres-dup.csv", "A,x,y,z\n0,1,2,3\n5,1,2,3\n0,1,2,3\n");
-  w = error_at([&] { read_centres_csv(dup, 'A'); });
-  EXPECT_EQ(w.line, 4);
-  EXPECT_EQ(w.field, "A");
+  // An angle given twice (or a turn apart) is one position measured twice: read as given, then
+  // averaged into one centre with a note.
+  const auto dup = write_temp("mtcal-centres-dup.csv", "A,x,y,z\n0,1,2,3\n5,1,2,3\n0,1,2,5\n360,1,2,4\n");
+  IndexedCentres c = read_centres_csv(dup, 'A');
+  ASSERT_EQ(c.centres.size(), 4u);
+  const auto notes = merge_wrapped_centres(c);
+  ASSERT_EQ(c.centres.size(), 2u);
+  EXPECT_NEAR(c.centres[0].centre.z(), 4.0, 1e-12);  // (3 + 5 + 4) / 3
+  EXPECT_NEAR(c.centres[0].angle, 0.0, 1e-15);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("0, 0, 360 deg"), std::string::npos) << notes[0];
   const auto good = read_centres_csv(write_temp("mtcal-centres.csv", "A,x,y,z\n90,1,2,3\n"), 'A');
   EXPECT_EQ(good.method, "given");
   ASSERT_EQ(good.centres.size(), 1u);

@@ -6,8 +6,12 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 #include "mtcal/probing/rotary_axis.hpp"
+#include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/probing/sphere_probing.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
@@ -155,6 +159,37 @@ TEST(RotaryAxis, TriplesGiveTheSameBitsWithAnyThreadCount) {
   EXPECT_EQ(a.kept, b.kept);
 }
 
+// The small-angle series in location_from_line against the library's atan2 / asin: the same
+// quantities to 2 ulp (relative 5e-16), for angles on both sides of the 1e-3 rad switch.
+TEST(RotaryAxis, LocationFromLineAnglesEqualTheLibraryFunctions) {
+  const auto axis = NominalRotaryAxis::by_letter('C');
+  for (double a : {0.0, 3e-9, -2e-6, 4.5e-5, -9.9e-4, 1.01e-3, -0.02, 0.3})
+    for (double b : {0.0, -7e-8, 1.2e-5, -8e-4, 2e-3, -0.1}) {
+      const Point3 n(std::cos(a) * std::sin(b), -std::sin(a), std::cos(a) * std::cos(b));
+      const auto q = location_from_line(axis, Point3(0.1, -0.2, 0.0), n, 50.0);
+      const Point3 u = n.normalized();
+      const double ref[3] = {-std::asin(u.y()), std::atan2(u.x(), u.z()), std::atan2(std::hypot(u.x(), u.y()), u.z())};
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(q[static_cast<std::size_t>(2 + (k == 2 ? 3 : k))], ref[k], 5e-16 * std::abs(ref[k]))
+            << a << " " << b << " quantity " << k;
+    }
+}
+
+TEST(RotaryAxis, TriplesReportProgressOverBothPasses) {
+  const Case c = probe('C', {{"EX0C", 0.01}}, steps(0, 350, 10), 0.001, 9);
+  const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
+  std::vector<std::size_t> seen;
+  TriplesOptions o{2.0, 40, 2};
+  o.progress = [&](std::size_t done, std::size_t total) {
+    seen.push_back(done);
+    EXPECT_EQ(total, 128u);
+  };
+  const auto with = estimate_by_triples(axis, c.centres, o);
+  ASSERT_EQ(seen.size(), 128u);
+  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], i + 1);
+  EXPECT_EQ(with.value, estimate_by_triples(axis, c.centres, TriplesOptions{2.0, 40, 1}).value);
+}
+
 TEST(RotaryAxis, AnOutlierIsRejectedByTheSigmaRule) {
   const std::vector<std::pair<const char*, double>> truth = {{"EX0C", 0.01},
                                                              {"EY0C", 0.0},
@@ -228,4 +263,73 @@ TEST(SphereProbing, SimulationNeedsATableAxis) {
   sim.axis = 'C';
   sim.angles = {0.0, 1.0};
   EXPECT_THROW(simulate_probing(head, sim), ModelError);
+}
+
+// Centres of a sphere turning about a line (point p, unit direction n), radius r, at the angles.
+namespace {
+std::vector<MeasuredCentre> circle_centres(const Point3& p, const Point3& n, double r, const std::vector<double>& deg) {
+  const Point3 u = n.unitOrthogonal(), v = n.cross(u);
+  std::vector<MeasuredCentre> out;
+  for (double d : deg) out.push_back({d * kDeg, p + r * (std::cos(d * kDeg) * u + std::sin(d * kDeg) * v)});
+  return out;
+}
+}  // namespace
+
+TEST(RotaryAxis, AnglesATurnApartAreOnePositionForTheTriples) {
+  // A C axis with EX0C = 10 um, EA0C = 20 urad, probed from -360 to +360 deg in 45 deg steps:
+  // -360, 0 and 360 (and -180, 180) are the same positions; the seed's triples analysis used to
+  // meet coincident centres. Merged, both estimators give the line exactly.
+  const Point3 n = Point3(0, -std::sin(20e-6), std::cos(20e-6));
+  std::vector<double> deg;
+  for (double d = -360; d <= 360; d += 45) deg.push_back(d);
+  IndexedCentres c;
+  c.centres = circle_centres(Point3(0.010, 0, 0), n, 120, deg);
+  const auto r = locate_rotary_axis(NominalRotaryAxis::by_letter('C'), c, {});
+  EXPECT_EQ(r.centres.centres.size(), 8u);  // 17 angles, 8 positions
+  ASSERT_FALSE(r.notes.empty());
+  ASSERT_TRUE(r.triples && r.least_squares);
+  EXPECT_EQ(r.triples->degenerate, 0u);
+  for (const RotaryEstimate* e :
+       {static_cast<const RotaryEstimate*>(&*r.triples), static_cast<const RotaryEstimate*>(&*r.least_squares)}) {
+    EXPECT_NEAR(e->value[0], 0.010, 1e-9);  // EX0C
+    EXPECT_NEAR(e->value[2], 20e-6, 1e-9);  // EA0C
+  }
+}
+
+TEST(RotaryAxisLine, AnyDirectionIsMeasuredAndAGivenFrameBringsItHome) {
+  // A rotary table seen by an instrument whose axes are turned 30 deg about x and 50 deg about z:
+  // in the instrument's coordinates the C axis points nowhere near x, y or z.
+  const Point3 p(5, -3, 2), n_machine = Point3(0, 0, 1);
+  const InstrumentFrame frame = frame_from_angles(30 * kDeg, 0, 50 * kDeg, Point3(1, 2, 3));
+  const Eigen::Matrix3d to_instrument = frame.rotation.transpose();
+  std::vector<double> deg;
+  for (double d = 0; d < 360; d += 30) deg.push_back(d);
+  IndexedCentres c;
+  for (const auto& m : circle_centres(p, n_machine, 100, deg))
+    c.centres.push_back({m.angle, to_instrument * (m.centre - frame.translation)});
+  // Without the frame: the line is measured in any direction, the location errors are not claimed.
+  const auto raw = locate_rotary_axis(NominalRotaryAxis::by_letter('C'), c, {});
+  EXPECT_FALSE(raw.located);
+  EXPECT_FALSE(raw.least_squares || raw.triples);
+  const Point3 expected = to_instrument * n_machine;
+  EXPECT_NEAR(std::abs(raw.line.direction.dot(expected)), 1.0, 1e-12);
+  EXPECT_NEAR(raw.line.radius, 100, 1e-9);
+  EXPECT_NEAR(raw.line.tilt, std::acos(std::abs(expected.z())), 1e-9);
+  // The line passes through the axis: its point is the foot of the origin on it.
+  const Point3 on_line = to_instrument * (p - frame.translation);
+  EXPECT_NEAR((raw.line.point - on_line).cross(raw.line.direction).norm(), 0, 1e-9);
+  // With the frame: the machine's C axis, EX0C = 5, EY0C = -3, no tilt.
+  apply_frame(c, frame);
+  const auto r = locate_rotary_axis(NominalRotaryAxis::by_letter('C'), c, {});
+  ASSERT_TRUE(r.located);
+  EXPECT_NEAR(r.least_squares->value[0], 5, 1e-9);
+  EXPECT_NEAR(r.least_squares->value[1], -3, 1e-9);
+  EXPECT_NEAR(r.least_squares->value[5], 0, 1e-9);
+  // An axis perpendicular to the nominal one (along x for C) is measured too.
+  IndexedCentres side;
+  side.centres = circle_centres(Point3(0, 1, 1), Point3(1, 0, 0), 50, deg);
+  const auto s = locate_rotary_axis(NominalRotaryAxis::by_letter('C'), side, {});
+  EXPECT_FALSE(s.located);
+  EXPECT_NEAR(std::abs(s.line.direction.x()), 1.0, 1e-12);
+  EXPECT_NEAR(s.line.tilt, std::numbers::pi / 2, 1e-9);
 }

@@ -78,6 +78,7 @@ struct CompensationOptions {
   int threads = 0;
   int comp_file_type = 1;                // LinuxCNC COMP_FILE_TYPE: 0 columns are actual positions, 1 corrections
   double skew_reference_length = 100.0;  // mm: RepRapFirmware M556 S, FluidNC Skewed distance_mm
+  double detection_unit = 0.001;         // FANUC: mm (linear) and deg (rotary) per count of a pitch error value
 };
 
 // The sampling of every axis: the caller's where given (by axis letter), the travel elsewhere
@@ -95,6 +96,11 @@ struct PositioningTable {
   char axis = 'X';
   std::vector<double> position, forward, reverse;
 };
+// The machine with only the errors of its linear axes (their motion and location errors): what the
+// per-axis tables of the linear axes are sampled on, so that a rotary axis's or a set-up error's
+// effect at the reference configuration (right at one angle only) does not enter them as a constant.
+Machine linear_axis_errors(const Machine& m);
+
 // One table per linear axis whose errors are not all zero, in chain order.
 std::vector<PositioningTable> positioning_tables(const ErrorModel& model, const std::vector<AxisSampling>& sampling,
                                                  std::span<const double> reference, const std::string& where);

@@ -32,4 +32,9 @@ struct IsgCompensation {
 // are not held (listed). Needs linear axes X, Y, Z and at most three rotary axes.
 IsgCompensation compensate_isg(const Machine& m, const CompensationOptions& o);
 
+// The same parameters for the Etalon exchange format (vendor variant), the second parameter file
+// format the TF5280 reads (manual, "Etalon Exchange Format"): the control's model and residual
+// are those of compensate_isg; only the summary's target and sign source differ.
+IsgCompensation compensate_etalon(const Machine& m, const CompensationOptions& o);
+
 }  // namespace mtcal

@@ -46,6 +46,11 @@ class ConfigurationSource {
   bool has_directions() const { return list_ && !list_->dir.empty(); }
   // Configuration index into q (axes values) and, with directions, into dir (axes values).
   void fill(std::size_t index, double* q, std::int8_t* dir) const;
+  // Configurations [first, first + count) into q (count x axes) and dir (count x axes, with
+  // directions); a grid counts its digits up instead of dividing per configuration.
+  void fill_range(std::size_t first, std::size_t count, double* q, std::int8_t* dir) const;
+  // The grid's values, or nullptr for a list.
+  const GridValues* grid_values() const { return grid_; }
 
  private:
   const ConfigurationList* list_ = nullptr;

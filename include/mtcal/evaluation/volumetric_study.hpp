@@ -62,8 +62,38 @@ VolumetricStudy study_volumetric(const Machine& m, const ErrorMap& map, const Vo
 // critical pair with the exact VA of the map with each error removed.
 struct WhatIf {
   ErrorName error;
-  double va = 0.0;  // the map's VA without this error, mm
+  double va = 0.0;               // the map's VA without this error, mm (recomputed exactly, not linearised)
+  std::vector<double> from, to;  // the critical pair of the map without this error (internal units)
+  // The error's first-order share of the full map's critical difference (Contribution::share;
+  // 0 when it has no effect there).
+  double share = 0.0;
+  // The share and the removal disagree: a positive share (the error adds to the critical
+  // difference) yet the VA rises without it, or a share <= 0 yet the VA falls. It happens when
+  // removing the error makes another pair critical, in which it was cancelling other errors.
+  bool disagrees = false;
+  // Where it disagrees: the error's first-order effect along that other pair's difference of the
+  // full machine (mm; negative: it was reducing that difference), and the errors whose effects
+  // there oppose its own (those it was cancelling), with the opposed part (mm), largest first.
+  double along_there = 0.0;
+  std::vector<std::pair<ErrorName, double>> cancelled;
 };
+
+// Greedy correction sequence: remove, one after the other, the error whose removal gives the
+// smallest exact VA (recomputed on the map's configurations) until the VA is at most the target.
+struct CorrectionStep {
+  ErrorName error;
+  double va = 0.0;  // the map's VA with this error and every earlier one removed, mm
+};
+struct CorrectionSequence {
+  double target = 0.0;   // mm
+  double start = 0.0;    // the map's VA with every error, mm
+  bool reached = false;  // the last step's VA (or start) <= target
+  std::vector<CorrectionStep> steps;
+};
+// Greedy is not always optimal (a pair of errors that cancel can each look useless alone), but it
+// needs n + (n-1) + ... maps instead of 2^n; the sequence stops early when the target is reached
+// and when no error is left.
+CorrectionSequence correction_sequence(const Machine& m, const ErrorMap& map, double target_va, int threads = 0);
 struct ContributionStudy {
   std::string mode;                       // "at", "pair" or "critical_pair"
   std::vector<double> a, b;               // e(a), or e(a) - e(b) (b empty for "at")
@@ -71,10 +101,12 @@ struct ContributionStudy {
   std::optional<VolumetricAccuracy> va;   // critical_pair only
   std::vector<WhatIf> what_if;            // smallest VA first; critical_pair only
   bool what_if_asked = false;
+  std::optional<CorrectionSequence> sequence;  // with a target VA, critical_pair only
   ContributionAnalysis analysis;
 };
 ContributionStudy contributions_at(const Machine& m, std::vector<double> a);
 ContributionStudy contributions_between(const Machine& m, std::vector<double> from, std::vector<double> to);
-ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& map, bool what_if, int threads = 0);
+ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& map, bool what_if, int threads = 0,
+                                              std::optional<double> target_va = std::nullopt);
 
 }  // namespace mtcal

@@ -27,9 +27,10 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
 
 // Writes evaluated chunks of a stream as CSV: axis columns (mm, deg), dir<axis> columns when
 // the stream has directions, dx dy dz (mm) rx ry rz (rad). Replaces path only on commit().
+// A chunk's rows are formatted on `threads` threads (0: all cores) and written in order.
 class ErrorStreamCsv {
  public:
-  ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions);
+  ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads = 0);
   ~ErrorStreamCsv();
   void write(const ErrorChunk& chunk);
   void commit();
@@ -37,6 +38,8 @@ class ErrorStreamCsv {
  private:
   const Machine& machine_;
   std::unique_ptr<AtomicFile> file_;
+  int threads_ = 0;
+  std::vector<std::unique_ptr<char[]>> buffers_;  // per-slice text, reused between chunks
 };
 
 // An error map as CSV: axis columns (mm, deg), dir<axis> when the map has directions, dx dy dz (mm).

@@ -11,7 +11,8 @@
 
 namespace mtcal {
 
-// A B R E M (with _up/_down), unit, runs, targets[] (docs/evaluations.md, "JSON keys").
+// A B R E M (with _up/_down; null where the test does not define them), unit, target_unit,
+// runs, directions, notes, targets[] (docs/evaluations.md, "JSON keys"). Full precision.
 Json to_json(const PositioningEvaluation& e);
 
 // One direction's path: points, G, G_minimum_zone, centre, minimum_zone_centre, F_max, F_min, F_mean.

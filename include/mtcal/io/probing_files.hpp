@@ -18,7 +18,8 @@ namespace mtcal {
 ContactSet read_contacts_csv(const std::string& path, char axis);
 
 // Reads the centres CSV: the axis's angle (deg, the column named by its letter), the sphere
-// centre x,y,z (mm); method "given". An angle given twice throws InputError with both lines.
+// centre x,y,z (mm); method "given". An angle given twice (or a turn apart) is one position
+// measured twice: locate_rotary_axis averages the centres.
 IndexedCentres read_centres_csv(const std::string& path, char axis);
 
 // The contacts CSV of simulated probing (read back by read_contacts_csv): header

@@ -35,7 +35,10 @@ Json to_json(const GroupingComparison& g, const VolumetricAccuracy& exact);
 Json to_json(const Machine& m, const ErrorMap& map, const VolumetricStudy& s, double seconds_map);
 
 // {"mode", "at", "from" (pair modes), "va" (critical_pair), "exact", "first_order", "residual",
-// "items" (the first top), "what_if" [{"error", "va_without", "gain"}] (critical_pair, when asked)}
+// "items" (the first top), "what_if" [{"error", "va_without", "gain", "share", "disagrees", and
+// where it disagrees "critical_pair_without" {"from", "to"}, "along_there", "cancelled" [{"error",
+// "against": its effect against this error's, mm}], largest first}] (critical_pair, when asked), "correction_sequence"
+// {"target_va", "start_va", "reached", "steps" [{"error", "va"}]} (with a target VA); lengths in mm}
 Json to_json(const Machine& m, const ContributionStudy& s, std::size_t top);
 
 // {"name", "from", "to", "length", "direction", "range", "position", "deviation"}

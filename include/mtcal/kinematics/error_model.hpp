@@ -69,6 +69,18 @@ class ErrorModel {
   void evaluate_batch(std::span<const double> q, std::span<const std::int8_t> dir, std::span<double> out,
                       const BatchOptions& options = {}) const;
 
+  // A stretch of a full grid: values[k] are axis k's sample values (chain order, internal units),
+  // configurations in mixed-radix order with the last axis fastest, no directions of motion;
+  // out receives out.size() / 6 configurations from index `first` on (dx dy dz rx ry rz each).
+  // Where the chain allows (grid_structured()) each axis' actual and nominal transform is computed
+  // once per grid value and the poses are products of these, the outer axes' prefix product
+  // shared by every value of the last axis: the same numbers as evaluate_batch on the listed
+  // configurations to rounding (1e-13 mm, tested to 1e-12 mm), at a fraction of the work.
+  void evaluate_grid(std::span<const std::vector<double>> values, std::size_t first, std::span<double> out,
+                     const BatchOptions& options = {}) const;
+  // Whether evaluate_grid can use the product structure (otherwise it evaluates point by point).
+  bool grid_structured() const;
+
   // Sensitivity Jacobian d(dx dy dz rx ry rz) / d(parameter) at one configuration, columns in
   // the order of Machine::parameters(). Exact (analytic through the exact transforms).
   void jacobian(std::span<const double> q, std::span<const std::int8_t> dir,

@@ -121,5 +121,8 @@ struct Machine {
 // What a valid parameter name looks like on this machine, with examples of its own names: the
 // expectation half of every "unknown parameter" message.
 std::string parameter_naming(const Machine& m);
+// " (did you mean 'EC0Y'?)" when one of the machine's parameter or error names is close to typed
+// (case-insensitive edit distance, util/suggest.hpp), else "".
+std::string name_hint(const Machine& m, std::string_view typed);
 
 }  // namespace mtcal

@@ -107,10 +107,19 @@ struct FitResult {
   // Leave-one-out cross-validation: each point predicted by the model refitted without it.
   std::optional<double> loocv_rmse;  // sqrt(mean of squared leave-one-out errors); none if n - 1 < p or a refit fails
   std::vector<double> loocv_errors;  // y_i - f_(-i)(x_i), input order (empty without loocv_rmse)
+  // How the leave-one-out errors were obtained (see FitOptions::loocv_refit_max): "refit" (n
+  // refits), "hat_matrix" (polynomials above the limit: e_i = r_i / (1 - h_ii), the exact
+  // identity of linear least squares), "linearised" (nonlinear forms above the limit: the same
+  // formula with the Jacobian at the solution, i.e. one Gauss-Newton step of each refit); "" without.
+  std::string loocv_method;
 };
 
 struct FitOptions {
   bool loocv = true;
+  // Up to this many points every leave-one-out model is refitted (n fits: quadratic cost for
+  // polynomials, n Levenberg-Marquardt runs with their start grid for the nonlinear forms);
+  // above it the hat-matrix formula is used (exact for polynomials, linearised otherwise).
+  std::size_t loocv_refit_max = 100;
 };
 
 // Least squares of spec to (x, y). Polynomials are solved exactly (QR); the other forms by

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -67,6 +68,9 @@ struct TriplesOptions {
   double reject_sigma = 2.0;  // 0: no rejection
   int histogram_bins = 40;
   int threads = 0;  // 0: all hardware threads
+  // Called (from any thread, one call at a time) after each share of the work with the shares
+  // done and their total (two passes over the triples).
+  std::function<void(std::size_t done, std::size_t total)> progress{};
 };
 struct TripleHistogram {
   double low = 0.0, high = 0.0;     // bin edges span [low, high]

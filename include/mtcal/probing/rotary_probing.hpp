@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "mtcal/probing/rotary_axis.hpp"
 #include "mtcal/probing/sphere_probing.hpp"
 
@@ -36,9 +38,9 @@ struct IndexedCentres {
 };
 
 // Groups the contacts into indexations (consecutive contacts at the same angle) and fits one
-// sphere per indexation (sphere_centre). Throws InputError naming the source and line where an
-// angle met before comes again (a sphere probed twice would silently merge into one bad fit),
-// or where an indexation's contacts do not give a sphere.
+// sphere per indexation (sphere_centre). An angle met again later is a second indexation of the
+// same position, fitted on its own (locate_rotary_axis averages the centres). Throws InputError
+// naming the source and line where an indexation's contacts do not give a sphere.
 IndexedCentres centres_from_contacts(const ContactSet& contacts, const SphereProbing& probing);
 
 // Above this many centres the triples (C(n, 3): 1.7e8 for 1000, about 20 s) take too long.
@@ -48,13 +50,48 @@ struct RotaryAxisOptions {
   bool triples = true;        // the all-triples estimator
   bool least_squares = true;  // the global least-squares circle
   TriplesOptions triples_options;
+  // Beyond this angle (rad) between the measured and the nominal axis direction the ISO 230-7
+  // location errors (small angles about the nominal line) are not estimated: the result gives
+  // the measured line only.
+  double max_tilt = 0.1;
 };
+
+// Where the instrument's coordinates sit in the machine's: machine = rotation * instrument +
+// translation (a probe or tracker whose axes are not the machine's).
+struct InstrumentFrame {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Point3 translation = Point3::Zero();
+};
+// Rotation of the angles (rad) rx about x, then ry about y, then rz about z: Rz Ry Rx.
+InstrumentFrame frame_from_angles(double rx, double ry, double rz, const Point3& translation);
+void apply_frame(IndexedCentres& centres, const InstrumentFrame& frame);
+
+// Indexations that are one position of the axis (angles a whole number of turns apart: -360,
+// 0, 360 deg) merged into one centre, the mean of their centres, at the angle nearest zero, in
+// the order of first appearance. Returns one line per merge for the user.
+std::vector<std::string> merge_wrapped_centres(IndexedCentres& centres);
+
+// The measured axis line with no assumption on its direction: the least-squares circle of the
+// centres, its unit normal (sign: towards the nominal direction, or +x/+y/+z by the largest
+// component when perpendicular), the line's point nearest the nominal point, the angle to the
+// nominal direction (rad, 0..pi/2).
+struct MeasuredAxisLine {
+  Point3 point = Point3::Zero();
+  Point3 direction = Point3::UnitZ();
+  double radius = 0.0;
+  double tilt = 0.0;
+  double rms = 0.0;  // the centres' in-plane residual rms, mm
+};
+MeasuredAxisLine measure_axis_line(const NominalRotaryAxis& axis, const std::vector<MeasuredCentre>& centres);
 
 // Location errors of a rotary axis from its centres: either or both estimators.
 struct RotaryAxisResult {
   NominalRotaryAxis axis;
   IndexedCentres centres;
-  double reject_sigma = 2.0;  // the triples' rejection rule used
+  MeasuredAxisLine line;           // always
+  bool located = true;             // false: tilt beyond options.max_tilt, no ISO 230-7 estimates
+  std::vector<std::string> notes;  // merged indexations, why the location errors are not given
+  double reject_sigma = 2.0;       // the triples' rejection rule used
   std::optional<TriplesEstimate> triples;
   std::optional<LeastSquaresEstimate> least_squares;
 
@@ -66,7 +103,9 @@ struct RotaryAxisResult {
   double tilt() const { return best().value[5]; }
 };
 
-// Runs the estimators options asks for (at least one). Throws InputError with more than
+// Merges wrapped indexations (merge_wrapped_centres), measures the line, then runs the estimators
+// options asks for (at least one) when the line is within options.max_tilt of the nominal
+// direction. Throws InputError with more than
 // kMaxTriplesCentres centres for the triples, or where an estimate is not finite (centres that
 // are not of this axis).
 RotaryAxisResult locate_rotary_axis(const NominalRotaryAxis& axis, IndexedCentres centres,

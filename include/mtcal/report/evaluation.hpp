@@ -11,6 +11,22 @@
 
 namespace mtcal {
 
+// How ISO 230-2 results are shown to people (docs/evaluations.md, "Numbers"): lengths given in
+// mm are shown in um (angles in arcsec stay so, any other unit as the file gave it), with as
+// many decimals as the data resolve: one more than the fewest that write every input value
+// exactly (means resolve a digit more than their values; at most 6), and no more than give two
+// significant digits of the median standard deviation (of the median |deviation| / 10 with one
+// run). JSON keeps full precision; this is for text and reports.
+struct PositioningDisplay {
+  std::string unit;     // unit shown
+  double factor = 1.0;  // value in the results' unit * factor = value shown
+  int decimals = 3;
+  std::string format(double v) const;  // "n/a" for a value the test does not define (NaN)
+};
+PositioningDisplay positioning_display(const PositioningRuns& runs, const PositioningEvaluation& e);
+// The text table of `mtcal iso230-2`: per target, then the axis's figures, notes last.
+std::string positioning_text(const PositioningRuns& runs, const PositioningEvaluation& e);
+
 // Each writes the report to path; command is the command line shown in the report.
 
 // ISO 230-2:2014 in µm: results A, E, M, R, B (bidirectional and per direction), the deviations

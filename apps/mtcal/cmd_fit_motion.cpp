@@ -1,0 +1,155 @@
+// mtcal fit-motion: laser and positioning files -> motion errors (EXX, EYX, EBX, ECC ...) in one parameter file.
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "common.hpp"
+#include "mtcal/identification/machine_params.hpp"
+#include "mtcal/identification/motion_fit.hpp"
+#include "mtcal/io/estimated_parameters_file.hpp"
+#include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/io/files.hpp"
+#include "mtcal/io/laser_files.hpp"
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal::cli {
+namespace {
+
+struct FitMotionOptions {
+  std::vector<std::string> files;
+  std::string out, form = "auto", unit = "mm", target_unit, format = "auto";
+  int degree = 3;
+  double coverage = 2.0, wrap = 0;
+  bool json_out = false;
+};
+
+// "EYX=path" names the error; a bare path leaves it to the file (a laser file's Error:/Axis:).
+std::pair<std::string, std::string> split_spec(const std::string& spec) {
+  const auto eq = spec.find('=');
+  if (eq != std::string::npos && eq >= 3 && eq <= 4 && spec[0] == 'E') return {spec.substr(0, eq), spec.substr(eq + 1)};
+  return {"", spec};
+}
+
+int run_fit_motion(const FitMotionOptions& o) {
+  std::vector<std::string> inputs;
+  for (const auto& s : o.files) inputs.push_back(split_spec(s).second);
+  check_outputs(inputs, {o.out});
+  if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
+  std::vector<EstimatedError> errors;
+  std::vector<MotionFit> fits;
+  std::vector<std::string> warnings;
+  Json files = Json::array();
+  for (const auto& spec : o.files) {
+    auto [name, path] = split_spec(spec);
+    PositioningRuns runs;
+    if (o.format == "laser" || (o.format == "auto" && looks_like_laser(path))) {
+      const LaserFile lf = read_laser_file(path);
+      runs = lf.runs;
+      if (name.empty()) name = laser_error_name(lf);
+    } else {
+      runs = read_positioning_file(path, o.format, o.unit, o.target_unit);
+    }
+    if (name.empty())
+      throw InputError({path, 0, ""},
+                       "the file does not say which error it measured: name it, e.g. EXX=" + path + " or EYX=" + path);
+    if (o.wrap > 0) runs = merge_wrapped_targets(runs, o.wrap);
+    warnings.insert(warnings.end(), runs.warnings.begin(), runs.warnings.end());
+    MotionFitOptions fo;
+    fo.form = o.form;
+    fo.max_degree = o.degree;
+    fo.coverage = o.coverage;
+    MotionFit fit;
+    errors.push_back(estimate_motion_error(runs, name, fo, &fit));
+    fits.push_back(fit);
+  }
+  check_distinct(errors);
+  for (const auto& w : warnings) std::cerr << "mtcal: warning: " << w << "\n";
+  if (!o.out.empty())
+    write_estimated_parameters(o.out, errors,
+                               "Motion errors fitted by mtcal fit-motion (internal units mm, rad)\n" + command_line());
+  if (o.json_out) {
+    Json j;
+    Json list = Json::array();
+    for (std::size_t i = 0; i < errors.size(); ++i) {
+      const auto& e = errors[i];
+      const auto& f = fits[i];
+      Json params = Json::object();
+      for (std::size_t k = 0; k < e.motion->parameter_count(); ++k)
+        params[e.name.str() + "." + e.motion->parameter_suffix(k)] = {{"value", e.motion->parameter(k)},
+                                                                      {"u", k < e.uncertainty.size()
+                                                                                ? Json(e.uncertainty[k])
+                                                                                : Json(nullptr)}};
+      list.push_back({{"error", e.name.str()},
+                      {"file", e.source},
+                      {"form", f.form},
+                      {"degree", f.degree},
+                      {"targets", f.targets},
+                      {"bidirectional", f.bidirectional},
+                      {"residual_rms", f.residual_rms},
+                      {"u_mean", f.u_mean},
+                      {"reason", f.reason},
+                      {"notes", f.notes},
+                      {"parameters", params}});
+    }
+    j["errors"] = list;
+    j["units"] = "internal: mm and rad";
+    j["warnings"] = warnings;
+    if (!o.out.empty()) j["out"] = o.out;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  for (std::size_t i = 0; i < errors.size(); ++i) {
+    const auto& f = fits[i];
+    std::cout << fmt::format("{} from {}: {}\n", errors[i].name.str(), errors[i].source, f.reason);
+    for (const auto& n : f.notes) std::cout << "  note: " << n << "\n";
+  }
+  if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
+  return 0;
+}
+
+}  // namespace
+
+std::vector<Command> add_fit_motion_commands(CLI::App& app) {
+  auto o = std::make_shared<FitMotionOptions>();
+  auto* c = app.add_subcommand("fit-motion",
+                               "Motion errors (EXX, EYX, EZX, EAX, EBX, ECX, ECC ...) from laser or positioning "
+                               "files, as a table or a polynomial / Fourier series with reversal and uncertainties, "
+                               "merged into one parameter file for --params");
+  c->add_option("files", o->files,
+                "Measurement files, each [ERROR=]FILE: a Renishaw .rtl/.rta export (its Axis:/Error: name the "
+                "error), an ISO 230-2 .dat or a table (name the error: EXX=x.dat, EYX=straightness.csv)")
+      ->required();
+  c->add_option("--out", o->out, "Parameter file to write (mtcal eval/volumetric/compensate --params)");
+  c->add_option("--form", o->form,
+                "auto (smoothest form within --coverage x the repeatability, else a table), table, polynomial "
+                "(linear axes) or fourier (rotary axes)")
+      ->check(CLI::IsMember({"auto", "table", "polynomial", "fourier"}))
+      ->capture_default_str();
+  c->add_option("--degree", o->degree, "Highest polynomial degree / Fourier harmonic")
+      ->check(CLI::Range(1, 3))
+      ->capture_default_str();
+  c->add_option("--coverage", o->coverage, "Criterion of --form auto: residual rms <= this x u of the means")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--unit", o->unit, "Unit of a table's values unless its header says")->capture_default_str();
+  c->add_option("--target-unit", o->target_unit, "Unit of a table's targets (default: the values' unit)");
+  c->add_option("--format", o->format, "Input format: auto, csv, dat or laser")
+      ->check(CLI::IsMember({"auto", "csv", "dat", "laser"}))
+      ->capture_default_str();
+  c->add_option("--wrap", o->wrap, "Rotary tests: targets this far apart (e.g. 360) are one position")
+      ->check(CLI::PositiveNumber & kFinite);
+  c->add_flag(
+      "--json", o->json_out,
+      "Machine-readable output: errors[] with error, file, form, degree, targets, bidirectional, "
+      "residual_rms, u_mean, reason, notes, parameters {NAME.suffix: {value, u}} (mm, rad); units, warnings, out");
+  c->footer(
+      "Examples:\n  mtcal fit-motion x_axis.rtl --out x.yaml\n"
+      "  mtcal fit-motion x_axis.rtl EYX=x_straightness.rtl EBX=x_pitch.rtl --out x.yaml --json\n"
+      "  mtcal fit-motion EXX=x_axis.dat --form table --out x.yaml\n"
+      "  mtcal compensate -m machine.yaml --params x.yaml --format linuxcnc --out comp");
+  return {{c, [o] { return run_fit_motion(*o); }}};
+}
+
+}  // namespace mtcal::cli

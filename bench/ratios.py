@@ -1,0 +1,71 @@
+#!/usr/bin/python3
+"""The ratios of issue 18 from a Google Benchmark JSON file (mtcal_bench --benchmark_out=FILE).
+
+    /usr/bin/python3 bench/ratios.py FILE
+
+Each line: a measurement against its baseline of the same run (CPU time of the benchmark's
+thread; real time for the Monte Carlo thread counts), and the
+configurations per second per core of the error kernels. A benchmark missing from the file
+(filtered out) prints '-'.
+"""
+import json
+import sys
+
+# (what, numerator benchmark, denominator benchmark): ratio = numerator time / denominator time.
+RATIOS = [
+    ("regress 150 rows: refits / hat matrix", "BM_Regress_Refit_Baseline/150/iterations:1", "BM_Regress_HatMatrix/150"),
+    ("regress: 1000 rows / 150 rows (hat matrix; linear in n)", "BM_Regress_HatMatrix/1000", "BM_Regress_HatMatrix/150"),
+    ("HU40T grid 1e6, 1 thread: point by point / grid kernel", "BM_GridPointByPoint_Hu40t_Baseline/1048576/iterations:1",
+     "BM_GridKernel_Hu40t/1048576"),
+    ("HU40T grid 1e6: stream (fill, checks, extremes) / kernel", "BM_EvalGrid_Hu40t/1048576", "BM_GridKernel_Hu40t/1048576"),
+    ("HU40T grid 3e6: stream / kernel", "BM_EvalGrid_Hu40t/3040000", "BM_GridKernel_Hu40t/3040000"),
+    ("HU40T grid 1e6, 1 thread: stream + CSV / kernel", "BM_EvalGridCsv_Hu40t/1/real_time",
+     "BM_GridKernel_Hu40t/1048576"),
+    ("5-axis list: naive 4x4 chain / batch kernel (1 thread)", "BM_Naive_5axis", "BM_Batch_5axis/threads:1/real_time"),
+    ("3-axis list: naive 4x4 chain / batch kernel (1 thread)", "BM_Naive_3axis", "BM_Batch_3axis/threads:1/real_time"),
+    ("Monte Carlo 1000 runs: 1 thread / 2 threads (wall)", "BM_MonteCarlo_1000/1/iterations:1/real_time",
+     "BM_MonteCarlo_1000/2/iterations:1/real_time"),
+    ("triples 360: all triples / least-squares circle", "BM_Triples_360/threads:1/real_time", "BM_LeastSquares_360"),
+]
+# Configurations per second on one core.
+RATES = [
+    ("3-axis point list, batch kernel", "BM_Batch_3axis/threads:1/real_time"),
+    ("5-axis (HU40T) point list, batch kernel", "BM_Batch_5axis/threads:1/real_time"),
+    ("5-axis (HU40T) grid 1e6, grid kernel", "BM_GridKernel_Hu40t/1048576"),
+    ("5-axis (HU40T) grid 3e6, grid kernel", "BM_GridKernel_Hu40t/3040000"),
+    ("5-axis (HU40T) grid 3e6, stream", "BM_EvalGrid_Hu40t/3040000"),
+]
+
+
+def main():
+    data = json.load(open(sys.argv[1]))
+    runs = {b["name"]: b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration"}
+
+    def seconds(name):
+        b = runs.get(name)
+        if not b:
+            return None
+        scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b.get("time_unit", "ns")]
+        # CPU time of the calling thread: on a shared machine wall time also counts other
+        # people's work; real time only where the comparison is between thread counts.
+        t = b["real_time"] if name.startswith("BM_MonteCarlo") else b["cpu_time"]
+        return t * scale
+
+    print(f"machine: {data['context'].get('num_cpus')} CPUs at {data['context'].get('mhz_per_cpu')} MHz, "
+          f"load average {data['context'].get('load_avg')}")
+    for what, num, den in RATIOS:
+        a, b = seconds(num), seconds(den)
+        print(f"  {what:<62} {a / b:>9.2f}x" if a and b else f"  {what:<62} {'-':>10}")
+    print("configurations / s / core:")
+    for what, name in RATES:
+        b = runs.get(name)
+        # items_per_second is per real time for UseRealTime benchmarks: rescaled to CPU time.
+        rate = b.get("items_per_second") * b["real_time"] / b["cpu_time"] if b and b.get("items_per_second") else None
+        if b and "real_time" not in name:
+            rate = b.get("items_per_second")
+        print(f"  {what:<62} {rate / 1e6:>8.2f} M" if rate else f"  {what:<62} {'-':>10}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
