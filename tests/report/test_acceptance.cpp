@@ -162,6 +162,6 @@ TEST(AcceptanceReport, ShowsMetadataVerdictAndIso230_2InMicrometres) {
   EXPECT_NE(html.find("&lt;HU40T&gt;"), std::string::npos);
   EXPECT_NE(html.find("asks for 5 runs"), std::string::npos);                            // 2 runs
   EXPECT_NE(html.find("no test date (date)"), std::string::npos);                        // condition missing
-  EXPECT_NE(html.find("<td>µm</td>"), std::string::npos);  // headline figures in µm, not mm
+  EXPECT_NE(html.find("deviation (um)"), std::string::npos);  // the plot in micrometres, not mm
   EXPECT_NE(html.find("\"text\":\"A 10.66\""), std::string::npos);  // A marked on the plot
 }
