@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "acceptance.hpp"
 #include "common.hpp"
 #include "mtcal/evaluation/compare.hpp"
 #include "mtcal/io/evaluation_files.hpp"
@@ -63,7 +64,7 @@ int run_compare(const CompareOptions& o) {
   if (o.json_out) {
     Json j = to_json(c);
     if (!o.report.empty()) j["report"] = o.report;
-    std::cout << j.dump(2) << "\n";
+    print_json(j);
     return 0;
   }
   print_comparison(c);

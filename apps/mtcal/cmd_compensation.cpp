@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "cmd_gcode_correction.hpp"
+#include "acceptance.hpp"
 #include "common.hpp"
 #include "mtcal/compensation/compensation.hpp"
 #include "mtcal/io/compensation_output.hpp"
@@ -84,7 +85,7 @@ int run_tables(const CompensateOptions& o) {
     j["machine"] = m.name;
     j["out"] = o.gcode.out;
     if (!o.report.empty()) j["report"] = o.report;
-    std::cout << j.dump(2) << "\n";
+    print_json(j);
     return 0;
   }
   print_summary(out, o.gcode.out);

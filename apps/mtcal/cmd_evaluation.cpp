@@ -1,5 +1,6 @@
 // mtcal iso230-2 and ballbar: ISO 230-2 positioning of a linear axis, ISO 230-4 circular tests.
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <numbers>
@@ -8,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "acceptance.hpp"
 #include "common.hpp"
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
@@ -28,29 +30,50 @@ struct Iso2302Options {
   std::string file, unit = "mm", target_unit, report, format = "auto";
   double wrap = 0;
   bool json_out = false;
+  ToleranceOptions tol;
 };
 
+// The quantities of an ISO 230-2 evaluation in µm, for tolerances.
+std::vector<std::pair<std::string, double>> positioning_values(const PositioningEvaluation& e) {
+  const auto k = micrometres_per(e.unit);
+  if (!k)
+    throw InputError({e.unit, 0, ""}, "tolerances are in µm; the measurements' unit '" + e.unit +
+                                          "' is not a known length unit (mm, um, nm, m, in)");
+  return {{"A", e.A * *k}, {"E", e.E * *k}, {"M", e.M * *k}, {"R", e.R * *k}, {"B", e.B * *k}};
+}
+
 int run_iso230_2(const Iso2302Options& o) {
-  check_outputs({o.file}, {o.report});
+  std::vector<std::string> inputs = metadata_inputs();
+  inputs.insert(inputs.end(), {o.file, o.tol.file});
+  check_outputs(inputs, {o.report});
   PositioningRuns runs = read_positioning_file(o.file, o.format, o.unit, o.target_unit);
   if (o.wrap > 0) runs = merge_wrapped_targets(runs, o.wrap);
   const PositioningEvaluation e = evaluate_positioning(runs);
-  if (!o.report.empty()) write_positioning_report(o.report, command_line(), runs, e);
+  const std::string* axis = session_metadata().get("axis");
+  const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Iso230_2, axis ? *axis : "");
+  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(positioning_values(e), limits);
+  if (!o.report.empty()) write_positioning_report(o.report, command_line(), runs, e, verdict);
   // After the work: a failure is one line on stderr, never warnings and then an error.
   for (const auto& w : runs.warnings) std::cerr << "mtcal: warning: " << w << "\n";
+  if (o.tol.given() && limits.empty())
+    std::cerr << "mtcal: warning: the tolerance file has no iso230-2 entry for axis '" << (axis ? *axis : "")
+              << "' nor 'any': nothing checked\n";
+  warn_missing_metadata(AcceptanceTest::Iso230_2, !o.report.empty() || o.tol.given());
   if (o.json_out) {
     Json j = to_json(e);
     Json meta = Json::object();
     for (const auto& [k, v] : runs.metadata) meta[k] = v;  // a key given twice keeps its last value
-    j["metadata"] = meta;
+    j["metadata"] = meta;                                  // print_json adds the user's --meta/--meta-file fields to it
     j["warnings"] = runs.warnings;
+    if (!verdict.empty()) j["tolerances"] = to_json(verdict);
     if (!o.report.empty()) j["report"] = o.report;
-    std::cout << j.dump(2) << "\n";
-    return 0;
+    print_json(j);
+    return verdict_exit_code(o.tol, verdict);
   }
   std::cout << positioning_text(runs, e);
+  print_verdict(verdict);
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
-  return 0;
+  return verdict_exit_code(o.tol, verdict);
 }
 
 struct BallbarCliOptions {
@@ -58,6 +81,7 @@ struct BallbarCliOptions {
   ModelOptions model;
   double radius = 0, feed = 0, overshoot_start = 0, overshoot_stop = 0, step_deg = 1;
   bool predict = false, json_out = false;
+  ToleranceOptions tol;
 };
 
 int run_ballbar_predict(const BallbarCliOptions& o) {
@@ -122,7 +146,9 @@ int run_ballbar(const BallbarCliOptions& o) {
                      "--radius 150 or --radius 150mm); it has no default");
   if (o.predict) return run_ballbar_predict(o);
   if (o.trace.empty()) throw InputError({"ballbar", 0, ""}, "expected a trace file (or --predict)");
-  check_outputs({o.trace}, {o.report, o.to_params});
+  std::vector<std::string> inputs = metadata_inputs();
+  inputs.insert(inputs.end(), {o.trace, o.tol.file});
+  check_outputs(inputs, {o.report, o.to_params});
   BallbarOptions bo;
   bo.nominal_radius = o.radius;
   bo.overshoot_start = o.overshoot_start;
@@ -149,6 +175,22 @@ int run_ballbar(const BallbarCliOptions& o) {
   const auto e = evaluate_ballbar(t, bo);
   std::optional<TraceDiagnosis> diagnosis;
   if (!bo.only) diagnosis = diagnose_ballbar(t, bo, o.plane);
+  // ISO 230-4 quantities in µm: G is G(b) when both directions were run, else the one direction's
+  // G; F is the larger magnitude of F max and F min; H the hysteresis.
+  std::vector<std::pair<std::string, double>> values;
+  if (e.G_b)
+    values.emplace_back("G", *e.G_b * 1e3);
+  else if (e.cw || e.ccw)
+    values.emplace_back("G", (e.cw ? e.cw->G : e.ccw->G) * 1e3);
+  values.emplace_back("F", std::max(std::abs(e.F_max), std::abs(e.F_min)) * 1e3);
+  if (e.H) values.emplace_back("H", *e.H * 1e3);
+  const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Iso230_4);
+  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(values, limits);
+  if (o.feed > 0 && !session_metadata().get("feed")) {
+    ReportMetadata m = session_metadata();
+    m.set("feed", fmt::format("{:g} mm/min", o.feed));
+    set_session_metadata(std::move(m));
+  }
   std::vector<EstimatedError> params;
   if (!o.to_params.empty()) {
     params = ballbar_parameters(*diagnosis, o.plane, po, t.source);
@@ -158,9 +200,12 @@ int run_ballbar(const BallbarCliOptions& o) {
                     "--to-params; internal units mm, rad)\n{}",
                     o.plane, command_line()));
   }
-  if (!o.report.empty()) write_ballbar_report(o.report, command_line(), t, e, diagnosis, o.plane, o.radius, o.feed);
+  if (!o.report.empty())
+    write_ballbar_report(o.report, command_line(), t, e, diagnosis, o.plane, o.radius, o.feed, verdict);
+  warn_missing_metadata(AcceptanceTest::Iso230_4, !o.report.empty() || o.tol.given());
   if (o.json_out) {
     Json j = to_json(e, diagnosis, o.plane, o.radius, o.feed);
+    if (!verdict.empty()) j["tolerances"] = to_json(verdict);
     if (!o.report.empty()) j["report"] = o.report;
     if (!o.to_params.empty()) {
       Json pj = Json::object();
@@ -177,14 +222,15 @@ int run_ballbar(const BallbarCliOptions& o) {
       j["parameters"] = pj;
       j["to_params"] = o.to_params;
     }
-    std::cout << j.dump(2) << "\n";
-    return 0;
+    print_json(j);
+    return verdict_exit_code(o.tol, verdict);
   }
   print_ballbar(o, e, diagnosis);
+  print_verdict(verdict);
   for (const auto& p : params) std::cout << fmt::format("parameter {}: {}\n", p.name.str(), p.method);
   if (!o.to_params.empty()) std::cout << "wrote " << o.to_params << "\n";
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
-  return 0;
+  return verdict_exit_code(o.tol, verdict);
 }
 
 }  // namespace
@@ -213,7 +259,10 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
               "Machine-readable output, full precision: A A_up A_down B B_mean R R_up R_down E E_up E_down M at "
               "the top level (input unit; null where the test does not define them), per-target values under "
               "targets, notes, metadata, warnings");
-  c->add_option("--report", o->report, "Write an HTML report: deviations with ±2s bands per direction, tables");
+  c->add_option("--report", o->report,
+                "Write an HTML report (µm): results A, E, M, R, B, deviations with ±2s bands per direction and "
+                "the results marked, the per-target table in ISO 230-2's layout");
+  add_tolerance_options(c, o->tol, "A, E, M, R, B (bidirectional; a tolerance file picks the entry of --meta axis=)");
   c->footer(
       "Examples:\n  mtcal iso230-2 examples/data/iso230-2-x-axis.csv\n"
       "  mtcal iso230-2 examples/data/iso230-2-x-axis.csv --unit mm --json\n"
@@ -244,7 +293,9 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
   bb->add_flag("--json", b->json_out,
                "Machine-readable output: G_cw G_ccw G_b H F_max F_min F_mean_bidirectional "
                "(mm), per direction under cw and ccw");
-  bb->add_option("--report", b->report, "Write an HTML report with the polar plot of both directions");
+  bb->add_option("--report", b->report,
+                 "Write an HTML report: recording conditions, polar plot of both directions, ISO 230-4 table");
+  add_tolerance_options(bb, b->tol, "G (G(b) with both directions), F (larger of |F max|, |F min|), H");
   bb->add_flag("--predict", b->predict, "Predict the trace of --machine instead of evaluating one");
   bb->add_option("--machine,-m", b->model.machine, "Machine file, with --predict");
   bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict");

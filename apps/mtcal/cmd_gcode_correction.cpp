@@ -1,6 +1,8 @@
 // mtcal compensate --gcode: the corrected G-code program (docs/compensation-gcode.md).
 #include "cmd_gcode_correction.hpp"
 
+#include "acceptance.hpp"
+
 #include <chrono>
 #include <iostream>
 
@@ -88,7 +90,7 @@ int run(const GcodeCorrectionCliOptions& o) {
     j["rewrite"] = to_json(rs);
     j["seconds"] = seconds;
     j["out"] = o.out;
-    std::cout << j.dump(2) << "\n";
+    print_json(j);
     return 0;
   }
   std::cout << fmt::format("machine      {} ({})\n", m.name, m.topology.chain);

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
 #include "mtcal/identification/identification.hpp"
@@ -136,7 +137,7 @@ int run_simulate(const SimulateOptions& o) {
         fmt::format("Simulated by mtcal simulate: machine {}, plan {}, noise {:g} um, artefact error {:g} um, seed {}",
                     o.model.machine, o.plan, o.noise_um, o.artefact_um, o.seed));
   if (o.json_out) {
-    std::cout << to_json(sim, o.noise_um, o.artefact_um, o.seed, o.out).dump(2) << "\n";
+    print_json(to_json(sim, o.noise_um, o.artefact_um, o.seed, o.out));
     return 0;
   }
   std::cout << fmt::format(
@@ -245,7 +246,7 @@ int run_identify(const IdentifyOptions& o) {
     identification_report(prior, run, {o.model.params, o.measurements, o.truth, o.workspace}, command_line())
         .write(o.report);
   if (o.json_out) {
-    std::cout << to_json(run, o.out, o.report).dump(2) << "\n";
+    print_json(to_json(run, o.out, o.report));
     return 0;
   }
   print_identification(o, run);
@@ -308,7 +309,7 @@ int run_identifiability(const IdentifiabilityOptions& o) {
       throw InputError({"--estimate", 0, ""}, "expected --estimate, or --candidates with --choose");
     const Identifiability id = identifiability(m, plan, opt);
     if (o.json_out)
-      std::cout << to_json(id).dump(2) << "\n";
+      print_json(to_json(id));
     else
       print_identifiability(id);
     return 0;
@@ -325,7 +326,7 @@ int run_identifiability(const IdentifiabilityOptions& o) {
   const SubsetAnalysis a = full_rank_subsets(m, plan, so, opt);
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   if (o.json_out)
-    std::cout << to_json(a, so, seconds).dump(2) << "\n";
+    print_json(to_json(a, so, seconds));
   else
     print_subsets(a, o.choose, seconds);
   return 0;

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "acceptance.hpp"
 #include "common.hpp"
 #include "mtcal/io/csv.hpp"
 #include "mtcal/io/files.hpp"
@@ -71,7 +72,7 @@ int run_regress(const RegressOptions& o) {
     throw Error("no model could be fitted: " + (c.skipped.empty() ? std::string() : c.skipped[0].reason));
   if (!o.report.empty()) regression_report(c, x, y, o.data, o.x, o.y, command_line()).write(o.report);
   if (o.json_out) {
-    std::cout << to_json(c, o.data, o.x, o.y, x.size(), o.report).dump(2) << "\n";
+    print_json(to_json(c, o.data, o.x, o.y, x.size(), o.report));
     return 0;
   }
   print_regression(o, c, x.size());
@@ -142,7 +143,7 @@ int run_predict(const PredictOptions& o) {
   if (!o.report.empty())
     prediction_report(run, m, o.model, o.gcode.empty() ? "points" : "G-code", command_line()).write(o.report);
   if (o.json_out) {
-    std::cout << to_json(run, m).dump(2) << "\n";
+    print_json(to_json(run, m));
     return 0;
   }
   print_prediction(o, run, m);
@@ -157,7 +158,7 @@ struct SeparateOptions {
 
 int print_separation(const SeparateOptions& o, const std::string& csv, const Json& j) {
   if (o.json_out) {
-    std::cout << j.dump(2) << "\n";
+    print_json(j);
     return 0;
   }
   std::cout << csv;
@@ -260,7 +261,7 @@ int run_process_error(ProcessErrorOptions o) {
   }
   const ProcessErrorStudy s = process_error_study(o.tool, o.k, o.cut, feeds, measured, spec);
   if (o.json_out)
-    std::cout << to_json(s).dump(2) << "\n";
+    print_json(to_json(s));
   else
     print_process_error(s);
   return 0;

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include "acceptance.hpp"
 #include "common.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/joints.hpp"
@@ -170,7 +171,7 @@ int run_rotary(const RotaryOptions& o) {
     Json j = to_json(r);
     if (!o.out.empty()) j["out"] = o.out;
     if (!o.report.empty()) j["report"] = o.report;
-    std::cout << j.dump(2) << "\n";
+    print_json(j);
     return 0;
   }
   print_rotary(r, o);

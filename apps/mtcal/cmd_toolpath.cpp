@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "acceptance.hpp"
 #include "common.hpp"
 #include "mtcal/evaluation/toolpath.hpp"
 #include "mtcal/io/error_csv.hpp"
@@ -101,7 +102,7 @@ int run_toolpath(const ToolpathCliOptions& o) {
   Json j = to_json(m, summary);
   if (!o.out.empty()) j["out"] = o.out;
   if (!o.report.empty()) j["report"] = o.report;
-  std::cout << j.dump(2) << "\n";
+  print_json(j);
   return 0;
 }
 

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
 #include "mtcal/evaluation/diagonals.hpp"
@@ -94,6 +95,7 @@ struct VolumetricOptions {
   std::optional<double> group_angle, group_magnitude;
   int box_scan = 0;
   bool json_out = false;
+  ToleranceOptions tol;
 };
 
 // What the options ask of the map.
@@ -165,8 +167,11 @@ int run_volumetric(const VolumetricOptions& o) {
   {
     auto inputs = model_inputs(o.model);
     inputs.push_back(o.source.points);
+    inputs.push_back(o.tol.file);
+    for (const auto& f : metadata_inputs()) inputs.push_back(f);
     check_outputs(inputs, {o.out, o.report});
   }
+  const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Volumetric);
   if (!o.centre.empty() && o.box_scan == 0) throw InputError({"--centre", 0, ""}, "--centre goes with --box-scan");
   const Machine m = load(o.model);
   const ErrorModel model(m);
@@ -182,17 +187,29 @@ int run_volumetric(const VolumetricOptions& o) {
   } catch (const InputError& e) {
     rethrow_for_options(e, {{"box", "--box"}, {"histogram", "--histogram"}});
   }
+  // VA and its components in µm (Mohammed 2019's volumetric accuracy, docs/volumetric.md).
+  const auto& c = study.va.component;
+  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{}
+                                                  : checked_verdict({{"VA", study.va.va.value * 1e3},
+                                                                     {"VAx", c[0].value * 1e3},
+                                                                     {"VAy", c[1].value * 1e3},
+                                                                     {"VAz", c[2].value * 1e3}},
+                                                                    limits);
   if (!o.out.empty()) write_error_map_csv(o.out, m, map);
-  if (!o.report.empty()) write_volumetric_report(o.report, model, map, study, o.box, sources(o.model, o.source));
+  if (!o.report.empty())
+    write_volumetric_report(o.report, model, map, study, o.box, sources(o.model, o.source), verdict);
+  warn_missing_metadata(AcceptanceTest::Volumetric, o.tol.given());
   if (!o.json_out) {
     print_volumetric(o, m, map, study, t_map);
-    return 0;
+    print_verdict(verdict);
+    return verdict_exit_code(o.tol, verdict);
   }
   Json j = to_json(m, map, study, t_map);
+  if (!verdict.empty()) j["tolerances"] = to_json(verdict);
   if (!o.out.empty()) j["out"] = o.out;
   if (!o.report.empty()) j["report"] = o.report;
-  std::cout << j.dump(2) << "\n";
-  return 0;
+  print_json(j);
+  return verdict_exit_code(o.tol, verdict);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -300,7 +317,7 @@ int run_contributions(const ContributionOptions& o) {
   }
   Json j = to_json(m, s, o.top);
   if (!o.report.empty()) j["report"] = o.report;
-  std::cout << j.dump(2) << "\n";
+  print_json(j);
   return 0;
 }
 
@@ -359,7 +376,7 @@ int run_diagonals(const DiagonalCommandOptions& o) {
   Json j = to_json(m, diagonals);
   if (!o.out.empty()) j["out"] = o.out;
   if (!o.report.empty()) j["report"] = o.report;
-  std::cout << j.dump(2) << "\n";
+  print_json(j);
   return 0;
 }
 
@@ -392,6 +409,7 @@ std::vector<Command> add_volumetric_commands(CLI::App& app) {
     c->add_option("--out", o->out, "Write the error map as CSV: axis columns (mm, deg), dx, dy, dz (mm)");
     c->add_option("--report", o->report,
                   "Write an HTML report: critical pair, error map, contributions, distributions");
+    add_tolerance_options(c, o->tol, "VA, VAx, VAy, VAz");
     c->add_flag("--json", o->json_out,
                 "Machine-readable output: points pairs va va_x va_y va_z critical_pair ... (mm)");
     out.push_back({c, [o] { return run_volumetric(*o); }});

@@ -28,6 +28,7 @@
 #include "mtcal/util/solver_log.hpp"
 #include "mtcal/util/suggest.hpp"
 #include "mtcal/version.hpp"
+#include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
 
@@ -59,7 +60,7 @@ int run_eval_at(const EvalOptions& o, const Machine& m) {
     throw Error("the model gives a non-finite error at --at " + o.at + " (check the machine's error values)");
   const Json j = to_json(e);
   if (o.json_out) {
-    std::cout << j.dump(2) << "\n";
+    print_json(j);
     return 0;
   }
   int c = 0;
@@ -138,7 +139,7 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
   Json j = to_json(m, summary);
   if (!o.out.empty()) j["out"] = o.out;
   if (!o.report.empty()) j["report"] = o.report;
-  std::cout << j.dump(2) << "\n";
+  print_json(j);
   return 0;
 }
 
@@ -168,7 +169,7 @@ int run_errors(const ErrorsOptions& o) {
     write_parameters_report(o.report, m, listed, m.parameter_count(), o.nonzero,
                             {command_line(), o.model.params, "", ""});
   if (o.json_out) {
-    std::cout << to_json(m, std::span<const ErrorParameter>(listed)).dump(2) << "\n";
+    print_json(to_json(m, std::span<const ErrorParameter>(listed)));
     return 0;
   }
   std::cout << fmt::format("{:<10} {:<9} {:<10} {:>16}\n", "name", "kind", "unit", "value");
@@ -220,7 +221,7 @@ int run_effects(const EffectsOptions& o) {
   if (!o.report.empty())
     write_effects_report(o.report, m, q, o.around, effects, {command_line(), o.model.params, "", ""});
   if (o.json_out)
-    std::cout << to_json(m, q, o.around, effects).dump(2) << "\n";
+    print_json(to_json(m, q, o.around, effects));
   else
     print_effects(effects);
   return 0;
@@ -430,7 +431,10 @@ int run_command(const std::vector<Command>& commands) {
     OutputGroup outputs;
     const int rc = [&] {
       for (const auto& c : commands)
-        if (c.app->parsed()) return c.run();
+        if (c.app->parsed()) {
+          load_session_metadata();
+          return c.run();
+        }
       throw Error("no command");
     }();
     std::cout.flush();
@@ -478,6 +482,7 @@ int main(int argc, char** argv) {
       "  mtcal eval -m examples/machines/hu40t-wCBXfYZt.yaml --at \"X=100,Y=50,Z=-20,B=30,C=90\"\n"
       "  mtcal volumetric -m examples/machines/vmc-3axis.yaml --grid \"X=-400:400:21,Y=-250:250:21,Z=-500:0:21\"\n"
       "README.md has a tour of every command; docs/ has a page per topic.");
+  add_metadata_options(app);
   if (unknown_command(app, argc, argv)) return 2;
   try {
     app.parse(argc, argv);

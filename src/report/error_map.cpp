@@ -22,6 +22,27 @@ nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>
     w.push_back(s.error.z() * 1e3);
     text.push_back(format_joint_values(m, s.q, ", "));
   }
+  // Scale and colour from the errors, not from the spacing of the points (Plotly's "scaled" mode
+  // makes cones vanish where 5-axis configurations put tool points close together): a cone of
+  // the 95th-percentile error is 6 % of the workspace diagonal long ("raw": length = |e| ·
+  // sizeref in mm), and the colour bar spans 0 to the 99th percentile so that one outlier does
+  // not turn every other cone the same colour.
+  std::vector<double> norms;
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (const auto& s : samples) {
+    norms.push_back(s.error.norm() * 1e3);
+    lo = lo.cwiseMin(s.nominal);
+    hi = hi.cwiseMax(s.nominal);
+  }
+  auto percentile = [&](double p) {
+    if (norms.empty()) return 0.0;
+    std::vector<double> sorted = norms;
+    const auto k = static_cast<std::size_t>(p * static_cast<double>(norms.size() - 1));
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
+    return sorted[k];
+  };
+  const double diagonal = samples.empty() ? 1.0 : std::max((hi - lo).norm(), 1.0);
+  const double p95 = std::max(percentile(0.95), 1e-9), p99 = std::max(percentile(0.99), 1e-9);
   nlohmann::json cones = {{"type", "cone"},
                           {"x", x},
                           {"y", y},
@@ -30,11 +51,14 @@ nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>
                           {"v", v},
                           {"w", w},
                           {"text", text},
-                          {"sizemode", "scaled"},
-                          {"sizeref", 1.2},
+                          {"sizemode", "raw"},
+                          {"sizeref", 0.06 * diagonal / p95},
                           {"anchor", "tail"},
                           {"colorscale", "Viridis"},
-                          {"colorbar", {{"title", {{"text", "µm"}}}}},
+                          {"reversescale", true},
+                          {"cmin", 0.0},
+                          {"cmax", p99},
+                          {"colorbar", {{"title", {{"text", "|e| (µm)"}}}, {"len", 0.8}}},
                           {"hovertemplate", "%{text}<br>|e| %{norm:.2f} µm<extra></extra>"},
                           {"name", "error"}};
   nlohmann::json data = nlohmann::json::array({cones});
@@ -56,7 +80,21 @@ nlohmann::json error_cone_figure(const Machine& m, const std::vector<ConeSample>
                     {"text", label},
                     {"name", "marked"}});
   }
-  return {{"data", data}, {"layout", machine_scene_layout()}};
+  nlohmann::json layout = machine_scene_layout();
+  layout["margin"] = {{"l", 0}, {"r", 0}, {"t", 30}, {"b", 0}};
+  layout["annotations"] = {
+      {{"text", fmt::format("cone length: {:.3g} mm per µm (95th percentile {:.3g} µm = 6 % of the "
+                            "workspace diagonal); colour 0 to {:.3g} µm (99th percentile)",
+                            0.06 * diagonal / p95, p95, p99)},
+       {"xref", "paper"},
+       {"yref", "paper"},
+       {"x", 0},
+       {"y", 1.0},
+       {"showarrow", false},
+       {"xanchor", "left"},
+       {"yanchor", "bottom"},
+       {"font", {{"size", 11}}}}};
+  return {{"data", data}, {"layout", layout}};
 }
 
 namespace {

@@ -2,6 +2,7 @@
 #include "mtcal/report/evaluation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -90,11 +91,12 @@ std::string positioning_text(const PositioningRuns& runs, const PositioningEvalu
 }
 
 void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
-                              const PositioningEvaluation& e) {
+                              const PositioningEvaluation& e, const ToleranceVerdict& verdict) {
   const auto target_unit = find_unit(e.target_unit.empty() ? e.unit : e.target_unit);
   const bool rotary = target_unit && target_unit->dimension == Dimension::Angle;
   Report r(rotary ? "ISO 230-2 positioning of a rotary axis" : "ISO 230-2 positioning of a linear axis", command);
   r.add_input("measurements", runs.source);
+  r.set_verdict(verdict);
   const PositioningDisplay shown = positioning_display(runs, e);
   const std::string u = shown.unit;
   const bool has_up = e.directions != TestDirections::DownOnly, has_down = e.directions != TestDirections::UpOnly;
@@ -125,6 +127,13 @@ void write_positioning_report(const std::string& path, const std::string& comman
   r.add_figure("targets x runs", fmt::format("{} x {}", e.targets.size(), e.runs), "per direction");
   for (const auto& n : e.notes) r.add_warning(n);
   for (const auto& w : runs.warnings) r.add_warning(w);
+  if (e.runs < 5)
+    r.add_warning(
+        fmt::format("ISO 230-2:2014 clause 4.3 asks for 5 runs in each direction at each target; this "
+                    "test has {}: the standard deviations, and A and R with them, are less certain.",
+                    e.runs));
+  for (const auto& w : missing_acceptance_fields(r.metadata(), AcceptanceTest::Iso230_2))
+    r.add_warning("Test conditions: " + w + ".");
 
   r.add_section("Deviations");
   r.add_paragraph(
@@ -198,11 +207,70 @@ void write_positioning_report(const std::string& path, const std::string& comman
                   {"y", ry_dn},
                   {"name", "runs down"},
                   {"marker", {{"size", 4}, {"color", "rgb(214,39,40)"}}}});
-  r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + tu + ")",
-             {{"data", data},
-              {"layout",
-               {{"xaxis", {{"title", {{"text", "target (" + tu + ")"}}}}},
-                {"yaxis", {{"title", {{"text", "deviation (" + u + ")"}}}}}}}});
+  // A, E, M, R and B marked as brackets (ISO 230-2:2014 figures), for a bidirectional test.
+  json layout = {{"xaxis", {{"title", {{"text", "target (" + tu + ")"}}}}},
+                 {"yaxis", {{"title", {{"text", "deviation (" + u + ")"}}}}},
+                 {"legend", {{"orientation", "h"}, {"y", -0.2}}}};
+  if (both && !e.targets.empty()) {
+    double lo_a = 1e300, hi_a = -1e300, lo_e = 1e300, hi_e = -1e300, lo_m = 1e300, hi_m = -1e300;
+    std::size_t i_r = 0, i_b = 0;
+    for (std::size_t i = 0; i < e.targets.size(); ++i) {
+      const auto& t = e.targets[i];
+      lo_a = std::min({lo_a, t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down});
+      hi_a = std::max({hi_a, t.mean_up + 2 * t.s_up, t.mean_down + 2 * t.s_down});
+      lo_e = std::min({lo_e, t.mean_up, t.mean_down});
+      hi_e = std::max({hi_e, t.mean_up, t.mean_down});
+      lo_m = std::min(lo_m, t.mean);
+      hi_m = std::max(hi_m, t.mean);
+      if (t.R > e.targets[i_r].R) i_r = i;
+      if (std::abs(t.reversal) > std::abs(e.targets[i_b].reversal)) i_b = i;
+    }
+    // Brackets: a vertical segment with end ticks and a label, in data coordinates.
+    const double x0 = e.targets.front().target, x1 = e.targets.back().target;
+    const double span = std::abs(x1 - x0) > 0 ? std::abs(x1 - x0) : 1.0;
+    json shapes = json::array(), notes = json::array();
+    auto bracket = [&](double xb, double lo, double hi, const std::string& label, const char* colour) {
+      const double tick = span * 0.008;
+      for (auto [xa, ya, xc, yc] :
+           {std::array{xb, lo * k, xb, hi * k}, std::array{xb - tick, lo * k, xb + tick, lo * k},
+            std::array{xb - tick, hi * k, xb + tick, hi * k}})
+        shapes.push_back({{"type", "line"},
+                          {"x0", xa},
+                          {"y0", ya},
+                          {"x1", xc},
+                          {"y1", yc},
+                          {"line", {{"color", colour}, {"width", 2}}}});
+      notes.push_back({{"x", xb},
+                       {"y", hi * k},
+                       {"text", label},
+                       {"showarrow", false},
+                       {"yanchor", "bottom"},
+                       {"font", {{"color", colour}, {"size", 13}}}});
+    };
+    const double right = std::max(x0, x1);
+    bracket(right + 0.04 * span, lo_e, hi_e, fmt::format("E {:.2f}", e.E * k), "rgb(44,160,44)");
+    bracket(right + 0.10 * span, lo_m, hi_m, fmt::format("M {:.2f}", e.M * k), "rgb(0,0,0)");
+    bracket(right + 0.16 * span, lo_a, hi_a, fmt::format("A {:.2f}", e.A * k), "rgb(148,103,189)");
+    {
+      const auto& t = e.targets[i_r];
+      double lo = std::min(t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down);
+      double hi = std::max(t.mean_up + 2 * t.s_up, t.mean_down + 2 * t.s_down);
+      if (t.R == t.R_up && t.R_up > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
+        lo = t.mean_up - 2 * t.s_up, hi = t.mean_up + 2 * t.s_up;
+      else if (t.R == t.R_down && t.R_down > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
+        lo = t.mean_down - 2 * t.s_down, hi = t.mean_down + 2 * t.s_down;
+      bracket(t.target + 0.012 * span, lo, hi, fmt::format("R {:.2f}", e.R * k), "rgb(255,127,14)");
+      const auto& b = e.targets[i_b];
+      bracket(b.target - 0.012 * span, std::min(b.mean_up, b.mean_down), std::max(b.mean_up, b.mean_down),
+              fmt::format("B {:.2f}", e.B * k), "rgb(140,86,75)");
+    }
+    layout["xaxis"]["range"] = {std::min(x0, x1) - 0.03 * span, right + 0.22 * span};
+    layout["shapes"] = shapes;
+    layout["annotations"] = notes;
+  }
+  r.add_plot("Positional deviation x = measured − target (" + u + ") against the target position (" + tu +
+                 "); A, E, M, R, B marked",
+             {{"data", data}, {"layout", layout}});
 
   r.add_section("Per target");
   std::vector<std::vector<std::string>> rows;
@@ -226,10 +294,14 @@ void write_positioning_report(const std::string& path, const std::string& comman
 
 void write_ballbar_report(const std::string& path, const std::string& command, const BallbarTrace& trace,
                           const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis,
-                          const std::string& plane, double radius, double feed) {
+                          const std::string& plane, double radius, double feed, const ToleranceVerdict& verdict) {
   const std::vector<TracePoint>& t = trace.points;
   Report r("ISO 230-4 circular test, plane " + plane, command);
   r.add_input("trace", trace.source);
+  r.set_verdict(verdict);
+  const ReportMetadata& meta = r.metadata();
+  for (const auto& w : missing_acceptance_fields(meta, AcceptanceTest::Iso230_4))
+    if (!(feed > 0 && w.find("(feed)") != std::string::npos)) r.add_warning("Recording conditions: " + w + ".");
   r.add_figure("nominal radius", fmt::format("{:g}", radius), "mm");
   if (feed > 0) r.add_figure("feed", fmt::format("{:g}", feed), "mm/min");
   if (e.cw) r.add_figure("G (CW)", fmt::format("{:.2f}", e.cw->G * 1e3), "µm");
@@ -237,6 +309,34 @@ void write_ballbar_report(const std::string& path, const std::string& command, c
   if (e.G_b) r.add_figure("G(b)", fmt::format("{:.2f}", *e.G_b * 1e3), "µm");
   if (e.H) r.add_figure("H", fmt::format("{:.2f}", *e.H * 1e3), "µm");
   r.add_figure("F max / min", fmt::format("{:.2f} / {:.2f}", e.F_max * 1e3, e.F_min * 1e3), "µm");
+  {
+    // ISO 230-4:2005 clause 6: the conditions a circular test's result is only valid with.
+    auto given = [&](std::string_view key) {
+      const std::string* v = meta.get(key);
+      return v ? *v : std::string("not stated");
+    };
+    bool cw = false, ccw = false;
+    for (const auto& s : t) (s.direction == CircleDirection::CW ? cw : ccw) = true;
+    std::string temperature = "not stated";
+    for (std::string_view key : {"temperature", "temperature_air", "temperature_machine", "temperature_material"})
+      if (const std::string* v = meta.get(key))
+        temperature = (temperature == "not stated" ? std::string() : temperature + "; ") +
+                      std::string(metadata_label(key)) + " " + *v;
+    r.add_section("Recording conditions (ISO 230-4:2005 clause 6)");
+    r.add_table("Conditions of the test", {"condition", "value"},
+                {{"plane", plane},
+                 {"nominal radius", fmt::format("{:g} mm", radius)},
+                 {"feed", feed > 0 ? fmt::format("{:g} mm/min", feed) : given("feed")},
+                 {"direction of the contouring", cw && ccw ? "clockwise and counter-clockwise"
+                                                 : cw      ? "clockwise"
+                                                           : "counter-clockwise"},
+                 {"start position", given("start")},
+                 {"data capture", given("data_capture")},
+                 {"compensation", given("compensation")},
+                 {"position of the centre", given("centre")},
+                 {"temperature", temperature},
+                 {"instrument", given("instrument")}});
+  }
   r.add_section("Trace");
   r.add_paragraph(
       "Radial deviation of the bar from the nominal radius (µm), magnified round the circle, for both "

@@ -23,7 +23,10 @@ nlohmann::json machine_scene_layout() {
            {{"xaxis", {{"title", {{"text", "x (mm)"}}}}},
             {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
             {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
-            {"aspectmode", "data"}}},
+            {"aspectmode", "data"},
+            // Plotly's default eye (1.25, 1.25, 1.25) crops the corners of a long workspace at
+            // a 1280x800 window; from further out the whole scene and its tick labels show.
+            {"camera", {{"eye", {{"x", 1.7}, {"y", 1.7}, {"z", 1.2}}}}}}},
           {"showlegend", false}};
 }
 
@@ -125,7 +128,8 @@ std::string sha256_hex(std::string_view bytes) {
   return out;
 }
 
-Report::Report(std::string title, std::string command) : title_(std::move(title)), command_(std::move(command)) {}
+Report::Report(std::string title, std::string command)
+    : title_(std::move(title)), command_(std::move(command)), metadata_(session_metadata()) {}
 
 void Report::set_machine(const Machine& m) {
   machine_ = m.name + " (" + m.topology.chain + ")";
@@ -148,7 +152,8 @@ void Report::add_paragraph(const std::string& text) { body_ += "<p>" + html_esca
 
 void Report::add_table(const std::string& caption, const std::vector<std::string>& columns,
                        const std::vector<std::vector<std::string>>& rows) {
-  std::string t = "<table class=\"data\">\n<caption>" + html_escape(caption) + "</caption>\n<thead><tr>";
+  std::string t =
+      "<div class=\"wide\"><table class=\"data\">\n<caption>" + html_escape(caption) + "</caption>\n<thead><tr>";
   for (const auto& c : columns) t += "<th>" + html_escape(c) + "</th>";
   t += "</tr></thead>\n<tbody>\n";
   for (const auto& r : rows) {
@@ -156,18 +161,21 @@ void Report::add_table(const std::string& caption, const std::vector<std::string
     for (const auto& c : r) t += "<td>" + html_escape(c) + "</td>";
     t += "</tr>\n";
   }
-  body_ += t + "</tbody>\n</table>\n";
+  body_ += t + "</tbody>\n</table></div>\n";
 }
 
 void Report::add_plot(const std::string& caption, nlohmann::json figure) {
   const std::string id = fmt::format("plot-{}", ++plots_);
   auto& layout = figure["layout"];
   if (!layout.contains("margin")) layout["margin"] = {{"l", 60}, {"r", 20}, {"t", 40}, {"b", 50}};
-  body_ += fmt::format("<figure><div class=\"plot\" id=\"{}\"></div><figcaption>{}</figcaption></figure>\n", id,
-                       html_escape(caption));
+  // 3D scenes get a taller box so that the scene is not squeezed into a strip.
+  const bool scene = layout.contains("scene");
+  body_ += fmt::format("<figure><div class=\"plot{}\" id=\"{}\"></div><figcaption>{}</figcaption></figure>\n",
+                       scene ? " scene" : "", id, html_escape(caption));
   body_ += fmt::format(
       "<script>(function(){{var "
-      "f={};Plotly.newPlot('{}',f.data,f.layout,{{responsive:true,displaylogo:false}});}})();</script>\n",
+      "f={};Plotly.newPlot('{}',f.data,f.layout,{{responsive:true,displaylogo:false}}).then(mtcalPrintImage);}})();"
+      "</script>\n",
       script_safe_json(figure), id);
 }
 
@@ -183,15 +191,71 @@ table { border-collapse: collapse; margin: 0.8em 0; } td, th { border: 1px solid
 table.data td { font-variant-numeric: tabular-nums; } caption { text-align: left; font-weight: 600; padding: 0.3em 0; }
 th { background: #f3f3f3; } .summary th { width: 12em; } .figures td.value { text-align: right; font-weight: 600; }
 .warnings { background: #fff4e5; border-left: 4px solid #f0a020; padding: 0.5em 1em; }
-.plot { width: 100%; height: 480px; } figure { margin: 1em 0; } figcaption { color: #555; font-size: 0.9em; }
+.plot { width: 100%; height: clamp(320px, 62vh, 560px); } .plot.scene { height: clamp(420px, 80vh, 720px); }
+figure { margin: 1em 0; } figcaption { color: #555; font-size: 0.9em; }
+.plot-print { display: none; } .wide { overflow-x: auto; }
+.verdict { font-size: 1.6em; font-weight: 700; padding: 0.35em 0.8em; margin: 0.5em 0 1em; border-radius: 4px; color: #fff; }
+.verdict span { font-size: 0.55em; font-weight: 400; margin-left: 1em; }
+.verdict.pass { background: #1a7f37; } .verdict.fail { background: #c62828; } tr.fail td { color: #c62828; font-weight: 600; }
 footer { margin-top: 3em; color: #777; font-size: 0.85em; }
-@media print { .plot { page-break-inside: avoid; } }
+@media print {
+  @page { size: A4; margin: 12mm; }
+  body { max-width: none; margin: 0; padding: 0; font-size: 10pt; }
+  * { -webkit-print-color-adjust: exact; print-color-adjust: exact; }
+  figure.has-print .plot { display: none; }
+  .plot-print { display: block; width: 100%; height: auto; max-height: 240mm; object-fit: contain; }
+  figure, .verdict, .warnings, tr { break-inside: avoid; } h2 { break-after: avoid; }
+  table { font-size: 8.5pt; } .wide { overflow: visible; }
+}
 </style>
 )";
   h += "<script>";
   h += plotly_js();
-  h += "</script>\n</head>\n<body>\n";
+  h += "</script>\n";
+  // A static PNG of every plot, made once it has rendered, shown instead of the interactive plot
+  // when printing: a 3D (WebGL) scene prints blank and an SVG sized for the screen is cropped on
+  // paper. mtcalPending counts the images still being made (the browser test waits for 0).
+  h += R"(<script>
+window.mtcalPending = 0;
+function mtcalPrintImage(gd) {
+  window.mtcalPending++;
+  var w = 1100, h = Math.round(w * gd.clientHeight / Math.max(gd.clientWidth, 1));
+  return Plotly.toImage(gd, {format: 'png', width: w, height: Math.min(Math.max(h, 400), 1300), scale: 2})
+    .then(function (url) {
+      var img = document.createElement('img');
+      img.className = 'plot-print';
+      img.alt = 'static image of the plot above, for printing';
+      img.src = url;
+      gd.parentNode.insertBefore(img, gd.nextSibling);
+      gd.parentNode.classList.add('has-print');
+    })
+    .catch(function (e) { console.warn('mtcal: no static image of ' + gd.id + ': ' + e); })
+    .finally(function () { window.mtcalPending--; });
+}
+</script>
+</head>
+<body>
+)";
   h += "<h1>" + html_escape(title_) + "</h1>\n";
+  if (!verdict_.empty()) {
+    std::size_t failed = 0;
+    for (const auto& c : verdict_.checks) failed += c.pass ? 0 : 1;
+    h += verdict_.pass()
+             ? fmt::format(
+                   "<div class=\"verdict pass\">PASS <span>every one of the {} quantities checked is within "
+                   "its tolerance</span></div>\n",
+                   verdict_.checks.size())
+             : fmt::format(
+                   "<div class=\"verdict fail\">FAIL <span>{} of the {} quantities checked exceed their "
+                   "tolerance</span></div>\n",
+                   failed, verdict_.checks.size());
+  }
+  if (!metadata_.empty()) {
+    h += "<table class=\"summary metadata\"><caption>Test</caption>\n";
+    for (const auto& [k, v] : metadata_.entries())
+      h += "<tr><th>" + html_escape(metadata_label(k)) + "</th><td>" + html_escape(v) + "</td></tr>\n";
+    h += "</table>\n";
+  }
   h += "<table class=\"summary\">\n";
   if (!machine_.empty()) h += "<tr><th>Machine</th><td>" + html_escape(machine_) + "</td></tr>\n";
   for (const auto& [label, text] : inputs_)
@@ -206,6 +270,15 @@ footer { margin-top: 3em; color: #777; font-size: 0.85em; }
       h += "<tr><th>" + html_escape(f[0]) + "</th><td class=\"value\">" + html_escape(f[1]) + "</td><td>" +
            html_escape(f[2]) + "</td></tr>\n";
     h += "</table>\n";
+  }
+  if (!verdict_.empty()) {
+    h += "<table class=\"data tolerances\"><caption>Tolerances (a quantity passes when its value is at most its "
+         "permitted value)</caption>\n<thead><tr><th>quantity</th><th>value (µm)</th><th>permitted (µm)</th>"
+         "<th>result</th></tr></thead>\n<tbody>\n";
+    for (const auto& c : verdict_.checks)
+      h += fmt::format("<tr class=\"{}\"><td>{}</td><td>{:.2f}</td><td>{:.2f}</td><td>{}</td></tr>\n",
+                       c.pass ? "pass" : "fail", html_escape(c.quantity), c.value, c.limit, c.pass ? "pass" : "FAIL");
+    h += "</tbody>\n</table>\n";
   }
   if (!warnings_.empty()) {
     h += "<div class=\"warnings\"><strong>Warnings</strong><ul>\n";

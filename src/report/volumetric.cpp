@@ -66,10 +66,12 @@ json histogram_figure(const Distribution& d, const std::string& xtitle, const st
 }  // namespace
 
 void write_volumetric_report(const std::string& path, const ErrorModel& model, const ErrorMap& map,
-                             const VolumetricStudy& s, const std::string& box_text, const ReportSources& sources) {
+                             const VolumetricStudy& s, const std::string& box_text, const ReportSources& sources,
+                             const ToleranceVerdict& verdict) {
   const Machine& m = model.machine();
   const VolumetricAccuracy& va = s.va;
   Report r("Volumetric accuracy of " + m.name, sources.command);
+  r.set_verdict(verdict);
   r.set_machine(m);
   for (const auto& p : sources.parameter_files) r.add_input("parameter file", p);
   if (!sources.points_file.empty()) r.add_input("configurations", sources.points_file);

@@ -1,8 +1,12 @@
 // Loads mtcal HTML reports in headless Chromium (Debian's, driven by playwright-core): fails on
-// any JavaScript error or dialog, checks that every plot rendered with data, saves screenshots.
+// any JavaScript error or dialog, checks that every plot rendered with data and fits the page at
+// 1280x800, saves screenshots; prints each report to PDF (page.pdf, print CSS) and checks with
+// poppler-utils that the PDF holds one non-blank image per plot (pdfimages) and that the pages
+// rendered to pixels (pdftoppm) carry the plots' colours.
 // Usage: node browser_check.mjs SCREENSHOT_DIR REPORT.html:PLOTS [REPORT.html:PLOTS ...]
 // Exit 77 (ctest SKIPPED) when Chromium or playwright-core is not installed, with the reason.
-import { existsSync, mkdirSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, readdirSync } from 'node:fs';
+import { spawnSync } from 'node:child_process';
 import { basename, resolve } from 'node:path';
 import { createRequire } from 'node:module';
 import { mkdtempSync } from 'node:fs';
@@ -29,10 +33,46 @@ mkdirSync(outDir, { recursive: true });
 const context = await playwright.chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), 'mtcal-chromium-')), {
   executablePath: chromiumPath,
   headless: true,
-  viewport: { width: 1200, height: 900 },
+  viewport: { width: 1280, height: 800 },
   args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
          '--no-first-run', '--disable-quic', '--disable-sync'],
 });
+const poppler = spawnSync('pdfimages', ['-v']).error === undefined && spawnSync('pdftoppm', ['-v']).error === undefined;
+if (!poppler) console.log('note: poppler-utils (pdfimages, pdftoppm) not installed: PDF pixels not checked');
+// A binary PPM (P6) as {w, h, rgb}.
+function readPpm(path) {
+  const b = readFileSync(path);
+  let pos = 0;
+  const token = () => {
+    while (b[pos] === 0x23 || b[pos] <= 0x20) { if (b[pos] === 0x23) while (b[pos] !== 0x0a) pos++; pos++; }
+    const start = pos;
+    while (b[pos] > 0x20) pos++;
+    return b.toString('ascii', start, pos);
+  };
+  if (token() !== 'P6') return null;
+  const w = Number(token()), h = Number(token()), max = Number(token());
+  if (max !== 255) return null;
+  return { w, h, rgb: b.subarray(pos + 1, pos + 1 + w * h * 3) };
+}
+// Share of pixels that differ from the most common colour (the background), and of strongly
+// coloured pixels (plot traces; text is grey or black).
+function pixelStats(img) {
+  const counts = new Map();
+  const n = img.w * img.h;
+  for (let i = 0; i < n; i += 7) {
+    const k = (img.rgb[3 * i] << 16) | (img.rgb[3 * i + 1] << 8) | img.rgb[3 * i + 2];
+    counts.set(k, (counts.get(k) || 0) + 1);
+  }
+  let bg = 0, best = -1;
+  for (const [k, c] of counts) if (c > best) { best = c; bg = k; }
+  let other = 0, coloured = 0;
+  for (let i = 0; i < n; i++) {
+    const r = img.rgb[3 * i], g = img.rgb[3 * i + 1], b = img.rgb[3 * i + 2];
+    if (((r << 16) | (g << 8) | b) !== bg) other++;
+    if (Math.max(r, g, b) - Math.min(r, g, b) > 60) coloured++;
+  }
+  return { other: other / n, coloured: coloured / n };
+}
 let passed = 0, failed = 0;
 for (const spec of specs) {
   const i = spec.lastIndexOf(':');
@@ -43,7 +83,8 @@ for (const spec of specs) {
   page.on('pageerror', (e) => problems.push(`JavaScript error: ${e.message}`));
   page.on('console', (m) => { if (m.type() === 'error') problems.push(`console error: ${m.text()}`); });
   page.on('dialog', async (d) => { problems.push(`dialog opened: ${d.message()}`); await d.dismiss(); });
-  page.on('request', (r) => { if (!r.url().startsWith('file:') && !r.url().startsWith('data:')) problems.push(`external request: ${r.url()}`); });
+  // blob: URLs are objects of the page itself (Plotly.toImage draws the SVG through one).
+  page.on('request', (r) => { if (!/^(file|data|blob):/.test(r.url())) problems.push(`external request: ${r.url()}`); });
   await page.goto('file://' + file, { waitUntil: 'load' });
   // Every plot div must hold a rendered Plotly graph with at least one trace with data.
   await page.waitForFunction((n) => document.querySelectorAll('.plot .main-svg').length >= n || n === 0, expected,
@@ -56,16 +97,51 @@ for (const spec of specs) {
   })));
   if (plots.length !== expected) problems.push(`expected ${expected} plots, found ${plots.length}`);
   for (const p of plots) if (p.traces === 0 || p.points === 0 || p.svg === 0) problems.push(`plot ${p.id} has no rendered data`);
+  // Fits the page at 1280x800: nothing wider than the window, no plot drawn beyond its box.
+  const fit = await page.evaluate(() => ({
+    scroll: document.documentElement.scrollWidth,
+    cropped: Array.from(document.querySelectorAll('.plot')).filter((el) => {
+      const box = el.getBoundingClientRect();
+      return Array.from(el.querySelectorAll('.main-svg, canvas')).some((c) => {
+        const r = c.getBoundingClientRect();
+        return r.width > 0 && (r.right > box.right + 1 || r.bottom > box.bottom + 1 || r.left < box.left - 1);
+      });
+    }).map((el) => el.id),
+  }));
+  if (fit.scroll > 1280) problems.push(`page is ${fit.scroll} px wide at a 1280 px window`);
+  if (fit.cropped.length) problems.push(`plots drawn beyond their box: ${fit.cropped.join(', ')}`);
+  // Static images for print: one per plot, made after rendering.
+  await page.waitForFunction((n) => window.mtcalPending === 0 && document.querySelectorAll('img.plot-print').length >= n,
+                             expected, { timeout: 60000 }).catch(() => problems.push('print images not made in 60 s'));
+  const images = await page.evaluate(() => document.querySelectorAll('img.plot-print').length);
+  if (images !== expected) problems.push(`expected ${expected} print images, found ${images}`);
   const tables = await page.evaluate(() => document.querySelectorAll('table').length);
   if (tables < 1) problems.push('no summary table');
   const shot = join(outDir, basename(file).replace(/\.html$/, '') + '.png');
   await page.screenshot({ path: shot, fullPage: true });
+  // One 1280x800 screen with the first plot in view, as a reader sees it.
+  await page.evaluate(() => { const p = document.querySelector('figure'); if (p) p.scrollIntoView({ block: 'center' }); });
+  await page.screenshot({ path: shot.replace(/\.png$/, '-1280x800.png') });
+  const pdf = join(outDir, basename(file).replace(/\.html$/, '') + '.pdf');
+  await page.pdf({ path: pdf, format: 'A4', printBackground: true });
+  if (poppler && expected > 0) {
+    const dir = mkdtempSync(join(tmpdir(), 'mtcal-pdf-'));
+    // Embedded images (the plots; soft masks come out as .pgm and are skipped).
+    spawnSync('pdfimages', [pdf, join(dir, 'img')]);
+    const imgs = readdirSync(dir).filter((f) => f.endsWith('.ppm')).map((f) => pixelStats(readPpm(join(dir, f))));
+    const nonBlank = imgs.filter((st) => st.other > 0.01 && st.coloured > 0.0005).length;
+    if (nonBlank < expected) problems.push(`PDF: ${nonBlank} non-blank plot images of ${expected} (${imgs.length} images)`);
+    // The pages as printed: the plots' colours are on them.
+    spawnSync('pdftoppm', ['-r', '30', pdf, join(dir, 'page')]);
+    const pages = readdirSync(dir).filter((f) => f.startsWith('page')).map((f) => pixelStats(readPpm(join(dir, f))));
+    if (!pages.some((st) => st.coloured > 0.001)) problems.push(`PDF: no page with plot colours (${pages.length} pages)`);
+  }
   if (problems.length) {
     failed++;
     console.log(`FAIL ${basename(file)}:\n  ${problems.join('\n  ')}`);
   } else {
     passed++;
-    console.log(`ok   ${basename(file)}: ${plots.length} plots rendered, screenshot ${shot}`);
+    console.log(`ok   ${basename(file)}: ${plots.length} plots rendered, fit 1280x800, printed to ${pdf}, screenshot ${shot}`);
   }
   await page.close();
 }

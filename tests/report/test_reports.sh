@@ -21,6 +21,23 @@ run "$MTCAL" rotary-axis --axis C --contacts "$tmp/contacts.csv" --sphere-diamet
   --machine "$M5" --report "$tmp/rotary-axis.html"
 printf 'target,run,direction,measured\n0,1,up,0.001\n0,2,up,0.003\n0,1,down,-0.001\n0,2,down,0.001\n10,1,up,10.004\n10,2,up,10.006\n10,1,down,10.002\n10,2,down,10.002\n' >"$tmp/positions.csv"
 run "$MTCAL" iso230-2 "$tmp/positions.csv" --report "$tmp/iso230-2.html"
+# An acceptance report: 5 runs over 11 targets of a 1 m axis, metadata and tolerances from the examples.
+python3 - "$tmp/positions5.csv" <<'PY'
+import math, sys
+with open(sys.argv[1], "w") as f:
+    f.write("target,run,direction,measured\n")
+    for i in range(11):
+        t = 100.0 * i
+        for j in range(5):
+            for d, sign in (("up", 1), ("down", -1)):
+                dev = 0.004 * math.sin(t / 160) + 0.000006 * t + sign * 0.0015 + 0.0008 * math.sin(7 * i + 3 * j + sign)
+                f.write(f"{t},{j + 1},{d},{t + dev:.6f}\n")
+PY
+run "$MTCAL" iso230-2 "$tmp/positions5.csv" --report "$tmp/iso230-2-acceptance.html" \
+  --meta-file "$EXAMPLES/../acceptance/metadata.yaml" --tolerance-file "$EXAMPLES/../acceptance/tolerances.yaml"
+run "$MTCAL" ballbar --predict -m "$M3" --plane XY --radius 150 --centre "X=0,Y=0,Z=-250" --out "$tmp/trace.csv"
+run "$MTCAL" ballbar "$tmp/trace.csv" --radius 150 --feed 1000 --report "$tmp/ballbar.html" --tolerance G=15
+run "$MTCAL" eval -m "$EXAMPLES/hu40t-wCBXfYZt.yaml" --grid "X=-200:200:5,Y=-200:200:5,Z=-300:0:3,B=-30:30:3,C=0:270:4" --report "$tmp/eval-hu40t.html"
 run "$MTCAL" compare "$EXAMPLES/../data/mohammed2019-ballbar-vs-samba.csv" --report "$tmp/compare.html"
 run "$MTCAL" volumetric -m "$M3" --grid "X=-400:400:11,Y=-250:250:11,Z=-500:0:11" --histogram auto --box-scan 5 \
   --group-angle 0.1 --report "$tmp/volumetric.html"
@@ -34,7 +51,7 @@ run "$MTCAL" regress "$EXAMPLES/../prediction/yaqoob2017-table5_8.csv" --x t --y
 run "$MTCAL" predict --model "$EXAMPLES/../prediction/yaqoob2017-model.yaml" --points "$EXAMPLES/../prediction/yaqoob2017-w2-points.csv" \
   --report "$tmp/predict.html"
 run "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/comp" --report "$tmp/compensate.html"
-for f in eval-grid eval-points effects errors rotary-axis iso230-2 compare volumetric contributions diagonals toolpath identify regress predict compensate; do
+for f in eval-grid eval-points effects errors rotary-axis iso230-2 iso230-2-acceptance ballbar eval-hu40t compare volumetric contributions diagonals toolpath identify regress predict compensate; do
   [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
 done
 # The points report names its input with the input's SHA-256.
@@ -85,7 +102,7 @@ node_rc=0
 if command -v node >/dev/null; then
   (cd "$WEB" && MTCAL_WEB="$WEB" node "$(dirname "$0")/browser_check.mjs" "$SHOTS" \
     "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
-    "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
+    "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/iso230-2-acceptance.html:1" "$tmp/ballbar.html:2" "$tmp/eval-hu40t.html:2" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
     "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2" \
     "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1") >"$tmp/browser" 2>&1
   node_rc=$?

@@ -7,6 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "mtcal/evaluation/tolerance.hpp"
+#include "mtcal/report/metadata.hpp"
+
 namespace mtcal {
 
 struct Machine;
@@ -17,7 +20,14 @@ struct Machine;
 // from the date line, the same inputs give the same bytes.
 class Report {
  public:
+  // Starts with the session's test metadata (session_metadata()).
   Report(std::string title, std::string command);
+
+  // Test metadata shown in a "Test" table at the top (replaces the session's).
+  void set_metadata(ReportMetadata m) { metadata_ = std::move(m); }
+  const ReportMetadata& metadata() const { return metadata_; }
+  // Tolerances checked: a PASS/FAIL banner at the top and a table of every check (µm).
+  void set_verdict(ToleranceVerdict v) { verdict_ = std::move(v); }
 
   void set_machine(const Machine& m);
   // Hashes the file (SHA-256) now; throws InputError if it cannot be read.
@@ -47,6 +57,8 @@ class Report {
   std::vector<std::string> warnings_;
   std::string body_;
   std::size_t plots_ = 0;
+  ReportMetadata metadata_;
+  ToleranceVerdict verdict_;
 };
 
 // HTML text escaping of & < > " '.
