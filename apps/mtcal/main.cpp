@@ -414,7 +414,10 @@ std::string extras_hint(CLI::App& app) {
     for (const auto* opt : sub->get_options())
       for (const auto& l : opt->get_lnames()) names.push_back("--" + l);
     std::string hint;
-    for (const auto& extra : sub->remaining()) {
+    // With the global options falling through, the extras may stay with the command or the app.
+    std::vector<std::string> extras = sub->remaining();
+    for (const auto& e : app.remaining()) extras.push_back(e);
+    for (const auto& extra : extras) {
       if (extra.rfind("--", 0) != 0) continue;
       const auto c = closest_name(extra.substr(0, extra.find('=')), names);
       if (c) hint += " (did you mean '" + *c + "' for '" + printable(extra) + "'?)";

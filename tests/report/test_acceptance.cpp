@@ -11,7 +11,7 @@
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/io/acceptance_files.hpp"
 #include "mtcal/report/evaluation.hpp"
-#include "mtcal/report/metadata.hpp"
+#include "mtcal/evaluation/metadata.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 

@@ -7,7 +7,7 @@
 
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/io/json.hpp"
-#include "mtcal/report/metadata.hpp"
+#include "mtcal/evaluation/metadata.hpp"
 
 namespace mtcal {
 

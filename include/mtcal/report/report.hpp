@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mtcal/evaluation/tolerance.hpp"
-#include "mtcal/report/metadata.hpp"
+#include "mtcal/evaluation/metadata.hpp"
 
 namespace mtcal {
 

@@ -1,5 +1,5 @@
-// Test metadata of acceptance reports (report/metadata.hpp).
-#include "mtcal/report/metadata.hpp"
+// Test metadata of acceptance reports (evaluation/metadata.hpp).
+#include "mtcal/evaluation/metadata.hpp"
 
 #include <algorithm>
 
