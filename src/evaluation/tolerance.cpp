@@ -24,7 +24,10 @@ bool ToleranceVerdict::pass() const {
 ToleranceVerdict check_tolerances(const std::vector<std::pair<std::string, double>>& values, const Tolerances& t,
                                   const std::string& where) {
   ToleranceVerdict v;
-  for (const auto& [q, limit] : t.limits) {
+  for (const auto& entry : t.limits) {
+    // Not a structured binding: clang 14 (Debian's) cannot capture one in a lambda.
+    const std::string& q = entry.first;
+    const double limit = entry.second;
     const auto it = std::find_if(values.begin(), values.end(), [&](const auto& kv) { return kv.first == q; });
     if (it == values.end()) {
       std::string list;
@@ -33,7 +36,7 @@ ToleranceVerdict check_tolerances(const std::vector<std::pair<std::string, doubl
                        "a tolerance for '" + printable(q) + "', which this test does not give (it gives " + list + ")");
     }
     if (!std::isfinite(it->second))
-      throw InputError({where, 0, q}, "a tolerance for '" + q +
+      throw InputError({where, 0, q}, "a tolerance for '" + printable(q) +
                                           "', which this test does not define (e.g. a "
                                           "unidirectional test has no reversal B)");
     if (!(limit >= 0)) throw InputError({where, 0, q}, "expected a permitted value >= 0, found a negative one");
