@@ -21,7 +21,7 @@ grep -q '^largest translational error' "$tmp/out" && ok || bad "text summary: $(
 # JSON keys and CSV columns.
 expect_exit 0 "toolpath --json --out" -- "$MTCAL" toolpath -m "$M3" --gcode "$P" --origin "$ORIGIN" --step 0.5 \
   --json --out "$tmp/tp.csv"
-[ "$(json_get "list(d.keys())")" = "['points', 'blocks', 'path_length', 'ignored_words', 'rapids_skipped', 'max_error', 'range', 'out']" ] &&
+[ "$(json_get "list(d.keys())")" = "['points', 'blocks', 'path_length', 'ignored_words', 'words', 'rapids_skipped', 'max_error', 'range', 'interpreter', 'out']" ] &&
   ok || bad "JSON keys: $(json_get "list(d.keys())")"
 [ "$(json_get "sorted(d['max_error'].keys())")" = "['at', 'line', 'value']" ] && ok || bad "max_error keys"
 [ "$(json_get "sorted(d['range'].keys())")" = "['dx', 'dy', 'dz', 'rx', 'ry', 'rz']" ] && ok || bad "range keys"
@@ -74,9 +74,9 @@ expect_exit 0 "toolpath --report" -- "$MTCAL" toolpath -m "$M3" --gcode "$P" --o
 grep -q 'Tool-path simulation' "$tmp/tp.html" && grep -q 'pocket.nc' "$tmp/tp.html" && ok || bad "report content"
 
 # A bad program: one line naming file, line and column; exit 1; no output file, no temporary left.
-printf 'G21 G90\nG1 X1 F100\nG1 X2 Q3\n' >"$tmp/bad.nc"
+printf 'G21 G90\nG1 X1 F100\nG1 X2 Yq\n' >"$tmp/bad.nc"
 mkdir "$tmp/outdir"
-expect_error "bad word" "bad.nc:3: column 7: unsupported word 'Q'" -- "$MTCAL" toolpath -m "$M3" --gcode "$tmp/bad.nc" \
+expect_error "bad word" "bad.nc:3: column 7: expected a number after 'Y', found 'q'" -- "$MTCAL" toolpath -m "$M3" --gcode "$tmp/bad.nc" \
   --origin "Z=-400" --out "$tmp/outdir/bad.csv"
 [ "$(grep -c . "$tmp/err")" -eq 1 ] && ok || bad "one error line"
 "$MTCAL" toolpath -m "$M3" --gcode "$tmp/bad.nc" --origin "Z=-400" --out "$tmp/outdir/bad.csv" >/dev/null 2>&1
