@@ -112,12 +112,17 @@ GcodeInput open_gcode(const std::string& path, const Machine& m, const GcodeInpu
   std::string program = read_text_file(path, "G-code program");
   bool use_rs274 = o.interpreter == "rs274";
   if (o.interpreter == "auto") {
-    in.why = gcode_needs_interpreter(program, path, in.options);
-    if (!in.why.empty()) {
-      if (find_rs274(o.rs274).empty())
-        throw InputError({path, 0, ""}, fmt::format("{}; LinuxCNC's interpreter '{}' is not installed (Debian package "
-                                                    "linuxcnc-uspace), so the program cannot be read",
-                                                    in.why, o.rs274));
+    if (const auto need = gcode_needs_interpreter(program, path, in.options)) {
+      in.why = need->what();
+      if (find_rs274(o.rs274).empty()) {
+        // The reader's message without its location, which the new error carries.
+        std::string what = need->what();
+        const std::string at = need->where().describe() + ": ";
+        if (what.rfind(at, 0) == 0) what.erase(0, at.size());
+        throw InputError(need->where(), fmt::format("{}; LinuxCNC's interpreter '{}' is not installed (Debian package "
+                                                    "linuxcnc-uspace)",
+                                                    what, o.rs274));
+      }
       use_rs274 = true;
     }
   }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -76,8 +77,7 @@ void GcodeReader::fail(int column, const std::string& what) const {
 void GcodeReader::needs_interpreter(int column, const std::string& what) const {
   throw GcodeNeedsInterpreter(
       {source_, line_, ""},
-      fmt::format("column {}: {}: RS274NGC as LinuxCNC runs it, beyond the ISO dialect mtcal reads (LinuxCNC's "
-                  "interpreter rs274 reads it)",
+      fmt::format("column {}: {}: RS274NGC beyond the ISO dialect of mtcal's reader (LinuxCNC's interpreter reads it)",
                   column, what));
 }
 
@@ -408,7 +408,7 @@ bool GcodeReader::apply_block() {
           case 330:
           case 331: needs_interpreter(w.column, fmt::format("{} spindle-synchronised motion", g_name(g)));
           case 70:
-          case 80: lathe(w.column, fmt::format("{} (lathe diameter/radius mode)", g_name(g)));
+          case 80: lathe(w.column, fmt::format("{} (diameter or radius mode)", g_name(g)));
           case 700:
           case 710:
           case 711:
@@ -917,16 +917,17 @@ std::string_view work_system_name(int index) {
   return index >= 0 && index < 9 ? kNames[index] : std::string_view("?");
 }
 
-std::string gcode_needs_interpreter(std::string_view text, const std::string& source, const GcodeOptions& options) {
+std::optional<GcodeNeedsInterpreter> gcode_needs_interpreter(std::string_view text, const std::string& source,
+                                                             const GcodeOptions& options) {
   try {
     GcodeReader reader(text, source, options);
     GcodeMove m;
     while (reader.next(m)) {
     }
   } catch (const GcodeNeedsInterpreter& e) {
-    return e.what();
+    return e;
   }
-  return {};
+  return std::nullopt;
 }
 
 void refuse_lathe_program(std::string_view text, const std::string& source) {

@@ -339,10 +339,21 @@ std::string write_expanded_gcode(std::span<const CorrectedMove> moves, const Gco
     if (slot >= 0) has[static_cast<std::size_t>(slot)] = true;
   }
   std::string out;
-  out += fmt::format("({})\n", title);
-  out +=
-      fmt::format("(from {}, read by {}: every move as it runs, canned cycles, G28/G30 and subroutines expanded)\n",
-                  program.source, program.interpreter == "rs274" ? "LinuxCNC's interpreter rs274" : "mtcal's reader");
+  // A comment cannot hold parentheses (RS274NGC 3.3.4): those of a name become brackets.
+  auto comment = [](std::string text) {
+    for (char& c : text)
+      if (c == '(')
+        c = '[';
+      else if (c == ')')
+        c = ']';
+      else if (c == '\n' || c == '\r')
+        c = ' ';
+    return text;
+  };
+  out += fmt::format("({})\n", comment(title));
+  out += fmt::format("(from {}, read by {}: every move as it runs, canned cycles, G28/G30 and subroutines expanded)\n",
+                     comment(program.source),
+                     program.interpreter == "rs274" ? "LinuxCNC's interpreter rs274" : "mtcal's reader");
   out += "(absolute positions in mm and deg with the original's work offsets and tool lengths included:)\n";
   out += "(run with the program zero where the original's machine frame has it and no tool length offset, G49)\n";
   out += "(spindle, coolant and tool change commands are not written: add them before running)\n";

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -172,16 +173,17 @@ class GcodeReader : public MoveSource {
 GcodeProgram parse_gcode(std::string_view text, const std::string& source, const GcodeOptions& options = {});
 GcodeProgram read_gcode(const std::string& path, const GcodeOptions& options = {});
 
-// Whether mtcal's reader cannot read the program but LinuxCNC's interpreter can (parameters,
-// expressions, O-word subroutines, loops and conditions, cutter radius compensation, G92 ...):
-// the reason with its line and column when so, empty when mtcal's reader reads it. Any other
-// error of the program is thrown as parse_gcode throws it.
 // Throws GcodeLatheProgram at the first word, written as a number, that only a lathe runs: G7 G8
 // (diameter, radius mode), G70 G71 G72 (lathe cycles), G76 (threading), G96 (constant surface
 // speed). A lexical scan, comments skipped, for programs read by LinuxCNC's interpreter, whose
 // canonical calls do not tell a lathe's X from a mill's.
 void refuse_lathe_program(std::string_view text, const std::string& source);
 
-std::string gcode_needs_interpreter(std::string_view text, const std::string& source, const GcodeOptions& options = {});
+// Whether mtcal's reader cannot read the program but LinuxCNC's interpreter can (parameters,
+// expressions, O-word subroutines, loops and conditions, cutter radius compensation, G92 ...):
+// the first such word, located, when so; nothing when mtcal's reader reads it. Any other error
+// of the program is thrown as parse_gcode throws it.
+std::optional<GcodeNeedsInterpreter> gcode_needs_interpreter(std::string_view text, const std::string& source,
+                                                             const GcodeOptions& options = {});
 
 }  // namespace mtcal
