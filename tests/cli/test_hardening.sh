@@ -119,6 +119,18 @@ else
   [ ! -s "$tmp/out" ] && [ ! -e mc.yaml ] && [ ! -e mc.html ] && ok || bad "Monte Carlo out of memory left output: $(ls mc.* 2>/dev/null) $(head -c 200 "$tmp/out")"
   no_temp_files "Monte Carlo out of memory"
 fi
+# The triples estimator refused more than 1000 indexations outright, with no option to raise the
+# bound: it is now a time (and memory) estimate against --max-time (--max-memory), C(n, 3) triples.
+python3 -c "
+import math
+print('C,x,y,z')
+for i in range(1001):
+    a = 360.0 * i / 1001
+    print(f'{a:.6f},{150 * math.cos(math.radians(a)):.6f},{150 * math.sin(math.radians(a)):.6f},50')" >c1001.csv
+expect_error "triples of 1001 indexations" "--max-time raises it" -- "$MTCAL" --max-time 1 rotary-axis --axis C --centres c1001.csv --method triples --threads 1
+grep -q "1001 indexations (1.67e+08 triples" "$tmp/err" && grep -q -- "--method lsq" "$tmp/err" && ok || bad "triples refusal gives the count and the way out: $(cat "$tmp/err")"
+expect_error "triples memory" "--max-memory raises it" -- "$MTCAL" --max-memory 1M rotary-axis --axis C --centres c1001.csv
+expect_exit 0 "least squares of 1001 indexations" -- "$MTCAL" --max-time 1 rotary-axis --axis C --centres c1001.csv --method lsq
 L61=$("$MTCAL" errors -m "$M5" --json | python3 -c "import json,sys; print(','.join(p['name'] for p in json.load(sys.stdin)['parameters'][:61]))")
 expect_error "identifiability --choose 30 of 61" "--max-time raises it" -- timeout 60 "$MTCAL" identifiability -m "$M5" --plan "$PLAN" --candidates "$L61" --choose 30
 grep -q "subsets" "$tmp/err" && ok || bad "subset refusal gives the count: $(cat "$tmp/err")"
