@@ -118,7 +118,7 @@ RotaryAxisResult rotary_axis(py::handle data, const std::string& axis, const Mac
                                                   " indexations make too many triples for method triples/both (at "
                                                   "most " +
                                                   std::to_string(kMaxPythonTriplesCentres) + "); use method 'lsq'");
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   return locate_rotary_axis(nominal, std::move(centres), options);
 }
 
@@ -206,7 +206,7 @@ Identified identify(const Machine& prior, const ProbingPlan& meas, py::handle es
   ao.seed = seed;
   ao.threads = threads;
   ao.truth = truth;
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   return {prior, identify_and_assess(prior, meas, opt, ao)};
 }
 
@@ -224,7 +224,7 @@ py::object identifiability(const Machine& m, const ProbingPlan& plan, py::handle
     if (opt.estimate.empty()) throw py::value_error("estimate: expected names, or candidates with choose");
     Identifiability id;
     {
-      py::gil_scoped_release release;
+      LongCall release;  // without the GIL, stoppable with Ctrl-C
       id = mtcal::identifiability(m, plan, opt);
     }
     return py::cast(std::move(id));
@@ -246,7 +246,7 @@ py::object identifiability(const Machine& m, const ProbingPlan& plan, py::handle
   s.options.by_residue_source = "sort";
   s.options.rank_tolerance_source = "rank_tolerance";
   {
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     const auto t0 = Clock::now();
     s.analysis = full_rank_subsets(m, plan, s.options, opt);
     s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -497,7 +497,7 @@ letter's axis). method 'both', 'triples' (Cubas & Yeh 2022) or 'lsq'. As `mtcal 
         so.seed = seed;
         so.scale_bars = scale_bars_of(scale_bars);
         if (!(noise >= 0) || !(artefact_error >= 0)) throw py::value_error("noise, artefact_error: expected >= 0 (mm)");
-        py::gil_scoped_release release;
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
         return SimulationResult{simulate_probing(mm, plan, so), noise, artefact_error, seed};
       },
       "machine"_a, "plan"_a, py::kw_only(), "noise"_a = 0.0, "artefact_error"_a = 0.0, "seed"_a = std::uint64_t{1},
