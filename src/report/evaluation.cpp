@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include <fmt/format.h>
@@ -109,9 +110,12 @@ std::vector<TableBlock> positioning_target_table(const PositioningRuns& runs, co
     return f(runs.deviations ? side[i][j] : side[i][j] - runs.targets[i]);
   };
   std::vector<TableBlock> blocks;
+  // As many blocks as max_columns needs, of even width (11 targets: 6 and 5, not 10 and 1).
   max_columns = std::max<std::size_t>(max_columns, 1);
-  for (std::size_t first = 0; first < T.size(); first += max_columns) {
-    const std::size_t last = std::min(T.size(), first + max_columns);
+  const std::size_t n_blocks = (T.size() + max_columns - 1) / max_columns;
+  const std::size_t width = n_blocks ? (T.size() + n_blocks - 1) / n_blocks : 1;
+  for (std::size_t first = 0; first < T.size(); first += width) {
+    const std::size_t last = std::min(T.size(), first + width);
     TableBlock b;
     b.caption = fmt::format("Deviations and statistics per target ({}), targets {} to {} of {}", shown.unit, first + 1,
                             last, T.size());
@@ -328,16 +332,16 @@ void write_positioning_report(const std::string& path, const std::string& comman
   for (const auto& block : positioning_target_table(runs, e, shown))
     r.add_table(block.caption, block.columns, block.rows);
   {
-    auto row = [&](const char* name, double bi, double up_v, double down_v) {
-      return std::vector<std::string>{name, both ? shown.format(bi) : "-", has_up ? shown.format(up_v) : "-",
-                                      has_down ? shown.format(down_v) : "-"};
+    // M, B and B̄ are bidirectional only (ISO 230-2:2014 clause 2): "-" in the direction columns.
+    auto row = [&](const char* name, double bi, std::optional<double> up_v, std::optional<double> down_v) {
+      return std::vector<std::string>{name, both ? shown.format(bi) : "-", has_up && up_v ? shown.format(*up_v) : "-",
+                                      has_down && down_v ? shown.format(*down_v) : "-"};
     };
-    const double nan = std::numeric_limits<double>::quiet_NaN();
     r.add_table("Axis results (" + u + "), ISO 230-2:2014 clause 2: bidirectional and per approach direction",
                 {"quantity", "bidirectional", "unidirectional ↑", "unidirectional ↓"},
                 {row("accuracy A", e.A, e.A_up, e.A_down), row("systematic positioning error E", e.E, e.E_up, e.E_down),
-                 row("mean positioning error M", e.M, nan, nan), row("repeatability R", e.R, e.R_up, e.R_down),
-                 row("reversal value B", e.B, nan, nan), row("mean reversal value B̄", e.B_mean, nan, nan)});
+                 row("mean positioning error M", e.M, {}, {}), row("repeatability R", e.R, e.R_up, e.R_down),
+                 row("reversal value B", e.B, {}, {}), row("mean reversal value B̄", e.B_mean, {}, {})});
   }
   if (!runs.metadata.empty()) {
     std::vector<std::vector<std::string>> meta;

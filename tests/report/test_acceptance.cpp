@@ -247,4 +247,19 @@ TEST(AcceptanceReport, Iso230_2TablePerTargetInTheStandardsLayout) {
   // A↓ = 2.83 − (−2.83) = 5.66.
   EXPECT_NE(html.find("<tr><td>accuracy A</td><td>10.7</td><td>8.7</td><td>5.7</td></tr>"), std::string::npos);
   EXPECT_LT(html.find("Deviations and statistics per target"), html.find("Axis results"));
+  EXPECT_NE(html.find("<tr><td>reversal value B</td><td>3.0</td><td>-</td><td>-</td></tr>"), std::string::npos);
+
+  // Eleven targets in blocks of at most 10: two blocks of 6 and 5, not 10 and 1.
+  PositioningRuns eleven;
+  for (int i = 0; i <= 10; ++i) {
+    eleven.targets.push_back(10.0 * i);
+    eleven.up.push_back({10.0 * i + 0.001, 10.0 * i + 0.002});
+    eleven.down.push_back({10.0 * i - 0.001, 10.0 * i});
+  }
+  const PositioningEvaluation e11 = evaluate_positioning(eleven);
+  const auto b11 = positioning_target_table(eleven, e11, positioning_display(eleven, e11));
+  ASSERT_EQ(b11.size(), 2u);
+  EXPECT_EQ(b11[0].columns.size(), 1u + 6u);
+  EXPECT_EQ(b11[1].columns.size(), 1u + 5u);
+  EXPECT_EQ(b11[1].columns.at(1), "7");
 }

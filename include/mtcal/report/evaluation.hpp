@@ -38,7 +38,7 @@ struct TableBlock {
 // position, rows for every run's deviation x_ij per direction, x̄_i↑ x̄_i↓, s_i↑ s_i↓, 2s_i, the
 // x̄ ± 2s bands, R_i↑ R_i↓, then B_i, R_i and x̄_i; the rows of a direction the test did not
 // measure are left out. Values in shown's unit and decimals. Split into blocks of at most
-// max_columns targets so that a long axis fits a page.
+// max_columns targets, of even width, so that a long axis fits a page.
 std::vector<TableBlock> positioning_target_table(const PositioningRuns& runs, const PositioningEvaluation& e,
                                                  const PositioningDisplay& shown, std::size_t max_columns = 10);
 
