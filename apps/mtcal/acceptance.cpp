@@ -13,14 +13,18 @@
 namespace mtcal::cli {
 
 namespace {
-struct MetaOptions {
-  std::vector<std::string> meta;
-  std::string file;
+// What the options shared by every command hold, filled by CLI11 when the command line is parsed.
+struct SharedOptions {
+  std::vector<std::string> meta;  // --meta
+  std::string file;               // --meta-file
+  std::string pdf, png_dir;       // --report-pdf, --report-png
+  double timeout_s = 120;         // --browser-timeout
 };
-MetaOptions& meta_options() {
-  static MetaOptions o;
+SharedOptions& meta_options() {
+  static SharedOptions o;
   return o;
 }
+SharedOptions& copy_options() { return meta_options(); }
 }  // namespace
 
 void add_metadata_options(CLI::App& app) {
@@ -58,17 +62,6 @@ void warn_missing_metadata(AcceptanceTest test, bool acceptance_run) {
     std::cerr << "mtcal: warning: acceptance report: " << w << " (give it with --meta or --meta-file)\n";
 }
 
-namespace {
-struct CopyOptions {
-  std::string pdf, png_dir;
-  double timeout_s = 120;
-};
-CopyOptions& copy_options() {
-  static CopyOptions o;
-  return o;
-}
-}  // namespace
-
 void add_static_copy_options(CLI::App& app) {
   for (auto* sub : app.get_subcommands({})) {
     if (!sub->get_option_no_throw("--report")) continue;
@@ -85,7 +78,7 @@ void add_static_copy_options(CLI::App& app) {
 }
 
 void load_static_copies(CLI::App& cmd) {
-  const CopyOptions& o = copy_options();
+  const SharedOptions& o = copy_options();
   if (o.pdf.empty() && o.png_dir.empty()) return;
   const CLI::Option* report = cmd.get_option_no_throw("--report");
   const std::string which = o.pdf.empty() ? "--report-png" : "--report-pdf";
