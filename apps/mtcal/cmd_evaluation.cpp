@@ -19,6 +19,7 @@
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/evaluation_json.hpp"
 #include "mtcal/io/joints.hpp"
+#include "mtcal/io/laser_files.hpp"
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/report/evaluation.hpp"
 #include "mtcal/util/errors.hpp"
@@ -49,6 +50,14 @@ int run_iso230_2(const Iso2302Options& o) {
   PositioningRuns runs = read_positioning_file(o.file, o.format, o.unit, o.target_unit);
   if (o.wrap > 0) runs = merge_wrapped_targets(runs, o.wrap);
   const PositioningEvaluation e = evaluate_positioning(runs);
+  // What the file's header states (a laser file's machine, date, temperatures, instrument) fills
+  // the report's metadata where --meta and --meta-file left a field empty: the user's word wins.
+  const bool user_metadata = !session_metadata().empty();
+  if (ReportMetadata from_file = laser_report_metadata(runs); !from_file.empty()) {
+    ReportMetadata m = session_metadata();
+    m.fill_missing_from(from_file);
+    set_session_metadata(std::move(m));
+  }
   const std::string* axis = session_metadata().get("axis");
   const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Iso230_2, axis ? *axis : "");
   const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(positioning_values(e), limits);
@@ -58,7 +67,7 @@ int run_iso230_2(const Iso2302Options& o) {
   if (o.tol.given() && limits.empty())
     std::cerr << "mtcal: warning: the tolerance file has no iso230-2 entry for axis '" << (axis ? *axis : "")
               << "' nor 'any': nothing checked\n";
-  warn_missing_metadata(AcceptanceTest::Iso230_2, !o.report.empty() || o.tol.given());
+  warn_missing_metadata(AcceptanceTest::Iso230_2, !o.report.empty() || o.tol.given() || user_metadata);
   if (o.json_out) {
     Json j = to_json(e);
     Json meta = Json::object();

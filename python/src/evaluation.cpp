@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 
 #include "common.hpp"
 #include "mtcal/evaluation/ballbar.hpp"
@@ -261,10 +262,23 @@ struct BallbarResult {
   double radius = 0, feed = 0;
 };
 
+// The bar's length defines the test: required, as `mtcal ballbar --radius` (no default that could
+// silently differ from the bar used).
+void check_radius(double radius) {
+  if (!(radius > 0) || !std::isfinite(radius)) {
+    std::ostringstream found;
+    found << radius;
+    throw py::value_error(
+        "radius: expected the nominal radius of the test in mm (the ballbar's length, e.g. radius=150), found " +
+        found.str());
+  }
+}
+
 BallbarResult ballbar(const BallbarTrace& trace, double radius, const std::string& plane, double overshoot_start,
                       double overshoot_stop, std::optional<std::string> direction, double feed, bool diagnose) {
   if (plane != "XY" && plane != "YZ" && plane != "ZX")
     throw py::value_error("plane: expected 'XY', 'YZ' or 'ZX', found '" + plane + "'");
+  check_radius(radius);
   BallbarOptions bo;
   bo.nominal_radius = radius;
   bo.overshoot_start = overshoot_start;
@@ -678,13 +692,14 @@ Returns PositioningEvaluation (values in the runs' unit). As `mtcal iso230-2`.)"
   m.def(
       "predict_ballbar",
       [](const Machine& mm, const std::string& plane, py::handle centre, double radius, double step) {
+        check_radius(radius);
         BallbarTrace t;
         t.source = "predicted";
         t.points = predict_ballbar(mm, plane, configuration(mm, centre, "centre"), radius, step);
         return t;
       },
-      "machine"_a, "plane"_a, "centre"_a, py::kw_only(), "radius"_a = 150.0, "step"_a = std::numbers::pi / 180,
-      "The trace a ballbar would record on the model: circle of radius mm in plane 'XY'/'YZ'/'ZX' about the "
+      "machine"_a, "plane"_a, "centre"_a, py::kw_only(), "radius"_a, "step"_a = std::numbers::pi / 180,
+      "The trace a ballbar would record on the model: circle of radius mm (required) in plane 'XY'/'YZ'/'ZX' about the "
       "centre configuration (internal units), both directions, one sample every step rad.");
   py::class_<CircularDeviation>(m, "CircularDeviation", "ISO 230-4 quantities of one direction's path (mm).")
       .def_readonly("points", &CircularDeviation::points)
@@ -720,10 +735,11 @@ Returns PositioningEvaluation (values in the runs' unit). As `mtcal iso230-2`.)"
           "to_dict",
           [](const BallbarResult& r) { return to_py(to_json(r.evaluation, r.diagnosis, r.plane, r.radius, r.feed)); },
           "As `mtcal ballbar --json`.");
-  m.def("ballbar", &ballbar, "trace"_a, py::kw_only(), "radius"_a = 150.0, "plane"_a = "XY", "overshoot_start"_a = 0.0,
+  m.def("ballbar", &ballbar, "trace"_a, py::kw_only(), "radius"_a, "plane"_a = "XY", "overshoot_start"_a = 0.0,
         "overshoot_stop"_a = 0.0, "direction"_a = py::none(), "feed"_a = 0.0, "diagnose"_a = true,
         R"(ISO 230-4 circular test of a BallbarTrace: G per direction (least-squares and minimum-zone
-centres), G(b), H, F (mm); with both directions the diagnostic trace model. radius: nominal (mm);
+centres), G(b), H, F (mm); with both directions the diagnostic trace model. radius: nominal (mm),
+required (the bar's length defines the test; the trace file does not state it);
 overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.)");
 
   // ---------------------------------------------------------------- method comparison
