@@ -1,16 +1,10 @@
 #include "mtcal/io/rs274.hpp"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -21,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "mtcal/io/files.hpp"
+#include "mtcal/io/process.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -96,106 +91,13 @@ std::string parameter_text(const GcodeSetup& setup) {
   return t;
 }
 
-struct ChildResult {
-  std::string out, err;
-  int status = 0;
-};
-
-// Runs argv[0] with argv in `dir`, stdin from /dev/null, no shell; stdout and stderr captured.
-ChildResult run_child(const std::vector<std::string>& argv, const std::string& dir, double timeout,
-                      std::size_t max_out) {
-  int out_pipe[2], err_pipe[2];
-  if (pipe(out_pipe) != 0) throw Error(fmt::format("cannot start {}: pipe: {}", argv[0], std::strerror(errno)));
-  if (pipe(err_pipe) != 0) {
-    close(out_pipe[0]);
-    close(out_pipe[1]);
-    throw Error(fmt::format("cannot start {}: pipe: {}", argv[0], std::strerror(errno)));
-  }
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) throw Error(fmt::format("cannot start {}: fork: {}", argv[0], std::strerror(errno)));
-  if (pid == 0) {
-    // Child: only async-signal-safe calls until exec.
-    const int null_fd = open("/dev/null", O_RDONLY);
-    if (null_fd >= 0) dup2(null_fd, 0);
-    dup2(out_pipe[1], 1);
-    dup2(err_pipe[1], 2);
-    close(out_pipe[0]);
-    close(err_pipe[0]);
-    if (chdir(dir.c_str()) != 0) _exit(126);
-    execv(args[0], args.data());
-    _exit(127);
-  }
-  close(out_pipe[1]);
-  close(err_pipe[1]);
-  ChildResult r;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
-  pollfd fds[2] = {{out_pipe[0], POLLIN, 0}, {err_pipe[0], POLLIN, 0}};
-  int open_fds = 2;
-  std::string why_stopped;
-  char buf[65536];
-  while (open_fds > 0) {
-    const auto left =
-        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) {
-      why_stopped = fmt::format("took more than {} s", timeout);
-      break;
-    }
-    const int n = poll(fds, 2, static_cast<int>(std::min<long long>(left.count(), 1000)));
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      why_stopped = fmt::format("poll: {}", std::strerror(errno));
-      break;
-    }
-    for (int k = 0; k < 2; ++k) {
-      if (fds[k].fd < 0 || !(fds[k].revents & (POLLIN | POLLHUP | POLLERR))) continue;
-      const ssize_t got = read(fds[k].fd, buf, sizeof buf);
-      if (got > 0) {
-        (k == 0 ? r.out : r.err).append(buf, static_cast<std::size_t>(got));
-      } else if (got == 0 || errno != EINTR) {
-        close(fds[k].fd);
-        fds[k].fd = -1;
-        --open_fds;
-      }
-    }
-    if (r.out.size() > max_out || r.err.size() > (std::size_t{1} << 20)) {
-      why_stopped = fmt::format("printed more than {}", format_bytes(static_cast<double>(max_out)));
-      break;
-    }
-  }
-  if (!why_stopped.empty()) kill(pid, SIGKILL);
-  for (auto& f : fds)
-    if (f.fd >= 0) close(f.fd);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (!why_stopped.empty()) throw Error(fmt::format("{} was stopped: it {}", argv[0], why_stopped));
-  r.status = status;
-  return r;
-}
-
 bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
 }  // namespace
 
 std::string find_rs274(const std::string& executable) {
   if (executable.empty()) return {};
-  if (executable.find('/') != std::string::npos) return access(executable.c_str(), X_OK) == 0 ? executable : "";
-  const char* path = std::getenv("PATH");
-  std::string_view dirs = path ? path : "/usr/local/bin:/usr/bin:/bin";
-  while (!dirs.empty()) {
-    const auto colon = dirs.find(':');
-    std::string dir(dirs.substr(0, colon));
-    dirs = colon == std::string_view::npos ? std::string_view() : dirs.substr(colon + 1);
-    if (dir.empty()) dir = ".";
-    const std::string candidate = dir + "/" + executable;
-    struct stat st {};
-    if (stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) && access(candidate.c_str(), X_OK) == 0)
-      return candidate;
-  }
-  return {};
+  return find_program({executable}).value_or("");
 }
 
 std::string number_gcode_lines(std::string_view text) {
@@ -247,16 +149,17 @@ Rs274Output run_rs274(const std::string& program_path, const GcodeSetup& setup, 
   std::error_code ec;
   std::string dir = std::filesystem::absolute(program, ec).parent_path().string();
   if (ec || dir.empty()) dir = ".";
-  const ChildResult r =
-      run_child({exe, "-g", "-t", tmp.path() + "/tools.tbl", "-v", tmp.path() + "/parameters.var", copy}, dir,
-                options.timeout, options.max_output);
+  const ProgramRun r =
+      run_program({exe, "-g", "-t", tmp.path() + "/tools.tbl", "-v", tmp.path() + "/parameters.var", copy},
+                  options.timeout, options.max_output, dir);
+  if (r.timed_out) throw Error(fmt::format("{} was stopped after {} s on {}", exe, options.timeout, program_path));
+  if (r.signal != 0) throw Error(fmt::format("{} stopped by signal {} on {}", exe, r.signal, program_path));
+  if (r.out.size() >= options.max_output)
+    throw Error(fmt::format("{} printed more than {} for {}", exe,
+                            format_bytes(static_cast<double>(options.max_output)), program_path));
   Rs274Output out;
   out.calls = r.out;
-  if (WIFEXITED(r.status) && WEXITSTATUS(r.status) == 0) return out;
-  if (!WIFEXITED(r.status))
-    throw Error(fmt::format("{} stopped by signal {} on {}", exe, WTERMSIG(r.status), program_path));
-  if (WEXITSTATUS(r.status) == 127 || WEXITSTATUS(r.status) == 126)
-    throw Error(fmt::format("cannot run {} in {}", exe, dir));
+  if (r.exit_status == 0) return out;
   // The interpreter's error: "executing", its message, the line's text (ours: "N<line> ...").
   std::vector<std::string> rows;
   std::size_t pos = 0;
@@ -267,7 +170,7 @@ Rs274Output run_rs274(const std::string& program_path, const GcodeSetup& setup, 
     while (!row.empty() && (row.back() == '\r' || row.back() == ' ')) row.pop_back();
     if (!row.empty() && row != "executing") rows.push_back(row);
   }
-  std::string message = rows.empty() ? fmt::format("exit status {}", WEXITSTATUS(r.status)) : rows.front();
+  std::string message = rows.empty() ? fmt::format("exit status {}", r.exit_status) : rows.front();
   int line = 0;
   std::string source_text;
   if (rows.size() >= 2) {
