@@ -281,6 +281,9 @@ bool is_cycle(int motion) { return motion == 73 || (motion >= 81 && motion <= 89
 // when G83 goes back down: 0.010 in, 0.254 mm (LinuxCNC G-code reference, G73 and G83; the
 // interpreter's G83_RAPID_DELTA).
 constexpr double kPeckDelta = 0.254;
+// Bounds on what one block may expand into (memory, not machining: real programs stay far below).
+constexpr double kMaxRepeats = 10000;
+constexpr double kMaxPecks = 10000;
 
 }  // namespace
 
@@ -702,8 +705,9 @@ bool GcodeReader::apply_block() {
     }
     int repeats = 1;
     if (l_col) {
-      if (!(l >= 0 && l == std::floor(l) && l < 1e6))
-        fail(l_col, fmt::format("expected a whole number of repeats >= 0 after 'L', found {}", l));
+      // A bound so that one block cannot expand into unbounded memory.
+      if (!(l >= 0 && l == std::floor(l) && l <= kMaxRepeats))
+        fail(l_col, fmt::format("expected a whole number of repeats from 0 to {} after 'L', found {}", kMaxRepeats, l));
       repeats = static_cast<int>(l);
       l_col = 0;
     }
@@ -721,6 +725,9 @@ bool GcodeReader::apply_block() {
       const double level0 = position_[w];
       const double r_level = incremental_ ? level0 + cycle_r_ : cycle_r_ + offset(w);
       const double bottom = incremental_ ? r_level + cycle_depth_ : cycle_depth_ + offset(w);
+      if ((motion_ == 73 || motion_ == 83) && (r_level - bottom) / cycle_q_ > kMaxPecks)
+        fail(at, fmt::format("{}: Q {} mm gives more than {} pecks to the depth (expected a larger Q)", name,
+                             fmt_mm(cycle_q_), kMaxPecks));
       if (bottom > r_level)
         fail(at, fmt::format("{}: the hole's bottom {} = {} mm lies above R = {} mm (expected R at or above it)", name,
                              kGcodeAxes[w], fmt_mm(bottom), fmt_mm(r_level)));

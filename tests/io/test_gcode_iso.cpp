@@ -171,6 +171,9 @@ TEST(GcodeIso, CycleErrors) {
   EXPECT_NE(error_of<InputError>("G0 Z10\nG81 X1 Z-3 R2 A5\n").find("rotary axis word 'A'"), std::string::npos);
   EXPECT_NE(error_of<InputError>("G0 Z10\nG87 X1 Z-3 R2\n").find("G87"), std::string::npos);
   EXPECT_NE(error_of<InputError>("G0 Z10\nG81 X1 Z-3 R2 L1.5\n").find("repeats"), std::string::npos);
+  EXPECT_NE(error_of<InputError>("G0 Z10\nG91 G81 X1 Z-3 R2 L10001\n").find("repeats from 0 to 10000"),
+            std::string::npos);
+  EXPECT_NE(error_of<InputError>("G0 Z10\nG83 X1 Z-300 R2 Q0.01\n").find("more than 10000 pecks"), std::string::npos);
   EXPECT_NE(error_of<InputError>("G80 X1\n").find("G80"), std::string::npos);
 }
 
