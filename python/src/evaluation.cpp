@@ -296,7 +296,8 @@ py::object optional_number(const std::optional<double>& v) { return v ? py::obje
 struct ToolpathResult {
   Machine machine;
   ToolpathSummary summary;
-  ToolpathChunk points;  // every point of the program, the chunks appended
+  ToolpathChunk points;               // every point of the program, the chunks appended
+  std::string interpreter = "mtcal";  // who read the program (GcodeProgram::interpreter)
 };
 
 GcodePosition origin_of(const Machine& m, py::handle origin) {
@@ -338,6 +339,7 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
   };
   if (py::isinstance<GcodeProgram>(program)) {
     const auto& p = program.cast<const GcodeProgram&>();
+    r.interpreter = p.interpreter;
     LongCall release;  // without the GIL, stoppable with Ctrl-C
     r.summary = simulate_toolpath(model, p, opt, sink);
   } else {
@@ -768,8 +770,16 @@ overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.)
                                d["blocks"] = p.counts.blocks;
                                d["moves"] = p.counts.moves;
                                d["ignored_words"] = p.counts.ignored_words;
+                               d["m_words"] = p.counts.m_words;
+                               d["s_words"] = p.counts.s_words;
+                               d["t_words"] = p.counts.t_words;
+                               d["tool_changes"] = p.counts.tool_changes;
+                               d["cycles"] = p.counts.cycles;
+                               d["warnings"] = p.counts.warnings;
                                return d;
                              })
+      .def_readonly("warnings", &GcodeProgram::warnings,
+                    "Words read but not simulated: 'file:line: column c: word why' (the first 100)")
       .def_property_readonly(
           "end_points",
           [](const GcodeProgram& p) {
@@ -819,7 +829,12 @@ overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.)
           },
           "path"_a, "The points as `mtcal toolpath --out` writes them.")
       .def(
-          "to_dict", [](const ToolpathResult& r) { return to_py(to_json(r.machine, r.summary)); },
+          "to_dict",
+          [](const ToolpathResult& r) {
+            Json j = to_json(r.machine, r.summary);
+            j["interpreter"] = r.interpreter;  // as `mtcal toolpath --json`
+            return to_py(j);
+          },
           "The summary as `mtcal toolpath --json`.");
   m.def("toolpath", &toolpath, "machine"_a, "program"_a, py::kw_only(), "step"_a = 0.5, "angle_step"_a = 0.5,
         "skip_rapids"_a = false, "origin"_a = py::none(), "directions"_a = true, "travel_check"_a = true,

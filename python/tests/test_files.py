@@ -50,8 +50,16 @@ def test_gcode_reader(tmp_path):
     assert p.moves == 3 and p.counts["lines"] == 5
     np.testing.assert_allclose(p.end_points[-1, :3], [30, 10, 0])
     with pytest.raises(mtcal.InputError) as e:
-        mtcal.parse_gcode("G1 X10 F100\nG1 Q5\n", "prog", axes="XYZ")
+        mtcal.parse_gcode("G1 X10 F100\nG1 Yq\n", "prog", axes="XYZ")
     assert e.value.file == "prog" and e.value.line == 2
+    # A word that is not simulated is a warning naming file, line, column and word (docs/gcode.md).
+    w = mtcal.parse_gcode("G1 X10 F100\nG1 X20 Q5\n", "prog", axes="XYZ")
+    assert w.warnings == ["prog:2: column 8: 'Q5' has no meaning in this block and is skipped"]
+    assert w.counts["warnings"] == 1
+    # A canned cycle expanded: G81 from Z10 with R2 to Z-3, G98 (LinuxCNC G-code reference).
+    c = mtcal.parse_gcode("G0 X0 Y0 Z10\nG98 G81 X1 Y2 Z-3 R2 F100\nG80\n", "prog")
+    np.testing.assert_allclose(c.end_points[:, :3], [[0, 0, 10], [1, 2, 10], [1, 2, 2], [1, 2, -3], [1, 2, 10]])
+    assert c.counts["cycles"] == 1
 
 
 def test_prediction_csv_equals_mtcal_predict_out(tmp_path):
