@@ -1,4 +1,5 @@
 // mtcal history list|show|import|export|event add, and --record on the result commands.
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -116,6 +117,21 @@ std::unique_ptr<HistoryStore> open_cli_store(const std::string& given) {
   return open_history_store(where);
 }
 
+void prepare_recording() {
+  auto& s = state();
+  if (!recording()) return;
+  if (!s.store.empty() && !looks_like_store(s.store))
+    throw InputError({"--record", 0, s.store},
+                     "expected a store (a *.db file, sqlite:PATH or postgresql://...), found '" + printable(s.store) +
+                         "'; write --record=STORE, or put --record after the command's inputs");
+  if (const std::string* date = session_metadata().get("date"); date && !is_iso8601(*date))
+    throw InputError({"--meta", 0, "date"},
+                     "expected the test date as ISO 8601 (2026-11-25 or 2026-11-25T10:30:00Z) "
+                     "to place the recorded result in time, found '" +
+                         printable(*date) + "'");
+  s.open = open_cli_store(s.store);
+}
+
 std::optional<std::string> record_result(const std::string& command) {
   auto& s = state();
   if (!recording()) return std::nullopt;
@@ -125,10 +141,6 @@ std::optional<std::string> record_result(const std::string& command) {
                                               "' produces no calibration result to record (see "
                                               "docs/history.md for the commands that do)");
   }
-  if (!s.store.empty() && !looks_like_store(s.store))
-    throw InputError({"--record", 0, s.store},
-                     "expected a store (a *.db file, sqlite:PATH or postgresql://...), found '" + printable(s.store) +
-                         "'; write --record=STORE, or put --record after the command's inputs");
   std::map<std::string, std::string> meta;
   for (const auto& [k, v] : session_metadata().entries()) meta[k] = v;
   std::vector<InputHash> inputs;
@@ -138,7 +150,7 @@ std::optional<std::string> record_result(const std::string& command) {
   if (r.machine_name.empty())
     throw InputError({"--meta", 0, "machine"},
                      "the result names no machine to record it under: give --meta machine=NAME (and serial=...)");
-  s.open = open_cli_store(s.store);
+  if (!s.open) s.open = open_cli_store(s.store);
   std::vector<std::size_t> skipped;
   const auto ids = s.open->record_all({r}, {}, &skipped);
   if (!skipped.empty()) {
@@ -352,12 +364,13 @@ struct ExportOptions {
 int run_export(const ExportOptions& o) {
   check_outputs({}, {o.out});
   auto store = open_cli_store(o.store);
-  std::ostringstream text;
-  export_jsonl(*store, text);
+  std::ostringstream stream;
+  export_jsonl(*store, stream);
+  const std::string text = stream.str();
   AtomicFile f(o.out);
-  f.stream() << text.str();
+  f.stream() << text;
   f.commit();
-  const auto lines = std::count(text.str().begin(), text.str().end(), '\n');
+  const auto lines = std::count(text.begin(), text.end(), '\n');
   if (o.json_out) {
     print_json({{"store", store->describe()}, {"out", o.out}, {"lines", lines}});
     return 0;

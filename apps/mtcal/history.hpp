@@ -26,6 +26,9 @@ bool emit_json(Json j, bool json_out);
 void note_inputs(const std::vector<std::string>& inputs);
 void note_machine(const std::string& name);
 
+// Before the command runs, when recording: checks the --record value and opens the store
+// (created or migrated), so that a bad store fails first, as one line, before any work.
+void prepare_recording();
 // Stores the noted result of `command` when recording (one transaction), and says so on stderr
 // ("mtcal: recorded ID in STORE"). Called after the command ran and before its output files
 // appear; returns the new record's id (nullopt when not recording or a duplicate).

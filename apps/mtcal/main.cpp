@@ -439,6 +439,7 @@ int run_command(const std::vector<Command>& commands) {
         if (c.app->parsed()) {
           load_session_metadata();
           name = c.app->get_name();
+          prepare_recording();
           return c.run();
         }
       throw Error("no command");
