@@ -320,8 +320,10 @@ TrendResult fit_trend(std::vector<TrendSample> samples, const std::optional<Tole
     } else {
       // NIST/SEMATECH e-Handbook 4.1.4.1 (and Bevington & Robinson eq. (6.23)): s^2 = RSS / (n - 2),
       // u(rate) = s / sqrt(Sxx), u(level at the mean time) = s / sqrt(n).
-      const std::string why = zero_u.empty() ? std::string("not every sample states an uncertainty")
-                                             : "record " + printable(zero_u) + " states a zero uncertainty";
+      const bool none = std::none_of(samples.begin(), samples.end(), [](const auto& x) { return x.u.has_value(); });
+      const std::string why = !zero_u.empty() ? "record " + printable(zero_u) + " states a zero uncertainty"
+                              : none          ? std::string("no sample states an uncertainty")
+                                              : std::string("not every sample states an uncertainty");
       if (n >= 3) {
         const double s = std::sqrt(rss / dof);
         r.u_rate = s / std::sqrt(sxx);
@@ -471,6 +473,25 @@ std::vector<TrendSample> trend_samples(const std::vector<SeriesSample>& series) 
   for (const auto& s : series)
     out.push_back({parse_history_time(s.time, "record " + s.record_id), s.value, s.uncertainty, s.record_id});
   return out;
+}
+
+QuantityTrend trend_from_series(const std::string& quantity, bool figure, const std::vector<SeriesSample>& series,
+                                const std::optional<ToleranceBand>& band, const TrendOptions& o) {
+  QuantityTrend q;
+  q.quantity = quantity;
+  q.figure = figure;
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    if (i == 0) q.unit = series[i].unit;
+    if (series[i].unit != q.unit)
+      throw InputError({"record " + series[i].record_id, 0, quantity},
+                       printable(quantity) + " is in " + printable(q.unit) + " in record " +
+                           printable(series[0].record_id) + " but in " + printable(series[i].unit) + " in record " +
+                           printable(series[i].record_id) + ": a trend needs one unit");
+  }
+  q.samples = trend_samples(series);
+  std::stable_sort(q.samples.begin(), q.samples.end(), [](const auto& x, const auto& y) { return x.at < y.at; });
+  q.trend = fit_trend(q.samples, band, o, quantity);
+  return q;
 }
 
 }  // namespace mtcal

@@ -251,4 +251,24 @@ RecordDiff diff_records(const CalibrationRecord& first, const CalibrationRecord&
 // A store series as trend samples (times parsed with parse_history_time, located at the record).
 std::vector<TrendSample> trend_samples(const std::vector<SeriesSample>& series);
 
+// One quantity of one machine over time with its fit: what `history trend` gives per series.
+struct QuantityTrend {
+  std::string quantity, unit;
+  bool figure = false;               // an evaluation figure, else an identified parameter
+  std::vector<TrendSample> samples;  // in time order
+  TrendResult trend;
+};
+
+// The trend of a store series: samples in time order and fit_trend. Throws InputError naming the
+// quantity and the two records when the series changes its unit.
+QuantityTrend trend_from_series(const std::string& quantity, bool figure, const std::vector<SeriesSample>& series,
+                                const std::optional<ToleranceBand>& band = std::nullopt, const TrendOptions& o = {});
+
+// What the trend report and `history trend --json` show of one machine.
+struct MachineTrends {
+  std::string machine, serial;
+  std::vector<QuantityTrend> series;
+  std::vector<Event> events;  // in date order
+};
+
 }  // namespace mtcal
