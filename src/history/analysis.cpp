@@ -224,8 +224,15 @@ const char* to_string(CrossingStatus s) {
 
 double TrendResult::at(HistoryTime t) const { return level + rate_per_year * years_between(t_ref, t); }
 
-TrendResult fit_trend(std::vector<TrendSample> samples, const std::optional<ToleranceBand>& band, const TrendOptions& o,
-                      const std::string& quantity) {
+namespace {
+
+TrendResult fit_sorted(const std::vector<TrendSample>& samples, const std::optional<ToleranceBand>& band,
+                       const TrendOptions& o, bool weighted, const std::string& zero_u);
+
+}  // namespace
+
+TrendResult fit_trend(const std::vector<TrendSample>& samples, const std::optional<ToleranceBand>& band,
+                      const TrendOptions& o, const std::string& quantity) {
   if (!(o.coverage_factor > 0) || !std::isfinite(o.coverage_factor))
     throw InputError({"trend options", 0, "coverage_factor"}, "the coverage factor must be a number > 0");
   if (band) check_band(*band, quantity);
@@ -245,8 +252,17 @@ TrendResult fit_trend(std::vector<TrendSample> samples, const std::optional<Tole
       if (zero_u.empty()) zero_u = s.record;
     }
   }
-  std::stable_sort(samples.begin(), samples.end(), [](const auto& x, const auto& y) { return x.at < y.at; });
+  const auto earlier = [](const TrendSample& x, const TrendSample& y) { return x.at < y.at; };
+  if (std::is_sorted(samples.begin(), samples.end(), earlier)) return fit_sorted(samples, band, o, weighted, zero_u);
+  std::vector<TrendSample> sorted = samples;
+  std::stable_sort(sorted.begin(), sorted.end(), earlier);
+  return fit_sorted(sorted, band, o, weighted, zero_u);
+}
 
+namespace {
+
+TrendResult fit_sorted(const std::vector<TrendSample>& samples, const std::optional<ToleranceBand>& band,
+                       const TrendOptions& o, bool weighted, const std::string& zero_u) {
   TrendResult r;
   r.n = samples.size();
   r.band = band;
@@ -270,30 +286,36 @@ TrendResult fit_trend(std::vector<TrendSample> samples, const std::optional<Tole
     // Bevington & Robinson 2003 eq. (6.12) with weights w_i (1/u_i^2, or 1) and the time centred
     // at its weighted mean tm: rate = sum w (t - tm) y / Sxx, level = sum w y / W, and (6.21)-(6.22)
     // u(rate)^2 = 1 / Sxx, u(level)^2 = 1 / W for the weighted fit; Cov(level, rate) = 0.
-    std::vector<double> t(n), w(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      t[i] = years_between(origin, samples[i].at);
-      w[i] = weighted ? 1.0 / (*samples[i].u * *samples[i].u) : 1.0;
-    }
+    // Times and weights once per sample (a fleet ranking fits thousands of series: no allocation
+    // per fit once a thread's buffers have grown).
+    thread_local std::vector<double> t_buffer, w_buffer;
+    t_buffer.resize(n);
+    w_buffer.resize(n);
     double W = 0, tw = 0, yw = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      W += w[i];
-      tw += w[i] * t[i];
-      yw += w[i] * samples[i].value;
+      const double ti = years_between(origin, samples[i].at);
+      const double wi = weighted ? 1.0 / (*samples[i].u * *samples[i].u) : 1.0;
+      t_buffer[i] = ti;
+      w_buffer[i] = wi;
+      W += wi;
+      tw += wi * ti;
+      yw += wi * samples[i].value;
     }
+    const auto t = [&](std::size_t i) { return t_buffer[i]; };
+    const auto w = [&](std::size_t i) { return w_buffer[i]; };
     const double tm = tw / W, level = yw / W;
     double sxx = 0, sxy = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      const double dt = t[i] - tm;
-      sxx += w[i] * dt * dt;
-      sxy += w[i] * dt * (samples[i].value - level);
+      const double dt = t(i) - tm, wi = w(i);
+      sxx += wi * dt * dt;
+      sxy += wi * dt * (samples[i].value - level);
     }
     const double rate = sxy / sxx;
     double chi2 = 0, rss = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      const double res = samples[i].value - level - rate * (t[i] - tm);
+      const double res = samples[i].value - level - rate * (t(i) - tm);
       rss += res * res;
-      chi2 += w[i] * res * res;
+      chi2 += w(i) * res * res;
     }
     r.kind = weighted ? TrendFitKind::Weighted : TrendFitKind::Ordinary;
     r.t_ref = *time_at(origin, tm);
@@ -383,16 +405,16 @@ TrendResult fit_trend(std::vector<TrendSample> samples, const std::optional<Tole
   return r;
 }
 
+}  // namespace
+
 // ---------------------------------------------------------------------------------------------
 
 FleetRanking rank_fleet(const std::vector<RankSeries>& series, const RankOptions& o) {
   std::vector<TrendResult> fits(series.size());
-  for (const auto& s : series) {
+  for (const auto& s : series)
     if (s.samples.empty())
       throw InputError({s.machine, 0, s.quantity},
                        "machine " + printable(s.machine) + ": no samples of " + printable(s.quantity));
-    check_band(s.band, s.machine + " " + s.quantity);
-  }
   parallel_for(series.size(), o.threads, [&](std::size_t i, std::size_t) {
     fits[i] = fit_trend(series[i].samples, series[i].band, o.trend, series[i].machine + " " + series[i].quantity);
   });

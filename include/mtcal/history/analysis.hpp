@@ -182,7 +182,7 @@ struct TrendResult {
 // without stated uncertainties: a rate without uncertainty. With a band: the predicted date the
 // line leaves it (see LimitCrossing). `quantity` names the series in errors: a non-finite
 // value or a negative uncertainty throws InputError naming the quantity and the record.
-TrendResult fit_trend(std::vector<TrendSample> samples, const std::optional<ToleranceBand>& band = std::nullopt,
+TrendResult fit_trend(const std::vector<TrendSample>& samples, const std::optional<ToleranceBand>& band = std::nullopt,
                       const TrendOptions& o = {}, const std::string& quantity = "quantity");
 
 // ---------------------------------------------------------------------------------------------
