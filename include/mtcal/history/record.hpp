@@ -32,6 +32,7 @@ struct RecordedFigure {
   std::string name;
   double value = 0;
   std::string unit;
+  std::optional<double> uncertainty;  // where the result states one (ISO 230-9 estimates)
   friend bool operator==(const RecordedFigure&, const RecordedFigure&) = default;
 };
 

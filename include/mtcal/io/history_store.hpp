@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "mtcal/history/record.hpp"
+#include "mtcal/io/sha256.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -105,10 +106,5 @@ std::string event_to_json_line(const Event& e);
 CalibrationRecord record_from_result(const std::string& command, const std::string& result_json,
                                      const std::map<std::string, std::string>& metadata, std::vector<InputHash> inputs,
                                      const std::string& source = "result");
-
-// SHA-256 (FIPS 180-4) of bytes / of a file's content (InputError when the file cannot be read),
-// lowercase hex.
-std::string sha256_hex(std::string_view bytes);
-std::string sha256_file(const std::string& path);
 
 }  // namespace mtcal

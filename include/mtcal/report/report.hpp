@@ -10,6 +10,7 @@
 
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/evaluation/metadata.hpp"
+#include "mtcal/io/sha256.hpp"
 
 namespace mtcal {
 
@@ -68,8 +69,6 @@ class Report {
 std::string html_escape(std::string_view s);
 // JSON text safe inside a <script> element ("</" and "<!--" cannot end it).
 std::string script_safe_json(const nlohmann::json& j);
-// SHA-256 of bytes, lowercase hex (FIPS 180-4).
-std::string sha256_hex(std::string_view bytes);
 // The Plotly library bundled at build time (plotly.js-dist-min from npm).
 std::string_view plotly_js();
 // Plotly layout of a 3D scene in machine coordinates: x, y, z in mm at true aspect, no legend.
