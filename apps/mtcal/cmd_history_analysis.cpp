@@ -401,7 +401,7 @@ std::vector<Command> add_history_analysis_commands(CLI::App& history) {
       "diff",
       "What changed between two calibrations, parameter by parameter: change = x2 - x1 with u = sqrt(u1² + u2²) "
       "(GUM), E_n = change / sqrt(U1² + U2²) with U = 2u; significant when |E_n| > 1; a parameter without "
-      "uncertainty is 'not assessable'; figures the same (they state no uncertainty)");
+      "uncertainty is 'not assessable'; figures the same (most state no uncertainty)");
   diff->add_option("ID1", d->first, "The earlier record's id (mtcal history list)")->required();
   diff->add_option("ID2", d->second, "The later record's id")->required();
   diff->add_option("--store", d->store, store_help);

@@ -353,6 +353,12 @@ std::vector<Command> add_commands(CLI::App& app) {
                     add_volumetric_commands, add_toolpath_commands, add_compensation_commands, add_prediction_commands,
                     add_identification_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
+  // history: the calibration history store and its analyses (docs/history.md).
+  auto* history = app.add_subcommand("history",
+                                     "Calibration history: what changed between calibrations (diff), drift over time "
+                                     "(trend), the fleet ranked by how far it is from tolerance (rank)");
+  history->require_subcommand(1);
+  for (auto& c : add_history_analysis_commands(*history)) all.push_back(std::move(c));
   // --precision on every command: the digits of the numbers it writes to CSV files and prints
   // unrounded (JSON always carries every double exactly).
   for (auto* sub : app.get_subcommands({}))

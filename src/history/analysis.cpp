@@ -475,7 +475,7 @@ std::vector<HistoryQuantity> parameter_quantities(const CalibrationRecord& r) {
 
 std::vector<HistoryQuantity> figure_quantities(const CalibrationRecord& r) {
   std::vector<HistoryQuantity> out;
-  for (const auto& f : r.figures) out.push_back({f.name, f.value, std::nullopt, f.unit});
+  for (const auto& f : r.figures) out.push_back({f.name, f.value, f.uncertainty, f.unit});
   return out;
 }
 

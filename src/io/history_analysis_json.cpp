@@ -131,17 +131,34 @@ Json to_json(const FleetRanking& r) {
 
 std::map<std::string, ToleranceBand> history_figure_bands(const ToleranceFile& f,
                                                           const std::vector<std::string>& axes) {
+  // The names record_from_result gives the figures (docs/history.md, "What is recorded") and
+  // which acceptance quantity limits each (docs/reports.md, "Tolerances and the verdict").
   std::map<std::string, ToleranceBand> out;
-  auto add = [&](const Tolerances& t, const std::string& suffix) {
+  auto iso230_2 = [&](const Tolerances& t, const std::string& suffix) {
     for (const auto& [q, limit] : t.limits) out[q + suffix] = ToleranceBand::at_most(limit);
   };
   for (const auto& [axis, t] : f.iso230_2)
-    if (axis != "any") add(t, "_" + axis);
-  if (const auto any = f.iso230_2.find("any"); any != f.iso230_2.end())
+    if (axis != "any") iso230_2(t, "_" + axis);
+  if (const auto any = f.iso230_2.find("any"); any != f.iso230_2.end()) {
     for (const auto& axis : axes)
-      if (!f.iso230_2.count(axis)) add(any->second, "_" + axis);
-  add(f.iso230_4, "");
-  add(f.volumetric, "");
+      if (!f.iso230_2.count(axis)) iso230_2(any->second, "_" + axis);
+    iso230_2(any->second, "");  // results recorded without an axis
+  }
+  // ISO 230-4:2005: G limits G(b) and each direction's G; F limits |F max| and |F min|; H.
+  for (const auto& [q, limit] : f.iso230_4.limits) {
+    if (q == "G")
+      for (const char* name : {"G_b", "G_cw", "G_ccw"}) out[name] = ToleranceBand::at_most(limit);
+    else if (q == "F")
+      for (const char* name : {"F_max", "F_min"}) out[name] = ToleranceBand::symmetric(limit);
+    else
+      out[q] = ToleranceBand::at_most(limit);
+  }
+  // Volumetric accuracy VA and its components (recorded as va, va_x, va_y, va_z).
+  for (const auto& [q, limit] : f.volumetric.limits) {
+    std::string name = "va";
+    if (q.size() == 3) name += std::string("_") + static_cast<char>(q[2]);
+    out[name] = ToleranceBand::at_most(limit);
+  }
   return out;
 }
 

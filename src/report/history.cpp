@@ -121,9 +121,13 @@ json series_plot(const QuantityTrend& q, const std::vector<Event>& events, std::
   const LimitCrossing& c = t.crossing;
   const bool show_crossing = c.status == CrossingStatus::Predicted && c.date && c.years_from_last &&
                              *c.years_from_last <= std::max(3.0 * span_years, 5.0);
-  if (show_crossing) end = std::max(end, *c.date);
+  if (show_crossing) {
+    end = std::max(end, *c.date);
+    // The whole interval when its late end is near too: the slow line is seen reaching the limit.
+    if (c.latest && *c.latest <= after_last(std::max(3.0 * span_years, 5.0))) end = std::max(end, *c.latest);
+  }
   if (t.kind != TrendFitKind::None) end = std::max(end, after_last(0.1 * span_years));
-  const HistoryTime fit_end = show_crossing ? std::max(*c.date, t.last) : end;
+  const HistoryTime fit_end = end;
 
   if (t.kind != TrendFitKind::None) {
     data.push_back({{"type", "scatter"},

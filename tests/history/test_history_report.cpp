@@ -118,15 +118,28 @@ TEST(HistoryJson, ToleranceFileBecomesFigureBands) {
   f.iso230_2["any"].set("A", 20);
   f.iso230_2["any"].set("E", 12);
   f.iso230_4.set("G", 15);
+  f.iso230_4.set("F", 10);
+  f.iso230_4.set("H", 6);
   f.volumetric.set("VA", 30);
+  f.volumetric.set("VAz", 12);
   const auto b = history_figure_bands(f, {"X", "Y"});
   EXPECT_EQ(b.at("A_X").hi, 16.0);  // the axis' own limit wins over "any"
   EXPECT_FALSE(b.count("E_X"));     // X lists its own quantities: "any" does not fill them in
   EXPECT_EQ(b.at("A_Y").hi, 20.0);
   EXPECT_EQ(b.at("E_Y").hi, 12.0);
-  EXPECT_TRUE(b.at("G").one_sided());
-  EXPECT_EQ(b.at("VA").hi, 30.0);
-  EXPECT_EQ(b.size(), 5u);
+  EXPECT_EQ(b.at("A").hi, 20.0);  // a result recorded without an axis
+  EXPECT_EQ(b.at("E").hi, 12.0);
+  // ISO 230-4: G(b) and each direction's G at most 15; |F max|, |F min| at most 10; H at most 6.
+  for (const char* g : {"G_b", "G_cw", "G_ccw"}) {
+    EXPECT_TRUE(b.at(g).one_sided()) << g;
+    EXPECT_EQ(b.at(g).hi, 15.0) << g;
+  }
+  EXPECT_EQ(b.at("F_min").lo, -10.0);
+  EXPECT_EQ(b.at("F_max").hi, 10.0);
+  EXPECT_EQ(b.at("H").hi, 6.0);
+  EXPECT_EQ(b.at("va").hi, 30.0);
+  EXPECT_EQ(b.at("va_z").hi, 12.0);
+  EXPECT_EQ(b.size(), 13u);
 }
 
 TEST(HistoryReport, TimelinesBandsEventsAndMetadata) {

@@ -237,7 +237,7 @@ FleetRanking rank_fleet(const std::vector<RankSeries>& series, const RankOptions
 // ---------------------------------------------------------------------------------------------
 // From store records
 
-// The parameters (with their uncertainty) and, separately, the figures (no uncertainty) of a record.
+// The parameters and, separately, the figures of a record, with their uncertainties where stated.
 std::vector<HistoryQuantity> parameter_quantities(const CalibrationRecord& r);
 std::vector<HistoryQuantity> figure_quantities(const CalibrationRecord& r);
 

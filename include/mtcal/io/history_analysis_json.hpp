@@ -29,10 +29,11 @@ Json to_json(const MachineTrends& m);
 // unit, latest, latest_at, tolerance, utilisation, rate_per_year, u_rate_per_year, crossing}]}]}.
 Json to_json(const FleetRanking& r);
 
-// The limits of a tolerance file (docs/reports.md) as bands of the figures a history records
-// (value <= limit): ISO 230-2 quantity Q of axis X as figure "Q_X" (the section "any" for every
-// axis in `axes` the file does not list), ISO 230-4 and volumetric quantities under their own
-// names (G, F, H, VA, VAx ...). Values in µm, as the file's were converted.
+// The limits of a tolerance file (docs/reports.md) as bands of the figures record_from_result
+// names (docs/history.md): ISO 230-2 quantity Q of axis X limits figure "Q_X" (the section "any"
+// every axis in `axes` the file does not list, and "Q" recorded without an axis), value <= limit;
+// ISO 230-4 G limits G_b, G_cw, G_ccw, F limits |F_max| and |F_min|, H limits H; volumetric VA
+// limits va, VAx va_x .... Values in µm, as the file's were converted.
 std::map<std::string, ToleranceBand> history_figure_bands(const ToleranceFile& f, const std::vector<std::string>& axes);
 
 }  // namespace mtcal
