@@ -161,8 +161,8 @@ TEST(HistoryDiff, RecordsGiveParameterAndFigureDiffs) {
   r2.id = "12";
   r1.parameters = {{"EC0Y", 20, 2.0, "urad"}};
   r2.parameters = {{"EC0Y", 30, 2.0, "urad"}};
-  r1.figures = {{"A_X", 12, "um"}};
-  r2.figures = {{"A_X", 14, "um"}};
+  r1.figures = {{"A_X", 12, "um", std::nullopt}, {"B_X", 5, "um", 0.5}};
+  r2.figures = {{"A_X", 14, "um", std::nullopt}, {"B_X", 8, "um", 0.5}};
   const RecordDiff d = diff_records(r1, r2);
   EXPECT_EQ(d.first, "11");
   // delta 10, u = 2 sqrt 2, E_n = 10 / (4 sqrt 2) = 1.7677670.
@@ -171,6 +171,10 @@ TEST(HistoryDiff, RecordsGiveParameterAndFigureDiffs) {
   EXPECT_DOUBLE_EQ(*d.figures.changes[0].delta, 2.0);
   EXPECT_EQ(d.figures.changes[0].verdict, ChangeVerdict::NotAssessable);
   EXPECT_EQ(d.figures.changes[0].reason, "no uncertainty in either calibration");
+  // A figure that states u is judged like a parameter: delta 3, u = sqrt(0.5) = 0.7071068, E_n = 3 / 1.4142136
+  // = 2.1213203.
+  EXPECT_NEAR(*d.figures.changes[1].en, 2.1213203, 1e-7);
+  EXPECT_EQ(d.figures.changes[1].verdict, ChangeVerdict::Significant);
 }
 
 // ---------------------------------------------------------------------------------------------
