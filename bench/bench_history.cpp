@@ -1,112 +1,175 @@
-// Benchmarks of the history analysis (issue 19: `trend` over 10 years of monthly calibrations of
-// 1,000 machines, 120,000 records, <= 1 s): the fleet ranking's drift fits (closed-form centred
-// least squares, rank_fleet) against a generic least-squares baseline (Eigen's column-pivoting
-// Householder QR per series and the covariance from the inverse normal matrix) in the same run.
-#include <algorithm>
-#include <cmath>
-#include <random>
-#include <vector>
+// Benchmarks of the calibration history store (issue 19) on SQLite and on PostgreSQL:
+//  - recording one result (one transaction, durable: SQLite synchronous=FULL, PostgreSQL with its
+//    default fsync), against the baseline of writing the same result JSON to a file and fsync-ing
+//    it (what any command's --out costs at least); target <= 10 ms;
+//  - the trend queries over 120,000 records (1,000 machines x 10 years of monthly calibrations,
+//    6 parameters and 4 figures each): one machine's parameter series, and the fleet-wide latest
+//    value per machine; target <= 1 s.
+// Run: mtcal_bench_history --benchmark_min_time=0.2 (the 120,000 records are made once per
+// backend, about 10 s for SQLite and 30 s for PostgreSQL; the PostgreSQL server is started in a
+// temporary folder like the tests' and stopped at the end; its benchmarks are skipped, with the
+// reason, where the server cannot be started).
+#include <fcntl.h>
+#include <unistd.h>
 
-#include <Eigen/Dense>
+#include <filesystem>
+#include <memory>
+#include <string>
+
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
-#include "mtcal/history/analysis.hpp"
+#include "mtcal/io/history_store.hpp"
+#include "pg_server.hpp"
 
 namespace {
 
 using namespace mtcal;
 
-// machines x months: a squareness-like parameter drifting 0 ... 3 urad/year from a random start,
-// 1.5 urad noise, each calibration stating u = 1.5 urad (or none: the ordinary fit).
-std::vector<RankSeries> fleet(std::size_t machines, std::size_t months, bool with_u) {
-  std::mt19937_64 gen(42);
-  std::uniform_real_distribution<double> start(-20, 20), rate(0, 3);
-  std::normal_distribution<double> noise(0, 1.5);
-  const HistoryTime t0 = parse_history_time("2016-01-01");
-  std::vector<RankSeries> out;
-  for (std::size_t m = 0; m < machines; ++m) {
-    RankSeries s{"M" + std::to_string(m), "EC0Y", "urad", {}, ToleranceBand::symmetric(60)};
-    const double a = start(gen), b = rate(gen);
-    for (std::size_t k = 0; k < months; ++k) {
-      const double years = static_cast<double>(k) / 12.0;
-      const auto at = t0 + std::chrono::seconds(std::llround(years * kSecondsPerYear));
-      s.samples.push_back({at, a + b * years + noise(gen), with_u ? std::optional<double>(1.5) : std::nullopt,
-                           std::to_string(m * months + k)});
-    }
-    out.push_back(std::move(s));
-  }
-  return out;
+constexpr int kMachines = 1000, kMonths = 120;
+
+// An ISO 230-2-like result of about 3 kB and an identification's parameters.
+CalibrationRecord result(int machine, int month, int salt) {
+  CalibrationRecord r;
+  r.machine_name = fmt::format("M{:04}", machine);
+  r.machine_serial = fmt::format("SN{:06}", machine);
+  r.command = "identify";
+  r.measured_at = fmt::format("{:04}-{:02}-15", 2016 + month / 12, month % 12 + 1);
+  r.metadata = {{"operator", "A. Smith"},
+                {"temperature", "20.1 °C"},
+                {"instrument", "XL-80 #1234"},
+                {"date", r.measured_at}};
+  r.inputs = {{"plan.csv", sha256_hex(fmt::format("{}-{}-{}", machine, month, salt))}};
+  const double drift = 0.01 * month + 0.001 * machine;
+  r.parameters = {{"EXX", 1 + drift, 0.2, "um"}, {"EYY", 2 - drift, 0.2, "um"}, {"EC0Y", 1e-5 * drift, 1e-6, "rad"},
+                  {"EB0Z", -3e-5, 1e-6, "rad"},  {"EX0C", 0.003, 0.0002, "mm"}, {"EY0C", -0.004, 0.0002, "mm"}};
+  r.figures = {{"VA", 20 + drift, "um", std::nullopt},
+               {"A_X", 14 + drift, "um", std::nullopt},
+               {"E_X", 11 + drift, "um", std::nullopt},
+               {"G", 25 + drift, "um", std::nullopt}};
+  std::string targets;
+  for (int t = 0; t < 21; ++t)
+    targets += fmt::format(R"({}{{"target":{},"mean_up":{},"mean_down":{},"B":{},"R":{}}})", t ? "," : "", t * 50.0,
+                           1e-3 * t, 2e-3 * t, -3e-3, 7e-3);
+  r.result_json = fmt::format(R"({{"A":{},"E":{},"salt":{},"targets":[{}]}})", 0.014, 0.011, salt, targets);
+  return r;
 }
 
-struct BaselineFit {
-  double rate, u_rate, years_to_limit;
+struct Fixture {
+  std::unique_ptr<testing::PgServer> server;
+  std::string conn, why;
 };
 
-// The same weighted straight line by a general least-squares solver, per series, then sorted by
-// the share of the tolerance used: what one would write without the centred closed form.
-std::vector<BaselineFit> baseline_rank(const std::vector<RankSeries>& series) {
-  std::vector<BaselineFit> out;
-  std::vector<std::pair<double, std::size_t>> order;
-  for (std::size_t i = 0; i < series.size(); ++i) {
-    const auto& s = series[i];
-    const auto n = static_cast<Eigen::Index>(s.samples.size());
-    Eigen::MatrixXd a(n, 2);
-    Eigen::VectorXd y(n);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const auto& x = s.samples[static_cast<std::size_t>(k)];
-      const double w = x.u ? 1.0 / *x.u : 1.0;
-      a(k, 0) = w;
-      a(k, 1) = w * static_cast<double>((x.at - s.samples.front().at).count()) / kSecondsPerYear;
-      y(k) = w * x.value;
-    }
-    const Eigen::Vector2d p = a.colPivHouseholderQr().solve(y);
-    const Eigen::Matrix2d cov = (a.transpose() * a).inverse();
-    const double t_last = a(n - 1, 1) / a(n - 1, 0);
-    const double limit = p(1) > 0 ? s.band.hi : s.band.lo;
-    out.push_back({p(1), std::sqrt(cov(1, 1)), (limit - p(0)) / p(1) - t_last});
-    order.emplace_back(band_utilisation(s.samples.back().value, s.band), i);
+Fixture& sqlite_fixture(bool filled) {
+  static Fixture empty, full;
+  Fixture& f = filled ? full : empty;
+  if (f.conn.empty()) {
+    const auto dir = std::filesystem::temp_directory_path() / fmt::format("mtcal-bench-history-{}", ::getpid());
+    std::filesystem::create_directories(dir);
+    f.conn = "sqlite:" + (dir / (filled ? "full.db" : "empty.db")).string();
   }
-  std::stable_sort(order.begin(), order.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-  benchmark::DoNotOptimize(order.data());
-  return out;
+  return f;
 }
 
-void BM_HistoryRank(benchmark::State& state) {
-  const auto series = fleet(static_cast<std::size_t>(state.range(0)), 120, state.range(1) != 0);
-  RankOptions o;
-  o.threads = 1;
-  // The two must agree before either is timed: the same rates, and for the weighted fit the same
-  // u(rate) from the stated uncertainties (without the Birge-ratio scaling the baseline lacks).
-  RankOptions same = o;
-  same.trend.inflate_by_birge_ratio = false;
-  const auto check = rank_fleet(series, same);
-  const auto base = baseline_rank(series);
-  for (const auto& m : check.machines) {
-    const auto& t = m.quantities[0].trend;
-    const BaselineFit& b = base[std::stoul(m.machine.substr(1))];
-    if (std::abs(t.rate_per_year - b.rate) > 1e-9 || (state.range(1) && std::abs(*t.u_rate - b.u_rate) > 1e-9)) {
-      state.SkipWithError("rank_fleet and the QR baseline disagree");
-      return;
+Fixture& pg_fixture() {
+  static Fixture f = [] {
+    Fixture x;
+    x.server = std::make_unique<testing::PgServer>(/*fsync=*/true);
+    if (!x.server->available()) {
+      x.why = x.server->why();
+      return x;
+    }
+    x.conn = x.server->create_database("bench");
+    return x;
+  }();
+  return f;
+}
+
+void fill(HistoryStore& s) {
+  if (!s.list({"M0000", "", "", ""}).empty()) return;
+  std::vector<CalibrationRecord> batch;
+  for (int m = 0; m < kMachines; ++m) {
+    for (int k = 0; k < kMonths; ++k) batch.push_back(result(m, k, 0));
+    if (batch.size() >= 12'000) {
+      s.record_all(std::move(batch));
+      batch.clear();
     }
   }
-  for (auto _ : state) benchmark::DoNotOptimize(rank_fleet(series, o).machines.data());
-  state.counters["samples"] = static_cast<double>(state.range(0) * 120);
+  if (!batch.empty()) s.record_all(std::move(batch));
 }
-BENCHMARK(BM_HistoryRank)->Args({1000, 1})->Args({1000, 0})->Unit(benchmark::kMillisecond);
 
-void BM_HistoryRank_QR_Baseline(benchmark::State& state) {
-  const auto series = fleet(static_cast<std::size_t>(state.range(0)), 120, true);
-  for (auto _ : state) benchmark::DoNotOptimize(baseline_rank(series).data());
-  state.counters["samples"] = static_cast<double>(state.range(0) * 120);
+std::string connection(benchmark::State& state, bool pg, bool filled) {
+  if (!pg) return sqlite_fixture(filled).conn;
+  auto& f = pg_fixture();
+  if (f.conn.empty()) state.SkipWithError(("PostgreSQL benchmarks skipped: " + f.why).c_str());
+  return f.conn;
 }
-BENCHMARK(BM_HistoryRank_QR_Baseline)->Arg(1000)->Unit(benchmark::kMillisecond);
 
-// One machine's trend (the work of `history trend` after the store's query): 120 samples.
-void BM_HistoryTrend_120(benchmark::State& state) {
-  const auto series = fleet(1, 120, true);
-  const auto band = std::optional<ToleranceBand>(series[0].band);
-  for (auto _ : state) benchmark::DoNotOptimize(fit_trend(series[0].samples, band).rate_per_year);
+// Baseline: the result's JSON written to a new file and fsync-ed.
+void BM_History_Baseline_WriteFileFsync(benchmark::State& state) {
+  const auto path = std::filesystem::temp_directory_path() / fmt::format("mtcal-bench-history-{}.json", ::getpid());
+  const std::string text = result(0, 0, 0).result_json;
+  for (auto _ : state) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0 || ::write(fd, text.data(), text.size()) != static_cast<ssize_t>(text.size()) || ::fsync(fd) != 0)
+      state.SkipWithError("cannot write the baseline file");
+    ::close(fd);
+  }
+  std::filesystem::remove(path);
 }
-BENCHMARK(BM_HistoryTrend_120)->Unit(benchmark::kMicrosecond);
+
+void BM_History_RecordOne(benchmark::State& state) {
+  const bool pg = state.range(0) == 1;
+  const std::string conn = connection(state, pg, false);
+  if (conn.empty()) return;
+  auto store = open_history_store(conn);
+  int salt = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(store->record(result(1, 1, ++salt)));
+  state.SetLabel(pg ? "PostgreSQL (fsync on)" : "SQLite (WAL, synchronous=FULL)");
+}
+
+void BM_History_ParameterSeries(benchmark::State& state) {
+  const bool pg = state.range(0) == 1;
+  const std::string conn = connection(state, pg, true);
+  if (conn.empty()) return;
+  auto store = open_history_store(conn);
+  fill(*store);
+  int m = 0;
+  std::size_t n = 0;
+  for (auto _ : state) {
+    const auto s = store->parameter_series(fmt::format("M{:04}", (m += 37) % kMachines), "EXX");
+    n = s.size();
+    benchmark::DoNotOptimize(s.data());
+  }
+  state.counters["samples"] = static_cast<double>(n);
+  state.SetLabel(pg ? "PostgreSQL, 120,000 records" : "SQLite, 120,000 records");
+}
+
+void BM_History_FleetLatest(benchmark::State& state) {
+  const bool pg = state.range(0) == 1;
+  const std::string conn = connection(state, pg, true);
+  if (conn.empty()) return;
+  auto store = open_history_store(conn);
+  fill(*store);
+  std::size_t n = 0;
+  for (auto _ : state) {
+    const auto l = store->latest_parameter("EXX");
+    n = l.size();
+    benchmark::DoNotOptimize(l.data());
+  }
+  state.counters["machines"] = static_cast<double>(n);
+  state.SetLabel(pg ? "PostgreSQL, 120,000 records" : "SQLite, 120,000 records");
+}
+
+void backends(benchmark::internal::Benchmark* b) {
+  b->ArgName("postgresql")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK(BM_History_Baseline_WriteFileFsync)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_History_RecordOne)->Apply(backends);
+BENCHMARK(BM_History_ParameterSeries)->Apply(backends);
+BENCHMARK(BM_History_FleetLatest)->Apply(backends);
 
 }  // namespace
+
+BENCHMARK_MAIN();

@@ -1,6 +1,5 @@
 // mtcal history diff | trend | rank: what changed, drift over time, and the fleet ranked, from the history store.
 #include <algorithm>
-#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -10,6 +9,7 @@
 
 #include "acceptance.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/history/analysis.hpp"
 #include "mtcal/io/acceptance_files.hpp"
@@ -31,16 +31,8 @@ std::string with_u(const std::optional<double>& v, const std::optional<double>& 
 // ---------------------------------------------------------------------------------------------
 // The store and the tolerances
 
-std::unique_ptr<HistoryStore> open_store(const std::string& option) {
-  std::string connection = option;
-  if (connection.empty())
-    if (const char* env = std::getenv("MTCAL_HISTORY")) connection = env;
-  if (connection.empty())
-    throw InputError({"--store", 0, ""},
-                     "no history store: give --store PATH (SQLite) or --store postgresql://... , or set "
-                     "MTCAL_HISTORY");
-  return open_history_store(connection);
-}
+// --store, else $MTCAL_HISTORY, else history.store of the configuration file (cmd_history.cpp).
+std::unique_ptr<HistoryStore> open_store(const std::string& option) { return open_cli_store(option); }
 
 // "Q=V" (|value| <= V for a parameter, value <= V for a figure) or "Q=LO:HI", in the quantity's unit.
 struct ToleranceSpec {
@@ -394,8 +386,8 @@ int run_rank(const RankCliOptions& o) {
 
 std::vector<Command> add_history_analysis_commands(CLI::App& history) {
   const char* store_help =
-      "The history store: a SQLite file or a postgresql:// connection string (default: the environment variable "
-      "MTCAL_HISTORY)";
+      "The history store: a SQLite file, sqlite:PATH or postgresql://user@host/db; default $MTCAL_HISTORY, then "
+      "history.store in the configuration file";
   auto d = std::make_shared<DiffCliOptions>();
   auto* diff = history.add_subcommand(
       "diff",

@@ -11,6 +11,7 @@
 #include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/evaluation/diagonals.hpp"
 #include "mtcal/evaluation/volumetric_study.hpp"
 #include "mtcal/io/error_csv.hpp"
@@ -199,16 +200,15 @@ int run_volumetric(const VolumetricOptions& o) {
   if (!o.report.empty())
     write_volumetric_report(o.report, model, map, study, o.box, sources(o.model, o.source), verdict);
   warn_missing_metadata(AcceptanceTest::Volumetric, o.tol.given());
-  if (!o.json_out) {
-    print_volumetric(o, m, map, study, t_map);
-    print_verdict(verdict);
-    return verdict_exit_code(o.tol, verdict);
+  if (o.json_out || recording()) {
+    Json j = to_json(m, map, study, t_map);
+    if (!verdict.empty()) j["tolerances"] = to_json(verdict);
+    if (!o.out.empty()) j["out"] = o.out;
+    if (!o.report.empty()) j["report"] = o.report;
+    if (emit_json(j, o.json_out)) return verdict_exit_code(o.tol, verdict);
   }
-  Json j = to_json(m, map, study, t_map);
-  if (!verdict.empty()) j["tolerances"] = to_json(verdict);
-  if (!o.out.empty()) j["out"] = o.out;
-  if (!o.report.empty()) j["report"] = o.report;
-  print_json(j);
+  print_volumetric(o, m, map, study, t_map);
+  print_verdict(verdict);
   return verdict_exit_code(o.tol, verdict);
 }
 

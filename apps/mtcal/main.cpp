@@ -31,6 +31,7 @@
 #include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
+#include "history.hpp"
 
 using namespace mtcal;
 using namespace mtcal::cli;
@@ -351,14 +352,10 @@ std::vector<Command> add_commands(CLI::App& app) {
   std::vector<Command> all{add_eval_command(app), add_errors_command(app), add_effects_command(app)};
   for (auto* add : {add_probing_commands, add_evaluation_commands, add_fit_motion_commands, add_compare_commands,
                     add_volumetric_commands, add_toolpath_commands, add_compensation_commands, add_prediction_commands,
-                    add_identification_commands})
+                    add_identification_commands, add_history_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
-  // history: the calibration history store and its analyses (docs/history.md).
-  auto* history = app.add_subcommand("history",
-                                     "Calibration history: what changed between calibrations (diff), drift over time "
-                                     "(trend), the fleet ranked by how far it is from tolerance (rank)");
-  history->require_subcommand(1);
-  for (auto& c : add_history_analysis_commands(*history)) all.push_back(std::move(c));
+  // history diff, trend, rank beside the store's list, show, import, export, event add.
+  for (auto& c : add_history_analysis_commands(*history_app())) all.push_back(std::move(c));
   // --precision on every command: the digits of the numbers it writes to CSV files and prints
   // unrounded (JSON always carries every double exactly).
   for (auto* sub : app.get_subcommands({}))
@@ -438,18 +435,29 @@ int run_command(const std::vector<Command>& commands) {
   try {
     // Every file the command writes appears at the end, all together, or none does.
     OutputGroup outputs;
+    std::string name;
     const int rc = [&] {
       for (const auto& c : commands)
         if (c.app->parsed()) {
           load_session_metadata();
           load_static_copies(*c.app);
+          name = c.app->get_name();
+          prepare_recording();
           return c.run();
         }
       throw Error("no command");
     }();
     std::cout.flush();
     if (!std::cout) throw Error("cannot write the results to standard output");
-    outputs.commit();
+    // The record is part of the command's all-or-none output: stored (one transaction) only when
+    // the command succeeded, taken out again if its files then cannot be put in place.
+    const auto recorded = record_result(name);
+    try {
+      outputs.commit();
+    } catch (...) {
+      if (recorded) unrecord(*recorded);
+      throw;
+    }
     return rc;
   } catch (const LimitError& e) {
     std::cerr << "mtcal: error: " << one_line(e.what()) << " (" << limit_option(static_cast<int>(e.limit()))
@@ -485,6 +493,7 @@ int main(int argc, char** argv) {
   bool verbose = false;
   app.add_flag("--verbose", verbose, "Let the nonlinear solver (Ceres) log to stderr; quiet otherwise");
   add_limit_options(app);
+  add_record_options(app);
   const std::vector<Command> commands = add_commands(app);
   // After the commands: they would inherit it.
   app.footer(

@@ -77,7 +77,7 @@ class SqlHistoryStore : public HistoryStore {
 
  private:
   std::vector<SeriesSample> series(const char* table, const std::string& machine, const std::string& name);
-  std::vector<LatestValue> latest(const char* table, const std::string& name);
+  std::vector<LatestValue> latest(const char* kind, const std::string& name);
   void insert_rows(const std::string& head, std::size_t columns, const std::vector<SqlParam>& values,
                    const std::string& tail = {});
   std::vector<CalibrationRecord> load_records(const std::string& where, const std::vector<SqlParam>& params);

@@ -278,21 +278,33 @@ CalibrationRecord record_from_result(const std::string& command, const std::stri
                      "expected a command's JSON result (an object), found " + std::string(j.type_name()));
   CalibrationRecord r;
   r.command = command;
-  r.metadata = metadata;
+  // The result's own "metadata" (an instrument file's header, the user's --meta) under the
+  // metadata given here, which wins.
+  if (j.contains("metadata") && j["metadata"].is_object())
+    for (const auto& [k, v] : j["metadata"].items())
+      if (v.is_string()) r.metadata[k] = v.get<std::string>();
+  for (const auto& [k, v] : metadata) r.metadata[k] = v;
   r.inputs = std::move(inputs);
   r.result_json = j.dump();
-  if (const auto it = metadata.find("machine"); it != metadata.end())
+  if (const auto it = r.metadata.find("machine"); it != r.metadata.end())
     r.machine_name = it->second;
   else if (j.contains("machine") && j["machine"].is_string())
     r.machine_name = j["machine"].get<std::string>();
-  if (const auto it = metadata.find("serial"); it != metadata.end()) r.machine_serial = it->second;
-  if (const auto it = metadata.find("date"); it != metadata.end()) r.measured_at = it->second;
+  if (const auto it = r.metadata.find("serial"); it != r.metadata.end()) r.machine_serial = it->second;
+  if (const auto it = r.metadata.find("date"); it != r.metadata.end()) {
+    if (!is_iso8601(it->second))
+      throw InputError({source, 0, "metadata date"},
+                       "expected the test date as ISO 8601 (2026-11-25 or "
+                       "2026-11-25T10:30:00Z) to place the result in time, found '" +
+                           printable(it->second) + "'");
+    r.measured_at = it->second;
+  }
   const std::string unit = unit_of(j);
   for (const char* key : {"parameters", "diagnostics", "estimates"})
     if (j.contains(key)) take_parameters(j[key], r.parameters, unit);
   // The axis an ISO 230-2 figure belongs to: metadata "axis", so that A of X and of Y differ ("A_X").
   std::string suffix;
-  if (const auto it = metadata.find("axis"); it != metadata.end()) suffix = "_" + it->second;
+  if (const auto it = r.metadata.find("axis"); it != r.metadata.end()) suffix = "_" + it->second;
   for (const auto& fk : figure_keys()) {
     if (command != fk.command) continue;
     for (const char* key : fk.keys)

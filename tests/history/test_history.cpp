@@ -190,6 +190,19 @@ TEST_P(Store, SeriesAndFleetLatest) {
   EXPECT_EQ(latest[1].sample.value, 7.0);
   EXPECT_EQ(store_->latest_figure("VA")[1].sample.value, 17.0);
   EXPECT_TRUE(store_->latest_figure("nothing").empty());
+  // An older calibration recorded later does not replace the latest; removing the latest brings
+  // back the one before.
+  store_->record(sample("M1", "2025-06-01", 9.0, 5));
+  EXPECT_EQ(store_->latest_parameter("EXX")[0].sample.value, 3.0);
+  const auto newest = store_->record(sample("M1", "2026-04-01", 4.0, 6));
+  EXPECT_EQ(store_->latest_parameter("EXX")[0].sample.value, 4.0);
+  EXPECT_TRUE(store_->remove(newest));
+  EXPECT_EQ(store_->latest_parameter("EXX")[0].sample.value, 3.0);
+  EXPECT_EQ(store_->latest_figure("VA")[0].sample.value, 13.0);
+  // In one batch, the newest of a machine wins whatever the order.
+  store_->record_all(
+      {sample("M3", "2026-05-01", 5.0, 7), sample("M3", "2026-07-01", 7.0, 8), sample("M3", "2026-06-01", 6.0, 9)});
+  EXPECT_EQ(store_->latest_parameter("EXX")[2].sample.value, 7.0);
 }
 
 TEST_P(Store, Events) {
@@ -243,7 +256,7 @@ TEST_P(Store, ReopeningKeepsRecordsAndSchema) {
   store_.reset();
   auto again = open_history_store(conn_);
   EXPECT_EQ(again->list().size(), 1u);
-  EXPECT_EQ(again->schema_version(), 1);
+  EXPECT_EQ(again->schema_version(), kHistorySchemaVersion);
 }
 
 // Two processes, 1,000 records each, one transaction per record, at the same time: all 2,000 kept.
@@ -330,9 +343,9 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     return out;
   };
   EXPECT_EQ(text("PRAGMA journal_mode"), "wal");
-  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1");
+  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2");
   EXPECT_EQ(text("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'parameters_fleet'"), "1");
-  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (2, '2030-01-01T00:00:00Z', 'future')", nullptr,
+  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (3, '2030-01-01T00:00:00Z', 'future')", nullptr,
                          nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -340,9 +353,38 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     open_history_store("sqlite:" + path);
     ADD_FAILURE() << "a store of a newer schema was opened";
   } catch (const StoreError& e) {
-    EXPECT_NE(std::string(e.what()).find("schema version 2, newer than this program's 1"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("schema version 3, newer than this program's 2"), std::string::npos)
         << e.what();
   }
+}
+
+// A store of schema version 1 (before latest_values) is migrated when opened: the table is made
+// and filled from the stored values, so that the fleet query answers as before.
+TEST(SqliteStore, MigrationFromVersion1FillsLatestValues) {
+  TempDir d;
+  const auto path = (d.path / "v1.db").string();
+  std::vector<LatestValue> before;
+  {
+    auto s = open_history_store(path);
+    s->record(sample("M1", "2026-01-01", 1, 1));
+    s->record(sample("M1", "2026-03-01", 3, 2));
+    s->record(sample("M2", "2026-02-01", 2, 3));
+    before = s->latest_parameter("EXX");
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE latest_values; DELETE FROM schema_version WHERE version = 2", nullptr, nullptr,
+                         nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  auto s = open_history_store(path);
+  EXPECT_EQ(s->schema_version(), 2);
+  const auto after = s->latest_parameter("EXX");
+  ASSERT_EQ(after.size(), 2u);
+  EXPECT_EQ(after[0].sample.value, 3.0);
+  EXPECT_EQ(after[0].sample.record_id, before[0].sample.record_id);
+  EXPECT_EQ(after[1].sample.value, 2.0);
+  EXPECT_EQ(s->latest_figure("VA")[0].sample.value, 13.0);
 }
 
 TEST(SqliteStore, UnopenableAndNotADatabase) {

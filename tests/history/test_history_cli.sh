@@ -114,7 +114,7 @@ expect_error "tolerance range upside down" "lower limit must be below" -- "$MTCA
 expect_error "tolerance of another quantity" "not among the quantities" -- "$MTCAL" history trend --store "$store" --machine HU40T --parameter EC0Y --tolerance A_X=5
 expect_error "rank without tolerances" "needs tolerances" -- "$MTCAL" history rank --store "$store"
 expect_error "rank unknown quantity" "no machine in the store has a parameter or figure named EZZ" -- "$MTCAL" history rank --store "$store" --tolerance EZZ=1
-expect_error "no store" "no history store" -- env -u MTCAL_HISTORY "$MTCAL" history rank --tolerance EC0Y=1
+expect_error "no store" "no history store given" -- env -u MTCAL_HISTORY MTCAL_CONFIG=/nonexistent/config.yaml "$MTCAL" history rank --tolerance EC0Y=1
 expect_error "bad date" "ISO 8601" -- "$MTCAL" history trend --store "$store" --machine HU40T --from 1.1.2022
 # Help has examples.
 for c in diff trend rank; do

@@ -76,7 +76,7 @@ class HistoryStore {
 };
 
 // The schema this program writes (docs/history.md lists the versions and their migrations).
-inline constexpr int kHistorySchemaVersion = 1;
+inline constexpr int kHistorySchemaVersion = 2;
 
 // Opens (creating it when absent, migrating it to kHistorySchemaVersion) the store named by
 // connection: "postgresql://..." or "postgres://..." (libpq URI; also "postgresql:" followed by
