@@ -13,6 +13,8 @@ import sys
 
 # (what, numerator benchmark, denominator benchmark): ratio = numerator time / denominator time.
 RATIOS = [
+    ("history rank 1000 machines x 120 (weighted): QR baseline / closed form", "BM_HistoryRank_QR_Baseline/1000",
+     "BM_HistoryRank/1000/1"),
     ("regress 150 rows: refits / hat matrix", "BM_Regress_Refit_Baseline/150/iterations:1", "BM_Regress_HatMatrix/150"),
     ("regress: 1000 rows / 150 rows (hat matrix; linear in n)", "BM_Regress_HatMatrix/1000", "BM_Regress_HatMatrix/150"),
     ("HU40T grid 1e6, 1 thread: point by point / grid kernel", "BM_GridPointByPoint_Hu40t_Baseline/1048576/iterations:1",

@@ -354,6 +354,8 @@ std::vector<Command> add_commands(CLI::App& app) {
                     add_volumetric_commands, add_toolpath_commands, add_compensation_commands, add_prediction_commands,
                     add_identification_commands, add_history_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
+  // history diff, trend, rank beside the store's list, show, import, export, event add.
+  for (auto& c : add_history_analysis_commands(*history_app())) all.push_back(std::move(c));
   // --precision on every command: the digits of the numbers it writes to CSV files and prints
   // unrounded (JSON always carries every double exactly).
   for (auto* sub : app.get_subcommands({}))

@@ -3,6 +3,7 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -31,6 +32,8 @@ class Report {
   void set_verdict(ToleranceVerdict v) { verdict_ = std::move(v); }
 
   void set_machine(const Machine& m);
+  // The machine line as text, where no machine model is at hand (a history report: name, serial).
+  void set_machine_label(std::string label) { machine_ = std::move(label); }
   // Hashes the file (SHA-256) now; throws InputError if it cannot be read.
   void add_input(const std::string& label, const std::string& path);
   // A headline figure: value already formatted by the caller with its unit.
