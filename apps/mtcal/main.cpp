@@ -327,7 +327,12 @@ constexpr std::pair<const char*, const char*> kExamples[] = {
     {"diagonals", "  mtcal diagonals -m examples/machines/vmc-3axis.yaml --box \"X=-400:400,Y=-250:250,Z=-500:0\"\n"},
     {"toolpath",
      "  mtcal toolpath -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/pocket.nc \\\n"
-     "      --origin \"X=-40,Y=-25,Z=-400\" --step 0.5 --out path-errors.csv\n"},
+     "      --origin \"X=-40,Y=-25,Z=-400\" --step 0.5 --out path-errors.csv\n"
+     "  mtcal toolpath -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/drill-plate.nc \\\n"
+     "      --tool-table examples/gcode/tools.tbl --work-offset \"G54:X=-150,Y=-100,Z=-450\" --json\n"
+     "  # LinuxCNC's programs (parameters, O-word subroutines) through its interpreter rs274, if installed:\n"
+     "  #   mtcal toolpath -m examples/machines/vmc-3axis.yaml --gcode /usr/share/linuxcnc/ncfiles/spiral.ngc \\\n"
+     "  #       --origin \"Z=-300\" --interpreter rs274\n"},
     {"simulate",
      "  mtcal simulate -m examples/machines/hu40t-wCBXfYZt.yaml --plan examples/plans/hu40t-samba-tango.csv \\\n"
      "      --noise-um 1 --seed 7 --scale-bar 1:2:304.8 --out samba.csv\n"},
