@@ -61,14 +61,15 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
   return out;
 }
 
-ErrorStreamCsv::ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads)
-    : machine_(m), file_(std::make_unique<AtomicFile>(path)), threads_(threads) {
+ErrorStreamCsv::ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads,
+                               bool translations_only)
+    : machine_(m), file_(std::make_unique<AtomicFile>(path)), threads_(threads), errors_(translations_only ? 3 : 6) {
   const std::size_t n = m.axes.size();
   std::string header;
   for (std::size_t k = 0; k < n; ++k) header += (k ? "," : "") + std::string(1, m.axes[k].letter);
   if (with_directions)
     for (std::size_t k = 0; k < n; ++k) header += std::string(",dir") + m.axes[k].letter;
-  for (const char* k : kErrorKeys) header += std::string(",") + k;
+  for (std::size_t k = 0; k < errors_; ++k) header += std::string(",") + kErrorKeys[k];
   file_->stream() << header << "\n";
 }
 
@@ -120,7 +121,7 @@ void ErrorStreamCsv::write(const ErrorChunk& c) {
             *p++ = ',';
             p = std::to_chars(p, p + 8, static_cast<int>(c.dir[r * n + k])).ptr;
           }
-        for (std::size_t x = 0; x < 6; ++x) {
+        for (std::size_t x = 0; x < errors_; ++x) {
           *p++ = ',';
           p = put(p, c.error[r * 6 + x], std::chars_format::scientific, error_decimals);
         }

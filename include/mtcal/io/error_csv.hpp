@@ -28,9 +28,11 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
 // Writes evaluated chunks of a stream as CSV: axis columns (mm, deg), dir<axis> columns when
 // the stream has directions, dx dy dz (mm) rx ry rz (rad). Replaces path only on commit().
 // A chunk's rows are formatted on `threads` threads (0: all cores) and written in order.
+// translations_only: the columns of an error map (write_error_map_csv's), dx dy dz only.
 class ErrorStreamCsv {
  public:
-  ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads = 0);
+  ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads = 0,
+                 bool translations_only = false);
   ~ErrorStreamCsv();
   void write(const ErrorChunk& chunk);
   void commit();
@@ -39,6 +41,7 @@ class ErrorStreamCsv {
   const Machine& machine_;
   std::unique_ptr<AtomicFile> file_;
   int threads_ = 0;
+  std::size_t errors_ = 6;                        // error columns written
   std::vector<std::unique_ptr<char[]>> buffers_;  // per-slice text, reused between chunks
 };
 
