@@ -21,6 +21,8 @@ RATIOS = [
     ("HU40T grid 3e6: stream / kernel", "BM_EvalGrid_Hu40t/3040000", "BM_GridKernel_Hu40t/3040000"),
     ("HU40T grid 1e6, 1 thread: stream + CSV / kernel", "BM_EvalGridCsv_Hu40t/1/real_time",
      "BM_GridKernel_Hu40t/1048576"),
+    ("HU40T grid 1e6, 1 thread: stream + .npy / kernel", "BM_EvalGridNpy_Hu40t/1048576", "BM_GridKernel_Hu40t/1048576"),
+    ("HU40T grid 3e6, 1 thread: stream + .npy / kernel", "BM_EvalGridNpy_Hu40t/3040000", "BM_GridKernel_Hu40t/3040000"),
     ("5-axis list: naive 4x4 chain / batch kernel (1 thread)", "BM_Naive_5axis", "BM_Batch_5axis/threads:1/real_time"),
     ("3-axis list: naive 4x4 chain / batch kernel (1 thread)", "BM_Naive_3axis", "BM_Batch_3axis/threads:1/real_time"),
     ("Monte Carlo 1000 runs: 1 thread / 2 threads (wall)", "BM_MonteCarlo_1000/1/iterations:1/real_time",

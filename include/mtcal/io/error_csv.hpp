@@ -1,5 +1,5 @@
-// CSV files of volumetric errors: configuration lists read, evaluated errors written (eval, volumetric, diagonals,
-// toolpath).
+// CSV and NumPy .npy files of volumetric errors: configuration lists read, evaluated errors written (eval,
+// volumetric, diagonals, toolpath).
 #pragma once
 
 #include <memory>
@@ -43,6 +43,29 @@ class ErrorStreamCsv {
   int threads_ = 0;
   std::size_t errors_ = 6;                        // error columns written
   std::vector<std::unique_ptr<char[]>> buffers_;  // per-slice text, reused between chunks
+};
+
+// Writes evaluated chunks of a stream as a NumPy array file (.npy format version 1.0, as
+// numpy.lib.format documents it: readable by numpy.load): one row per configuration, float64
+// little-endian, columns as ErrorStreamCsv's (axes in mm and deg, dir<axis> when the stream has
+// directions, dx dy dz in mm, rx ry rz in rad), named in the header's comment-free dict only by
+// position; the shape is written at commit (the header is reserved at a fixed size first).
+// Replaces path only on commit(). The numbers are the doubles themselves: no rounding.
+class ErrorStreamNpy {
+ public:
+  ErrorStreamNpy(const std::string& path, const Machine& m, bool with_directions);
+  ~ErrorStreamNpy();
+  void write(const ErrorChunk& chunk);
+  void commit();
+  // The column names, in order (for the caller's messages and JSON).
+  const std::vector<std::string>& columns() const { return columns_; }
+
+ private:
+  std::vector<double> inv_;  // internal unit -> user unit, per axis
+  std::vector<std::string> columns_;
+  std::unique_ptr<AtomicFile> file_;
+  std::size_t rows_ = 0;
+  std::vector<double> buffer_;
 };
 
 // An error map as CSV: axis columns (mm, deg), dir<axis> when the map has directions, dx dy dz (mm).
