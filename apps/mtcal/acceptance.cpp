@@ -1,23 +1,30 @@
 #include "acceptance.hpp"
 
+#include <filesystem>
 #include <iostream>
 
 #include <fmt/format.h>
 
+#include "mtcal/io/headless_browser.hpp"
+#include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 
 namespace mtcal::cli {
 
 namespace {
-struct MetaOptions {
-  std::vector<std::string> meta;
-  std::string file;
+// What the options shared by every command hold, filled by CLI11 when the command line is parsed.
+struct SharedOptions {
+  std::vector<std::string> meta;  // --meta
+  std::string file;               // --meta-file
+  std::string pdf, png_dir;       // --report-pdf, --report-png
+  double timeout_s = 120;         // --browser-timeout
 };
-MetaOptions& meta_options() {
-  static MetaOptions o;
+SharedOptions& meta_options() {
+  static SharedOptions o;
   return o;
 }
+SharedOptions& copy_options() { return meta_options(); }
 }  // namespace
 
 void add_metadata_options(CLI::App& app) {
@@ -53,6 +60,35 @@ void warn_missing_metadata(AcceptanceTest test, bool acceptance_run) {
   if (!acceptance_run && session_metadata().empty()) return;
   for (const auto& w : missing_acceptance_fields(session_metadata(), test))
     std::cerr << "mtcal: warning: acceptance report: " << w << " (give it with --meta or --meta-file)\n";
+}
+
+void add_static_copy_options(CLI::App& app) {
+  for (auto* sub : app.get_subcommands({})) {
+    if (!sub->get_option_no_throw("--report")) continue;
+    sub->add_option("--report-pdf", copy_options().pdf,
+                    "Also write the report printed to PDF (A4, plots as images), for e-mail and where JavaScript "
+                    "does not run; made by headless Chromium (Debian package chromium); needs --report");
+    sub->add_option("--report-png", copy_options().png_dir,
+                    "Also write each plot of the report as a PNG image into this directory (REPORT-plot-N.png, "
+                    "made when missing), by headless Chromium; needs --report");
+    sub->add_option("--browser-timeout", copy_options().timeout_s,
+                    "Seconds the browser may take for each static copy (default 120)")
+        ->check(CLI::PositiveNumber);
+  }
+}
+
+void load_static_copies(CLI::App& cmd) {
+  const SharedOptions& o = copy_options();
+  if (o.pdf.empty() && o.png_dir.empty()) return;
+  const CLI::Option* report = cmd.get_option_no_throw("--report");
+  const std::string which = o.pdf.empty() ? "--report-png" : "--report-pdf";
+  if (!report || report->count() == 0)
+    throw InputError({which, 0, ""}, "expected --report FILE.html beside it: the static copy is made of that report");
+  const std::string report_path = report->as<std::string>();
+  if (!o.pdf.empty() && std::filesystem::weakly_canonical(o.pdf) == std::filesystem::weakly_canonical(report_path))
+    throw InputError({"--report-pdf", 0, ""}, "names the same file as --report ('" + printable(o.pdf) + "')");
+  const HeadlessBrowser b = find_headless_browser(o.timeout_s);
+  set_static_copies({o.pdf, o.png_dir, b.program, o.timeout_s});
 }
 
 void print_json(Json j) {

@@ -25,6 +25,13 @@ std::vector<std::string> metadata_inputs();
 // warning line on stderr per field the test's report should state and lacks.
 void warn_missing_metadata(AcceptanceTest test, bool acceptance_run);
 
+// Adds --report-pdf FILE and --report-png DIR to every command that has --report.
+void add_static_copy_options(CLI::App& app);
+// For the parsed command cmd: refuses them without --report, or with the report's own path, and
+// finds the browser before any work (a one-line error naming the missing program); then sets the
+// reports' static copies (set_static_copies).
+void load_static_copies(CLI::App& cmd);
+
 // Prints j (2-space indent) with the session's metadata under "metadata" when there is any.
 void print_json(Json j);
 

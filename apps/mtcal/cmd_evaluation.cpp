@@ -19,6 +19,7 @@
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/evaluation_json.hpp"
 #include "mtcal/io/joints.hpp"
+#include "mtcal/io/laser_files.hpp"
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/report/evaluation.hpp"
 #include "mtcal/util/errors.hpp"
@@ -49,6 +50,14 @@ int run_iso230_2(const Iso2302Options& o) {
   PositioningRuns runs = read_positioning_file(o.file, o.format, o.unit, o.target_unit);
   if (o.wrap > 0) runs = merge_wrapped_targets(runs, o.wrap);
   const PositioningEvaluation e = evaluate_positioning(runs);
+  // What the file's header states (a laser file's machine, date, temperatures, instrument) fills
+  // the report's metadata where --meta and --meta-file left a field empty: the user's word wins.
+  const bool user_metadata = !session_metadata().empty();
+  if (ReportMetadata from_file = laser_report_metadata(runs); !from_file.empty()) {
+    ReportMetadata m = session_metadata();
+    m.fill_missing_from(from_file);
+    set_session_metadata(std::move(m));
+  }
   const std::string* axis = session_metadata().get("axis");
   const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Iso230_2, axis ? *axis : "");
   const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(positioning_values(e), limits);
@@ -58,7 +67,7 @@ int run_iso230_2(const Iso2302Options& o) {
   if (o.tol.given() && limits.empty())
     std::cerr << "mtcal: warning: the tolerance file has no iso230-2 entry for axis '" << (axis ? *axis : "")
               << "' nor 'any': nothing checked\n";
-  warn_missing_metadata(AcceptanceTest::Iso230_2, !o.report.empty() || o.tol.given());
+  warn_missing_metadata(AcceptanceTest::Iso230_2, !o.report.empty() || o.tol.given() || user_metadata);
   if (o.json_out) {
     Json j = to_json(e);
     Json meta = Json::object();
@@ -246,8 +255,10 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
                 "REF_DATA_BWD[i,j], UNIT), or a Renishaw LaserXL/CARTO .rtl/.rta export")
       ->required();
   c->add_option("--unit", o->unit, "Unit of a table's values unless its header says ('deviation [um]')")
+      ->check(kUnitName)
       ->capture_default_str();
-  c->add_option("--target-unit", o->target_unit, "Unit of a table's targets (default: the values' unit)");
+  c->add_option("--target-unit", o->target_unit, "Unit of a table's targets (default: the values' unit)")
+      ->check(kUnitName);
   c->add_option("--format", o->format, "Input format: auto (by extension or content), csv, dat or laser")
       ->check(CLI::IsMember({"auto", "csv", "dat", "laser"}))
       ->capture_default_str();
@@ -296,14 +307,17 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
   bb->add_option("--report", b->report,
                  "Write an HTML report: recording conditions, polar plot of both directions, ISO 230-4 table");
   add_tolerance_options(bb, b->tol, "G (G(b) with both directions), F (larger of |F max|, |F min|), H");
-  bb->add_flag("--predict", b->predict, "Predict the trace of --machine instead of evaluating one");
-  bb->add_option("--machine,-m", b->model.machine, "Machine file, with --predict");
-  bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict");
-  bb->add_option("--centre", b->centre, "Centre of the circle as joint values, e.g. \"X=0,Y=0,Z=-100\" (mm, deg)");
+  // The prediction's options are refused without --predict (they would be ignored silently).
+  auto* predict = bb->add_flag("--predict", b->predict, "Predict the trace of --machine instead of evaluating one");
+  bb->add_option("--machine,-m", b->model.machine, "Machine file, with --predict")->needs(predict);
+  bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict")->needs(predict);
+  bb->add_option("--centre", b->centre, "Centre of the circle as joint values, e.g. \"X=0,Y=0,Z=-100\" (mm, deg)")
+      ->needs(predict);
   bb->add_option("--step-deg", b->step_deg, "Angle between predicted samples, deg")
       ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
-      ->check(CLI::Range(0.01, 10.0) & kFinite);
-  bb->add_option("--out", b->out, "Trace CSV to write, with --predict");
+      ->check(CLI::Range(0.01, 10.0) & kFinite)
+      ->needs(predict);
+  bb->add_option("--out", b->out, "Trace CSV to write, with --predict")->needs(predict);
   bb->add_option("--to-params", b->to_params,
                  "Write the diagnostics as a parameter file (--params): squareness (EC0Y for XY, EA0Z for YZ, "
                  "EB0Z for ZX), scale mismatch and backlash as the two axes' positioning errors");

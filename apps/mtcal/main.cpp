@@ -449,6 +449,7 @@ int run_command(const std::vector<Command>& commands) {
       for (const auto& c : commands)
         if (c.app->parsed()) {
           load_session_metadata();
+          load_static_copies(*c.app);
           return c.run();
         }
       throw Error("no command");
@@ -499,6 +500,8 @@ int main(int argc, char** argv) {
       "  mtcal volumetric -m examples/machines/vmc-3axis.yaml --grid \"X=-400:400:21,Y=-250:250:21,Z=-500:0:21\"\n"
       "README.md has a tour of every command; docs/ has a page per topic.");
   add_metadata_options(app);
+  add_static_copy_options(app);
+  require_finite_numbers(app);
   if (unknown_command(app, argc, argv)) return 2;
   try {
     app.parse(argc, argv);

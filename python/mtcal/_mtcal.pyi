@@ -1197,9 +1197,10 @@ def _bench_evaluate_batch(model: ErrorModel, configs: npt.ArrayLike, directions:
 def _input_address(array: npt.ArrayLike, cols: int) -> int:
     ...
 
-def ballbar(trace: BallbarTrace, *, radius: float = ..., plane: str = ..., overshoot_start: float = ..., overshoot_stop: float = ..., direction: str | None = ..., feed: float = ..., diagnose: bool = ...) -> BallbarResult:
+def ballbar(trace: BallbarTrace, *, radius: float, plane: str = ..., overshoot_start: float = ..., overshoot_stop: float = ..., direction: str | None = ..., feed: float = ..., diagnose: bool = ...) -> BallbarResult:
     """ISO 230-4 circular test of a BallbarTrace: G per direction (least-squares and minimum-zone
-    centres), G(b), H, F (mm); with both directions the diagnostic trace model. radius: nominal (mm);
+    centres), G(b), H, F (mm); with both directions the diagnostic trace model. radius: nominal (mm),
+    required (the bar's length defines the test; the trace file does not state it);
     overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.
     """
 
@@ -1350,8 +1351,8 @@ def points_from_gcode(program: GcodeProgram, source: str, *, start_time: float =
 def predict(model: PredictionModel, points: PredictionPoints | Mapping[str, npt.ArrayLike], *, constants: dict[str, float] = ..., strict: bool = ..., compensation: bool = ...) -> PredictionRun:
     """Predicted workpiece errors at points (PredictionPoints or a dict of columns); constants give variables that are not columns; strict refuses extrapolation. As `mtcal predict`."""
 
-def predict_ballbar(machine: Machine, plane: str, centre: npt.ArrayLike | None, *, radius: float = ..., step: float = ...) -> BallbarTrace:
-    """The trace a ballbar would record on the model: circle of radius mm in plane 'XY'/'YZ'/'ZX' about the centre configuration (internal units), both directions, one sample every step rad."""
+def predict_ballbar(machine: Machine, plane: str, centre: npt.ArrayLike | None, *, radius: float, step: float = ...) -> BallbarTrace:
+    """The trace a ballbar would record on the model: circle of radius mm (required) in plane 'XY'/'YZ'/'ZX' about the centre configuration (internal units), both directions, one sample every step rad."""
 
 def probing_csv(machine: Machine, plan: ProbingPlan, comment: str = ...) -> str:
     """The plan's CSV text."""

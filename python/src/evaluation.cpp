@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 
 #include "common.hpp"
 #include "mtcal/evaluation/ballbar.hpp"
@@ -68,7 +69,7 @@ ErrorMap build_map(const Machine& m, const ErrorModel& model, py::handle configs
       check_joints(m, row, "configs[" + std::to_string(i) + "]", true);
     }
   }
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   return error_map(model, std::vector<double>(q.data, q.data + q.rows * k), d.span(), {threads});
 }
 
@@ -136,7 +137,7 @@ VolumetricResult volumetric(const Machine& m, py::handle configs, py::handle dir
   const auto t0 = Clock::now();
   out.map = build_map(m, model, configs, directions, grid, travel_check, threads);
   out.seconds_map = std::chrono::duration<double>(Clock::now() - t0).count();
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   out.study = study_volumetric(m, out.map, r);
   return out;
 }
@@ -166,7 +167,7 @@ ContributionResult contributions(const Machine& m, py::handle at, py::handle pai
   }
   const ErrorModel model(m);
   const ErrorMap map = build_map(m, model, configs, directions, grid, travel_check, threads);
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   return {m, critical_pair_contributions(m, map, what_if, threads)};
 }
 
@@ -261,10 +262,23 @@ struct BallbarResult {
   double radius = 0, feed = 0;
 };
 
+// The bar's length defines the test: required, as `mtcal ballbar --radius` (no default that could
+// silently differ from the bar used).
+void check_radius(double radius) {
+  if (!(radius > 0) || !std::isfinite(radius)) {
+    std::ostringstream found;
+    found << radius;
+    throw py::value_error(
+        "radius: expected the nominal radius of the test in mm (the ballbar's length, e.g. radius=150), found " +
+        found.str());
+  }
+}
+
 BallbarResult ballbar(const BallbarTrace& trace, double radius, const std::string& plane, double overshoot_start,
                       double overshoot_stop, std::optional<std::string> direction, double feed, bool diagnose) {
   if (plane != "XY" && plane != "YZ" && plane != "ZX")
     throw py::value_error("plane: expected 'XY', 'YZ' or 'ZX', found '" + plane + "'");
+  check_radius(radius);
   BallbarOptions bo;
   bo.nominal_radius = radius;
   bo.overshoot_start = overshoot_start;
@@ -324,7 +338,7 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
   };
   if (py::isinstance<GcodeProgram>(program)) {
     const auto& p = program.cast<const GcodeProgram&>();
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     r.summary = simulate_toolpath(model, p, opt, sink);
   } else {
     const auto path = program.cast<std::string>();
@@ -333,7 +347,7 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
     go.axes.clear();
     for (const auto& ax : m.axes) go.axes += ax.letter;
     GcodeReader reader(text, path, go);
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     r.summary = simulate_toolpath(model, reader, opt, sink);
   }
   return r;
@@ -403,7 +417,7 @@ void bind_evaluation(py::module_& m) {
       "volumetric_accuracy",
       [](py::handle errors) {
         const auto e = as_vec3s(errors, "errors");
-        py::gil_scoped_release release;
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
         return volumetric_accuracy(e);
       },
       "errors"_a, "Exact VA of error vectors, shape (N, 3) in mm: the same number every pair's comparison gives.");
@@ -437,7 +451,7 @@ void bind_evaluation(py::module_& m) {
       "pair_histogram",
       [](py::handle errors, std::size_t bins, double upper, int threads) {
         const auto e = as_vec3s(errors, "errors");
-        py::gil_scoped_release release;
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
         return pair_distribution(
             e, bins == 0 ? rice_bins(static_cast<double>(e.size()) * (static_cast<double>(e.size()) - 1) / 2) : bins,
             upper, threads);
@@ -678,13 +692,14 @@ Returns PositioningEvaluation (values in the runs' unit). As `mtcal iso230-2`.)"
   m.def(
       "predict_ballbar",
       [](const Machine& mm, const std::string& plane, py::handle centre, double radius, double step) {
+        check_radius(radius);
         BallbarTrace t;
         t.source = "predicted";
         t.points = predict_ballbar(mm, plane, configuration(mm, centre, "centre"), radius, step);
         return t;
       },
-      "machine"_a, "plane"_a, "centre"_a, py::kw_only(), "radius"_a = 150.0, "step"_a = std::numbers::pi / 180,
-      "The trace a ballbar would record on the model: circle of radius mm in plane 'XY'/'YZ'/'ZX' about the "
+      "machine"_a, "plane"_a, "centre"_a, py::kw_only(), "radius"_a, "step"_a = std::numbers::pi / 180,
+      "The trace a ballbar would record on the model: circle of radius mm (required) in plane 'XY'/'YZ'/'ZX' about the "
       "centre configuration (internal units), both directions, one sample every step rad.");
   py::class_<CircularDeviation>(m, "CircularDeviation", "ISO 230-4 quantities of one direction's path (mm).")
       .def_readonly("points", &CircularDeviation::points)
@@ -720,10 +735,11 @@ Returns PositioningEvaluation (values in the runs' unit). As `mtcal iso230-2`.)"
           "to_dict",
           [](const BallbarResult& r) { return to_py(to_json(r.evaluation, r.diagnosis, r.plane, r.radius, r.feed)); },
           "As `mtcal ballbar --json`.");
-  m.def("ballbar", &ballbar, "trace"_a, py::kw_only(), "radius"_a = 150.0, "plane"_a = "XY", "overshoot_start"_a = 0.0,
+  m.def("ballbar", &ballbar, "trace"_a, py::kw_only(), "radius"_a, "plane"_a = "XY", "overshoot_start"_a = 0.0,
         "overshoot_stop"_a = 0.0, "direction"_a = py::none(), "feed"_a = 0.0, "diagnose"_a = true,
         R"(ISO 230-4 circular test of a BallbarTrace: G per direction (least-squares and minimum-zone
-centres), G(b), H, F (mm); with both directions the diagnostic trace model. radius: nominal (mm);
+centres), G(b), H, F (mm); with both directions the diagnostic trace model. radius: nominal (mm),
+required (the bar's length defines the test; the trace file does not state it);
 overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.)");
 
   // ---------------------------------------------------------------- method comparison

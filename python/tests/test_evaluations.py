@@ -131,6 +131,23 @@ def test_ballbar_predicted_trace_equals_mtcal(hu40t, tmp_path):
     assert_same(mtcal.ballbar(mtcal.read_ballbar_csv(str(tmp_path / "again.csv")), radius=100).to_dict(), ref)
 
 
+def test_ballbar_radius_is_required(hu40t):
+    # The bar's length defines the test: no default radius, as `mtcal ballbar --radius`.
+    trace = mtcal.predict_ballbar(hu40t, "XY", hu40t.parse_joints("X=0,Y=0,Z=-100"), radius=100,
+                                  step=math.radians(10))
+    with pytest.raises(TypeError, match="radius"):
+        mtcal.ballbar(trace)
+    with pytest.raises(TypeError, match="radius"):
+        mtcal.predict_ballbar(hu40t, "XY", hu40t.parse_joints("X=0,Y=0,Z=-100"))
+    for bad in (0.0, -150.0, math.nan):
+        with pytest.raises(ValueError, match="radius: expected the nominal radius"):
+            mtcal.ballbar(trace, radius=bad)
+    with pytest.raises(ValueError, match="radius: expected the nominal radius"):
+        mtcal.predict_ballbar(hu40t, "XY", hu40t.parse_joints("X=0,Y=0,Z=-100"), radius=0)
+    # The radius given is the one evaluated: 100 mm traces read against 150 mm deviate by -50 mm.
+    assert mtcal.ballbar(trace, radius=150).F_min == pytest.approx(-50, abs=0.1)
+
+
 def test_compare_methods_equals_mtcal_compare():
     path = EXAMPLES / "data" / "mohammed2019-ballbar-vs-samba.csv"
     assert_same(mtcal.compare_methods(mtcal.read_comparison_csv(str(path))).to_dict(), cli_json("compare", path))

@@ -296,4 +296,59 @@ std::string laser_error_name(const LaserFile& f) {
   return "";
 }
 
+ReportMetadata laser_report_metadata(const PositioningRuns& runs) {
+  // (section or "" for USER-TEXT and HEADER alike, key in lower case) -> field.
+  struct Map {
+    std::string_view section, key, field;
+  };
+  static constexpr Map kMap[] = {
+      {"", "machine", "machine"},
+      {"", "serial", "serial"},
+      {"", "serial number", "serial"},
+      {"", "machine serial", "serial"},
+      {"", "owner", "owner"},
+      {"", "customer", "owner"},
+      {"", "location", "location"},
+      {"", "operator", "operator"},
+      {"", "date", "date"},
+      {"", "test date", "date"},
+      {"", "axis", "axis"},
+      {"ENVIRONMENT", "air temperature", "temperature_air"},
+      {"ENVIRONMENT", "machine temperature", "temperature_machine"},
+      {"ENVIRONMENT", "material temperature", "temperature_material"},
+      {"ENVIRONMENT", "temperature", "temperature"},
+      {"ENVIRONMENT", "humidity", "humidity"},
+      {"EQUIPMENT", "laser", "instrument"},
+      {"EQUIPMENT", "instrument", "instrument"},
+      {"EQUIPMENT", "serial", "instrument_serial"},
+      {"EQUIPMENT", "serial number", "instrument_serial"},
+      {"EQUIPMENT", "calibration date", "calibration_date"},
+      {"EQUIPMENT", "calibration certificate", "calibration_certificate"},
+      {"EQUIPMENT", "certificate", "calibration_certificate"},
+  };
+  ReportMetadata m;
+  std::string extra_equipment;
+  for (const auto& [full, value] : runs.metadata) {
+    const auto slash = full.find('/');
+    if (slash == std::string::npos || trim(value).empty()) continue;
+    const std::string section = full.substr(0, slash), key = lower(trim(full.substr(slash + 1)));
+    if (key.empty()) continue;  // a free text line
+    const bool user = section == "USER-TEXT" || section == "HEADER";
+    bool mapped = false;
+    for (const auto& e : kMap)
+      if (e.key == key && (e.section.empty() ? user : e.section == section)) {
+        if (!m.get(e.field)) m.set(std::string(e.field), value, runs.source);
+        mapped = true;
+        break;
+      }
+    if (!mapped && section == "EQUIPMENT")
+      extra_equipment += (extra_equipment.empty() ? "" : "; ") + full.substr(slash + 1) + " " + value;
+  }
+  if (!extra_equipment.empty()) {
+    const std::string* instrument = m.get("instrument");
+    m.set("instrument", instrument ? *instrument + "; " + extra_equipment : extra_equipment, runs.source);
+  }
+  return m;
+}
+
 }  // namespace mtcal

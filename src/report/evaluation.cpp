@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include <fmt/format.h>
@@ -88,6 +90,73 @@ std::string positioning_text(const PositioningRuns& runs, const PositioningEvalu
                    f(e.E_down), f(e.M), d.unit);
   for (const auto& n : e.notes) s += "note: " + n + "\n";
   return s;
+}
+
+std::vector<TableBlock> positioning_target_table(const PositioningRuns& runs, const PositioningEvaluation& e,
+                                                 const PositioningDisplay& shown, std::size_t max_columns) {
+  const bool has_up = e.directions != TestDirections::DownOnly, has_down = e.directions != TestDirections::UpOnly;
+  const std::string tu = e.target_unit.empty() ? e.unit : e.target_unit;
+  const auto& T = e.targets;
+  // The tolerant reader may give targets different numbers of runs: as many rows as the most,
+  // "-" where a target has fewer.
+  std::size_t runs_up = 0, runs_down = 0;
+  for (std::size_t i = 0; i < T.size(); ++i) {
+    runs_up = std::max(runs_up, i < runs.up.size() ? runs.up[i].size() : 0);
+    runs_down = std::max(runs_down, i < runs.down.size() ? runs.down[i].size() : 0);
+  }
+  auto f = [&](double v) { return shown.format(v); };
+  auto deviation = [&](const std::vector<std::vector<double>>& side, std::size_t i, std::size_t j) {
+    if (i >= side.size() || j >= side[i].size()) return std::string("-");
+    return f(runs.deviations ? side[i][j] : side[i][j] - runs.targets[i]);
+  };
+  std::vector<TableBlock> blocks;
+  // As many blocks as max_columns needs, of even width (11 targets: 6 and 5, not 10 and 1).
+  max_columns = std::max<std::size_t>(max_columns, 1);
+  const std::size_t n_blocks = (T.size() + max_columns - 1) / max_columns;
+  const std::size_t width = n_blocks ? (T.size() + n_blocks - 1) / n_blocks : 1;
+  for (std::size_t first = 0; first < T.size(); first += width) {
+    const std::size_t last = std::min(T.size(), first + width);
+    TableBlock b;
+    b.caption = fmt::format("Deviations and statistics per target ({}), targets {} to {} of {}", shown.unit, first + 1,
+                            last, T.size());
+    b.columns.push_back("target i");
+    for (std::size_t i = first; i < last; ++i) b.columns.push_back(fmt::format("{}", i + 1));
+    auto row = [&](const std::string& label, auto&& value) {
+      std::vector<std::string> r{label};
+      for (std::size_t i = first; i < last; ++i) r.push_back(value(i));
+      b.rows.push_back(std::move(r));
+    };
+    row("target position P_i (" + tu + ")", [&](std::size_t i) { return fmt::format("{:g}", T[i].target); });
+    if (has_up)
+      for (std::size_t j = 0; j < runs_up; ++j)
+        row(fmt::format("x_i{}↑ (run {} ↑)", j + 1, j + 1), [&](std::size_t i) { return deviation(runs.up, i, j); });
+    if (has_down)
+      for (std::size_t j = 0; j < runs_down; ++j)
+        row(fmt::format("x_i{}↓ (run {} ↓)", j + 1, j + 1), [&](std::size_t i) { return deviation(runs.down, i, j); });
+    if (has_up) row("x̄_i↑ mean deviation ↑", [&](std::size_t i) { return f(T[i].mean_up); });
+    if (has_down) row("x̄_i↓ mean deviation ↓", [&](std::size_t i) { return f(T[i].mean_down); });
+    if (has_up) row("s_i↑ standard uncertainty ↑", [&](std::size_t i) { return f(T[i].s_up); });
+    if (has_down) row("s_i↓ standard uncertainty ↓", [&](std::size_t i) { return f(T[i].s_down); });
+    if (has_up) row("2s_i↑", [&](std::size_t i) { return f(2 * T[i].s_up); });
+    if (has_down) row("2s_i↓", [&](std::size_t i) { return f(2 * T[i].s_down); });
+    if (has_up) {
+      row("x̄_i↑ + 2s_i↑", [&](std::size_t i) { return f(T[i].mean_up + 2 * T[i].s_up); });
+      row("x̄_i↑ − 2s_i↑", [&](std::size_t i) { return f(T[i].mean_up - 2 * T[i].s_up); });
+    }
+    if (has_down) {
+      row("x̄_i↓ + 2s_i↓", [&](std::size_t i) { return f(T[i].mean_down + 2 * T[i].s_down); });
+      row("x̄_i↓ − 2s_i↓", [&](std::size_t i) { return f(T[i].mean_down - 2 * T[i].s_down); });
+    }
+    if (has_up) row("R_i↑ = 4s_i↑ repeatability ↑", [&](std::size_t i) { return f(T[i].R_up); });
+    if (has_down) row("R_i↓ = 4s_i↓ repeatability ↓", [&](std::size_t i) { return f(T[i].R_down); });
+    if (has_up && has_down) {
+      row("B_i = x̄_i↑ − x̄_i↓ reversal", [&](std::size_t i) { return f(T[i].reversal); });
+      row("R_i bidirectional repeatability", [&](std::size_t i) { return f(T[i].R); });
+      row("x̄_i = (x̄_i↑ + x̄_i↓)/2", [&](std::size_t i) { return f(T[i].mean); });
+    }
+    blocks.push_back(std::move(b));
+  }
+  return blocks;
 }
 
 void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
@@ -177,36 +246,16 @@ void write_positioning_report(const std::string& path, const std::string& comman
   json data = json::array();
   for (auto& t : band(up_lo, up_hi, "rgba(31,119,180,0.2)", "x̄↑ ± 2s↑")) data.push_back(t);
   for (auto& t : band(dn_lo, dn_hi, "rgba(214,39,40,0.2)", "x̄↓ ± 2s↓")) data.push_back(t);
-  data.push_back({{"type", "scatter"},
-                  {"mode", "lines+markers"},
-                  {"x", x},
-                  {"y", up},
-                  {"name", "x̄↑ (up)"},
-                  {"line", {{"color", "rgb(31,119,180)"}}}});
-  data.push_back({{"type", "scatter"},
-                  {"mode", "lines+markers"},
-                  {"x", x},
-                  {"y", dn},
-                  {"name", "x̄↓ (down)"},
-                  {"line", {{"color", "rgb(214,39,40)"}}}});
-  data.push_back({{"type", "scatter"},
-                  {"mode", "lines"},
-                  {"x", x},
-                  {"y", mean},
-                  {"name", "x̄ (bidirectional)"},
-                  {"line", {{"color", "black"}, {"dash", "dot"}}}});
-  data.push_back({{"type", "scatter"},
-                  {"mode", "markers"},
-                  {"x", rx_up},
-                  {"y", ry_up},
-                  {"name", "runs up"},
-                  {"marker", {{"size", 4}, {"color", "rgb(31,119,180)"}}}});
-  data.push_back({{"type", "scatter"},
-                  {"mode", "markers"},
-                  {"x", rx_dn},
-                  {"y", ry_dn},
-                  {"name", "runs down"},
-                  {"marker", {{"size", 4}, {"color", "rgb(214,39,40)"}}}});
+  auto trace = [&](const char* mode, const json& xs, const json& ys, const char* name, json style) {
+    json t = {{"type", "scatter"}, {"mode", mode}, {"x", xs}, {"y", ys}, {"name", name}};
+    t[std::string(mode) == "markers" ? "marker" : "line"] = std::move(style);
+    data.push_back(std::move(t));
+  };
+  trace("lines+markers", x, up, "x̄↑ (up)", {{"color", "rgb(31,119,180)"}});
+  trace("lines+markers", x, dn, "x̄↓ (down)", {{"color", "rgb(214,39,40)"}});
+  trace("lines", x, mean, "x̄ (bidirectional)", {{"color", "black"}, {"dash", "dot"}});
+  trace("markers", rx_up, ry_up, "runs up", {{"size", 4}, {"color", "rgb(31,119,180)"}});
+  trace("markers", rx_dn, ry_dn, "runs down", {{"size", 4}, {"color", "rgb(214,39,40)"}});
   // A, E, M, R and B marked as brackets (ISO 230-2:2014 figures), for a bidirectional test.
   json layout = {{"xaxis", {{"title", {{"text", "target (" + tu + ")"}}}}},
                  {"yaxis", {{"title", {{"text", "deviation (" + u + ")"}}}}},
@@ -272,18 +321,28 @@ void write_positioning_report(const std::string& path, const std::string& comman
                  "); A, E, M, R, B marked",
              {{"data", data}, {"layout", layout}});
 
-  r.add_section("Per target");
-  std::vector<std::vector<std::string>> rows;
-  for (const auto& t : e.targets)
-    rows.push_back({fmt::format("{:g}", t.target), shown.format(t.mean_up), shown.format(t.mean_down),
-                    shown.format(t.mean), shown.format(t.reversal), shown.format(t.s_up), shown.format(t.s_down),
-                    shown.format(t.R_up), shown.format(t.R_down), shown.format(t.R)});
-  r.add_table("ISO 230-2 quantities per target (" + u + ")",
-              {"target", "x̄↑", "x̄↓", "x̄", "B_i", "s↑", "s↓", "R↑", "R↓", "R_i"}, rows);
-  r.add_table("Axis (" + u + ")", {"A", "A↑", "A↓", "B", "B̄", "R", "R↑", "R↓", "E", "E↑", "E↓", "M"},
-              {{shown.format(e.A), shown.format(e.A_up), shown.format(e.A_down), shown.format(e.B),
-                shown.format(e.B_mean), shown.format(e.R), shown.format(e.R_up), shown.format(e.R_down),
-                shown.format(e.E), shown.format(e.E_up), shown.format(e.E_down), shown.format(e.M)}});
+  r.add_section("Per target (ISO 230-2:2014 table layout)");
+  r.add_paragraph(
+      "One column per target position P_i, as ISO 230-2:2014 lays out its results: the deviations x_ij = "
+      "measured − target of every run j, then per approach direction (↑ positive, ↓ negative) the mean "
+      "deviation x̄_i, the standard uncertainty s_i (n − 1), the 2s_i bands, the repeatability R_i = 4 s_i; "
+      "then the reversal value B_i = x̄_i↑ − x̄_i↓, the bidirectional repeatability R_i = max(2 s_i↑ + 2 s_i↓ "
+      "+ |B_i|, R_i↑, R_i↓) and the mean bidirectional deviation x̄_i = (x̄_i↑ + x̄_i↓)/2. Values in " +
+      u + "; n/a where the test does not define the value (one run: no s).");
+  for (const auto& block : positioning_target_table(runs, e, shown))
+    r.add_table(block.caption, block.columns, block.rows);
+  {
+    // M, B and B̄ are bidirectional only (ISO 230-2:2014 clause 2): "-" in the direction columns.
+    auto row = [&](const char* name, double bi, std::optional<double> up_v, std::optional<double> down_v) {
+      return std::vector<std::string>{name, both ? shown.format(bi) : "-", has_up && up_v ? shown.format(*up_v) : "-",
+                                      has_down && down_v ? shown.format(*down_v) : "-"};
+    };
+    r.add_table("Axis results (" + u + "), ISO 230-2:2014 clause 2: bidirectional and per approach direction",
+                {"quantity", "bidirectional", "unidirectional ↑", "unidirectional ↓"},
+                {row("accuracy A", e.A, e.A_up, e.A_down), row("systematic positioning error E", e.E, e.E_up, e.E_down),
+                 row("mean positioning error M", e.M, {}, {}), row("repeatability R", e.R, e.R_up, e.R_down),
+                 row("reversal value B", e.B, {}, {}), row("mean reversal value B̄", e.B_mean, {}, {})});
+  }
   if (!runs.metadata.empty()) {
     std::vector<std::vector<std::string>> meta;
     for (const auto& [key, value] : runs.metadata) meta.push_back({key, value});

@@ -5,10 +5,13 @@
 #include <cstdint>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "mtcal/io/files.hpp"
+#include "mtcal/io/headless_browser.hpp"
 #include "mtcal/model/machine.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/version.hpp"
@@ -209,6 +212,9 @@ footer { margin-top: 3em; color: #777; font-size: 0.85em; }
 }
 </style>
 )";
+  // Where scripts do not run (an e-mail reader) the plots cannot be drawn: their empty boxes are
+  // hidden and a note says where the numbers are and how to get a static copy.
+  if (plots_ > 0) h += "<noscript><style>.plot { display: none; }</style></noscript>\n";
   h += "<script>";
   h += plotly_js();
   h += "</script>\n";
@@ -237,6 +243,13 @@ function mtcalPrintImage(gd) {
 <body>
 )";
   h += "<h1>" + html_escape(title_) + "</h1>\n";
+  if (plots_ > 0)
+    h += fmt::format(
+        "<noscript><div class=\"warnings noscript\"><strong>JavaScript is off here</strong>: the {} plot{} of this "
+        "report cannot be drawn; every number is in the tables. A static copy for e-mail: the same command "
+        "with <code>--report-pdf FILE</code> (the report printed to PDF) or <code>--report-png DIR</code> (each "
+        "plot as a PNG image), docs/reports.md.</div></noscript>\n",
+        plots_, plots_ == 1 ? "" : "s");
   if (!verdict_.empty()) {
     std::size_t failed = 0;
     for (const auto& c : verdict_.checks) failed += c.pass ? 0 : 1;
@@ -292,6 +305,78 @@ function mtcalPrintImage(gd) {
   return h;
 }
 
+namespace {
+StaticCopies& copies_setting() {
+  static StaticCopies c;
+  return c;
+}
+
+// RFC 4648 section 4 base64, padding optional; nullopt for a character outside the alphabet.
+std::optional<std::string> base64_decode(std::string_view in) {
+  std::string out;
+  out.reserve(in.size() / 4 * 3);
+  std::uint32_t acc = 0;
+  int bits = 0;
+  for (char c : in) {
+    int v;
+    if (c >= 'A' && c <= 'Z')
+      v = c - 'A';
+    else if (c >= 'a' && c <= 'z')
+      v = c - 'a' + 26;
+    else if (c >= '0' && c <= '9')
+      v = c - '0' + 52;
+    else if (c == '+')
+      v = 62;
+    else if (c == '/')
+      v = 63;
+    else if (c == '=')
+      break;
+    else
+      return std::nullopt;
+    acc = (acc << 6) | static_cast<std::uint32_t>(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += static_cast<char>((acc >> bits) & 0xff);
+    }
+  }
+  return out;
+}
+}  // namespace
+
+void set_static_copies(StaticCopies copies) { copies_setting() = std::move(copies); }
+const StaticCopies& static_copies() { return copies_setting(); }
+
+std::vector<std::string> plot_images_from_dom(std::string_view dom) {
+  std::vector<std::string> images;
+  constexpr std::string_view kClass = "class=\"plot-print\"", kPrefix = "data:image/png;base64,";
+  for (std::size_t at = dom.find(kClass); at != std::string_view::npos; at = dom.find(kClass, at + 1)) {
+    const std::size_t open = dom.rfind('<', at), close = dom.find('>', at);
+    if (open == std::string_view::npos || close == std::string_view::npos) break;
+    const std::string_view tag = dom.substr(open, close - open);
+    const std::size_t src = tag.find("src=\"");
+    if (tag.rfind("<img", 0) != 0 || src == std::string_view::npos) continue;
+    const std::size_t end = tag.find('"', src + 5);
+    const std::string_view url =
+        tag.substr(src + 5, end == std::string_view::npos ? std::string_view::npos : end - src - 5);
+    if (url.rfind(kPrefix, 0) != 0)
+      throw Error("the rendered report's plot image " + std::to_string(images.size() + 1) + " is not a PNG data URL");
+    auto png = base64_decode(url.substr(kPrefix.size()));
+    if (!png || png->rfind("\x89PNG\r\n\x1a\n", 0) != 0)
+      throw Error("the rendered report's plot image " + std::to_string(images.size() + 1) + " is not a valid PNG");
+    images.push_back(std::move(*png));
+  }
+  return images;
+}
+
+std::vector<std::string> plot_image_paths(const std::string& report_path, const std::string& png_dir, std::size_t n) {
+  const std::string stem = std::filesystem::path(report_path).stem().string();
+  std::vector<std::string> paths;
+  for (std::size_t k = 1; k <= n; ++k)
+    paths.push_back((std::filesystem::path(png_dir) / fmt::format("{}-plot-{}.png", stem, k)).string());
+  return paths;
+}
+
 void Report::write(const std::string& path) const {
   std::time_t t = std::time(nullptr);
   if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) t = static_cast<std::time_t>(std::strtoll(e, nullptr, 10));
@@ -299,7 +384,24 @@ void Report::write(const std::string& path) const {
   gmtime_r(&t, &tm);
   char buf[64];
   std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
-  write_file_atomically(path, html(buf));
+  const std::string text = html(buf);
+  write_file_atomically(path, text);
+  const StaticCopies& copies = static_copies();
+  if (copies.empty()) return;
+  HeadlessBrowser browser{copies.browser, copies.timeout_s};
+  if (browser.program.empty()) browser = find_headless_browser(copies.timeout_s);
+  if (!copies.pdf.empty()) write_file_atomically(copies.pdf, print_to_pdf(browser, text));
+  if (!copies.png_dir.empty()) {
+    const std::vector<std::string> images = plot_images_from_dom(rendered_dom(browser, text));
+    if (images.size() != plots_)
+      throw Error(fmt::format("the browser made {} of the report's {} plot images ({})", images.size(), plots_,
+                              browser.program));
+    std::error_code ec;
+    std::filesystem::create_directories(copies.png_dir, ec);
+    if (ec) throw Error("cannot make the directory " + copies.png_dir + ": " + ec.message());
+    const auto paths = plot_image_paths(path, copies.png_dir, images.size());
+    for (std::size_t k = 0; k < images.size(); ++k) write_file_atomically(paths[k], images[k]);
+  }
 }
 
 }  // namespace mtcal

@@ -382,3 +382,40 @@ TEST(InstrumentFiles, ResultsAreShownInMicrometresWithThePrecisionOfTheData) {
   // digits of it are 1 decimal.
   EXPECT_EQ(a.decimals, 1);
 }
+
+TEST(InstrumentFiles, LaserHeaderFillsTheReportMetadata) {
+  const std::string text =
+      "HEADER::\nType: Linear\nDate: 2026-01-02\nTARGET DATA::\nTarget-count: 2\nTargets : 0 100\n"
+      "USER-TEXT::\nmachine: HU40T\nDate: 2026-11-20\nCustomer: ACME\nSerial number: 99\nOperator:\nAxis: y\n"
+      "a free line\nRUNS::\nRun-count: 2\nDEVIATIONS::\nRun Target Data:\n1 1 0\n1 2 1\n2 1 0\n2 2 1\n"
+      "ENVIRONMENT::\nAir Temperature: 20.4 C\nMachine temperature: 20.9 C\nPressure: 1013 mbar\n"
+      "EQUIPMENT::\nLaser: XL-80\nSerial: L123\nCalibration date: 2026-03-01\nCompensator: XC-80\n"
+      "Air sensor: S1\n";
+  const LaserFile f = parse_laser_file(text, "t.rtl", false);
+  const ReportMetadata m = laser_report_metadata(f.runs);
+  auto v = [&](const char* key) { return m.get(key) ? *m.get(key) : std::string("(none)"); };
+  EXPECT_EQ(v("machine"), "HU40T");    // keys without regard to case
+  EXPECT_EQ(v("date"), "2026-01-02");  // the first Date (HEADER before USER-TEXT)
+  EXPECT_EQ(v("owner"), "ACME");       // Customer
+  EXPECT_EQ(v("serial"), "99");        // machine serial from USER-TEXT
+  EXPECT_EQ(v("operator"), "(none)");  // empty value skipped
+  EXPECT_EQ(v("axis"), "y");           // as written
+  EXPECT_EQ(v("temperature_air"), "20.4 C");
+  EXPECT_EQ(v("temperature_machine"), "20.9 C");
+  EXPECT_EQ(v("instrument_serial"), "L123");  // EQUIPMENT Serial is the instrument's
+  EXPECT_EQ(v("calibration_date"), "2026-03-01");
+  EXPECT_EQ(v("instrument"), "XL-80; Compensator XC-80; Air sensor S1");
+  EXPECT_EQ(v("humidity"), "(none)");  // Pressure has no field: stays in the file's own table only
+
+  // What the user typed wins, field by field (fill_missing_from).
+  ReportMetadata user;
+  user.set("machine", "typed");
+  user.fill_missing_from(m);
+  EXPECT_EQ(*user.get("machine"), "typed");
+  EXPECT_EQ(*user.get("date"), "2026-01-02");
+
+  // A .dat or CSV file's keys have no section: nothing is mapped.
+  PositioningRuns dat;
+  dat.metadata = {{"UNIT", "mm"}, {"CYCLES", "5"}};
+  EXPECT_TRUE(laser_report_metadata(dat).empty());
+}

@@ -145,6 +145,43 @@ for (const spec of specs) {
   }
   await page.close();
 }
+// Where scripts do not run (an e-mail reader): the first report with plots, scripts off (CDP
+// Emulation.setScriptExecutionDisabled): the <noscript> note shows and names the static copies,
+// the empty plot boxes are hidden, the tables are there.
+{
+  const spec = specs.find((sp) => Number(sp.slice(sp.lastIndexOf(':') + 1)) > 0);
+  if (spec) {
+    const file = resolve(spec.slice(0, spec.lastIndexOf(':')));
+    const page = await context.newPage();
+    const cdp = await context.newCDPSession(page);
+    await cdp.send('Emulation.setScriptExecutionDisabled', { value: true });
+    await page.goto('file://' + file, { waitUntil: 'load' });
+    const st = await page.evaluate(() => {
+      const note = document.querySelector('div.noscript');
+      return {
+        note: note ? note.textContent : '',
+        noteShown: note ? note.getBoundingClientRect().height > 0 : false,
+        plotsShown: Array.from(document.querySelectorAll('.plot')).filter((el) => el.getBoundingClientRect().height > 0).length,
+        tables: document.querySelectorAll('table').length,
+        rendered: document.querySelectorAll('.main-svg').length,
+      };
+    });
+    const problems = [];
+    if (!st.noteShown || !st.note.includes('--report-pdf')) problems.push(`no visible <noscript> note naming --report-pdf (${st.note})`);
+    if (st.plotsShown) problems.push(`${st.plotsShown} empty plot boxes shown`);
+    if (st.rendered) problems.push('plots rendered although scripts are off');
+    if (st.tables < 1) problems.push('no tables');
+    await page.screenshot({ path: join(outDir, basename(file).replace(/\.html$/, '') + '-noscript-1280x800.png') });
+    if (problems.length) {
+      failed++;
+      console.log(`FAIL ${basename(file)} without scripts:\n  ${problems.join('\n  ')}`);
+    } else {
+      passed++;
+      console.log(`ok   ${basename(file)} without scripts: note shown, plot boxes hidden, ${st.tables} tables`);
+    }
+    await page.close();
+  }
+}
 await context.close();
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed ? 1 : 0);

@@ -52,4 +52,18 @@ expect_error "bad tolerance file" "badtol.yaml:2" -- "$MTCAL" iso230-2 "$tmp/p.c
 [ ! -e "$tmp/none.html" ] && ok || bad "a report was written despite the error"
 expect_exit 0 "example files" -- "$MTCAL" iso230-2 "$tmp/p.csv" --json --meta-file "$EXAMPLES/../acceptance/metadata.yaml" --tolerance-file "$EXAMPLES/../acceptance/tolerances.yaml"
 jcheck 'd["metadata"]["axis"] == "X" and d["tolerances"]["checks"][0]["limit"] == 16 and [c["quantity"] for c in d["tolerances"]["checks"]] == ["A", "E", "M", "R", "B"] and [c["pass"] for c in d["tolerances"]["checks"]] == [True, True, True, False, True]' && ok || bad "example metadata/tolerance files"
+# A laser file's header fills the report's metadata (machine, serial, date, axis, operator,
+# temperatures, humidity, instrument); --meta wins over the file; the axis picks the tolerances.
+RTL="$EXAMPLES/../instruments/x-axis.rtl"
+expect_exit 0 "laser metadata json" -- "$MTCAL" iso230-2 "$RTL" --json --meta "operator=A. Smith"
+jcheck 'd["metadata"]["machine"] == "VMC 800 (example)" and d["metadata"]["serial"] == "4711" and d["metadata"]["date"] == "2026-11-20" and d["metadata"]["axis"] == "X" and d["metadata"]["operator"] == "A. Smith" and d["metadata"]["temperature_air"] == "20.4 C" and d["metadata"]["temperature_material"] == "20.2 C" and d["metadata"]["humidity"] == "46 %" and d["metadata"]["instrument"] == "XL-80 s/n 000000 (example); Compensator XC-80 s/n 000000 (example)" and d["metadata"]["USER-TEXT/Machine"] == "VMC 800 (example)"' \
+  && ok || bad "laser header not mapped into the metadata: $(head -c 1500 "$tmp/out")"
+expect_exit 0 "laser metadata report" -- "$MTCAL" iso230-2 "$RTL" --report "$tmp/laser.html" --meta machine=HU40T --tolerance-file "$tmp/tol.yaml"
+grep -qF '<th>Machine</th><td>HU40T</td>' "$tmp/laser.html" && grep -qF '<th>Test date</th><td>2026-11-20</td>' "$tmp/laser.html" \
+  && grep -qF '<th>Air temperature</th><td>20.4 C</td>' "$tmp/laser.html" && grep -qF '<th>Axis tested</th><td>X</td>' "$tmp/laser.html" && ok || bad "laser report metadata: $(grep -F '<th>' "$tmp/laser.html" | head -20)"
+# The header states date, machine and temperatures: only feed and dwell are missing (ISO 230-2 clause 7).
+grep -qF "(feed)" "$tmp/err" && ! grep -qF "(date)" "$tmp/err" && ! grep -qF "(machine)" "$tmp/err" && ! grep -qF "temperature" "$tmp/err" \
+  && ok || bad "laser report warnings: $(cat "$tmp/err")"
+# The file's Axis: X picked the X entry of the tolerance file (A 11 um, R 8 um, B 2.5 um).
+grep -qF '<td>B</td><td>' "$tmp/laser.html" && ok || bad "axis from the laser file did not pick the X tolerances"
 summary_and_exit

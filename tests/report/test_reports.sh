@@ -35,6 +35,13 @@ with open(sys.argv[1], "w") as f:
 PY
 run "$MTCAL" iso230-2 "$tmp/positions5.csv" --report "$tmp/iso230-2-acceptance.html" \
   --meta-file "$EXAMPLES/../acceptance/metadata.yaml" --tolerance-file "$EXAMPLES/../acceptance/tolerances.yaml"
+# ISO 230-2 from a laser file (its header fills the metadata) and from the real 9-target log of
+# ../shared/data: the per-target table in the standard's layout must fit the page too.
+run "$MTCAL" iso230-2 "$EXAMPLES/../instruments/x-axis.rtl" --report "$tmp/iso230-2-laser.html" --meta "feed=2000 mm/min" --meta "dwell=2 s" \
+  --tolerance-file "$EXAMPLES/../acceptance/tolerances.yaml"
+run "$MTCAL" iso230-2 "$EXAMPLES/../../../shared/data/iso230-2/b02_x_axis.dat" --report "$tmp/iso230-2-b02.html"
+grep -qF '<th>target i</th><th>1</th><th>2</th>' "$tmp/iso230-2-laser.html" && grep -qF 'targets 7 to 11 of 11' "$tmp/iso230-2-laser.html" \
+  && grep -qF '<th>Test date</th><td>2026-11-20</td>' "$tmp/iso230-2-laser.html" && ok || bad "laser ISO 230-2 report lacks the table or the file's metadata"
 run "$MTCAL" ballbar --predict -m "$M3" --plane XY --radius 150 --centre "X=0,Y=0,Z=-250" --out "$tmp/trace.csv"
 run "$MTCAL" ballbar "$tmp/trace.csv" --radius 150 --feed 1000 --report "$tmp/ballbar.html" --tolerance G=15
 run "$MTCAL" eval -m "$EXAMPLES/hu40t-wCBXfYZt.yaml" --grid "X=-200:200:5,Y=-200:200:5,Z=-300:0:3,B=-30:30:3,C=0:270:4" --report "$tmp/eval-hu40t.html"
@@ -51,7 +58,7 @@ run "$MTCAL" regress "$EXAMPLES/../prediction/yaqoob2017-table5_8.csv" --x t --y
 run "$MTCAL" predict --model "$EXAMPLES/../prediction/yaqoob2017-model.yaml" --points "$EXAMPLES/../prediction/yaqoob2017-w2-points.csv" \
   --report "$tmp/predict.html"
 run "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/comp" --report "$tmp/compensate.html"
-for f in eval-grid eval-points effects errors rotary-axis iso230-2 iso230-2-acceptance ballbar eval-hu40t compare volumetric contributions diagonals toolpath identify regress predict compensate; do
+for f in eval-grid eval-points effects errors rotary-axis iso230-2 iso230-2-acceptance iso230-2-laser iso230-2-b02 ballbar eval-hu40t compare volumetric contributions diagonals toolpath identify regress predict compensate; do
   [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
 done
 # The points report names its input with the input's SHA-256.
@@ -102,7 +109,7 @@ node_rc=0
 if command -v node >/dev/null; then
   (cd "$WEB" && MTCAL_WEB="$WEB" node "$(dirname "$0")/browser_check.mjs" "$SHOTS" \
     "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
-    "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/iso230-2-acceptance.html:1" "$tmp/ballbar.html:2" "$tmp/eval-hu40t.html:2" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
+    "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/iso230-2-acceptance.html:1" "$tmp/iso230-2-laser.html:1" "$tmp/iso230-2-b02.html:1" "$tmp/ballbar.html:2" "$tmp/eval-hu40t.html:2" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
     "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2" \
     "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1") >"$tmp/browser" 2>&1
   node_rc=$?

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/evaluation/metadata.hpp"
 
 namespace mtcal {
 
@@ -37,5 +38,17 @@ bool looks_like_laser(const std::string& path);
 // linear test of axis X -> EXX, a rotary test of axis C -> ECC. Empty when the file does not say
 // (a straightness or angular test without Error:, or no Axis:).
 std::string laser_error_name(const LaserFile& file);
+
+// The acceptance-report fields a laser file's header states (docs/instrument-files.md, "Report
+// metadata"), from runs.metadata ("SECTION/key" pairs): USER-TEXT (or HEADER) Machine -> machine,
+// Serial -> serial, Owner/Customer -> owner, Location -> location, Operator -> operator, Date ->
+// date, Axis -> axis; ENVIRONMENT Air / Machine / Material temperature -> temperature_air /
+// _machine / _material, Temperature -> temperature, Humidity -> humidity; EQUIPMENT Laser (or
+// Instrument) -> instrument, its Serial -> instrument_serial, Calibration date / Calibration
+// certificate -> calibration_date / calibration_certificate, any other equipment line (a
+// compensator, sensors) appended to instrument as "key value". Keys are matched without regard
+// to case; a key met twice keeps its first value; empty values are skipped. The caller merges
+// the result under what the user typed (ReportMetadata::fill_missing_from).
+ReportMetadata laser_report_metadata(const PositioningRuns& runs);
 
 }  // namespace mtcal

@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/compare.hpp"
@@ -26,6 +27,20 @@ struct PositioningDisplay {
 PositioningDisplay positioning_display(const PositioningRuns& runs, const PositioningEvaluation& e);
 // The text table of `mtcal iso230-2`: per target, then the axis's figures, notes last.
 std::string positioning_text(const PositioningRuns& runs, const PositioningEvaluation& e);
+
+// A table of text cells: caption, column heads, rows.
+struct TableBlock {
+  std::string caption;
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+};
+// ISO 230-2:2014's per-target table (the layout of its results tables): one column per target
+// position, rows for every run's deviation x_ij per direction, x̄_i↑ x̄_i↓, s_i↑ s_i↓, 2s_i, the
+// x̄ ± 2s bands, R_i↑ R_i↓, then B_i, R_i and x̄_i; the rows of a direction the test did not
+// measure are left out. Values in shown's unit and decimals. Split into blocks of at most
+// max_columns targets, of even width, so that a long axis fits a page.
+std::vector<TableBlock> positioning_target_table(const PositioningRuns& runs, const PositioningEvaluation& e,
+                                                 const PositioningDisplay& shown, std::size_t max_columns = 10);
 
 // Each writes the report to path; command is the command line shown in the report.
 

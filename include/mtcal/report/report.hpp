@@ -47,7 +47,8 @@ class Report {
   std::size_t plot_count() const { return plots_; }
   // The whole document. date: the line's text (e.g. ISO 8601 UTC).
   std::string html(const std::string& date) const;
-  // Writes atomically; the date is now in UTC, or SOURCE_DATE_EPOCH when it is set.
+  // Writes atomically; the date is now in UTC, or SOURCE_DATE_EPOCH when it is set. Then the
+  // static copies set with set_static_copies(), through the same output group.
   void write(const std::string& path) const;
 
  private:
@@ -60,6 +61,25 @@ class Report {
   ReportMetadata metadata_;
   ToleranceVerdict verdict_;
 };
+
+// Static copies of every report this process writes, for where JavaScript does not run (e-mail):
+// the report printed to PDF (pdf) and each plot as a PNG file in png_dir (REPORT-plot-N.png, the
+// images the page makes for printing), made by headless Chromium (io/headless_browser.hpp) from
+// the report's HTML. They join the command's output group: all of its files appear or none.
+struct StaticCopies {
+  std::string pdf;      // empty: no PDF
+  std::string png_dir;  // empty: no PNG files; made when missing
+  std::string browser;  // the browser's executable (find_headless_browser)
+  double timeout_s = 120;
+  bool empty() const { return pdf.empty() && png_dir.empty(); }
+};
+void set_static_copies(StaticCopies copies);
+const StaticCopies& static_copies();
+// The plots' print images in a page as a browser rendered it (img.plot-print with a
+// data:image/png;base64 source), decoded, in page order. Throws Error for a malformed one.
+std::vector<std::string> plot_images_from_dom(std::string_view dom);
+// The paths write() gives the PNG copies of a report at path with n plots, in png_dir.
+std::vector<std::string> plot_image_paths(const std::string& report_path, const std::string& png_dir, std::size_t n);
 
 // HTML text escaping of & < > " '.
 std::string html_escape(std::string_view s);
