@@ -237,7 +237,7 @@ int run_volumetric(const VolumetricOptions& o) {
   const auto t0 = Clock::now();
   StreamedStudy streamed;
   {
-    Progress progress("configurations", 2 * cfg->source.size());
+    Progress progress("configurations evaluated, all passes", 2 * cfg->source.size());
     std::function<void(const ErrorChunk&)> observe;
     if (file) observe = [&](const ErrorChunk& chunk) { file->write(chunk); };
     try {
@@ -314,7 +314,7 @@ ContributionStudy contribution_study(const Machine& m, const ErrorModel& model, 
   const double errors = static_cast<double>(nonzero_errors(m).size());
   const double maps = 1 + (o.no_what_if ? 0 : errors) + (o.target_va ? errors * (errors + 1) / 2 : 0);
   check_streamed("contributions", o.source, cfg->source, maps, 0, 0);
-  Progress progress("configurations", 2 * cfg->source.size());
+  Progress progress("configurations evaluated, all passes", 2 * cfg->source.size());
   return critical_pair_contributions(m, cfg->source, !o.no_what_if, stream_options(o.source, progress), o.target_va);
 }
 
