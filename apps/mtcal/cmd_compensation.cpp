@@ -1,8 +1,10 @@
 // mtcal compensate: compensation files a controller loads (--format, docs/compensation.md), or a
 // corrected G-code program (--gcode, docs/compensation-gcode.md).
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -11,6 +13,7 @@
 #include "common.hpp"
 #include "mtcal/compensation/compensation.hpp"
 #include "mtcal/io/compensation_output.hpp"
+#include "mtcal/io/files.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/report/compensation.hpp"
@@ -40,10 +43,16 @@ CompensationOptions library_options(const Machine& m, const CompensateOptions& o
   if (!o.reference.empty()) c.reference = parse_joint_values(m, o.reference, "--reference");
   if (!o.range.empty()) {
     const JointBox box = parse_box(m, o.range, "--range");
-    for (std::size_t a = 0; a < m.axes.size(); ++a)
-      if (box.named[a])
-        c.sampling.push_back(
-            {m.axes[a].letter, to_user_units(m.axes[a], box.lo[a]), to_user_units(m.axes[a], box.hi[a]), o.points});
+    for (std::size_t a = 0; a < m.axes.size(); ++a) {
+      if (!box.named[a]) continue;
+      // A table samples lo < hi within the joint range (checked here, where the option is known).
+      const double lo = to_user_units(m.axes[a], box.lo[a]), hi = to_user_units(m.axes[a], box.hi[a]);
+      if (!(lo < hi) || std::abs(lo) > kMaxJointValue || std::abs(hi) > kMaxJointValue)
+        throw InputError({"--range", 0, std::string(1, m.axes[a].letter)},
+                         fmt::format("expected lo < hi within +-{:g} for a table along {}, found {:g}:{:g}",
+                                     kMaxJointValue, m.axes[a].letter, lo, hi));
+      c.sampling.push_back({m.axes[a].letter, lo, hi, o.points});
+    }
   }
   return c;
 }
@@ -71,21 +80,28 @@ int run_tables(const CompensateOptions& o) {
     throw InputError({"--format", 0, ""}, "expected a controller (--format) or a program to correct (--gcode)");
   if (o.gcode.out.empty()) throw InputError({"--out", 0, ""}, "expected the output directory");
   check_outputs(model_inputs(o.gcode.model), {o.gcode.out, o.report});
+  if (!o.report.empty()) AtomicFile check(o.report);  // refuse a bad path before the work
   const CompensationTarget& target = compensation_target(o.format);
   const Machine m = load(o.gcode.model);
   const TargetOutput out = target.run(m, library_options(m, o));
-  write_target_output(o.gcode.out, out);
+  // The folder is renamed into place at once, not with the command's other outputs: everything
+  // that can still fail (the report, the JSON text) comes before it.
   if (!o.report.empty()) {
     std::vector<std::pair<std::string, std::string>> inputs;
     for (const auto& f : o.gcode.model.params) inputs.emplace_back("parameter file", f);  // the machine file is shown
     write_compensation_report(o.report, command_line(), m, inputs, o.gcode.out, out);
   }
+  std::optional<Json> j;
   if (o.gcode.json_out) {
-    Json j = to_json(out);
-    j["machine"] = m.name;
-    j["out"] = o.gcode.out;
-    if (!o.report.empty()) j["report"] = o.report;
-    print_json(j);
+    j = to_json(out);
+    (*j)["machine"] = m.name;
+    (*j)["out"] = o.gcode.out;
+    if (!o.report.empty()) (*j)["report"] = o.report;
+    (void)j->dump();  // throws here, before the folder is written, on text that is not UTF-8
+  }
+  write_target_output(o.gcode.out, out);
+  if (j) {
+    print_json(*j);
     return 0;
   }
   print_summary(out, o.gcode.out);

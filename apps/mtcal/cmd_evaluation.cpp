@@ -255,8 +255,10 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
                 "REF_DATA_BWD[i,j], UNIT), or a Renishaw LaserXL/CARTO .rtl/.rta export")
       ->required();
   c->add_option("--unit", o->unit, "Unit of a table's values unless its header says ('deviation [um]')")
+      ->check(kUnitName)
       ->capture_default_str();
-  c->add_option("--target-unit", o->target_unit, "Unit of a table's targets (default: the values' unit)");
+  c->add_option("--target-unit", o->target_unit, "Unit of a table's targets (default: the values' unit)")
+      ->check(kUnitName);
   c->add_option("--format", o->format, "Input format: auto (by extension or content), csv, dat or laser")
       ->check(CLI::IsMember({"auto", "csv", "dat", "laser"}))
       ->capture_default_str();
@@ -305,14 +307,17 @@ std::vector<Command> add_evaluation_commands(CLI::App& app) {
   bb->add_option("--report", b->report,
                  "Write an HTML report: recording conditions, polar plot of both directions, ISO 230-4 table");
   add_tolerance_options(bb, b->tol, "G (G(b) with both directions), F (larger of |F max|, |F min|), H");
-  bb->add_flag("--predict", b->predict, "Predict the trace of --machine instead of evaluating one");
-  bb->add_option("--machine,-m", b->model.machine, "Machine file, with --predict");
-  bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict");
-  bb->add_option("--centre", b->centre, "Centre of the circle as joint values, e.g. \"X=0,Y=0,Z=-100\" (mm, deg)");
+  // The prediction's options are refused without --predict (they would be ignored silently).
+  auto* predict = bb->add_flag("--predict", b->predict, "Predict the trace of --machine instead of evaluating one");
+  bb->add_option("--machine,-m", b->model.machine, "Machine file, with --predict")->needs(predict);
+  bb->add_option("--params", b->model.params, "Parameter files applied to the machine, with --predict")->needs(predict);
+  bb->add_option("--centre", b->centre, "Centre of the circle as joint values, e.g. \"X=0,Y=0,Z=-100\" (mm, deg)")
+      ->needs(predict);
   bb->add_option("--step-deg", b->step_deg, "Angle between predicted samples, deg")
       ->transform(angle_in(std::numbers::pi / 180, "ANGLE"))
-      ->check(CLI::Range(0.01, 10.0) & kFinite);
-  bb->add_option("--out", b->out, "Trace CSV to write, with --predict");
+      ->check(CLI::Range(0.01, 10.0) & kFinite)
+      ->needs(predict);
+  bb->add_option("--out", b->out, "Trace CSV to write, with --predict")->needs(predict);
   bb->add_option("--to-params", b->to_params,
                  "Write the diagnostics as a parameter file (--params): squareness (EC0Y for XY, EA0Z for YZ, "
                  "EB0Z for ZX), scale mismatch and backlash as the two axes' positioning errors");

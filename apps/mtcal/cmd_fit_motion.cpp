@@ -133,8 +133,11 @@ std::vector<Command> add_fit_motion_commands(CLI::App& app) {
   c->add_option("--coverage", o->coverage, "Criterion of --form auto: residual rms <= this x u of the means")
       ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
-  c->add_option("--unit", o->unit, "Unit of a table's values unless its header says")->capture_default_str();
-  c->add_option("--target-unit", o->target_unit, "Unit of a table's targets (default: the values' unit)");
+  c->add_option("--unit", o->unit, "Unit of a table's values unless its header says")
+      ->check(kUnitName)
+      ->capture_default_str();
+  c->add_option("--target-unit", o->target_unit, "Unit of a table's targets (default: the values' unit)")
+      ->check(kUnitName);
   c->add_option("--format", o->format, "Input format: auto, csv, dat or laser")
       ->check(CLI::IsMember({"auto", "csv", "dat", "laser"}))
       ->capture_default_str();

@@ -397,15 +397,20 @@ std::vector<Command> add_identification_commands(CLI::App& app) {
     add_model_options(c, o->model);
     c->add_option("--plan", o->plan, "Probing plan or measurement CSV")->required();
     add_estimate_options(c, o->est, false);
-    c->add_option("--candidates", o->candidates, "Candidate parameters for the subset analysis")->delimiter(',');
-    c->add_option("--choose", o->choose, "Subset size K")->check(CLI::Range(1, 64));
+    // The subset analysis's options are refused without --choose (they would be ignored silently).
+    auto* choose = c->add_option("--choose", o->choose, "Subset size K")->check(CLI::Range(1, 64));
+    c->add_option("--candidates", o->candidates, "Candidate parameters for the subset analysis")
+        ->delimiter(',')
+        ->needs(choose);
     c->add_option("--always", o->always, "Parameters in every subset (e.g. the tool mounting positions)")
-        ->delimiter(',');
-    c->add_option("--list", o->list, "Subsets listed, best first")->capture_default_str();
+        ->delimiter(',')
+        ->needs(choose);
+    c->add_option("--list", o->list, "Subsets listed, best first")->capture_default_str()->needs(choose);
     c->add_option("--sort", o->sort,
                   "Rank subsets by condition number, or by residue of estimation (measurements only)")
         ->check(CLI::IsMember({"condition", "residue"}))
-        ->capture_default_str();
+        ->capture_default_str()
+        ->needs(choose);
     c->add_option("--threads", o->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
     c->add_flag("--json", o->json_out,
                 "Machine-readable output: rank singular_values unidentifiable ...; with --choose: count "

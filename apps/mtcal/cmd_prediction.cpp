@@ -371,11 +371,13 @@ Command add_process_error(CLI::App& app) {
   e->add_option("--krc", eo->k.krc, "Radial cutting coefficient (N/mm^2)")->check(kFinite)->capture_default_str();
   e->add_option("--kte", eo->k.kte, "Tangential edge coefficient (N/mm)")->check(kFinite)->capture_default_str();
   e->add_option("--kre", eo->k.kre, "Radial edge coefficient (N/mm)")->check(kFinite)->capture_default_str();
-  e->add_option("--measured", eo->measured,
-                "Measured process errors (mm), one per feed: calibrate measured = f(e_prog)");
+  auto* measured = e->add_option("--measured", eo->measured,
+                                 "Measured process errors (mm), one per feed: calibrate measured = f(e_prog)");
+  // Refused without --measured (it would be ignored silently).
   e->add_option("--form", eo->form,
                 "Calibration form: logistic_ln (eq. 5.49-5.50), saturation (eq. 5.51) or any regress form")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(measured);
   e->add_flag("--json", eo->json_out,
               "Machine-readable output: tool coefficients cut points[] (feed fz mean_fx mean_fy peak_fy e_prog) "
               "calibration (a regress fit with measured[])");

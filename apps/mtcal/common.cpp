@@ -70,6 +70,25 @@ const CLI::Validator kFinite(
     },
     "FINITE");
 
+const CLI::Validator kUnitName(
+    [](std::string& s) -> std::string {
+      const auto u = find_unit(s);
+      if (u && !u->ratio) return {};
+      return "expected a unit of length (" + accepted_units(Dimension::Length, false) + ") or angle (" +
+             accepted_units(Dimension::Angle, false) + "), found '" + printable(s) + "'";
+    },
+    "UNIT");
+
+void require_finite_numbers(CLI::App& app) {
+  CLI::Validator finite = kFinite;
+  finite.description("");  // the help shows the types as they were
+  for (CLI::Option* opt : app.get_options()) {
+    const std::string type = opt->get_type_name();
+    if (type.rfind("FLOAT", 0) == 0 && type.find("FINITE") == std::string::npos) opt->check(finite);
+  }
+  for (CLI::App* sub : app.get_subcommands({})) require_finite_numbers(*sub);
+}
+
 void rethrow_for_options(const InputError& e, const std::vector<std::pair<std::string, std::string>>& names) {
   for (const auto& [from, to] : names)
     if (e.where().file == from) {
@@ -211,6 +230,9 @@ GcodePosition parse_program_origin(const Machine& m, const std::string& spec) {
     seen[s] = true;
     const auto v = parse_number(item.substr(2));
     if (!v) throw InputError({"--origin", 0, item}, "expected a number, found '" + printable(item.substr(2)) + "'");
+    if (std::abs(*v) > kMaxJointValue)
+      throw InputError({"--origin", 0, item},
+                       fmt::format("expected a joint position within +-{:g}, found {:g}", kMaxJointValue, *v));
     o[s] = *v;
   }
   return o;

@@ -36,6 +36,11 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<std
 std::vector<std::string> model_inputs(const ModelOptions& o);
 // CLI11 check: a finite number (CLI11's Range lets NaN through).
 extern const CLI::Validator kFinite;
+// CLI11 check: a unit name of a length or an angle (mm, um, in, deg, arcsec ...; no slopes).
+extern const CLI::Validator kUnitName;
+// Adds the finite-number check to every FLOAT option of app and of its commands that has no
+// FINITE check of its own: CLI11 reads 'nan' and 'inf' as numbers, and its Range lets NaN through.
+void require_finite_numbers(CLI::App& app);
 // CLI11 transforms for a length or angle option: a value with a unit suffix ("150mm", "0.5um",
 // "6in"; "90deg", "20urad") is rewritten as a bare number in the option's own unit (mm_per_unit:
 // mm per that unit, 1 for mm, 1e-3 for um); a bare number stays as it is. Errors list the units.

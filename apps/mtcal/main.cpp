@@ -488,6 +488,7 @@ int main(int argc, char** argv) {
       "README.md has a tour of every command; docs/ has a page per topic.");
   add_metadata_options(app);
   add_static_copy_options(app);
+  require_finite_numbers(app);
   if (unknown_command(app, argc, argv)) return 2;
   try {
     app.parse(argc, argv);

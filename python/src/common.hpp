@@ -78,4 +78,20 @@ void bind_evaluation(py::module_& m);
 void bind_probing_identification(py::module_& m);
 void bind_prediction_compensation(py::module_& m);
 
+// Runs a long computation without the GIL, stoppable with Ctrl-C. Without the GIL, Python's own
+// SIGINT handler only records the signal and nothing acts on it until the computation returns;
+// while a LongCall lives, SIGINT asks the library's parallel loops to stop instead
+// (request_interrupt), they throw mtcal::Interrupted and the module raises KeyboardInterrupt.
+// The previous handler is put back when the last LongCall of the process ends.
+class LongCall {
+ public:
+  LongCall();
+  ~LongCall();
+  LongCall(const LongCall&) = delete;
+  LongCall& operator=(const LongCall&) = delete;
+
+ private:
+  py::gil_scoped_release release_;
+};
+
 }  // namespace mtcal::python

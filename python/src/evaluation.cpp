@@ -69,7 +69,7 @@ ErrorMap build_map(const Machine& m, const ErrorModel& model, py::handle configs
       check_joints(m, row, "configs[" + std::to_string(i) + "]", true);
     }
   }
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   return error_map(model, std::vector<double>(q.data, q.data + q.rows * k), d.span(), {threads});
 }
 
@@ -137,7 +137,7 @@ VolumetricResult volumetric(const Machine& m, py::handle configs, py::handle dir
   const auto t0 = Clock::now();
   out.map = build_map(m, model, configs, directions, grid, travel_check, threads);
   out.seconds_map = std::chrono::duration<double>(Clock::now() - t0).count();
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   out.study = study_volumetric(m, out.map, r);
   return out;
 }
@@ -167,7 +167,7 @@ ContributionResult contributions(const Machine& m, py::handle at, py::handle pai
   }
   const ErrorModel model(m);
   const ErrorMap map = build_map(m, model, configs, directions, grid, travel_check, threads);
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   return {m, critical_pair_contributions(m, map, what_if, threads)};
 }
 
@@ -338,7 +338,7 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
   };
   if (py::isinstance<GcodeProgram>(program)) {
     const auto& p = program.cast<const GcodeProgram&>();
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     r.summary = simulate_toolpath(model, p, opt, sink);
   } else {
     const auto path = program.cast<std::string>();
@@ -347,7 +347,7 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
     go.axes.clear();
     for (const auto& ax : m.axes) go.axes += ax.letter;
     GcodeReader reader(text, path, go);
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     r.summary = simulate_toolpath(model, reader, opt, sink);
   }
   return r;
@@ -417,7 +417,7 @@ void bind_evaluation(py::module_& m) {
       "volumetric_accuracy",
       [](py::handle errors) {
         const auto e = as_vec3s(errors, "errors");
-        py::gil_scoped_release release;
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
         return volumetric_accuracy(e);
       },
       "errors"_a, "Exact VA of error vectors, shape (N, 3) in mm: the same number every pair's comparison gives.");
@@ -451,7 +451,7 @@ void bind_evaluation(py::module_& m) {
       "pair_histogram",
       [](py::handle errors, std::size_t bins, double upper, int threads) {
         const auto e = as_vec3s(errors, "errors");
-        py::gil_scoped_release release;
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
         return pair_distribution(
             e, bins == 0 ? rice_bins(static_cast<double>(e.size()) * (static_cast<double>(e.size()) - 1) / 2) : bins,
             upper, threads);

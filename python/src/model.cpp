@@ -138,7 +138,7 @@ py::array_t<double> evaluate(py::handle model_obj, py::handle configs, py::handl
   py::array_t<double> out = output_array(out_arg, q);
   double* o = out.mutable_data();
   {
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     model.evaluate_batch(q.span(), d.span(), std::span<double>(o, q.rows * 6), BatchOptions{threads});
   }
   return out;
@@ -156,7 +156,7 @@ py::array_t<double> jacobian(py::handle model_obj, py::handle configs, py::handl
   py::array_t<double> out = q.single ? new_array({6, p}) : new_array({static_cast<py::ssize_t>(q.rows), 6, p});
   double* o = out.mutable_data();
   {
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     const std::size_t chunks = std::min<std::size_t>(q.rows, 8 * hardware_threads());
     parallel_for_ranges(q.rows, chunks, threads, [&](std::size_t b, std::size_t e, std::size_t) {
       JacobianWorkspace ws;
@@ -671,7 +671,7 @@ polynomial=[c0, c1, c2, c3] (E = sum c_i q^i, + reversal * sign of the motion), 
         const std::vector<std::int8_t> dv(d.data, d.data + d.size);
         std::vector<double> out(q.rows * 6);
         std::vector<double> seconds;
-        py::gil_scoped_release release;
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
         for (int r = 0; r < repeats; ++r) {
           const auto t0 = std::chrono::steady_clock::now();
           model.evaluate_batch(qv, dv, out, BatchOptions{threads});

@@ -1,11 +1,14 @@
 // The Python module mtcal._mtcal: JSON conversion, checked NumPy inputs, exceptions, and the binding groups.
 #include <cmath>
 #include <cstring>
+#include <csignal>
 #include <exception>
+#include <mutex>
 
 #include "common.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/interrupt.hpp"
 #include "mtcal/version.hpp"
 
 namespace mtcal::python {
@@ -90,7 +93,7 @@ Rows as_rows(py::handle obj, const char* name, std::optional<std::size_t> cols, 
                           shape_text(a));
   r.data = r.array.data();
   if (finite) {
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     check_finite(r.data, r.rows, r.cols, name);
   }
   return r;
@@ -186,6 +189,31 @@ PyObject* g_model_error = nullptr;
 
 }  // namespace
 
+namespace {
+std::mutex g_long_calls_mutex;
+int g_long_calls = 0;
+struct sigaction g_previous_sigint {};
+
+extern "C" void interrupt_long_call(int) { request_interrupt(); }
+}  // namespace
+
+LongCall::LongCall() {
+  const std::lock_guard lock(g_long_calls_mutex);
+  if (g_long_calls++ > 0) return;
+  clear_interrupt();
+  struct sigaction sa {};
+  sa.sa_handler = interrupt_long_call;
+  sigemptyset(&sa.sa_mask);
+  ::sigaction(SIGINT, &sa, &g_previous_sigint);
+}
+
+LongCall::~LongCall() {
+  const std::lock_guard lock(g_long_calls_mutex);
+  if (--g_long_calls > 0) return;
+  ::sigaction(SIGINT, &g_previous_sigint, nullptr);
+  clear_interrupt();
+}
+
 void register_exceptions(py::module_& m) {
   g_error = PyErr_NewExceptionWithDoc("mtcal.Error", "Base class of every exception mtcal raises on purpose.",
                                       PyExc_RuntimeError, nullptr);
@@ -205,6 +233,8 @@ void register_exceptions(py::module_& m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const Interrupted&) {
+      PyErr_SetNone(PyExc_KeyboardInterrupt);
     } catch (const InputError& e) {
       py::object exc = py::reinterpret_borrow<py::object>(g_input_error)(e.what());
       exc.attr("file") = e.where().file;

@@ -388,7 +388,7 @@ void bind_prediction_compensation(py::module_& m) {
         if (!reference.is_none()) o.reference = configuration(mm, reference, "reference");
         o.residual_points = residual_points;
         o.threads = threads;
-        py::gil_scoped_release release;
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
         return t.run(mm, o);
       },
       "machine"_a, "target"_a, py::kw_only(), "sampling"_a = std::vector<AxisSampling>{}, "points"_a = std::size_t{0},

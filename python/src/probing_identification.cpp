@@ -110,12 +110,15 @@ RotaryAxisResult rotary_axis(py::handle data, const std::string& axis, const Mac
     throw py::type_error("data: expected a ContactSet or IndexedCentres");
   }
   RotaryAxisOptions options{method != "lsq", method != "triples", TriplesOptions{reject_sigma, bins, threads}};
-  if (options.triples && centres.centres.size() > kMaxTriplesCentres)
+  // The module has no time limit option (the CLI checks the triples' time against --max-time):
+  // 1000 centres (1.7e8 triples, about 20 s on one thread) is the bound here.
+  constexpr std::size_t kMaxPythonTriplesCentres = 1000;
+  if (options.triples && centres.centres.size() > kMaxPythonTriplesCentres)
     throw InputError({centres.source, 0, ""}, std::to_string(centres.centres.size()) +
                                                   " indexations make too many triples for method triples/both (at "
                                                   "most " +
-                                                  std::to_string(kMaxTriplesCentres) + "); use method 'lsq'");
-  py::gil_scoped_release release;
+                                                  std::to_string(kMaxPythonTriplesCentres) + "); use method 'lsq'");
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   return locate_rotary_axis(nominal, std::move(centres), options);
 }
 
@@ -203,7 +206,7 @@ Identified identify(const Machine& prior, const ProbingPlan& meas, py::handle es
   ao.seed = seed;
   ao.threads = threads;
   ao.truth = truth;
-  py::gil_scoped_release release;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
   return {prior, identify_and_assess(prior, meas, opt, ao)};
 }
 
@@ -221,7 +224,7 @@ py::object identifiability(const Machine& m, const ProbingPlan& plan, py::handle
     if (opt.estimate.empty()) throw py::value_error("estimate: expected names, or candidates with choose");
     Identifiability id;
     {
-      py::gil_scoped_release release;
+      LongCall release;  // without the GIL, stoppable with Ctrl-C
       id = mtcal::identifiability(m, plan, opt);
     }
     return py::cast(std::move(id));
@@ -243,7 +246,7 @@ py::object identifiability(const Machine& m, const ProbingPlan& plan, py::handle
   s.options.by_residue_source = "sort";
   s.options.rank_tolerance_source = "rank_tolerance";
   {
-    py::gil_scoped_release release;
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
     const auto t0 = Clock::now();
     s.analysis = full_rank_subsets(m, plan, s.options, opt);
     s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -494,7 +497,7 @@ letter's axis). method 'both', 'triples' (Cubas & Yeh 2022) or 'lsq'. As `mtcal 
         so.seed = seed;
         so.scale_bars = scale_bars_of(scale_bars);
         if (!(noise >= 0) || !(artefact_error >= 0)) throw py::value_error("noise, artefact_error: expected >= 0 (mm)");
-        py::gil_scoped_release release;
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
         return SimulationResult{simulate_probing(mm, plan, so), noise, artefact_error, seed};
       },
       "machine"_a, "plan"_a, py::kw_only(), "noise"_a = 0.0, "artefact_error"_a = 0.0, "seed"_a = std::uint64_t{1},

@@ -17,6 +17,7 @@
 #include "mtcal/util/parallel.hpp"
 #include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/interrupt.hpp"
 #include "mtcal/util/parse.hpp"
 #include "mtcal/util/solver_log.hpp"
 #include "probing_model.hpp"
@@ -608,6 +609,8 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
       }
       ok[run] = r.converged;  // a run the solver did not finish is counted as failed, not averaged in
       if (mc.progress) mc.progress(++finished, mc.runs);
+    } catch (const Interrupted&) {
+      throw;  // a stop asked for from outside, not a failed run
     } catch (const Error& e) {
       // A run the model or solver refuses (a reading that does not converge) is a failed run.
       const std::lock_guard lock(error_mutex);

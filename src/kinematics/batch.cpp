@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/interrupt.hpp"
 #include "mtcal/util/parallel.hpp"
 #include "program.hpp"
 #include "../util/kernel.hpp"
@@ -500,6 +501,7 @@ void ErrorModel::evaluate_grid(std::span<const std::vector<double>> values, std:
     rebuild(0);
     const Pose identity;
     for (std::size_t i = b; i < e;) {
+      check_interrupt();  // one range per thread: parallel_for's own check comes too late
       const std::size_t l0 = (first + i) % last, l1 = std::min(last, l0 + (e - i));
       grid_row(n > 1 ? pa[n - 2] : identity, n > 1 ? pn[n - 2] : identity, act[n - 1].data(), nom[n - 1].data(), last,
                l0, l1, out.data() + i * 6);
@@ -547,6 +549,7 @@ void ErrorModel::evaluate_batch(std::span<const double> q, std::span<const std::
   const std::size_t blocks = (count + kLanes - 1) / kLanes;
   auto work = [&](std::size_t b0, std::size_t b1) {
     for (std::size_t b = b0; b < b1; ++b) {
+      if ((b - b0) % 1024 == 0) check_interrupt();  // one range per thread: parallel_for's check comes too late
       const std::size_t first = b * kLanes;
       const std::size_t len = std::min<std::size_t>(kLanes, count - first);
       run_block(*program_, machine_, q.data() + first * n, dir.empty() ? nullptr : dir.data() + first * n, len,

@@ -204,6 +204,15 @@ constexpr std::size_t kTasks = 64;
 
 }  // namespace
 
+TriplesCost triples_cost(std::size_t centres, int histogram_bins) {
+  const double n = static_cast<double>(centres);
+  const double bins = static_cast<double>(std::max(1, histogram_bins));
+  // Per task and for the total: point_sum (double) and point_count (size_t) per centre and
+  // quantity, and a histogram per quantity.
+  const double per_task = n * kRotaryQuantities * 16 + bins * kRotaryQuantities * 8;
+  return {centres < 3 ? 0.0 : n * (n - 1) * (n - 2) / 6, static_cast<double>(kTasks + 1) * per_task};
+}
+
 TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::vector<MeasuredCentre>& centres,
                                     const TriplesOptions& options) {
   require_centres(centres);

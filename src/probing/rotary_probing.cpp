@@ -148,7 +148,7 @@ RotaryAxisResult locate_rotary_axis(const NominalRotaryAxis& axis, IndexedCentre
   if (!options.triples && !options.least_squares) throw Error("expected at least one estimator of the rotary axis");
   if (options.triples && centres.centres.size() > kMaxTriplesCentres)
     throw InputError({centres.source, 0, ""},
-                     fmt::format("{} indexations make too many triples for the triples estimator (at most {})",
+                     fmt::format("{} indexations are more than the triples estimator takes (at most {})",
                                  centres.centres.size(), kMaxTriplesCentres));
   RotaryAxisResult r;
   r.axis = axis;

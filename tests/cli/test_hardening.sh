@@ -102,6 +102,35 @@ expect_error "volumetric 2e8 points" "--max-memory raises it" -- "$MTCAL" volume
 "$MTCAL" simulate -m "$M5" --plan "$PLAN" --artefact-error-um 50 --scale-bar 1:2:304.8 --out meas.csv >/dev/null 2>&1
 expect_error "Monte Carlo huge workspace" "--max-memory raises it" -- "$MTCAL" identify -m "$M5" --measurements meas.csv --estimate "$EST" --scale-bar 1:2:304.8 --monte-carlo 1000 --workspace "X=-300:300:20,Y=-250:250:20,Z=-300:300:20,B=0:90:20,C=0:360:10"
 grep -q "Monte Carlo\|monte-carlo" "$tmp/err" && ok || bad "Monte Carlo refusal names it: $(cat "$tmp/err")"
+# Worker threads of a Monte Carlo run that ran out of memory were counted as "solver failures"
+# and the command exited 0. Under an address-space limit (RLIMIT_AS) that lets a small Monte
+# Carlo run through but not 16 runs' maps of 1e6 workspace points (24 MB each), allocations fail
+# inside the workers. AddressSanitizer reserves terabytes of address space at start, so the limit
+# cannot be applied to a sanitized build.
+if [ "${SANITIZED:-0}" = 1 ]; then
+  echo "SKIP: Monte Carlo out of memory (RLIMIT_AS cannot work under AddressSanitizer)"
+else
+  WS="X=-300:300:100,Y=-250:250:100,Z=-300:0:100"
+  expect_exit 0 "Monte Carlo under 300 MB of address space" -- bash -c "ulimit -v 300000 && exec \"$MTCAL\" identify -m \"$M5\" --measurements meas.csv --estimate $EST --scale-bar 1:2:304.8 --monte-carlo 4 --threads 2 --out mc-small.yaml"
+  [ -s mc-small.yaml ] && ok || bad "the small Monte Carlo run wrote no --out"
+  expect_error "Monte Carlo out of memory" "ran out of memory" -- bash -c "ulimit -v 300000 && exec \"$MTCAL\" identify -m \"$M5\" --measurements meas.csv --estimate $EST --scale-bar 1:2:304.8 --monte-carlo 16 --threads 2 --workspace $WS --out mc.yaml --report mc.html"
+  grep -q "^mtcal: error: Monte Carlo run [0-9]* ran out of memory" "$tmp/err" && ok || bad "Monte Carlo out of memory message: $(cat "$tmp/err")"
+  grep -q "solver failure\|failed" "$tmp/out" "$tmp/err" && bad "out of memory counted as failed runs" || ok
+  [ ! -s "$tmp/out" ] && [ ! -e mc.yaml ] && [ ! -e mc.html ] && ok || bad "Monte Carlo out of memory left output: $(ls mc.* 2>/dev/null) $(head -c 200 "$tmp/out")"
+  no_temp_files "Monte Carlo out of memory"
+fi
+# The triples estimator refused more than 1000 indexations outright, with no option to raise the
+# bound: it is now a time (and memory) estimate against --max-time (--max-memory), C(n, 3) triples.
+python3 -c "
+import math
+print('C,x,y,z')
+for i in range(1001):
+    a = 360.0 * i / 1001
+    print(f'{a:.6f},{150 * math.cos(math.radians(a)):.6f},{150 * math.sin(math.radians(a)):.6f},50')" >c1001.csv
+expect_error "triples of 1001 indexations" "--max-time raises it" -- "$MTCAL" --max-time 1 rotary-axis --axis C --centres c1001.csv --method triples --threads 1
+grep -q "1001 indexations (1.67e+08 triples" "$tmp/err" && grep -q -- "--method lsq" "$tmp/err" && ok || bad "triples refusal gives the count and the way out: $(cat "$tmp/err")"
+expect_error "triples memory" "--max-memory raises it" -- "$MTCAL" --max-memory 1M rotary-axis --axis C --centres c1001.csv
+expect_exit 0 "least squares of 1001 indexations" -- "$MTCAL" --max-time 1 rotary-axis --axis C --centres c1001.csv --method lsq
 L61=$("$MTCAL" errors -m "$M5" --json | python3 -c "import json,sys; print(','.join(p['name'] for p in json.load(sys.stdin)['parameters'][:61]))")
 expect_error "identifiability --choose 30 of 61" "--max-time raises it" -- timeout 60 "$MTCAL" identifiability -m "$M5" --plan "$PLAN" --candidates "$L61" --choose 30
 grep -q "subsets" "$tmp/err" && ok || bad "subset refusal gives the count: $(cat "$tmp/err")"

@@ -92,6 +92,14 @@ struct TriplesEstimate : RotaryEstimate {
 TriplesEstimate estimate_by_triples(const NominalRotaryAxis& axis, const std::vector<MeasuredCentre>& centres,
                                     const TriplesOptions& options = {});
 
+// The size of estimate_by_triples for n centres, for estimates before it starts: C(n, 3) triples
+// (each is evaluated in both passes) and the bytes of its accumulators (per-centre sums and
+// histograms of each of its fixed number of tasks).
+struct TriplesCost {
+  double triples = 0, bytes = 0;
+};
+TriplesCost triples_cost(std::size_t centres, int histogram_bins);
+
 // Global estimator: one least-squares circle in 3D through all centres; uncertainties from its
 // covariance propagated to the six quantities (first order, numeric Jacobian).
 struct LeastSquaresEstimate : RotaryEstimate {

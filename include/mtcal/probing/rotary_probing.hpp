@@ -43,8 +43,11 @@ struct IndexedCentres {
 // naming the source and line where an indexation's contacts do not give a sphere.
 IndexedCentres centres_from_contacts(const ContactSet& contacts, const SphereProbing& probing);
 
-// Above this many centres the triples (C(n, 3): 1.7e8 for 1000, about 20 s) take too long.
-inline constexpr std::size_t kMaxTriplesCentres = 1000;
+// The most centres the triples estimator takes: its counters hold C(n, 3) (1.7e17 for 1e6) and
+// its sums take 6 kB per centre. Time is the bound in practice (C(n, 3) triples at about 9e6 per
+// second and thread: 1000 centres take 20 s on one thread): callers estimate it first with
+// triples_cost (mtcal rotary-axis refuses beyond --max-time).
+inline constexpr std::size_t kMaxTriplesCentres = 1'000'000;
 
 struct RotaryAxisOptions {
   bool triples = true;        // the all-triples estimator
@@ -105,9 +108,8 @@ struct RotaryAxisResult {
 
 // Merges wrapped indexations (merge_wrapped_centres), measures the line, then runs the estimators
 // options asks for (at least one) when the line is within options.max_tilt of the nominal
-// direction. Throws InputError with more than
-// kMaxTriplesCentres centres for the triples, or where an estimate is not finite (centres that
-// are not of this axis).
+// direction. Throws InputError with more than kMaxTriplesCentres centres for the triples, or where an estimate is not
+// finite (centres that are not of this axis).
 RotaryAxisResult locate_rotary_axis(const NominalRotaryAxis& axis, IndexedCentres centres,
                                     const RotaryAxisOptions& options);
 

@@ -9,6 +9,8 @@
 #include <thread>
 #include <vector>
 
+#include "mtcal/util/interrupt.hpp"
+
 namespace mtcal {
 
 // The number of hardware threads (at least 1).
@@ -29,13 +31,17 @@ inline std::size_t worker_count(int requested, std::size_t tasks) {
 // partition of the work into tasks, not the threads, fixes the rounding.
 //
 // If f throws, no further task is started, the workers are joined and the exception of the
-// lowest-numbered failed task is rethrown in the caller.
+// lowest-numbered failed task is rethrown in the caller. A stop requested with request_interrupt()
+// (util/interrupt.hpp) is seen before each task: Interrupted is thrown the same way.
 template <class F>
 void parallel_for(std::size_t tasks, int threads, F&& f) {
   const std::size_t workers = worker_count(threads, tasks);
   if (tasks == 0) return;
   if (workers == 1) {
-    for (std::size_t t = 0; t < tasks; ++t) f(t, std::size_t{0});
+    for (std::size_t t = 0; t < tasks; ++t) {
+      check_interrupt();
+      f(t, std::size_t{0});
+    }
     return;
   }
   std::atomic<std::size_t> next{0};
@@ -46,6 +52,7 @@ void parallel_for(std::size_t tasks, int threads, F&& f) {
   auto work = [&](std::size_t w) {
     for (std::size_t t; !failed.load(std::memory_order_relaxed) && (t = next.fetch_add(1)) < tasks;) {
       try {
+        check_interrupt();
         f(t, w);
       } catch (...) {
         const std::lock_guard lock(error_mutex);

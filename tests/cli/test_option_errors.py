@@ -1,0 +1,269 @@
+#!/usr/bin/env python3
+"""Issue 16, item 6: every option that takes a value, given a bad value, is refused with one line
+on stderr that names that option (or the file it names), a non-zero exit and no output file.
+
+The options are read from each command's --help (and the global ones from mtcal --help), so a
+new option is covered without editing this file; only the valid starting invocation of each
+command (BASES) is written here, and a command without one fails the test. Each bad value is
+given as --option=VALUE (so that '-inf' is not read as an option) to the first base invocation
+that has the option, replacing its value there, or appended to the first one.
+
+Bad values, by the type the help shows:
+  numbers (FLOAT, INT, UINT ...): '1x', 'nan', '-inf', '1e999' and, for whole numbers, '2.5';
+  a choice TEXT:{a,b}: 'bogus';
+  other TEXT: 'nodir/b@d' (a missing file, an unwritable output, a malformed specification);
+  a TEXT whose value in the base invocation has numbers: each number replaced by 1e308 (and by
+  nan): the command may accept it (a huge but valid value), but if it fails, the message must
+  name the option (the audit found '--centre Z=1e308' blamed on '--at').
+Checks per case: exit status not 0; stderr, warnings aside, is one line 'mtcal: error: ...' that
+contains the option's name or the whole bad value (a file name), and names no other option of
+the command unless it names this one too; nothing is left in the working folder.
+
+Needs MTCAL and EXAMPLES. Prints one line per failure and a summary; exit 1 on any failure.
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+MTCAL = os.environ["MTCAL"]
+E = os.environ["EXAMPLES"]
+M3 = f"{E}/machines/vmc-3axis.yaml"
+M5 = f"{E}/machines/hu40t-wCBXfYZt.yaml"
+MR = f"{E}/machines/rrttt-table-table.yaml"
+PLAN = f"{E}/plans/hu40t-samba-tango.csv"
+EST = "EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B,EXX.1,EYY.1,EZZ.1"
+P = f"{E}/prediction"
+GRID = "X=-400:400:5,Y=-250:250:5,Z=-500:0:5"
+
+fix = tempfile.mkdtemp(prefix="mtcal-opt-fix-")
+work = tempfile.mkdtemp(prefix="mtcal-opt-work-")
+
+# Inputs the commands read that examples/ does not have, made by mtcal itself.
+with open(f"{fix}/points.csv", "w") as f:
+    f.write("X,Y,Z\n0,0,0\n100,50,-20\n")
+for args in (
+    ["probe-sim", "-m", M5, "--axis", "C", "--angles", "0:350:36", "--noise", "0.001", "--out", f"{fix}/contacts.csv"],
+    ["simulate", "-m", M5, "--plan", PLAN, "--artefact-error-um", "50", "--scale-bar", "1:2:304.8", "--out",
+     f"{fix}/meas.csv"],
+    ["ballbar", "--predict", "-m", M3, "--plane", "XY", "--radius", "100", "--centre", "Z=-200", "--out",
+     f"{fix}/trace.csv"],
+):
+    subprocess.run([MTCAL, *args], check=True, stdout=subprocess.DEVNULL)
+
+# A valid invocation of each command, writing its outputs into the working folder (relative
+# names). Several for a command whose options belong to different modes.
+BASES = {
+    "eval": [["-m", M3, "--grid", "X=-100:100:3,Y=-50:50:3", "--out", "o.csv", "--report", "o.html",
+              "--meta", "machine=m1"],
+             ["-m", M3, "--at", "X=100,Y=50,Z=-20"],
+             ["-m", M3, "--points", f"{fix}/points.csv"]],
+    "errors": [["-m", M3, "--report", "o.html", "--set", "EXX.1=5ppm", "--tool-length", "100"]],
+    "effects": [["-m", M5, "--at", "X=100,B=30", "--report", "o.html", "--errors", "EXX,EC0Y"]],
+    "rotary-axis": [["--axis", "C", "--contacts", f"{fix}/contacts.csv", "--sphere-diameter", "30",
+                     "--stylus-diameter", "6", "--machine", M5, "--out", "o.yaml", "--report", "o.html",
+                     "--frame", "0,0,0"]],
+    "probe-sim": [["-m", M5, "--axis", "C", "--angles", "0:350:36", "--hold", "B=0", "--sphere", "150,0,50",
+                   "--out", "o.csv"]],
+    "iso230-2": [[f"{E}/data/iso230-2-x-axis.csv", "--report", "o.html", "--tolerance", "A=10"]],
+    "ballbar": [[f"{fix}/trace.csv", "--radius", "100", "--report", "o.html", "--to-params", "o.yaml",
+                 "--tolerance", "G=10"],
+                ["--predict", "-m", M3, "--radius", "100", "--centre", "Z=-200", "--out", "o.csv"]],
+    "fit-motion": [[f"{E}/instruments/x-axis.rtl", "--out", "o.yaml"]],
+    "compare": [[f"{E}/data/mohammed2019-ballbar-vs-samba.csv", "--report", "o.html"]],
+    "volumetric": [["-m", M3, "--grid", GRID, "--box", "X=-200:200,Y=-125:125", "--box-scan", "3", "--centre",
+                    "X=0,Y=0,Z=-250", "--out", "o.csv", "--report", "o.html"]],
+    "contributions": [["-m", M3, "--grid", GRID, "--report", "o.html"],
+                      ["-m", M3, "--at", "X=100,Y=50,Z=-20"],
+                      ["-m", M3, "--pair", "X=0,Y=0,Z=0;X=300,Y=200,Z=-300"]],
+    "diagonals": [["-m", M3, "--box", "X=-400:400,Y=-250:250,Z=-500:0", "--points", "11", "--out", "o.csv",
+                   "--report", "o.html"]],
+    "toolpath": [["-m", M3, "--gcode", f"{E}/gcode/pocket.nc", "--origin", "X=-40,Y=-25,Z=-400", "--step", "0.5",
+                  "--out", "o.csv", "--report", "o.html"]],
+    "compensate": [["-m", M3, "--format", "linuxcnc", "--points", "11", "--range", "X=-300:300",
+                    "--reference", "Z=-250", "--out", "odir", "--report", "o.html"],
+                   ["-m", M3, "--gcode", f"{E}/gcode/pocket.nc", "--origin", "X=-40,Y=-25,Z=-400", "--out",
+                    "o.nc"]],
+    "regress": [[f"{P}/yaqoob2017-table5_8.csv", "--x", "t", "--y", "e_splz", "--report", "o.html"]],
+    "predict": [["--model", f"{P}/yaqoob2017-model.yaml", "--points", f"{P}/yaqoob2017-w2-points.csv", "--out",
+                 "o.csv", "--compensation", "c.csv", "--report", "o.html"]],
+    "separate": [["position", f"{P}/yaqoob2017-table5_3.csv", "--out", "o.csv"],
+                 ["control", f"{P}/yaqoob2017-table5_6.csv", "--a", "W2", "--b", "W5", "--model",
+                  f"{P}/yaqoob2017-model.yaml", "--out", "o.csv"]],
+    "process-error": [["--feed", "100,200,400"]],
+    "simulate": [["-m", M5, "--plan", PLAN, "--artefact-error-um", "50", "--scale-bar", "1:2:304.8", "--out",
+                  "o.csv"]],
+    "identify": [["-m", M5, "--measurements", f"{fix}/meas.csv", "--estimate", EST, "--scale-bar", "1:2:304.8",
+                  "--out", "o.yaml", "--report", "o.html"]],
+    "identifiability": [["-m", M5, "--plan", PLAN, "--estimate", "EX0C,EX0B,EX0X,EXt"]],
+}
+
+# Options whose every value is valid text (none so far): a bad value cannot fail.
+FREE_TEXT = set()
+
+
+def help_text(*cmd):
+    return subprocess.run([MTCAL, *cmd, "--help"], capture_output=True, text=True, check=True).stdout
+
+
+def parse_help(text):
+    """[(name, type)] of the options and positionals that take a value; positionals' names have no '--'."""
+    out, section = [], None
+    for line in text.splitlines():
+        if re.match(r"^[A-Z][A-Za-z ]*:$", line):
+            section = line[:-1]
+            continue
+        if section not in ("Options", "Positionals") or not line.startswith("  ") or line.startswith("   "):
+            continue
+        left = re.split(r"\s{2,}", line.strip())[0].split(" ")
+        names = left[0].split(",")
+        long = [n for n in names if n.startswith("--")]
+        name = long[0] if long else names[0]
+        if name in ("--help", "--version"):
+            continue
+        kind = left[1] if len(left) > 1 and re.match(r"^(TEXT|FLOAT|INT|UINT|BOOLEAN)", left[1]) else None
+        if section == "Positionals":
+            out.append((name, kind or "TEXT"))
+        elif kind:
+            out.append((name, kind))
+    return out
+
+
+def commands():
+    text = help_text()
+    subs = re.search(r"^Subcommands:\n(.*?)\n\n", text, re.S | re.M).group(1)
+    return [line.split()[0] for line in subs.splitlines() if re.match(r"^  \S", line)], parse_help(text)
+
+
+def bad_values(kind, base_value):
+    if re.match(r"^(FLOAT|INT|UINT)", kind):
+        vals = ["1x", "nan", "-inf", "1e999"]
+        if not kind.startswith("FLOAT"):
+            vals.append("2.5")
+        return [(v, True) for v in vals]
+    choice = re.search(r"\{([^}]*)\}", kind)
+    if choice:
+        return [("bogus", True)]
+    vals = [("nodir/b@d", True)]
+    # Numbers in a specification (not in a file name): each one, on its own, made huge or nan.
+    number = r"(?<![\w.])-?\d+(\.\d+)?([eE][-+]?\d+)?"
+    if base_value and "/" not in base_value and re.search(number, base_value):
+        for huge in ("1e308", "nan"):
+            vals.append((re.sub(number, huge, base_value), False))  # may be accepted; if refused, named
+    return vals
+
+
+passed, failed = 0, []
+
+
+def check(cmd, name, value, must_fail, argv, other_options):
+    global passed
+    for f in os.listdir(work):
+        shutil.rmtree(os.path.join(work, f), ignore_errors=True) if os.path.isdir(os.path.join(work, f)) else \
+            os.remove(os.path.join(work, f))
+    try:
+        r = subprocess.run([MTCAL, *argv], cwd=work, capture_output=True, text=True, errors="replace", timeout=120)
+    except subprocess.TimeoutExpired:
+        failed.append(f"{cmd} {name}={value!r}: no answer in 120 s")
+        return
+    what = f"{cmd} {name}={value!r}"
+    left = sorted(os.listdir(work))
+    if r.returncode == 0:
+        if must_fail and name not in FREE_TEXT:
+            failed.append(f"{what}: exit 0")
+        else:
+            passed += 1  # a huge but valid value, accepted
+        return
+    err = [line for line in r.stderr.splitlines() if not line.startswith("mtcal: warning: ")]
+    problems = []
+    if len(err) != 1 or not err[0].startswith("mtcal: error: "):
+        problems.append(f"stderr is not one error line: {r.stderr[:300]!r}")
+    else:
+        msg = err[0]
+        named = (name.startswith("--") and re.search(re.escape(name) + r"(?![\w-])", msg)) or \
+                value in msg
+        if not named:
+            problems.append(f"the message names neither {name} nor the value: {msg[:300]!r}")
+        else:
+            wrong = [o for o in other_options if o != name and re.search(re.escape(o) + r"(?![\w-])", msg)]
+            if wrong and not (name.startswith("--") and re.search(re.escape(name) + r"(?![\w-])", msg)):
+                problems.append(f"the message blames {wrong}: {msg[:300]!r}")
+    if left:
+        problems.append(f"left {left} in the working folder")
+    if problems:
+        failed.append(f"{what}: " + "; ".join(problems))
+    else:
+        passed += 1
+
+
+def run_command(cmd, options, prefix=()):
+    if cmd not in BASES:
+        failed.append(f"{cmd}: no base invocation in tests/cli/test_option_errors.py (add one)")
+        return
+    bases = BASES[cmd]
+    # The base invocations must work, or every case would fail for the wrong reason.
+    for b in bases:
+        r = subprocess.run([MTCAL, *prefix, cmd, *b], cwd=work, capture_output=True, text=True, timeout=300)
+        if r.returncode != 0:
+            failed.append(f"{cmd}: the base invocation fails: {r.stderr.strip()[:300]}")
+            return
+    others = [n for n, _ in options if n.startswith("--")]
+    positionals = [n for n, _ in options if not n.startswith("--")]
+    for name, kind in options:
+        if name.startswith("--"):
+            base, at = bases[0], None
+            for b in bases:
+                for i, a in enumerate(b):
+                    if a == name or a in short_names.get((cmd, name), ()):
+                        base, at = b, i
+                        break
+                if at is not None:
+                    break
+            base_value = base[at + 1] if at is not None else None
+            for value, must_fail in bad_values(kind, base_value):
+                argv = list(base)
+                if at is not None:
+                    argv[at:at + 2] = [f"{name}={value}"]
+                else:
+                    argv.append(f"{name}={value}")
+                check(cmd, name, value, must_fail, [*prefix, cmd, *argv], others)
+        else:
+            # Positional: the n-th non-option word of the base invocation.
+            index = positionals.index(name)
+            base = bases[0]
+            words = [i for i, a in enumerate(base) if not a.startswith("-") and (i == 0 or not base[i - 1].startswith("-")
+                                                                               or base[i - 1] in flags.get(cmd, ()))]
+            if index >= len(words):
+                continue
+            kinds = bad_values(kind, None)
+            for value, must_fail in kinds:
+                argv = list(base)
+                argv[words[index]] = value
+                check(cmd, name, value, must_fail, [cmd, *argv], others)
+
+
+short_names, flags = {}, {}
+cmds, global_options = commands()
+for cmd in cmds:
+    text = help_text(cmd)
+    for line in text.splitlines():
+        m = re.match(r"^  (-\w),(--[\w-]+)", line)
+        if m:
+            short_names[(cmd, m.group(2))] = (m.group(1),)
+        m = re.match(r"^  (--[\w-]+)\s{2,}", line)
+        if m:
+            flags.setdefault(cmd, set()).add(m.group(1))
+    run_command(cmd, parse_help(text))
+# The global options (limits, --max-input-size), given before the command's name.
+for name, kind in global_options:
+    for value, must_fail in bad_values(kind, None):
+        check("mtcal", name, value, must_fail, [f"{name}={value}", "errors", "-m", M3], [n for n, _ in global_options])
+
+for f in failed:
+    print("FAIL:", f)
+print(f"{passed} passed, {len(failed)} failed")
+shutil.rmtree(fix, ignore_errors=True)
+shutil.rmtree(work, ignore_errors=True)
+sys.exit(1 if failed else 0)
