@@ -9,6 +9,7 @@
 
 #include "acceptance.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/io/csv.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/gcode.hpp"
@@ -71,8 +72,7 @@ int run_regress(const RegressOptions& o) {
   if (c.fits.empty())
     throw Error("no model could be fitted: " + (c.skipped.empty() ? std::string() : c.skipped[0].reason));
   if (!o.report.empty()) regression_report(c, x, y, o.data, o.x, o.y, command_line()).write(o.report);
-  if (o.json_out) {
-    print_json(to_json(c, o.data, o.x, o.y, x.size(), o.report));
+  if ((o.json_out || recording()) && emit_json(to_json(c, o.data, o.x, o.y, x.size(), o.report), o.json_out)) {
     return 0;
   }
   print_regression(o, c, x.size());
