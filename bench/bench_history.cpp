@@ -60,12 +60,23 @@ struct Fixture {
   std::string conn, why;
 };
 
+// The SQLite stores' folder, removed at exit (the filled store is about 450 MB).
+struct BenchDir {
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / fmt::format("mtcal-bench-history-{}", ::getpid());
+  BenchDir() { std::filesystem::create_directories(path); }
+  ~BenchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
 Fixture& sqlite_fixture(bool filled) {
+  static BenchDir bench_dir;
   static Fixture empty, full;
   Fixture& f = filled ? full : empty;
   if (f.conn.empty()) {
-    const auto dir = std::filesystem::temp_directory_path() / fmt::format("mtcal-bench-history-{}", ::getpid());
-    std::filesystem::create_directories(dir);
+    const auto& dir = bench_dir.path;
     f.conn = "sqlite:" + (dir / (filled ? "full.db" : "empty.db")).string();
   }
   return f;

@@ -421,6 +421,12 @@ std::vector<Command> add_history_commands(CLI::App& app) {
                                "exported; events between calibrations (docs/history.md)");
   g_history = h;
   h->require_subcommand(1);
+  h->footer(
+      "Examples:\n"
+      "  mtcal iso230-2 examples/data/iso230-2-x-axis.csv --meta machine=VMC-800 --meta date=2026-11-25 "
+      "--meta axis=X --record=history.db\n"
+      "  mtcal history list --store history.db\n"
+      "  mtcal history export --store history.db --out history.jsonl\n");
   std::vector<Command> out;
 
   auto lo = std::make_shared<ListOptions>();

@@ -103,7 +103,8 @@ std::map<std::string, double> constants_of(const std::string& set) {
 PredictionPoints points_of(const PredictOptions& o) {
   if (!o.points.empty()) return read_prediction_points(o.points);
   if (o.speed <= 0) throw InputError({"--speed", 0, ""}, "--gcode needs --speed (spindle speed, rpm > 0)");
-  return points_from_gcode(read_gcode(o.gcode, GcodeOptions{"XYZ", {}}), o.gcode, o.start_time, o.speed, o.rapid_feed);
+  return points_from_gcode(read_gcode(o.gcode, GcodeOptions{"XYZ", {}, {}}), o.gcode, o.start_time, o.speed,
+                           o.rapid_feed);
 }
 
 void print_prediction(const PredictOptions& o, const PredictionRun& run, const PredictionModel& m) {

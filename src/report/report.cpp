@@ -333,9 +333,6 @@ void Report::write(const std::string& path) const {
     if (images.size() != plots_)
       throw Error(fmt::format("the browser made {} of the report's {} plot images ({})", images.size(), plots_,
                               browser.program));
-    std::error_code ec;
-    std::filesystem::create_directories(copies.png_dir, ec);
-    if (ec) throw Error("cannot make the directory " + copies.png_dir + ": " + ec.message());
     const auto paths = plot_image_paths(path, copies.png_dir, images.size());
     for (std::size_t k = 0; k < images.size(); ++k) write_file_atomically(paths[k], images[k]);
   }

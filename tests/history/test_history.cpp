@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mtcal/io/history_config.hpp"
 #include "mtcal/io/history_store.hpp"
 #include "pg_server.hpp"
 
@@ -482,4 +483,37 @@ TEST(HistoryRecordFromResult, Iso230_2FiguresAndIdentifyParameters) {
   EXPECT_EQ(id.parameters[1], (RecordedParameter{"EX0C", 0.0032, 0.00018, "mm"}));
   EXPECT_THROW(record_from_result("x", "[1]", {}, {}), InputError);
   EXPECT_THROW(record_from_result("x", "{", {}, {}), InputError);
+}
+
+// ---- the configuration file ----------------------------------------------------------------------
+
+TEST(HistoryConfig, ReadsStoreAndRecordAndRefusesTheRest) {
+  TempDir d;
+  const auto path = (d.path / "config.yaml").string();
+  EXPECT_FALSE(read_history_config((d.path / "none.yaml").string()));
+  auto write = [&](const std::string& text) { std::ofstream(path) << text; };
+  write("other: 1\nhistory:\n  store: postgresql://mtcal@db/shop\n  record: always\n");
+  auto c = read_history_config(path);
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->store, "postgresql://mtcal@db/shop");
+  EXPECT_TRUE(c->always);
+  write("history:\n  store: h.db\n");
+  EXPECT_FALSE(read_history_config(path)->always);
+  const std::vector<std::pair<std::string, std::string>> bad{
+      {"history:\n  store: h.db\n  record: sometimes\n", "config.yaml:3: field 'history.record'"},
+      {"history:\n  stor: h.db\n", "unknown key 'stor'"},
+      {"history:\n  store: [a, b]\n", "expected a single value"},
+      {"history: h.db\n", "expected a mapping"},
+      {"- a\n- b\n", "expected a mapping of sections"},
+      {"history: {store: \"\n", "expected YAML"},
+  };
+  for (const auto& [text, expected] : bad) {
+    write(text);
+    try {
+      read_history_config(path);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
 }
