@@ -105,6 +105,9 @@ BASES = {
     "identify": [["-m", M5, "--measurements", f"{fix}/meas.csv", "--estimate", EST, "--scale-bar", "1:2:304.8",
                   "--out", "o.yaml", "--report", "o.html"]],
     "identifiability": [["-m", M5, "--plan", PLAN, "--estimate", "EX0C,EX0B,EX0X,EXt"]],
+    # The history's own commands are subcommands (list, show ...; tests/cli/test_history.sh): the
+    # group's options (--precision) checked through one of them.
+    "history": [["list", "--store", "h.db"]],
 }
 
 # Options whose every value is valid text (none so far): a bad value cannot fail.
