@@ -2,6 +2,8 @@
 // the write lock at their start.
 #include <sqlite3.h>
 
+#include <chrono>
+#include <thread>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -28,7 +30,7 @@ class SqliteStore final : public SqlHistoryStore {
       sqlite3_busy_timeout(db_, 60'000);
       // WAL: readers do not block the writer nor it them; synchronous=FULL: a committed record
       // survives a power cut (one fsync of the log per transaction).
-      exec_plain("PRAGMA journal_mode=WAL");
+      set_wal_journal();
       exec_plain("PRAGMA synchronous=FULL");
       exec_plain("PRAGMA foreign_keys=ON");
       migrate();
@@ -97,6 +99,26 @@ class SqliteStore final : public SqlHistoryStore {
 
   [[noreturn]] void fail(const std::string& what) const {
     throw StoreError(fmt::format("{}: {}: {}", describe(), what, sqlite3_errmsg(db_)));
+  }
+
+  // Switching a new file to WAL takes an exclusive lock, and SQLite answers SQLITE_BUSY at once
+  // there instead of calling the busy handler (seen when two processes open a new store together:
+  // "database is locked"). So the switch is retried for the busy timeout's 60 s; once the file is
+  // in WAL mode (the mode persists in the file) no lock is needed.
+  void set_wal_journal() {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    for (;;) {
+      char* err = nullptr;
+      const int rc = sqlite3_exec(db_, "PRAGMA journal_mode=WAL", nullptr, nullptr, &err);
+      const std::string msg = err ? err : "unknown error";
+      sqlite3_free(err);
+      if (rc == SQLITE_OK) return;
+      if ((rc & 0xff) != SQLITE_BUSY && (rc & 0xff) != SQLITE_LOCKED)
+        throw StoreError(fmt::format("{}: PRAGMA journal_mode=WAL: {}", describe(), msg));
+      if (std::chrono::steady_clock::now() > until)
+        throw StoreError(fmt::format("{}: PRAGMA journal_mode=WAL: {} for 60 s", describe(), msg));
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
   }
 
   void exec_plain(const char* sql) {
