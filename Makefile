@@ -33,8 +33,11 @@ test: build
 # prerequisites, one apt-get update) and runs LinuxCNC headless, about 1.5 minutes
 # (tests/linuxcnc/run, docs/compensation-linuxcnc-test.md).
 test-linuxcnc: DEPS_FLAGS = --linuxcnc
+# Then LinuxCNC's example programs through its interpreter rs274 (tests/linuxcnc/ncfiles/run,
+# docs/gcode.md), which `make test` skips when linuxcnc-uspace is not installed.
 test-linuxcnc: build
 	tests/linuxcnc/run $(MTCAL)
+	MTCAL_REQUIRE_RS274=1 tests/linuxcnc/ncfiles/run $(MTCAL)
 
 # The benchmarks, then the ratios against their baselines of the same run (bench/ratios.py) and
 # `eval --grid` against the grid-aware numpy peer (bench/grid_peer.py); docs/performance.md.

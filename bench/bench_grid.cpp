@@ -99,4 +99,23 @@ void BM_EvalGridCsv_Hu40t(benchmark::State& state) {
 }
 BENCHMARK(BM_EvalGridCsv_Hu40t)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The stream with a NumPy array file (`eval --grid --out FILE.npy`): the doubles as they are.
+void BM_EvalGridNpy_Hu40t(benchmark::State& state) {
+  const Setup s = hu40t(state.range(0));
+  const ErrorModel model(s.m);
+  const auto source = ConfigurationSource::grid(s.grid);
+  const std::string path = (std::filesystem::temp_directory_path() / "mtcal_bench_grid.npy").string();
+  StreamOptions o;
+  o.threads = 1;
+  for (auto _ : state) {
+    ErrorStreamNpy npy(path, s.m, false);
+    evaluate_stream(
+        model, source, [&](const ErrorChunk& c) { npy.write(c); }, o);
+    npy.commit();
+  }
+  std::remove(path.c_str());
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(source.size()));
+}
+BENCHMARK(BM_EvalGridNpy_Hu40t)->Arg(1048576)->Arg(3040000)->Unit(benchmark::kMillisecond);
+
 }  // namespace

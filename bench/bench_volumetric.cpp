@@ -8,6 +8,7 @@
 
 #include "brute_force.hpp"
 #include "mtcal/evaluation/volumetric.hpp"
+#include "mtcal/evaluation/volumetric_study.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
 
@@ -98,3 +99,44 @@ void BM_VA_Exact_101cubed(benchmark::State& state) {
 BENCHMARK(BM_VA_Exact_101cubed)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Bounded memory (issue 18, item 4): the exact VA of the HU40T example over a 4^5 x ... grid of
+// 1,048,576 configurations on one thread. Baseline: the map held (64 MB of configurations and
+// errors for this grid) and searched; against it the streamed passes (memory independent of the
+// grid size: bench/README, docs/performance.md), configuration by configuration (/0: the same
+// bits) and with the grid kernel (/1).
+namespace {
+
+const Machine& hu40t() {
+  static const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml");
+  return m;
+}
+const GridValues& hu40t_grid() {
+  static const GridValues g =
+      parse_grid(hu40t(), "X=-300:300:16,Y=-250:250:16,Z=-300:0:16,B=-90:90:16,C=0:360:16", "bench grid");
+  return g;
+}
+
+}  // namespace
+
+void BM_VolumetricInMemory_Hu40t_Baseline(benchmark::State& state) {
+  const ErrorModel model(hu40t());
+  for (auto _ : state) {
+    const ErrorMap map = grid_error_map(model, hu40t_grid(), {1});
+    benchmark::DoNotOptimize(volumetric_accuracy(map.error).va.value);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(grid_count(hu40t_grid())));
+}
+BENCHMARK(BM_VolumetricInMemory_Hu40t_Baseline)->Unit(benchmark::kMillisecond);
+
+void BM_VolumetricStream_Hu40t(benchmark::State& state) {
+  const ErrorModel model(hu40t());
+  StreamOptions so;
+  so.threads = 1;
+  so.grid_kernel = state.range(0) != 0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(streamed_volumetric_accuracy(model, ConfigurationSource::grid(hu40t_grid()), so).va.value);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(grid_count(hu40t_grid())));
+}
+BENCHMARK(BM_VolumetricStream_Hu40t)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

@@ -13,6 +13,8 @@ import sys
 
 # (what, numerator benchmark, denominator benchmark): ratio = numerator time / denominator time.
 RATIOS = [
+    ("history rank 1000 machines x 120 (weighted): QR baseline / closed form", "BM_HistoryRank_QR_Baseline/1000",
+     "BM_HistoryRank/1000/1"),
     ("regress 150 rows: refits / hat matrix", "BM_Regress_Refit_Baseline/150/iterations:1", "BM_Regress_HatMatrix/150"),
     ("regress: 1000 rows / 150 rows (hat matrix; linear in n)", "BM_Regress_HatMatrix/1000", "BM_Regress_HatMatrix/150"),
     ("HU40T grid 1e6, 1 thread: point by point / grid kernel", "BM_GridPointByPoint_Hu40t_Baseline/1048576/iterations:1",
@@ -21,10 +23,16 @@ RATIOS = [
     ("HU40T grid 3e6: stream / kernel", "BM_EvalGrid_Hu40t/3040000", "BM_GridKernel_Hu40t/3040000"),
     ("HU40T grid 1e6, 1 thread: stream + CSV / kernel", "BM_EvalGridCsv_Hu40t/1/real_time",
      "BM_GridKernel_Hu40t/1048576"),
+    ("HU40T grid 1e6, 1 thread: stream + .npy / kernel", "BM_EvalGridNpy_Hu40t/1048576", "BM_GridKernel_Hu40t/1048576"),
+    ("HU40T grid 3e6, 1 thread: stream + .npy / kernel", "BM_EvalGridNpy_Hu40t/3040000", "BM_GridKernel_Hu40t/3040000"),
     ("5-axis list: naive 4x4 chain / batch kernel (1 thread)", "BM_Naive_5axis", "BM_Batch_5axis/threads:1/real_time"),
     ("3-axis list: naive 4x4 chain / batch kernel (1 thread)", "BM_Naive_3axis", "BM_Batch_3axis/threads:1/real_time"),
     ("Monte Carlo 1000 runs: 1 thread / 2 threads (wall)", "BM_MonteCarlo_1000/1/iterations:1/real_time",
      "BM_MonteCarlo_1000/2/iterations:1/real_time"),
+    ("volumetric HU40T 1e6, 1 thread: map held / streamed (same bits)", "BM_VolumetricInMemory_Hu40t_Baseline",
+     "BM_VolumetricStream_Hu40t/0"),
+    ("volumetric HU40T 1e6, 1 thread: map held / streamed (grid kernel)", "BM_VolumetricInMemory_Hu40t_Baseline",
+     "BM_VolumetricStream_Hu40t/1"),
     ("triples 360: all triples / least-squares circle", "BM_Triples_360/threads:1/real_time", "BM_LeastSquares_360"),
 ]
 # Configurations per second on one core.
@@ -34,6 +42,8 @@ RATES = [
     ("5-axis (HU40T) grid 1e6, grid kernel", "BM_GridKernel_Hu40t/1048576"),
     ("5-axis (HU40T) grid 3e6, grid kernel", "BM_GridKernel_Hu40t/3040000"),
     ("5-axis (HU40T) grid 3e6, stream", "BM_EvalGrid_Hu40t/3040000"),
+    ("5-axis (HU40T) volumetric 1e6, streamed VA (2 passes)", "BM_VolumetricStream_Hu40t/0"),
+    ("5-axis (HU40T) volumetric 1e6, streamed VA, grid kernel", "BM_VolumetricStream_Hu40t/1"),
 ]
 
 

@@ -69,8 +69,8 @@ void add_static_copy_options(CLI::App& app) {
                     "Also write the report printed to PDF (A4, plots as images), for e-mail and where JavaScript "
                     "does not run; made by headless Chromium (Debian package chromium); needs --report");
     sub->add_option("--report-png", copy_options().png_dir,
-                    "Also write each plot of the report as a PNG image into this directory (REPORT-plot-N.png, "
-                    "made when missing), by headless Chromium; needs --report");
+                    "Also write each plot of the report as a PNG image into this existing directory "
+                    "(REPORT-plot-N.png), by headless Chromium; needs --report");
     sub->add_option("--browser-timeout", copy_options().timeout_s,
                     "Seconds the browser may take for each static copy (default 120)")
         ->check(CLI::PositiveNumber);
@@ -87,6 +87,10 @@ void load_static_copies(CLI::App& cmd) {
   const std::string report_path = report->as<std::string>();
   if (!o.pdf.empty() && std::filesystem::weakly_canonical(o.pdf) == std::filesystem::weakly_canonical(report_path))
     throw InputError({"--report-pdf", 0, ""}, "names the same file as --report ('" + printable(o.pdf) + "')");
+  // Checked before the browser is looked for and before any work: a mistyped folder is not made.
+  if (!o.png_dir.empty() && !std::filesystem::is_directory(o.png_dir))
+    throw InputError({"--report-png", 0, ""},
+                     "expected an existing directory for the plot images, found '" + printable(o.png_dir) + "'");
   const HeadlessBrowser b = find_headless_browser(o.timeout_s);
   set_static_copies({o.pdf, o.png_dir, b.program, o.timeout_s});
 }

@@ -8,6 +8,7 @@
 
 #include "acceptance.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/evaluation/compare.hpp"
 #include "mtcal/io/evaluation_files.hpp"
 #include "mtcal/io/evaluation_json.hpp"
@@ -61,11 +62,10 @@ int run_compare(const CompareOptions& o) {
   if (!o.report.empty()) AtomicFile check(o.report);  // refuse a bad report path before the work
   const MethodComparison c = compare_methods(read_comparison_csv(o.data));
   if (!o.report.empty()) write_comparison_report(o.report, command_line(), c);
-  if (o.json_out) {
+  if (o.json_out || recording()) {
     Json j = to_json(c);
     if (!o.report.empty()) j["report"] = o.report;
-    print_json(j);
-    return 0;
+    if (emit_json(j, o.json_out)) return 0;
   }
   print_comparison(c);
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";

@@ -156,8 +156,13 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
       "  mtcal compensate -m examples/machines/vmc-3axis.yaml --format fanuc --fanuc-unit 0.0001 --out fanuc/\n"
       "  mtcal compensate -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/pocket.nc \\\n"
       "      --origin \"X=-40,Y=-25,Z=-400\" --out pocket-corrected.nc\n"
+      "  mtcal compensate -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/drill-plate.nc \\\n"
+      "      --tool-table examples/gcode/tools.tbl --work-offset \"G54:X=-150,Y=-100,Z=-450\" \\\n"
+      "      --g28 \"X=0,Y=0,Z=-10\" --out drill-corrected.nc   # G28 below the Z travel's end: room for the "
+      "correction\n"
       "Tables: --out is a new (or empty) directory, written completely or not at all. Program: --out is a file.\n"
-      "docs/compensation.md (targets, signs, limits), docs/compensation-gcode.md (the corrected program).");
+      "docs/compensation.md (targets, signs, limits), docs/compensation-gcode.md (the corrected program), "
+      "docs/gcode.md (programs with cycles, offsets or LinuxCNC's RS274NGC: written expanded).");
   return {{c, [o] {
              if (!o->gcode.gcode.empty()) {
                if (!o->format.empty())

@@ -11,6 +11,7 @@
 
 #include "acceptance.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/identification/machine_params.hpp"
@@ -68,7 +69,7 @@ int run_iso230_2(const Iso2302Options& o) {
     std::cerr << "mtcal: warning: the tolerance file has no iso230-2 entry for axis '" << (axis ? *axis : "")
               << "' nor 'any': nothing checked\n";
   warn_missing_metadata(AcceptanceTest::Iso230_2, !o.report.empty() || o.tol.given() || user_metadata);
-  if (o.json_out) {
+  if (o.json_out || recording()) {
     Json j = to_json(e);
     Json meta = Json::object();
     for (const auto& [k, v] : runs.metadata) meta[k] = v;  // a key given twice keeps its last value
@@ -76,8 +77,7 @@ int run_iso230_2(const Iso2302Options& o) {
     j["warnings"] = runs.warnings;
     if (!verdict.empty()) j["tolerances"] = to_json(verdict);
     if (!o.report.empty()) j["report"] = o.report;
-    print_json(j);
-    return verdict_exit_code(o.tol, verdict);
+    if (emit_json(j, o.json_out)) return verdict_exit_code(o.tol, verdict);
   }
   std::cout << positioning_text(runs, e);
   print_verdict(verdict);
@@ -212,7 +212,7 @@ int run_ballbar(const BallbarCliOptions& o) {
   if (!o.report.empty())
     write_ballbar_report(o.report, command_line(), t, e, diagnosis, o.plane, o.radius, o.feed, verdict);
   warn_missing_metadata(AcceptanceTest::Iso230_4, !o.report.empty() || o.tol.given());
-  if (o.json_out) {
+  if (o.json_out || recording()) {
     Json j = to_json(e, diagnosis, o.plane, o.radius, o.feed);
     if (!verdict.empty()) j["tolerances"] = to_json(verdict);
     if (!o.report.empty()) j["report"] = o.report;
@@ -231,8 +231,7 @@ int run_ballbar(const BallbarCliOptions& o) {
       j["parameters"] = pj;
       j["to_params"] = o.to_params;
     }
-    print_json(j);
-    return verdict_exit_code(o.tol, verdict);
+    if (emit_json(j, o.json_out)) return verdict_exit_code(o.tol, verdict);
   }
   print_ballbar(o, e, diagnosis);
   print_verdict(verdict);

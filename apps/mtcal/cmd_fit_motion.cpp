@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/identification/machine_params.hpp"
 #include "mtcal/identification/motion_fit.hpp"
 #include "mtcal/io/estimated_parameters_file.hpp"
@@ -69,7 +70,7 @@ int run_fit_motion(const FitMotionOptions& o) {
   if (!o.out.empty())
     write_estimated_parameters(o.out, errors,
                                "Motion errors fitted by mtcal fit-motion (internal units mm, rad)\n" + command_line());
-  if (o.json_out) {
+  if (o.json_out || recording()) {
     Json j;
     Json list = Json::array();
     for (std::size_t i = 0; i < errors.size(); ++i) {
@@ -97,7 +98,8 @@ int run_fit_motion(const FitMotionOptions& o) {
     j["units"] = "internal: mm and rad";
     j["warnings"] = warnings;
     if (!o.out.empty()) j["out"] = o.out;
-    std::cout << j.dump(2) << "\n";
+    if (o.json_out) std::cout << j.dump(2) << "\n";
+    emit_json(j, false);  // noted for --record (printed above as it always was)
     return 0;
   }
   for (std::size_t i = 0; i < errors.size(); ++i) {

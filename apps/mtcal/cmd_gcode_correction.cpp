@@ -20,8 +20,9 @@ namespace mtcal::cli {
 
 void add_gcode_correction_options(CLI::App& app, GcodeCorrectionCliOptions& o) {
   app.add_option("--gcode", o.gcode,
-                 "G-code program to correct (the RS274 subset of 'mtcal toolpath': G0-G3, G17-G19, G20/G21, "
-                 "G90/G91; docs/toolpath.md)");
+                 "G-code program to correct, read as 'mtcal toolpath' reads it (docs/gcode.md): corrected in place "
+                 "when each block is one move in program coordinates, else written anew with every move expanded");
+  add_gcode_input_options(&app, o.input);
   app.add_option("--out", o.out,
                  "Corrected program: the input with new coordinates and the lines of subdivided moves, everything "
                  "else kept; written completely or not at all");
@@ -54,6 +55,7 @@ int run(const GcodeCorrectionCliOptions& o) {
   {
     auto inputs = model_inputs(o.model);
     inputs.push_back(o.gcode);
+    for (const auto& f : gcode_input_files(o.input)) inputs.push_back(f);
     check_outputs(inputs, {o.out});
   }
   const Machine m = load(o.model);
@@ -70,14 +72,25 @@ int run(const GcodeCorrectionCliOptions& o) {
 
   AtomicFile file(o.out);  // refuses a bad output path before the work
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string text = read_text_file(o.gcode, "G-code program");
-  GcodeOptions go;
-  go.axes.clear();
-  for (const auto& ax : m.axes) go.axes += ax.letter;
-  const GcodeProgram program = parse_gcode(text, o.gcode, go);
+  const GcodeProgram program = read_gcode_program(o.gcode, m, o.input);
+  print_gcode_warnings(program.warnings, program.counts.warnings);
   const GcodeCorrectionResult result = correct_program(model, program, opt);
   GcodeRewriteSummary rs;
-  const std::string out = rewrite_gcode(text, o.gcode, go, result.moves, ro, &rs);
+  // In place only when each block's words are its one move: no expansion, no offsets.
+  const bool expanded =
+      program.interpreter != "mtcal" || program.counts.expanded_blocks > 0 || program.counts.offset_blocks > 0;
+  std::string axes;
+  for (const auto& ax : m.axes) axes += ax.letter;
+  std::string out;
+  if (expanded) {
+    out = write_expanded_gcode(result.moves, program, axes,
+                               fmt::format("mtcal compensate --gcode: corrected for machine {}", m.name), ro, &rs);
+  } else {
+    const std::string text = read_text_file(o.gcode, "G-code program");
+    GcodeOptions go;
+    go.axes = axes;
+    out = rewrite_gcode(text, o.gcode, go, result.moves, ro, &rs);
+  }
   file.stream() << out;
   file.commit();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -86,6 +99,8 @@ int run(const GcodeCorrectionCliOptions& o) {
     Json j;
     j["machine"] = m.name;
     j["program"] = o.gcode;
+    j["interpreter"] = program.interpreter;
+    j["written"] = expanded ? "expanded" : "in_place";
     j["correction"] = to_json(result);
     j["rewrite"] = to_json(rs);
     j["seconds"] = seconds;
@@ -94,7 +109,8 @@ int run(const GcodeCorrectionCliOptions& o) {
     return 0;
   }
   std::cout << fmt::format("machine      {} ({})\n", m.name, m.topology.chain);
-  std::cout << fmt::format("program      {}: {} lines, {} moves\n", o.gcode, rs.lines_in, result.moves.size());
+  std::cout << fmt::format("program      {}: {} lines, {} moves{}\n", o.gcode, rs.lines_in, result.moves.size(),
+                           program.interpreter == "rs274" ? " (read by LinuxCNC's interpreter rs274)" : "");
   std::cout << fmt::format("corrected    {} moves; {} pieces added ({} reversal moves); arcs {} kept, {} linearised\n",
                            result.moves_corrected, result.subdivisions, result.transitions, result.arcs_kept,
                            result.arcs_linearised);
@@ -105,8 +121,13 @@ int run(const GcodeCorrectionCliOptions& o) {
   std::cout << fmt::format("tool point   error before {:.6f} mm, deviation after {:.6f} mm (at the points checked)\n",
                            result.max_error_before, result.max_deviation_after);
   for (const auto& w : result.warnings) std::cout << "warning      " << w << "\n";
-  std::cout << fmt::format("wrote        {} ({} lines changed, {} added) in {:.3f} s\n", o.out, rs.lines_changed,
-                           rs.lines_added, seconds);
+  if (expanded)
+    std::cout << fmt::format(
+        "wrote        {} ({} lines: every move expanded, absolute mm; docs/gcode.md) in {:.3f} s\n", o.out,
+        rs.lines_added, seconds);
+  else
+    std::cout << fmt::format("wrote        {} ({} lines changed, {} added) in {:.3f} s\n", o.out, rs.lines_changed,
+                             rs.lines_added, seconds);
   return 0;
 }
 

@@ -6,11 +6,13 @@
 #include <CLI/CLI.hpp>
 
 #include "common.hpp"
+#include "gcode_input.hpp"
 
 namespace mtcal::cli {
 
 struct GcodeCorrectionCliOptions {
   ModelOptions model;  // --machine, --params ... (added by the caller when it has them already)
+  GcodeInputOptions input;
   std::string gcode, out, origin;
   double max_deviation = 0.001;
   int decimals = 6;

@@ -12,6 +12,7 @@
 #include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/identification/identification.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/identification_json.hpp"
@@ -245,10 +246,7 @@ int run_identify(const IdentifyOptions& o) {
   if (!o.report.empty())
     identification_report(prior, run, {o.model.params, o.measurements, o.truth, o.workspace}, command_line())
         .write(o.report);
-  if (o.json_out) {
-    print_json(to_json(run, o.out, o.report));
-    return 0;
-  }
+  if ((o.json_out || recording()) && emit_json(to_json(run, o.out, o.report), o.json_out)) return 0;
   print_identification(o, run);
   return 0;
 }

@@ -9,6 +9,7 @@
 
 #include "acceptance.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/io/csv.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/gcode.hpp"
@@ -71,8 +72,7 @@ int run_regress(const RegressOptions& o) {
   if (c.fits.empty())
     throw Error("no model could be fitted: " + (c.skipped.empty() ? std::string() : c.skipped[0].reason));
   if (!o.report.empty()) regression_report(c, x, y, o.data, o.x, o.y, command_line()).write(o.report);
-  if (o.json_out) {
-    print_json(to_json(c, o.data, o.x, o.y, x.size(), o.report));
+  if ((o.json_out || recording()) && emit_json(to_json(c, o.data, o.x, o.y, x.size(), o.report), o.json_out)) {
     return 0;
   }
   print_regression(o, c, x.size());
@@ -103,7 +103,8 @@ std::map<std::string, double> constants_of(const std::string& set) {
 PredictionPoints points_of(const PredictOptions& o) {
   if (!o.points.empty()) return read_prediction_points(o.points);
   if (o.speed <= 0) throw InputError({"--speed", 0, ""}, "--gcode needs --speed (spindle speed, rpm > 0)");
-  return points_from_gcode(read_gcode(o.gcode, GcodeOptions{"XYZ", {}}), o.gcode, o.start_time, o.speed, o.rapid_feed);
+  return points_from_gcode(read_gcode(o.gcode, GcodeOptions{"XYZ", {}, {}}), o.gcode, o.start_time, o.speed,
+                           o.rapid_feed);
 }
 
 void print_prediction(const PredictOptions& o, const PredictionRun& run, const PredictionModel& m) {

@@ -13,6 +13,7 @@
 #include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
@@ -184,12 +185,11 @@ int run_rotary(const RotaryOptions& o) {
   for (const auto& n : r.notes) std::cerr << "mtcal: note: " << n << "\n";
   if (!o.out.empty()) write_rotary_parameters(o.out, r);
   if (!o.report.empty()) write_rotary_report(o.report, command_line(), machine ? &*machine : nullptr, r, o.max_rms);
-  if (o.json_out) {
+  if (o.json_out || recording()) {
     Json j = to_json(r);
     if (!o.out.empty()) j["out"] = o.out;
     if (!o.report.empty()) j["report"] = o.report;
-    print_json(j);
-    return 0;
+    if (emit_json(j, o.json_out)) return 0;
   }
   print_rotary(r, o);
   print_line(r);

@@ -9,6 +9,7 @@
 
 #include "acceptance.hpp"
 #include "common.hpp"
+#include "gcode_input.hpp"
 #include "mtcal/evaluation/toolpath.hpp"
 #include "mtcal/io/error_csv.hpp"
 #include "mtcal/io/files.hpp"
@@ -25,6 +26,7 @@ namespace {
 
 struct ToolpathCliOptions {
   ModelOptions model;
+  GcodeInputOptions input;
   std::string gcode, origin, out, report;
   double step = 0.5, angle_step = 0.5;
   bool skip_rapids = false, json_out = false, no_travel_check = false, no_direction = false;
@@ -44,13 +46,22 @@ ToolpathOptions toolpath_options(const Machine& m, const ToolpathCliOptions& o) 
   return opt;
 }
 
-void print_toolpath(const ToolpathCliOptions& o, const Machine& m, const ToolpathSummary& summary) {
+void print_toolpath(const ToolpathCliOptions& o, const Machine& m, const ToolpathSummary& summary,
+                    const GcodeInput& in) {
+  const auto& k = summary.counts;
   std::cout << fmt::format("machine      {} ({})\n", m.name, m.topology.chain);
-  std::cout << fmt::format("program      {}: {} lines, {} blocks that move{}\n", o.gcode, summary.counts.lines,
-                           summary.counts.moves,
-                           summary.counts.ignored_words
-                               ? fmt::format(", {} S/T/M and no-op G words ignored", summary.counts.ignored_words)
-                               : std::string());
+  if (in.interpreter == "rs274")
+    std::cout << fmt::format("program      {}: read by LinuxCNC's interpreter rs274 ({} canonical calls), {} moves\n",
+                             o.gcode, k.lines, k.moves);
+  else
+    std::cout << fmt::format("program      {}: {} lines, {} moves{}\n", o.gcode, k.lines, k.moves,
+                             k.ignored_words ? fmt::format(", {} S/T/M and no-op G words ignored", k.ignored_words)
+                                             : std::string());
+  if (!in.why.empty()) std::cout << "interpreter  rs274, because " << in.why << "\n";
+  if (k.cycles || k.tool_changes || k.m_words || k.expanded_blocks)
+    std::cout << fmt::format("words        {} canned-cycle holes, {} tool changes, {} M, {} S, {} T words{}\n",
+                             k.cycles, k.tool_changes, k.m_words, k.s_words, k.t_words,
+                             k.warnings ? fmt::format(", {} warnings", k.warnings) : "");
   std::cout << fmt::format("points       {} along {} blocks, {:.3f} mm of path{}\n", summary.points, summary.blocks,
                            summary.path_length,
                            summary.rapids_skipped ? fmt::format(" ({} rapids left out)", summary.rapids_skipped) : "");
@@ -70,6 +81,7 @@ int run_toolpath(const ToolpathCliOptions& o) {
   {
     auto inputs = model_inputs(o.model);
     inputs.push_back(o.gcode);
+    for (const auto& f : gcode_input_files(o.input)) inputs.push_back(f);
     check_outputs(inputs, {o.out, o.report});
   }
   const Machine m = load(o.model);
@@ -80,11 +92,8 @@ int run_toolpath(const ToolpathCliOptions& o) {
   if (!o.out.empty()) file.emplace(o.out, m);
   if (!o.report.empty()) AtomicFile probe(o.report);  // refuse a bad report path before the work
 
-  const std::string text = read_text_file(o.gcode, "G-code program");
-  GcodeOptions go;
-  go.axes.clear();
-  for (const auto& ax : m.axes) go.axes += ax.letter;
-  GcodeReader reader(text, o.gcode, go);
+  GcodeInput in = open_gcode(o.gcode, m, o.input);
+  MoveSource& reader = *in.moves;
   std::optional<ToolpathPlotSampler> sampler;
   if (!o.report.empty()) sampler.emplace(m.axes.size());
   const auto summary = simulate_toolpath(model, reader, opt, [&](const ToolpathChunk& c) {
@@ -95,11 +104,14 @@ int run_toolpath(const ToolpathCliOptions& o) {
   if (sampler)
     write_toolpath_report(o.report, model, summary, *sampler, {o.gcode, o.step, o.skip_rapids, !o.no_direction},
                           {command_line(), o.model.params, "", ""});
+  print_gcode_warnings(in.notes, in.notes.size());
+  print_gcode_warnings(reader.warnings(), reader.counts().warnings);
   if (!o.json_out) {
-    print_toolpath(o, m, summary);
+    print_toolpath(o, m, summary, in);
     return 0;
   }
   Json j = to_json(m, summary);
+  j["interpreter"] = in.interpreter;
   if (!o.out.empty()) j["out"] = o.out;
   if (!o.report.empty()) j["report"] = o.report;
   print_json(j);
@@ -121,14 +133,15 @@ std::vector<Command> add_toolpath_commands(CLI::App& app) {
   auto o = std::make_shared<ToolpathCliOptions>();
   auto* c = app.add_subcommand(
       "toolpath",
-      "Simulate a G-code program (G0 G1 G2 G3, G17-G19, G20/G21, G90/G91): points along the path every --step mm "
-      "and the volumetric error of the tool relative to the workpiece at each (Fletcher 2009, 4.3). See "
-      "docs/toolpath.md");
+      "Simulate a G-code program: points along the path every --step mm and the volumetric error of the tool "
+      "relative to the workpiece at each (Fletcher 2009, 4.3). mtcal reads the ISO dialect (moves, arcs, "
+      "G54-G59.3, G43 H, G28/G30, canned cycles G73 G81-G89); programs in LinuxCNC's full RS274NGC (parameters, "
+      "expressions, O-word subroutines) go through LinuxCNC's interpreter rs274. See docs/toolpath.md, "
+      "docs/gcode.md");
   add_model_options(c, o->model);
-  c->add_option("--gcode", o->gcode,
-                "G-code program (RS274 subset, docs/toolpath.md); axis words only for the "
-                "machine's axes")
+  c->add_option("--gcode", o->gcode, "G-code program (docs/gcode.md); axis words only for the machine's axes")
       ->required();
+  add_gcode_input_options(c, o->input);
   c->add_option("--step", o->step, "Largest X Y Z path length between points, mm (default 0.5)")
       ->transform(length_in(1.0, "LENGTH"))
       ->check(kFinite);
@@ -146,8 +159,9 @@ std::vector<Command> add_toolpath_commands(CLI::App& app) {
   c->add_option("--out", o->out,
                 "Write every point as CSV: line,n,motion,s,<axes in chain order, mm/deg>,dx,dy,dz (mm),rx,ry,rz (rad)");
   c->add_flag("--json", o->json_out,
-              "Machine-readable summary: points, blocks, path_length, ignored_words, rapids_skipped, max_error "
-              "{value, line, at}, range {dx: [min, max], ...}, out, report");
+              "Machine-readable summary: points, blocks, path_length, ignored_words, words {m, s, t, tool_changes, "
+              "cycles, warnings}, interpreter, rapids_skipped, max_error {value, line, at}, range {dx: [min, max], "
+              "...}, out, report");
   c->add_option(
       "--report", o->report,
       "Write an HTML report: the path in 3D coloured by |error| with the error vectors, the errors along the path");

@@ -1,5 +1,7 @@
 // mtcal volumetric, contributions, diagonals: volumetric accuracy of a machine model (Fletcher
 // 2009; ISO 230-6 diagonals).
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -11,6 +13,7 @@
 #include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/evaluation/diagonals.hpp"
 #include "mtcal/evaluation/volumetric_study.hpp"
 #include "mtcal/io/error_csv.hpp"
@@ -19,6 +22,7 @@
 #include "mtcal/io/volumetric_json.hpp"
 #include "mtcal/report/volumetric.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/parallel.hpp"
 #include "mtcal/util/parse.hpp"
 
 namespace mtcal::cli {
@@ -37,7 +41,7 @@ std::vector<double> config(const ErrorMap& map, std::size_t i) {
 // Where the configurations come from: a grid or a CSV file; and the map they give.
 struct MapSource {
   std::string grid, points;
-  bool no_travel_check = false;
+  bool no_travel_check = false, grid_kernel = false;
   int threads = 0;
 };
 
@@ -50,22 +54,64 @@ void add_map_options(CLI::App* c, MapSource& s) {
                 "dir<axis> (+1/-1)");
   c->add_flag("--no-travel-check", s.no_travel_check, "Allow configurations outside the axes' travels");
   c->add_option("--threads", s.threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+  c->add_flag("--grid-kernel", s.grid_kernel,
+              "Evaluate a --grid with the grid kernel (each axis' transform once per grid value; about 4x faster, "
+              "errors equal to the configuration-by-configuration ones to 1e-12 mm rather than bit for bit)");
 }
 
-ErrorMap build_map(const Machine& m, const ErrorModel& model, const MapSource& s) {
+// The configurations of a --grid or --points run, and the source that streams them (it refers to
+// them: held behind a pointer so that they never move).
+struct Configurations {
+  GridValues grid;
+  ConfigurationList list;
+  ConfigurationSource source;
+};
+
+std::unique_ptr<Configurations> configurations(const Machine& m, const MapSource& s) {
   if (!s.grid.empty() == !s.points.empty())
     throw InputError({"--grid", 0, ""}, "expected exactly one of --grid, --points");
+  auto c = std::make_unique<Configurations>();
   if (!s.grid.empty()) {
-    auto grid = checked_grid(m, s.grid, !s.no_travel_check, 200'000'000);
-    // The map holds every point's configuration and error vector, and the studies copy parts of
-    // it: about 2 x (axes + 3) doubles a point.
-    double points = 1;
-    for (const auto& axis : grid) points *= static_cast<double>(axis.size());
-    check_estimate(
-        {fmt::format("--grid of {:.4g} points", points), points * 16 * static_cast<double>(m.axes.size() + 3), 0, 0});
-    return grid_error_map(model, grid, {s.threads});
+    // The exact VA indexes configurations with 32 bits; time, not memory, is the limit below that.
+    c->grid = checked_grid(m, s.grid, !s.no_travel_check);
+    c->source = ConfigurationSource::grid(c->grid);
+  } else {
+    c->list = read_configurations(m, s.points, !s.no_travel_check);
+    if (c->list.size() == 0) throw InputError({s.points, 0, ""}, "expected at least one configuration, found none");
+    c->source = ConfigurationSource::list(c->list);
   }
-  return error_map(model, read_configurations(m, s.points, !s.no_travel_check), s.points, {s.threads});
+  return c;
+}
+
+// Configurations per second and thread of one streamed pass (evaluation, extremes, candidates)
+// on the 5-axis HU40T example, measured with BM_VolumetricStream (bench/bench_volumetric.cpp:
+// 3.7 M/s configuration by configuration, 15.7 M/s with the grid kernel), rounded down: the
+// estimate errs long.
+constexpr double kStreamedPerSecond = 3e6, kStreamedGridPerSecond = 12e6;
+
+// The time of `maps` streamed maps of two passes each, checked against --max-time and shown on a
+// terminal before the work; bytes: what is held besides (the vectors of a histogram or grouping).
+void check_streamed(const std::string& what, const MapSource& s, const ConfigurationSource& source, double maps,
+                    double bytes, double output_bytes) {
+  const double count = static_cast<double>(source.size());
+  const double threads = static_cast<double>(worker_count(s.threads, source.size()));
+  const double rate = s.grid_kernel && source.grid_values() ? kStreamedGridPerSecond : kStreamedPerSecond;
+  const double seconds = 2 * maps * count / rate / threads;
+  const std::string label =
+      fmt::format("{} over {:.4g} configurations ({:.0f} pass{})", what, count, 2 * maps, 2 * maps > 1 ? "es" : "");
+  check_estimate({label, bytes, seconds, output_bytes});
+  if (seconds > 2 && ::isatty(STDERR_FILENO))
+    std::cerr << fmt::format("  {}: about {} on {:.0f} thread{}\n", label, format_seconds(seconds), threads,
+                             threads > 1 ? "s" : "");
+}
+
+StreamOptions stream_options(const MapSource& s, Progress& progress) {
+  StreamOptions so;
+  so.threads = s.threads;
+  so.grid_kernel = s.grid_kernel;
+  if (progress.active())
+    so.progress = [&progress](std::size_t done, std::size_t total) { progress.update(done, total); };
+  return so;
 }
 
 ReportSources sources(const ModelOptions& model, const MapSource& s) {
@@ -178,15 +224,34 @@ int run_volumetric(const VolumetricOptions& o) {
   if (!o.report.empty()) AtomicFile probe(o.report);  // refuse a bad report path before the work
   if (!o.out.empty()) AtomicFile probe(o.out);
   const VolumetricRequest request = volumetric_request(m, o);
-  const auto t0 = Clock::now();
-  const ErrorMap map = build_map(m, model, o.source);
-  const double t_map = std::chrono::duration<double>(Clock::now() - t0).count();
-  VolumetricStudy study;
-  try {
-    study = study_volumetric(m, map, request);
-  } catch (const InputError& e) {
-    rethrow_for_options(e, {{"box", "--box"}, {"histogram", "--histogram"}});
+  const auto cfg = configurations(m, o.source);
+  {
+    // Streamed: what is held is the vectors a histogram or a grouping needs (24 bytes each, and
+    // the grouping's group index and kept list), and the exact VA's candidates (few).
+    const double count = static_cast<double>(cfg->source.size()), axes = static_cast<double>(m.axes.size());
+    const double held = request.grouping ? count * 40 : request.histogram ? count * 24 : 0;
+    const double row = axes * 13 + (cfg->source.has_directions() ? axes * 3 : 0) + 3 * 17;
+    check_streamed("volumetric", o.source, cfg->source, 1, held, o.out.empty() ? 0.0 : count * row);
   }
+  std::optional<ErrorStreamCsv> file;
+  if (!o.out.empty()) file.emplace(o.out, m, cfg->source.has_directions(), o.source.threads, true);
+  const auto t0 = Clock::now();
+  StreamedStudy streamed;
+  {
+    Progress progress("configurations evaluated, all passes", 2 * cfg->source.size());
+    std::function<void(const ErrorChunk&)> observe;
+    if (file) observe = [&](const ErrorChunk& chunk) { file->write(chunk); };
+    try {
+      streamed = study_volumetric(m, model, cfg->source, request, stream_options(o.source, progress), observe);
+    } catch (const InputError& e) {
+      rethrow_for_options(e, {{"box", "--box"}, {"histogram", "--histogram"}});
+    }
+  }
+  // The map's time: the streamed passes (evaluation, extremes, candidates), less the searches.
+  const double t_map = std::chrono::duration<double>(Clock::now() - t0).count() - streamed.study.seconds_va -
+                       streamed.study.seconds_histogram;
+  const ErrorMap& map = streamed.map;
+  const VolumetricStudy& study = streamed.study;
   // VA and its components in µm (Mohammed 2019's volumetric accuracy, docs/volumetric.md).
   const auto& c = study.va.component;
   const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{}
@@ -195,20 +260,19 @@ int run_volumetric(const VolumetricOptions& o) {
                                                                      {"VAy", c[1].value * 1e3},
                                                                      {"VAz", c[2].value * 1e3}},
                                                                     limits);
-  if (!o.out.empty()) write_error_map_csv(o.out, m, map);
+  if (file) file->commit();
   if (!o.report.empty())
     write_volumetric_report(o.report, model, map, study, o.box, sources(o.model, o.source), verdict);
   warn_missing_metadata(AcceptanceTest::Volumetric, o.tol.given());
-  if (!o.json_out) {
-    print_volumetric(o, m, map, study, t_map);
-    print_verdict(verdict);
-    return verdict_exit_code(o.tol, verdict);
+  if (o.json_out || recording()) {
+    Json j = to_json(m, map, study, t_map);
+    if (!verdict.empty()) j["tolerances"] = to_json(verdict);
+    if (!o.out.empty()) j["out"] = o.out;
+    if (!o.report.empty()) j["report"] = o.report;
+    if (emit_json(j, o.json_out)) return verdict_exit_code(o.tol, verdict);
   }
-  Json j = to_json(m, map, study, t_map);
-  if (!verdict.empty()) j["tolerances"] = to_json(verdict);
-  if (!o.out.empty()) j["out"] = o.out;
-  if (!o.report.empty()) j["report"] = o.report;
-  print_json(j);
+  print_volumetric(o, m, map, study, t_map);
+  print_verdict(verdict);
   return verdict_exit_code(o.tol, verdict);
 }
 
@@ -243,7 +307,15 @@ ContributionStudy contribution_study(const Machine& m, const ErrorModel& model, 
     check_joints(m, a, "--pair", travel);
     return contributions_between(m, std::move(b), std::move(a));
   }
-  return critical_pair_contributions(m, build_map(m, model, o.source), !o.no_what_if, o.source.threads, o.target_va);
+  (void)model;
+  const auto cfg = configurations(m, o.source);
+  // The map, each error's removal, and a correction sequence's tries (at most n (n + 1) / 2 maps
+  // for n errors; estimated at its worst).
+  const double errors = static_cast<double>(nonzero_errors(m).size());
+  const double maps = 1 + (o.no_what_if ? 0 : errors) + (o.target_va ? errors * (errors + 1) / 2 : 0);
+  check_streamed("contributions", o.source, cfg->source, maps, 0, 0);
+  Progress progress("configurations evaluated, all passes", 2 * cfg->source.size());
+  return critical_pair_contributions(m, cfg->source, !o.no_what_if, stream_options(o.source, progress), o.target_va);
 }
 
 // "EC0Y (7.500 um against it), EXX (6.528), EXZ (4.500)": the first three errors it cancelled.

@@ -1,4 +1,5 @@
 #include "common.hpp"
+#include "history.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -39,6 +40,7 @@ void set_command_line(int argc, char** argv) {
 const std::string& command_line() { return g_command_line; }
 
 void check_outputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+  note_inputs(inputs);  // the files a recorded result came from (history.hpp)
   namespace fs = std::filesystem;
   auto same = [](const std::string& a, const std::string& b) {
     std::error_code ec;
@@ -132,6 +134,7 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
 
 Machine load(const ModelOptions& o) {
   Machine m = load_machine(o.machine);
+  note_machine(m.name);
   for (const auto& p : o.params) load_parameters(m, p);
   if (o.tool_length) {
     if (!std::isfinite(*o.tool_length) || *o.tool_length < 0)

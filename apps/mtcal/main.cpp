@@ -31,6 +31,7 @@
 #include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
+#include "history.hpp"
 
 using namespace mtcal;
 using namespace mtcal::cli;
@@ -83,6 +84,9 @@ void print_stream_summary(const EvalOptions& o, const Machine& m, const StreamSu
   if (!o.report.empty()) std::cout << "report       " << o.report << "\n";
 }
 
+// --out FILE.npy: the binary NumPy array instead of CSV text.
+bool npy_out(const std::string& out) { return out.size() > 4 && out.compare(out.size() - 4, 4, ".npy") == 0; }
+
 // Progress on a terminal for runs of more than one chunk.
 std::function<void(std::size_t, std::size_t)> stream_progress(std::size_t count, std::size_t chunk) {
   if (count <= chunk || !::isatty(STDERR_FILENO)) return {};
@@ -108,13 +112,18 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
     // Streamed in chunks: the memory is bounded; the time and the --out file grow with the count.
     // Per row: the axis values (about 12 characters each), directions, 6 errors of 16 characters.
     const double count = static_cast<double>(source.size()), axes = static_cast<double>(m.axes.size());
-    const double row = axes * 13 + (source.has_directions() ? axes * 3 : 0) + 6 * 17;
+    const double row = npy_out(o.out) ? 8 * (axes * (source.has_directions() ? 2 : 1) + 6)
+                                      : axes * 13 + (source.has_directions() ? axes * 3 : 0) + 6 * 17;
     const double threads = static_cast<double>(worker_count(o.threads, source.size()));
     check_estimate({fmt::format("eval {} of {:.4g} configurations", o.points.empty() ? "--grid" : "--points", count), 0,
                     count / kEvaluationsPerSecond / threads, o.out.empty() ? 0.0 : count * row});
   }
   std::optional<ErrorStreamCsv> file;
-  if (!o.out.empty()) file.emplace(o.out, m, source.has_directions(), o.threads);
+  std::optional<ErrorStreamNpy> npy;
+  if (npy_out(o.out))
+    npy.emplace(o.out, m, source.has_directions());
+  else if (!o.out.empty())
+    file.emplace(o.out, m, source.has_directions(), o.threads);
   std::optional<ErrorStreamReport> report;
   if (!o.report.empty()) {
     AtomicFile probe_path(o.report);  // refuse a bad report path before the work
@@ -123,14 +132,16 @@ int run_eval_stream(const EvalOptions& o, const Machine& m) {
   StreamOptions so{o.threads, std::size_t{1} << 20, {}};
   so.progress = stream_progress(source.size(), so.chunk);
   std::function<void(const ErrorChunk&)> sink;  // none without outputs: the stream skips the configurations
-  if (report || file)
+  if (report || file || npy)
     sink = [&](const ErrorChunk& c) {
       if (report) report->add(c);
       if (file) file->write(c);
+      if (npy) npy->write(c);
     };
   const StreamSummary summary = evaluate_stream(model, source, sink, so);
   if (so.progress) std::cerr << "\r" << std::string(60, ' ') << "\r" << std::flush;
   if (file) file->commit();
+  if (npy) npy->commit();
   if (report) report->write(o.report, {command_line(), o.model.params, o.points, o.grid});
   if (!o.json_out) {
     print_stream_summary(o, m, summary);
@@ -245,7 +256,10 @@ Command add_eval_command(CLI::App& app) {
                    "or with a unit (-0.3m:0.3m:7, -1.5rad:1.5rad:5). Configurations (and --out rows) run through the "
                    "grid with the last axis of the topology's chain varying fastest (wCBXfYZt: C slowest, then B, X, "
                    "Y, Z fastest)");
-  eval->add_option("--out", o->out, "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV");
+  eval->add_option("--out", o->out,
+                   "Write every configuration with dx,dy,dz,rx,ry,rz to this CSV; a name ending in .npy writes a "
+                   "NumPy array file instead (float64 rows, the same columns, numpy.load reads it; exact doubles, "
+                   "several times faster to write than text)");
   eval->add_option("--report", o->report,
                    "Write an HTML report (error map, distribution, largest errors; "
                    "self-contained, opens offline) of a --points or --grid run");
@@ -326,7 +340,12 @@ constexpr std::pair<const char*, const char*> kExamples[] = {
     {"diagonals", "  mtcal diagonals -m examples/machines/vmc-3axis.yaml --box \"X=-400:400,Y=-250:250,Z=-500:0\"\n"},
     {"toolpath",
      "  mtcal toolpath -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/pocket.nc \\\n"
-     "      --origin \"X=-40,Y=-25,Z=-400\" --step 0.5 --out path-errors.csv\n"},
+     "      --origin \"X=-40,Y=-25,Z=-400\" --step 0.5 --out path-errors.csv\n"
+     "  mtcal toolpath -m examples/machines/vmc-3axis.yaml --gcode examples/gcode/drill-plate.nc \\\n"
+     "      --tool-table examples/gcode/tools.tbl --work-offset \"G54:X=-150,Y=-100,Z=-450\" --json\n"
+     "  # LinuxCNC's programs (parameters, O-word subroutines) through its interpreter rs274, if installed:\n"
+     "  #   mtcal toolpath -m examples/machines/vmc-3axis.yaml --gcode /usr/share/linuxcnc/ncfiles/spiral.ngc \\\n"
+     "  #       --origin \"Z=-300\" --interpreter rs274\n"},
     {"simulate",
      "  mtcal simulate -m examples/machines/hu40t-wCBXfYZt.yaml --plan examples/plans/hu40t-samba-tango.csv \\\n"
      "      --noise-um 1 --seed 7 --scale-bar 1:2:304.8 --out samba.csv\n"},
@@ -351,8 +370,10 @@ std::vector<Command> add_commands(CLI::App& app) {
   std::vector<Command> all{add_eval_command(app), add_errors_command(app), add_effects_command(app)};
   for (auto* add : {add_probing_commands, add_evaluation_commands, add_fit_motion_commands, add_compare_commands,
                     add_volumetric_commands, add_toolpath_commands, add_compensation_commands, add_prediction_commands,
-                    add_identification_commands})
+                    add_identification_commands, add_history_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
+  // history diff, trend, rank beside the store's list, show, import, export, event add.
+  for (auto& c : add_history_analysis_commands(*history_app())) all.push_back(std::move(c));
   // --precision on every command: the digits of the numbers it writes to CSV files and prints
   // unrounded (JSON always carries every double exactly).
   for (auto* sub : app.get_subcommands({}))
@@ -432,18 +453,29 @@ int run_command(const std::vector<Command>& commands) {
   try {
     // Every file the command writes appears at the end, all together, or none does.
     OutputGroup outputs;
+    std::string name;
     const int rc = [&] {
       for (const auto& c : commands)
         if (c.app->parsed()) {
           load_session_metadata();
           load_static_copies(*c.app);
+          name = c.app->get_name();
+          prepare_recording();
           return c.run();
         }
       throw Error("no command");
     }();
     std::cout.flush();
     if (!std::cout) throw Error("cannot write the results to standard output");
-    outputs.commit();
+    // The record is part of the command's all-or-none output: stored (one transaction) only when
+    // the command succeeded, taken out again if its files then cannot be put in place.
+    const auto recorded = record_result(name);
+    try {
+      outputs.commit();
+    } catch (...) {
+      if (recorded) unrecord(*recorded);
+      throw;
+    }
     return rc;
   } catch (const LimitError& e) {
     std::cerr << "mtcal: error: " << one_line(e.what()) << " (" << limit_option(static_cast<int>(e.limit()))
@@ -479,6 +511,7 @@ int main(int argc, char** argv) {
   bool verbose = false;
   app.add_flag("--verbose", verbose, "Let the nonlinear solver (Ceres) log to stderr; quiet otherwise");
   add_limit_options(app);
+  add_record_options(app);
   const std::vector<Command> commands = add_commands(app);
   // After the commands: they would inherit it.
   app.footer(

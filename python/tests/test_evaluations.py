@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import mtcal
-from conftest import EXAMPLES, MACHINES, SHARED_DATA, assert_same, cli, cli_error, cli_json
+from conftest import EXAMPLES, MACHINES, SHARED_DATA, TIMING_KEYS, assert_same, cli, cli_error, cli_json
 
 VMC = MACHINES / "vmc-3axis.yaml"
 HU40T = MACHINES / "hu40t-wCBXfYZt.yaml"
@@ -18,14 +18,17 @@ def test_volumetric_equals_mtcal_volumetric(vmc):
     ref = cli_json("volumetric", "-m", VMC, "--grid", GRID, "--histogram", "20", "--box", "X=0:400,Y=0:250",
                    "--group-angle", "0.2")
     r = mtcal.volumetric(vmc, grid=GRID, histogram=20, box="X=0:400,Y=0:250", grouping={"angle": 0.2})
-    assert_same(r.to_dict(), ref)
+    # The CLI streams the map (two passes, the exact search over the few candidates): the same
+    # numbers as the module's map held in memory, with fewer distances computed by the search.
+    assert_same(r.to_dict(), ref, skip=TIMING_KEYS | {"distance_evaluations"})
     assert r.va == ref["va"] and r.va_xyz.tolist() == [ref["va_x"], ref["va_y"], ref["va_z"]]
     i, j = r.critical_pair
     assert np.linalg.norm(r.map.errors[j] - r.map.errors[i]) == pytest.approx(r.va, rel=1e-15)
     assert r.histogram.counts.sum() == len(r.map) * (len(r.map) - 1) // 2
     # the same map from an array of configurations, and the VA of its error vectors alone
     q = vmc.grid(GRID)
-    assert_same(mtcal.volumetric(vmc, q).to_dict(), cli_json("volumetric", "-m", VMC, "--grid", GRID))
+    assert_same(mtcal.volumetric(vmc, q).to_dict(), cli_json("volumetric", "-m", VMC, "--grid", GRID),
+                skip=TIMING_KEYS | {"distance_evaluations"})
     assert mtcal.volumetric_accuracy(r.map.errors).va.value == r.va
 
 

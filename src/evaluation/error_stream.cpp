@@ -98,7 +98,7 @@ StreamSummary evaluate_stream(const ErrorModel& model, const ConfigurationSource
         fmt::format("evaluate_stream: configurations of {} axes for a machine with {} axes", n, model.axis_count()));
   const bool with_dir = source.has_directions();
   const GridValues* grid = source.grid_values();
-  const bool by_grid = grid && model.grid_structured();
+  const bool by_grid = grid && options.grid_kernel && model.grid_structured();
   // Without a sink the grid's errors are only checked and searched for the largest: slices of
   // 64 Ki configurations (3 MB of errors) stay in cache instead of streaming through memory.
   const std::size_t chunk =

@@ -1,5 +1,8 @@
 #include "mtcal/io/error_csv.hpp"
 
+#include <bit>
+#include <cstdint>
+
 #include <algorithm>
 #include <charconv>
 #include <iterator>
@@ -61,14 +64,15 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
   return out;
 }
 
-ErrorStreamCsv::ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads)
-    : machine_(m), file_(std::make_unique<AtomicFile>(path)), threads_(threads) {
+ErrorStreamCsv::ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads,
+                               bool translations_only)
+    : machine_(m), file_(std::make_unique<AtomicFile>(path)), threads_(threads), errors_(translations_only ? 3 : 6) {
   const std::size_t n = m.axes.size();
   std::string header;
   for (std::size_t k = 0; k < n; ++k) header += (k ? "," : "") + std::string(1, m.axes[k].letter);
   if (with_directions)
     for (std::size_t k = 0; k < n; ++k) header += std::string(",dir") + m.axes[k].letter;
-  for (const char* k : kErrorKeys) header += std::string(",") + k;
+  for (std::size_t k = 0; k < errors_; ++k) header += std::string(",") + kErrorKeys[k];
   file_->stream() << header << "\n";
 }
 
@@ -120,7 +124,7 @@ void ErrorStreamCsv::write(const ErrorChunk& c) {
             *p++ = ',';
             p = std::to_chars(p, p + 8, static_cast<int>(c.dir[r * n + k])).ptr;
           }
-        for (std::size_t x = 0; x < 6; ++x) {
+        for (std::size_t x = 0; x < errors_; ++x) {
           *p++ = ',';
           p = put(p, c.error[r * 6 + x], std::chars_format::scientific, error_decimals);
         }
@@ -135,6 +139,66 @@ void ErrorStreamCsv::write(const ErrorChunk& c) {
 }
 
 void ErrorStreamCsv::commit() { file_->commit(); }
+
+namespace {
+
+// NumPy .npy version 1.0 (numpy.lib.format): the magic string, the version, a little-endian
+// uint16 header length, then an ASCII Python dict literal padded with spaces and ended by a
+// newline so that the data starts at a multiple of 64 bytes. Reserved at a fixed 128 bytes so
+// that the shape can be written at commit without moving the data.
+constexpr std::size_t kNpyHeader = 128;
+
+std::string npy_header(std::size_t rows, std::size_t columns) {
+  std::string dict = fmt::format("{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, {}), }}", rows, columns);
+  dict.resize(kNpyHeader - 10 - 1, ' ');
+  dict += '\n';
+  const auto len = static_cast<std::uint16_t>(dict.size());
+  std::string h("\x93NUMPY\x01\x00", 8);
+  h += static_cast<char>(len & 0xff);
+  h += static_cast<char>(len >> 8);
+  return h + dict;
+}
+
+}  // namespace
+
+ErrorStreamNpy::ErrorStreamNpy(const std::string& path, const Machine& m, bool with_directions)
+    : file_(std::make_unique<AtomicFile>(path)) {
+  static_assert(std::endian::native == std::endian::little, "the .npy writer writes the doubles as they are ('<f8')");
+  for (const auto& ax : m.axes) {
+    inv_.push_back(1.0 / joint_unit_factor(ax));
+    columns_.emplace_back(1, ax.letter);
+  }
+  if (with_directions)
+    for (const auto& ax : m.axes) columns_.push_back(std::string("dir") + ax.letter);
+  for (const char* k : kErrorKeys) columns_.emplace_back(k);
+  file_->stream() << npy_header(0, columns_.size());
+}
+
+ErrorStreamNpy::~ErrorStreamNpy() = default;
+
+void ErrorStreamNpy::write(const ErrorChunk& c) {
+  const std::size_t n = c.axes, rows = c.size(), cols = columns_.size();
+  buffer_.resize(rows * cols);
+  double* p = buffer_.data();
+  for (std::size_t r = 0; r < rows; ++r) {
+    // The user-unit value as the CSV's (q / factor) before its rounding to 12 digits.
+    for (std::size_t k = 0; k < n; ++k) *p++ = c.q[r * n + k] * inv_[k];
+    if (!c.dir.empty())
+      for (std::size_t k = 0; k < n; ++k) *p++ = c.dir[r * n + k];
+    for (std::size_t x = 0; x < 6; ++x) *p++ = c.error[r * 6 + x];
+  }
+  file_->stream().write(reinterpret_cast<const char*>(buffer_.data()),
+                        static_cast<std::streamsize>(buffer_.size() * sizeof(double)));
+  file_->check_stream();
+  rows_ += rows;
+}
+
+void ErrorStreamNpy::commit() {
+  file_->stream().seekp(0);
+  file_->stream() << npy_header(rows_, columns_.size());
+  file_->check_stream();
+  file_->commit();
+}
 
 void write_error_map_csv(const std::string& path, const Machine& m, const ErrorMap& map) {
   AtomicFile out(path);

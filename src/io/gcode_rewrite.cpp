@@ -324,4 +324,108 @@ std::string rewrite_gcode(std::string_view text, const std::string& source, cons
   return out;
 }
 
+std::string write_expanded_gcode(std::span<const CorrectedMove> moves, const GcodeProgram& program,
+                                 const std::string& axes, const std::string& title, const GcodeRewriteOptions& ro,
+                                 GcodeRewriteSummary* summary) {
+  if (moves.size() != program.moves.size())
+    throw Error(fmt::format("{}: {} corrected moves but the program has {} moves", program.source, moves.size(),
+                            program.moves.size()));
+  if (ro.decimals < 0 || ro.decimals > 12)
+    throw InputError({"decimals", 0, ""},
+                     fmt::format("expected 0 to 12 digits after the decimal point, found {}", ro.decimals));
+  std::array<bool, 6> has{};
+  for (char c : axes) {
+    const int slot = axis_slot(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
+    if (slot >= 0) has[static_cast<std::size_t>(slot)] = true;
+  }
+  std::string out;
+  // A comment cannot hold parentheses (RS274NGC 3.3.4): those of a name become brackets.
+  auto comment = [](std::string text) {
+    for (char& c : text)
+      if (c == '(')
+        c = '[';
+      else if (c == ')')
+        c = ']';
+      else if (c == '\n' || c == '\r')
+        c = ' ';
+    return text;
+  };
+  out += fmt::format("({})\n", comment(title));
+  out += fmt::format("(from {}, read by {}: every move as it runs, canned cycles, G28/G30 and subroutines expanded)\n",
+                     comment(program.source),
+                     program.interpreter == "rs274" ? "LinuxCNC's interpreter rs274" : "mtcal's reader");
+  out += "(absolute positions in mm and deg with the original's work offsets and tool lengths included:)\n";
+  out += "(run with the program zero where the original's machine frame has it and no tool length offset, G49)\n";
+  out += "(spindle, coolant and tool change commands are not written: add them before running)\n";
+  out += "G21 G90 G94 G40 G49 G80 G17\n";
+  std::size_t lines = 6;
+  GcodePlane plane = GcodePlane::XY;
+  double feed = -1;
+  int tool = -2;
+  auto put_axes = [&](std::string& row, const GcodePosition& p) {
+    for (std::size_t s = 0; s < 6; ++s)
+      if (has[s]) row += fmt::format(" {}{}", kGcodeAxes[s], number_text(p[s], ro.decimals));
+  };
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    const GcodeMove& original = program.moves[i];
+    if (original.tool != tool) {
+      tool = original.tool;
+      if (tool >= 0) {
+        out += fmt::format("(tool {} from here)\n", tool);
+        ++lines;
+      }
+    }
+    GcodePosition start = i == 0 ? original.start : GcodePosition{};
+    if (i > 0) start = moves[i - 1].pieces.back().end;
+    for (const CorrectedPiece& piece : moves[i].pieces) {
+      std::string row;
+      const bool arc = piece.motion == GcodeMotion::ArcCW || piece.motion == GcodeMotion::ArcCCW;
+      if (arc && original.plane != plane) {
+        plane = original.plane;
+        row += std::string(to_string(plane)) + " ";
+      }
+      // An arc of more than a turn (LinuxCNC's P turns) goes out as arcs of at most one turn.
+      const int parts =
+          arc ? std::max(1, static_cast<int>(std::ceil(std::abs(piece.sweep) / (2 * std::numbers::pi) - 1e-9))) : 1;
+      GcodeMove m;
+      m.motion = piece.motion;
+      m.plane = original.plane;
+      m.start = start;
+      m.end = piece.end;
+      m.centre = piece.centre;
+      m.sweep = piece.sweep;
+      for (int k = 0; k < parts; ++k) {
+        const GcodePosition a = k == 0 ? start : position_at(m, static_cast<double>(k) / parts);
+        const GcodePosition b = k + 1 == parts ? piece.end : position_at(m, static_cast<double>(k + 1) / parts);
+        std::string r = k == 0 ? row : std::string();
+        r += fmt::format("G{}", motion_code(piece.motion));
+        put_axes(r, b);
+        if (arc) {
+          const PlaneAxes pa = plane_axes(original.plane);
+          for (int s : {pa.u, pa.v})
+            r += fmt::format(" {}{}", static_cast<char>('I' + s),
+                             number_text(piece.centre[static_cast<std::size_t>(s)] - a[static_cast<std::size_t>(s)],
+                                         ro.decimals));
+        }
+        if (piece.motion != GcodeMotion::Rapid && original.feed != feed && original.feed > 0) {
+          feed = original.feed;
+          r += " F" + number_text(feed, ro.decimals > 3 ? 3 : ro.decimals);
+        }
+        r += fmt::format(" (line {})\n", original.line);
+        out += r;
+        ++lines;
+      }
+      start = piece.end;
+    }
+  }
+  out += "M2\n";
+  ++lines;
+  if (summary) {
+    summary->lines_in = program.counts.lines;
+    summary->lines_changed = 0;
+    summary->lines_added = lines;
+  }
+  return out;
+}
+
 }  // namespace mtcal

@@ -60,7 +60,8 @@ std::optional<std::string> find_program(const std::vector<std::string>& names) {
   return std::nullopt;
 }
 
-ProgramRun run_program(const std::vector<std::string>& argv, double timeout_s, std::size_t max_output) {
+ProgramRun run_program(const std::vector<std::string>& argv, double timeout_s, std::size_t max_output,
+                       const std::string& working_dir) {
   if (argv.empty()) throw Error("run_program: no program given");
   int out_pipe[2], err_pipe[2];
   if (::pipe2(out_pipe, O_CLOEXEC) != 0) throw Error("cannot start " + argv[0] + ": pipe: " + std::strerror(errno));
@@ -73,6 +74,8 @@ ProgramRun run_program(const std::vector<std::string>& argv, double timeout_s, s
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, out_w.fd, 1);
   posix_spawn_file_actions_adddup2(&actions, err_w.fd, 2);
+  // glibc's addchdir_np (2.29; Debian 12 has 2.36): the child changes directory, the caller does not.
+  if (!working_dir.empty()) posix_spawn_file_actions_addchdir_np(&actions, working_dir.c_str());
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
   // A process group of its own, so that the time limit ends the program's helpers with it; the

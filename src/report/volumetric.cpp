@@ -14,7 +14,7 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-constexpr std::size_t kConeSamples = 3000;
+constexpr std::size_t kConeSamples = kMapSamples;
 
 // mm as um with 3 decimals; what rounds to zero prints as 0.000, never -0.000.
 std::string um(double mm) { return fmt::format("{:.3f}", std::abs(mm) < 5e-7 ? 0.0 : mm * 1e3); }
@@ -24,10 +24,13 @@ std::vector<double> config(const ErrorMap& map, std::size_t i) {
   return {q.begin(), q.end()};
 }
 
-std::vector<ConeSample> cone_samples(const ErrorModel& model, const ErrorMap& map) {
-  const std::size_t stride = std::max<std::size_t>(1, (map.size() + kConeSamples - 1) / kConeSamples);
+// A streamed study's map holds its samples first (VolumetricStudy::sample_points).
+std::vector<ConeSample> cone_samples(const ErrorModel& model, const ErrorMap& map, const VolumetricStudy& s) {
+  const std::size_t stride =
+      s.map_points ? 1 : std::max<std::size_t>(1, (map.size() + kConeSamples - 1) / kConeSamples);
+  const std::size_t end = s.map_points ? s.sample_points : map.size();
   std::vector<ConeSample> out;
-  for (std::size_t i = 0; i < map.size(); i += stride)
+  for (std::size_t i = 0; i < end; i += stride)
     out.push_back({config(map, i), model.nominal_pose(map.configuration(i)).t, map.error[i]});
   return out;
 }
@@ -109,9 +112,10 @@ void write_volumetric_report(const std::string& path, const ErrorModel& model, c
   r.add_paragraph(
       "Each cone is the translational error at the nominal tool point (workpiece frame); the red line "
       "joins the critical pair.");
-  r.add_plot(fmt::format("Translational errors (µm) over {} configurations{}", map.size(),
-                         map.size() > kConeSamples ? fmt::format(", {} shown", cone_samples(model, map).size()) : ""),
-             error_cone_figure(m, cone_samples(model, map),
+  const std::size_t points = s.map_points ? s.map_points : map.size();
+  r.add_plot(fmt::format("Translational errors (µm) over {} configurations{}", points,
+                         points > kConeSamples ? fmt::format(", {} shown", cone_samples(model, map, s).size()) : ""),
+             error_cone_figure(m, cone_samples(model, map, s),
                                {{"from", model.nominal_pose(map.configuration(va.va.i)).t},
                                 {"to", model.nominal_pose(map.configuration(va.va.j)).t}},
                                true));
@@ -164,7 +168,7 @@ void write_volumetric_report(const std::string& path, const ErrorModel& model, c
                 {"angle tolerance", "magnitude tolerance", "groups", "records kept", "comparisons", "VA (µm)",
                  "exact VA (µm)", "difference (%)"},
                 {{fmt::format("{:g}", g.options.angle_tolerance), fmt::format("{:g}", g.options.magnitude_tolerance),
-                  fmt::format("{}", g.result.groups), fmt::format("{} of {}", g.result.kept.size(), map.size()),
+                  fmt::format("{}", g.result.groups), fmt::format("{} of {}", g.result.kept.size(), points),
                   fmt::format("{:.6g}", g.result.comparisons), um(g.result.va.value), um(va.va.value),
                   fmt::format("{:.3f}", g.difference_percent)}});
   }

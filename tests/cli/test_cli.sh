@@ -64,6 +64,24 @@ expect_exit 0 "eval --points" -- "$MTCAL" eval -m "$M5" --points "$tmp/p.csv" --
 [ "$(head -1 "$tmp/o.csv")" = "C,B,X,Y,Z,dirC,dirB,dirX,dirY,dirZ,dx,dy,dz,rx,ry,rz" ] && ok || bad "output header: $(head -1 "$tmp/o.csv")"
 [ "$(wc -l <"$tmp/o.csv")" -eq 3 ] && ok || bad "output rows"
 [ "$(json_get "d['configurations']")" = "2" ] && ok || bad "batch JSON configurations"
+# --out FILE.npy: the same rows as the CSV, as float64, read by numpy.load (the reference reader
+# of the .npy format); the CSV's numbers are its 10 significant digits of these doubles.
+expect_exit 0 "eval --points --out .npy" -- "$MTCAL" eval -m "$M5" --points "$tmp/p.csv" --out "$tmp/o.npy"
+expect_exit 0 "eval --grid --out .npy" -- "$MTCAL" eval -m "$M5" --grid "X=-300:300:4,Y=0:100:3,B=-30:30:2" --out "$tmp/g.npy"
+"$MTCAL" eval -m "$M5" --grid "X=-300:300:4,Y=0:100:3,B=-30:30:2" --out "$tmp/g.csv" >/dev/null
+/usr/bin/python3 - "$tmp" <<'PY' && ok || bad "--out .npy equals the CSV (numpy.load)"
+import sys, numpy as np
+t = sys.argv[1]
+for name, cols in (("o", 16), ("g", 11)):
+    a = np.load(f"{t}/{name}.npy")
+    c = np.loadtxt(f"{t}/{name}.csv", delimiter=",", skiprows=1, ndmin=2)
+    assert a.dtype == np.float64 and a.shape == c.shape and a.shape[1] == cols, (a.shape, c.shape)
+    assert np.allclose(a, c, rtol=1e-9, atol=1e-15), np.abs(a - c).max()
+    assert np.any(a[:, -6:] != 0)
+with open(f"{t}/g.npy", "rb") as f:
+    head = f.read(128)
+assert head[:8] == b"\x93NUMPY\x01\x00" and head[127:128] == b"\n"
+PY
 # A batch row without directions agrees with --at to the printed precision.
 printf 'X,Y,Z,B,C\n100,50,-20,30,90\n' >"$tmp/p2.csv"
 "$MTCAL" eval -m "$M5" --points "$tmp/p2.csv" --out "$tmp/o2.csv" >/dev/null
@@ -248,7 +266,7 @@ expect_error "probe-sim on a head axis" "carries the workpiece" -- "$MTCAL" prob
 [ ! -e "$tmp/partial.csv" ] && ok || bad "no partial probe-sim output after a failure"
 expect_error "probe-sim unknown axis" "not in topology" -- "$MTCAL" probe-sim -m "$MR" --axis B --out "$tmp/partial.csv"
 expect_error "probe-sim without --out" "--out" -- "$MTCAL" probe-sim -m "$MR"
-[ -z "$(ls -A "$tmp" | grep -v -E '\.(csv|yaml|json)$|^(out|err)$')" ] && ok || bad "temporary files left behind: $(ls -A "$tmp")"
+[ -z "$(ls -A "$tmp" | grep -v -E '\.(csv|yaml|json|npy)$|^(out|err)$')" ] && ok || bad "temporary files left behind: $(ls -A "$tmp")"
 printf 'mtcal_parameters: 1\nerrors:\n  EX0C: 12 um\n  EQQ: 1 um\n' >"$tmp/badparams.yaml"
 expect_error "eval --params bad error name" "badparams.yaml:4: field 'errors.EQQ': unknown error name 'EQQ'" -- "$MTCAL" eval -m "$tmp/clean.yaml" --params "$tmp/badparams.yaml" --at X=0
 expect_error "errors --params bad error name" "unknown error name 'EQQ'" -- "$MTCAL" errors -m "$tmp/clean.yaml" --params "$tmp/badparams.yaml"

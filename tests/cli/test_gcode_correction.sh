@@ -19,7 +19,7 @@ expect_error "without --out" "--out" -- "$MTCAL" compensate -m "$M3" --gcode "$P
 # JSON summary and the file.
 expect_exit 0 "json" -- "$MTCAL" compensate -m "$M3" --gcode "$P" --origin "$ORIGIN" --out "$tmp/c.nc" \
   --no-direction --json
-[ "$(json_get "list(d.keys())")" = "['machine', 'program', 'correction', 'rewrite', 'seconds', 'out']" ] && ok ||
+[ "$(json_get "list(d.keys())")" = "['machine', 'program', 'interpreter', 'written', 'correction', 'rewrite', 'seconds', 'out']" ] && ok ||
   bad "JSON keys: $(json_get "list(d.keys())")"
 [ "$(json_get "list(d['correction'].keys())")" = "['moves', 'moves_corrected', 'subdivisions', 'transitions', 'arcs_kept', 'arcs_linearised', 'direction_conflicts', 'points_solved', 'max_correction', 'max_rotary_correction', 'max_iterations', 'max_residual', 'max_orientation_left', 'max_error_before', 'max_deviation_after', 'warnings']" ] &&
   ok || bad "correction keys: $(json_get "list(d['correction'].keys())")"
@@ -63,7 +63,7 @@ expect_exit 0 "5-axis" -- "$MTCAL" compensate -m "$M5" --gcode "$tmp/five.nc" --
 [ "$(json_get "d['correction']['max_rotary_correction'] > 0")" = "True" ] && ok || bad "5-axis rotary correction"
 
 # Bad input: one line, no output file.
-printf 'G1 X10 Q3\n' >"$tmp/bad.nc"
+printf 'G1 X10 Yz\n' >"$tmp/bad.nc"
 expect_error "bad program" "bad.nc:1: column 8" -- "$MTCAL" compensate -m "$M3" --gcode "$tmp/bad.nc" \
   --out "$tmp/bad-out.nc"
 [ ! -e "$tmp/bad-out.nc" ] && ok || bad "a bad program left an output file"

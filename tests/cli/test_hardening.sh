@@ -98,7 +98,7 @@ no_temp_files "SIGINT"
 expect_error "eval --grid 4e9 --out" "--max-output-size raises it" -- "$MTCAL" eval -m "$M3" --grid X=-400:400:2000,Y=-250:250:2000,Z=-500:0:1000 --out huge.csv
 [ ! -e huge.csv ] && ok || bad "huge.csv created"
 expect_error "eval --grid 4e9 time" "--max-time raises it" -- "$MTCAL" --max-time 10 eval -m "$M3" --grid X=-400:400:2000,Y=-250:250:2000,Z=-500:0:1000
-expect_error "volumetric 2e8 points" "--max-memory raises it" -- "$MTCAL" volumetric -m "$M3" --grid X=-400:400:1000,Y=-250:250:1000,Z=-500:0:200
+expect_error "volumetric 2e8 time" "--max-time raises it" -- "$MTCAL" --max-time 10 volumetric -m "$M3" --grid X=-400:400:1000,Y=-250:250:1000,Z=-500:0:200
 "$MTCAL" simulate -m "$M5" --plan "$PLAN" --artefact-error-um 50 --scale-bar 1:2:304.8 --out meas.csv >/dev/null 2>&1
 expect_error "Monte Carlo huge workspace" "--max-memory raises it" -- "$MTCAL" identify -m "$M5" --measurements meas.csv --estimate "$EST" --scale-bar 1:2:304.8 --monte-carlo 1000 --workspace "X=-300:300:20,Y=-250:250:20,Z=-300:300:20,B=0:90:20,C=0:360:10"
 grep -q "Monte Carlo\|monte-carlo" "$tmp/err" && ok || bad "Monte Carlo refusal names it: $(cat "$tmp/err")"

@@ -11,7 +11,9 @@ that has the option, replacing its value there, or appended to the first one.
 Bad values, by the type the help shows:
   numbers (FLOAT, INT, UINT ...): '1x', 'nan', '-inf', '1e999' and, for whole numbers, '2.5';
   a choice TEXT:{a,b}: 'bogus';
-  other TEXT: 'nodir/b@d' (a missing file, an unwritable output, a malformed specification);
+  other TEXT: '<fixtures>/notadir/b@d' below a regular file (a missing file, an output that cannot
+  be made, even by an option that makes missing folders such as --report-png, a malformed
+  specification);
   a TEXT whose value in the base invocation has numbers: each number replaced by 1e308 (and by
   nan): the command may accept it (a huge but valid value), but if it fails, the message must
   name the option (the audit found '--centre Z=1e308' blamed on '--at').
@@ -40,6 +42,11 @@ GRID = "X=-400:400:5,Y=-250:250:5,Z=-500:0:5"
 
 fix = tempfile.mkdtemp(prefix="mtcal-opt-fix-")
 work = tempfile.mkdtemp(prefix="mtcal-opt-work-")
+
+# A path no command can read or make: its parent is a regular file.
+with open(f"{fix}/notadir", "w") as f:
+    f.write("a regular file\n")
+BAD_PATH = f"{fix}/notadir/b@d"
 
 # Inputs the commands read that examples/ does not have, made by mtcal itself.
 with open(f"{fix}/points.csv", "w") as f:
@@ -146,7 +153,7 @@ def bad_values(kind, base_value):
     choice = re.search(r"\{([^}]*)\}", kind)
     if choice:
         return [("bogus", True)]
-    vals = [("nodir/b@d", True)]
+    vals = [(BAD_PATH, True)]
     # Numbers in a specification (not in a file name): each one, on its own, made huge or nan.
     number = r"(?<![\w.])-?\d+(\.\d+)?([eE][-+]?\d+)?"
     if base_value and "/" not in base_value and re.search(number, base_value):

@@ -21,7 +21,7 @@ grep -q '^largest translational error' "$tmp/out" && ok || bad "text summary: $(
 # JSON keys and CSV columns.
 expect_exit 0 "toolpath --json --out" -- "$MTCAL" toolpath -m "$M3" --gcode "$P" --origin "$ORIGIN" --step 0.5 \
   --json --out "$tmp/tp.csv"
-[ "$(json_get "list(d.keys())")" = "['points', 'blocks', 'path_length', 'ignored_words', 'rapids_skipped', 'max_error', 'range', 'out']" ] &&
+[ "$(json_get "list(d.keys())")" = "['points', 'blocks', 'path_length', 'ignored_words', 'words', 'rapids_skipped', 'max_error', 'range', 'interpreter', 'out']" ] &&
   ok || bad "JSON keys: $(json_get "list(d.keys())")"
 [ "$(json_get "sorted(d['max_error'].keys())")" = "['at', 'line', 'value']" ] && ok || bad "max_error keys"
 [ "$(json_get "sorted(d['range'].keys())")" = "['dx', 'dy', 'dz', 'rx', 'ry', 'rz']" ] && ok || bad "range keys"
@@ -73,10 +73,31 @@ expect_exit 0 "toolpath --skip-rapids" -- "$MTCAL" toolpath -m "$M3" --gcode "$P
 expect_exit 0 "toolpath --report" -- "$MTCAL" toolpath -m "$M3" --gcode "$P" --origin "$ORIGIN" --report "$tmp/tp.html"
 grep -q 'Tool-path simulation' "$tmp/tp.html" && grep -q 'pocket.nc' "$tmp/tp.html" && ok || bad "report content"
 
+# The ISO dialect: a canned cycle expanded and counted; a word not simulated is a warning on stderr
+# naming file, line, column and word.
+printf 'O100\nG21 G90 G17 F100\nG0 X0 Y0 Z10\nG64 P0.01\nG98 G81 X10 Y5 Z-3 R2\nX20\nG80 M30\n' >"$tmp/cycle.nc"
+expect_exit 0 "canned cycle" -- "$MTCAL" toolpath -m "$M3" --gcode "$tmp/cycle.nc" --origin "$ORIGIN" --json
+[ "$(json_get "d['words']['cycles']")" = 2 ] && [ "$(json_get "d['interpreter']")" = mtcal ] && ok ||
+  bad "canned cycle: $(cat "$tmp/out")"
+grep -qF "mtcal: warning: $tmp/cycle.nc:4: column 5: 'G64 P0.01' (path blending tolerance) is not simulated" "$tmp/err" &&
+  ok || bad "G64 P warning: $(cat "$tmp/err")"
+# RS274NGC beyond the ISO dialect without LinuxCNC's interpreter: a message that says what to install.
+printf 'G21\n#1 = 5\nG1 X#1 F100\nM2\n' >"$tmp/param.ngc"
+expect_error "no rs274 (auto)" "$tmp/param.ngc:2: column 1: '#' parameter" -- "$MTCAL" toolpath -m "$M3" \
+  --gcode "$tmp/param.ngc" --origin "$ORIGIN" --rs274 /nonexistent/rs274
+grep -qF "LinuxCNC's interpreter '/nonexistent/rs274' is not installed (Debian package linuxcnc-uspace)" "$tmp/err" &&
+  ok || bad "no rs274 message: $(cat "$tmp/err")"
+expect_error "no rs274 (asked for)" "LinuxCNC's interpreter '/nonexistent/rs274' is not installed" -- "$MTCAL" \
+  toolpath -m "$M3" --gcode "$tmp/cycle.nc" --origin "$ORIGIN" --interpreter rs274 --rs274 /nonexistent/rs274
+expect_error "bad tool table" "tools.tbl:1: column 4: expected a number after 'Z'" -- bash -c \
+  "printf 'T1 Zx\n' >'$tmp/tools.tbl'; '$MTCAL' toolpath -m '$M3' --gcode '$tmp/cycle.nc' --origin '$ORIGIN' --tool-table '$tmp/tools.tbl'"
+expect_error "bad work offset" "--work-offset" -- "$MTCAL" toolpath -m "$M3" --gcode "$tmp/cycle.nc" \
+  --origin "$ORIGIN" --work-offset "G60:X=1"
+
 # A bad program: one line naming file, line and column; exit 1; no output file, no temporary left.
-printf 'G21 G90\nG1 X1 F100\nG1 X2 Q3\n' >"$tmp/bad.nc"
+printf 'G21 G90\nG1 X1 F100\nG1 X2 Yq\n' >"$tmp/bad.nc"
 mkdir "$tmp/outdir"
-expect_error "bad word" "bad.nc:3: column 7: unsupported word 'Q'" -- "$MTCAL" toolpath -m "$M3" --gcode "$tmp/bad.nc" \
+expect_error "bad word" "bad.nc:3: column 7: expected a number after 'Y', found 'q'" -- "$MTCAL" toolpath -m "$M3" --gcode "$tmp/bad.nc" \
   --origin "Z=-400" --out "$tmp/outdir/bad.csv"
 [ "$(grep -c . "$tmp/err")" -eq 1 ] && ok || bad "one error line"
 "$MTCAL" toolpath -m "$M3" --gcode "$tmp/bad.nc" --origin "Z=-400" --out "$tmp/outdir/bad.csv" >/dev/null 2>&1

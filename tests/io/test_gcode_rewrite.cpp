@@ -123,5 +123,5 @@ TEST(GcodeRewrite, BadInput) {
   ro.decimals = 13;
   EXPECT_THROW(rewrite_gcode(text, "d.nc", xyz(), moves, ro), InputError);
   EXPECT_THROW(rewrite_gcode(text + "G1 X2\n", "d.nc", xyz(), moves), Error);   // a move left uncorrected
-  EXPECT_THROW(rewrite_gcode("G1 X1 Q3\n", "d.nc", xyz(), moves), InputError);  // the reader's own errors
+  EXPECT_THROW(rewrite_gcode("G1 X1 #3\n", "d.nc", xyz(), moves), InputError);  // the reader's own errors
 }

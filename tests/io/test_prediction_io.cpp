@@ -61,7 +61,7 @@ TEST(SeparationFile, BadCellsNameFileLineAndColumn) {
 
 TEST(PredictionPoints, FromGcodeTimesAndDistances) {
   // 100 mm at F500 after a 30 mm rapid at 10000 mm/min: t = 1 + 0.003 + 0.2 minutes.
-  const GcodeProgram prog = parse_gcode("G0 X30\nG1 X-70 F500\n", "p.nc", GcodeOptions{"XYZ", {}});
+  const GcodeProgram prog = parse_gcode("G0 X30\nG1 X-70 F500\n", "p.nc", GcodeOptions{"XYZ", {}, {}});
   const PredictionPoints t = points_from_gcode(prog, "p.nc", 1.0, 3500, 10000);
   ASSERT_EQ(t.rows.size(), 1u);
   EXPECT_EQ(t.lines, std::vector<int>{2});
@@ -69,7 +69,7 @@ TEST(PredictionPoints, FromGcodeTimesAndDistances) {
   EXPECT_EQ(t.rows[0][static_cast<std::size_t>(t.column("dx"))], 70);
   EXPECT_EQ(t.rows[0][static_cast<std::size_t>(t.column("S"))], 3500);
   try {
-    points_from_gcode(parse_gcode("G0 X30\n", "r.nc", GcodeOptions{"XYZ", {}}), "r.nc", 0, 3500, 10000);
+    points_from_gcode(parse_gcode("G0 X30\n", "r.nc", GcodeOptions{"XYZ", {}, {}}), "r.nc", 0, 3500, 10000);
     FAIL() << "accepted";
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().file, "r.nc");

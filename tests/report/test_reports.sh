@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Reports from example data: every report type is written, is deterministic apart from its date
 # line, escapes hostile names, and renders in headless Chromium without JavaScript errors
-# (browser_check.mjs; screenshots into $SHOTS). Needs MTCAL, EXAMPLES, WEB, SHOTS.
+# (browser_check.mjs; screenshots into $SHOTS). Needs MTCAL, EXAMPLES, WEB, SHOTS, HISTORY_FIXTURE.
 # Exit 77 (SKIPPED) when the browser part cannot run; prints "N passed, N failed".
 set -u
 source "$(dirname "$0")/../testing/cli_lib.sh"
@@ -58,7 +58,11 @@ run "$MTCAL" regress "$EXAMPLES/../prediction/yaqoob2017-table5_8.csv" --x t --y
 run "$MTCAL" predict --model "$EXAMPLES/../prediction/yaqoob2017-model.yaml" --points "$EXAMPLES/../prediction/yaqoob2017-w2-points.csv" \
   --report "$tmp/predict.html"
 run "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/comp" --report "$tmp/compensate.html"
-for f in eval-grid eval-points effects errors rotary-axis iso230-2 iso230-2-acceptance iso230-2-laser iso230-2-b02 ballbar eval-hu40t compare volumetric contributions diagonals toolpath identify regress predict compensate; do
+# The calibration history's trend report, from a store holding a known fleet (tests/history).
+"$HISTORY_FIXTURE" "$tmp/history.db" || bad "history fixture"
+run "$MTCAL" history trend --store "$tmp/history.db" --machine HU40T --tolerance EC0Y=40 \
+  --tolerance-file "$EXAMPLES/../acceptance/tolerances.yaml" --report "$tmp/history-trend.html"
+for f in eval-grid eval-points effects errors rotary-axis iso230-2 iso230-2-acceptance iso230-2-laser iso230-2-b02 ballbar eval-hu40t compare volumetric contributions diagonals toolpath identify regress predict compensate history-trend; do
   [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
 done
 # The points report names its input with the input's SHA-256.
@@ -111,7 +115,8 @@ if command -v node >/dev/null; then
     "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
     "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/iso230-2-acceptance.html:1" "$tmp/iso230-2-laser.html:1" "$tmp/iso230-2-b02.html:1" "$tmp/ballbar.html:2" "$tmp/eval-hu40t.html:2" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
     "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2" \
-    "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1") >"$tmp/browser" 2>&1
+    "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1" \
+    "$tmp/history-trend.html:2") >"$tmp/browser" 2>&1
   node_rc=$?
   cat "$tmp/browser"
 else

@@ -7,7 +7,8 @@
 set -u
 source "$(dirname "$0")/../testing/cli_lib.sh"
 RTL="$EXAMPLES/../instruments/x-axis.rtl"
-outputs_absent() { [ ! -e "$tmp/r.html" ] && [ ! -e "$tmp/r.pdf" ] && [ ! -e "$tmp/png" ] && ok || bad "$1: an output was left: $(ls "$tmp")"; }
+outputs_absent() { [ ! -e "$tmp/r.html" ] && [ ! -e "$tmp/r.pdf" ] && [ -z "$(ls -A "$tmp/png" 2>/dev/null)" ] && ok || bad "$1: an output was left: $(ls -R "$tmp")"; }
+mkdir "$tmp/png"
 
 # No browser installed: one line naming what was looked for, nothing written, before any work.
 mkdir -p "$tmp/emptybin"
@@ -18,6 +19,9 @@ expect_error "MTCAL_CHROMIUM not a program" "MTCAL_CHROMIUM names '$tmp/none'" -
   env MTCAL_CHROMIUM="$tmp/none" "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/png"
 outputs_absent "bad MTCAL_CHROMIUM"
 expect_error "pdf without report" "--report-pdf: expected --report FILE.html beside it" -- "$MTCAL" iso230-2 "$RTL" --report-pdf "$tmp/r.pdf"
+expect_error "png folder missing" "--report-png: expected an existing directory for the plot images, found '$tmp/nodir'" -- \
+  "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/nodir"
+[ ! -e "$tmp/nodir" ] && outputs_absent "png folder missing" || bad "the missing folder was made"
 expect_error "pdf is the report" "names the same file as --report" -- \
   "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-pdf "$tmp/r.html"
 
@@ -55,7 +59,7 @@ png64=iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8DwHwAFBQIAX8
 fake dom "echo '<html><body><div class=\"plot\"></div><img class=\"plot-print\" alt=\"x\" src=\"data:image/png;base64,$png64\"></body></html>'"
 expect_exit 0 "stand-in PNG" -- env MTCAL_CHROMIUM="$tmp/dom" "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/png"
 cmp -s "$tmp/png/r-plot-1.png" <(printf '%s' "$png64" | base64 -d) && ok || bad "PNG copy: $(ls -l "$tmp/png" 2>&1)"
-rm -rf "$tmp/r.html" "$tmp/png"
+rm -rf "$tmp/r.html" "$tmp/png"/*
 # A page whose images were not all made: an error, no outputs.
 fake nodom "echo '<html><body>no images</body></html>'"
 expect_error "no plot images" "the browser made 0 of the report's 1 plot images" -- \

@@ -73,6 +73,9 @@ struct StreamOptions {
   std::size_t chunk = std::size_t{1} << 20;  // configurations per batch (memory ~ chunk x (axes + 6) doubles)
   // Called after each chunk with the configurations done and the total.
   std::function<void(std::size_t done, std::size_t total)> progress;
+  // A grid through ErrorModel::evaluate_grid (to rounding the point kernel's numbers, at a
+  // fraction of the work); false: configuration by configuration, as a list.
+  bool grid_kernel = true;
 };
 
 // The largest error of a stream and where (the first configuration reaching it).

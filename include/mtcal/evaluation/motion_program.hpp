@@ -42,6 +42,13 @@ struct GcodeMove {
   // tolerance), the normal axis and A B C linearly with the angle: a helix.
   std::array<double, 3> centre{};
   double sweep = 0;
+  // The tool in the spindle (the T of the last tool change, M6; -1 before any) and the spindle
+  // speed programmed (S, rpm; 0 before any): kept so that a caller can tell the tools apart.
+  int tool = -1;
+  double spindle = 0;
+  // The move's index among the moves of its block: 0 for the first; a canned cycle, G28/G30 and
+  // G53 give a block several moves, or moves whose coordinates are not the block's words.
+  int part = 0;
 
   bool is_arc() const { return motion == GcodeMotion::ArcCW || motion == GcodeMotion::ArcCCW; }
 };
@@ -50,7 +57,13 @@ struct GcodeCounts {
   std::size_t lines = 0;          // lines read
   std::size_t blocks = 0;         // lines with at least one word
   std::size_t moves = 0;          // blocks that move
-  std::size_t ignored_words = 0;  // S, T, M words and the no-op G40 G49 G80 G94
+  std::size_t ignored_words = 0;  // S, T, M words and the G words that move nothing (G40 G49 G80 G94 G61 G64 ...)
+  std::size_t m_words = 0, s_words = 0, t_words = 0;  // of them: M, S and T words kept (tool, spindle)
+  std::size_t tool_changes = 0;                       // M6
+  std::size_t cycles = 0;                             // canned cycle holes expanded (G73 G81-G89)
+  std::size_t expanded_blocks = 0;  // blocks whose moves are not their own words: cycles, G28/G30, G53
+  std::size_t offset_blocks = 0;    // blocks that moved under a work offset or tool length other than 0
+  std::size_t warnings = 0;         // words not simulated, each named in a warning
 };
 
 // A program read whole.
@@ -58,6 +71,10 @@ struct GcodeProgram {
   std::string source;
   std::vector<GcodeMove> moves;
   GcodeCounts counts;
+  // What was read but not simulated, each "file:line: column c: word ...: why" (the first 100).
+  std::vector<std::string> warnings;
+  // Which reader gave the moves: "mtcal" (the ISO dialect) or "rs274" (LinuxCNC's interpreter).
+  std::string interpreter = "mtcal";
 };
 
 // Moves one at a time, so that a program of any length is processed in constant memory (the
@@ -71,6 +88,8 @@ class MoveSource {
   virtual const GcodeCounts& counts() const = 0;
   // The program's name in messages (a file name).
   virtual const std::string& source() const = 0;
+  // Words read but not simulated so far, each naming its file, line and word (the first 100).
+  virtual const std::vector<std::string>& warnings() const = 0;
 };
 
 // Path length of a move: the straight or helical length in X Y Z (mm); 0 for a rotary-only move.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,11 +53,45 @@ struct VolumetricStudy {
   std::optional<Distribution> pairs, magnitudes;  // |e_i - e_j| over pairs, |e_i| over the map
   std::optional<GroupingComparison> grouping;
   double seconds_va = 0.0, seconds_histogram = 0.0;
+  // A streamed study (study_volumetric over a ConfigurationSource) holds only the configurations it
+  // refers to: map_points is then the number of configurations of the whole map (0: the map
+  // passed along with the study is the whole map), and the first sample_points of the held map
+  // are every ceil(map_points / kMapSamples)-th configuration (the report's error-map plot).
+  std::size_t map_points = 0, sample_points = 0;
+  std::size_t candidates = 0;  // configurations the streamed exact VA kept for its final search
 };
+
+// Configurations of a map a report plots (every stride-th, stride = ceil(N / kMapSamples)).
+inline constexpr std::size_t kMapSamples = 3000;
 
 // Everything `request` asks of a map. Throws InputError located in "box" for a box with no
 // configuration, in "histogram" for a histogram of more than kMaxHistogramPairs pairs.
 VolumetricStudy study_volumetric(const Machine& m, const ErrorMap& map, const VolumetricRequest& request);
+
+// The same study streamed: the configurations of source are evaluated chunk by chunk (twice, and
+// once more per box of a scan), so that the memory does not grow with their number except for
+// the configurations the exact VA keeps as candidates (those that can be in a pair longer than
+// a first lower bound: few for a smooth map), the error vectors of the pair histogram (at most
+// kMaxHistogramPairs pairs) and of Fletcher's grouping (every vector: it is sequential).
+// The returned study is the in-memory study_volumetric's on the map of the same errors, with
+// its indices into `map`, which holds the configurations it refers to (see map_points).
+// observe (if any) is called with every evaluated chunk of the first pass, in order.
+// The numbers are those of study_volumetric(m, map of the same errors, request) bit for bit: the
+// exact VA is the same search over a subset that holds every pair it can return (a critical
+// pair is the same wherever the largest difference is reached by one pair only). With a grid,
+// options.grid_kernel chooses the grid kernel (to rounding, 1e-12 mm, the point kernel's errors).
+struct StreamedStudy {
+  ErrorMap map;
+  VolumetricStudy study;
+};
+StreamedStudy study_volumetric(const Machine& m, const ErrorModel& model, const ConfigurationSource& source,
+                               const VolumetricRequest& request, const StreamOptions& options = {},
+                               const std::function<void(const ErrorChunk&)>& observe = {});
+// Evaluation passes over the source the streamed study makes (for time estimates).
+std::size_t study_passes(const VolumetricRequest& request);
+// The exact VA of a source's errors, streamed (two passes); indices into the source.
+VolumetricAccuracy streamed_volumetric_accuracy(const ErrorModel& model, const ConfigurationSource& source,
+                                                const StreamOptions& options = {});
 
 // Contributions to the error at one configuration, to the difference of two, or to a map's
 // critical pair with the exact VA of the map with each error removed.
@@ -107,6 +142,12 @@ struct ContributionStudy {
 ContributionStudy contributions_at(const Machine& m, std::vector<double> a);
 ContributionStudy contributions_between(const Machine& m, std::vector<double> from, std::vector<double> to);
 ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& map, bool what_if, int threads = 0,
+                                              std::optional<double> target_va = std::nullopt);
+// The same, streamed over a source (streamed_volumetric_accuracy for the map and every removal):
+// the same numbers in memory independent of the source's size. Evaluation passes: 2 for the
+// map, 2 per nonzero error for the removals, 2 per map a correction sequence tries.
+ContributionStudy critical_pair_contributions(const Machine& m, const ConfigurationSource& source, bool what_if,
+                                              const StreamOptions& options = {},
                                               std::optional<double> target_va = std::nullopt);
 
 }  // namespace mtcal

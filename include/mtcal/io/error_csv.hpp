@@ -1,5 +1,5 @@
-// CSV files of volumetric errors: configuration lists read, evaluated errors written (eval, volumetric, diagonals,
-// toolpath).
+// CSV and NumPy .npy files of volumetric errors: configuration lists read, evaluated errors written (eval,
+// volumetric, diagonals, toolpath).
 #pragma once
 
 #include <memory>
@@ -28,9 +28,11 @@ ConfigurationList read_configurations(const Machine& m, const std::string& path,
 // Writes evaluated chunks of a stream as CSV: axis columns (mm, deg), dir<axis> columns when
 // the stream has directions, dx dy dz (mm) rx ry rz (rad). Replaces path only on commit().
 // A chunk's rows are formatted on `threads` threads (0: all cores) and written in order.
+// translations_only: the columns of an error map (write_error_map_csv's), dx dy dz only.
 class ErrorStreamCsv {
  public:
-  ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads = 0);
+  ErrorStreamCsv(const std::string& path, const Machine& m, bool with_directions, int threads = 0,
+                 bool translations_only = false);
   ~ErrorStreamCsv();
   void write(const ErrorChunk& chunk);
   void commit();
@@ -39,7 +41,31 @@ class ErrorStreamCsv {
   const Machine& machine_;
   std::unique_ptr<AtomicFile> file_;
   int threads_ = 0;
+  std::size_t errors_ = 6;                        // error columns written
   std::vector<std::unique_ptr<char[]>> buffers_;  // per-slice text, reused between chunks
+};
+
+// Writes evaluated chunks of a stream as a NumPy array file (.npy format version 1.0, as
+// numpy.lib.format documents it: readable by numpy.load): one row per configuration, float64
+// little-endian, columns as ErrorStreamCsv's (axes in mm and deg, dir<axis> when the stream has
+// directions, dx dy dz in mm, rx ry rz in rad), named in the header's comment-free dict only by
+// position; the shape is written at commit (the header is reserved at a fixed size first).
+// Replaces path only on commit(). The numbers are the doubles themselves: no rounding.
+class ErrorStreamNpy {
+ public:
+  ErrorStreamNpy(const std::string& path, const Machine& m, bool with_directions);
+  ~ErrorStreamNpy();
+  void write(const ErrorChunk& chunk);
+  void commit();
+  // The column names, in order (for the caller's messages and JSON).
+  const std::vector<std::string>& columns() const { return columns_; }
+
+ private:
+  std::vector<double> inv_;  // internal unit -> user unit, per axis
+  std::vector<std::string> columns_;
+  std::unique_ptr<AtomicFile> file_;
+  std::size_t rows_ = 0;
+  std::vector<double> buffer_;
 };
 
 // An error map as CSV: axis columns (mm, deg), dir<axis> when the map has directions, dx dy dz (mm).

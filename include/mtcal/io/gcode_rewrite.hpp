@@ -41,4 +41,18 @@ std::string rewrite_gcode(std::string_view text, const std::string& source, cons
                           std::span<const CorrectedMove> moves, const GcodeRewriteOptions& rewrite = {},
                           GcodeRewriteSummary* summary = nullptr);
 
+// The corrected moves as a program of its own, for a program whose text cannot take them in
+// place: one read by LinuxCNC's interpreter (subroutines, loops, expressions), or with canned
+// cycles, G28/G30 or G53 (one block, several moves), or moves under a work offset or tool length
+// (docs/gcode.md). `program` is the reading the moves were corrected from (same order). Written:
+// a header of comments saying what the program is, "G21 G90 G94 G40 G49 G80 G17", then every piece
+// as a line "G0/G1 X.. Y.. .." or "G2/G3 .. I J K" (centre offsets from the start) with the
+// machine's axes (`axes`), absolute, mm and deg, in the frame of the moves: work offsets and tool
+// lengths included, so that it runs with the program zero where the original's frame has it and
+// no tool length offset; F where the feed changes; "(line N)" naming the original's line. Spindle,
+// coolant and tool changes are not written (the header says so); a tool change is a comment.
+std::string write_expanded_gcode(std::span<const CorrectedMove> moves, const GcodeProgram& program,
+                                 const std::string& axes, const std::string& title,
+                                 const GcodeRewriteOptions& rewrite = {}, GcodeRewriteSummary* summary = nullptr);
+
 }  // namespace mtcal

@@ -24,8 +24,10 @@ std::optional<std::string> find_program(const std::vector<std::string>& names);
 // output and error kept, in a process group of its own. After timeout_s seconds the whole group
 // is killed (SIGKILL) and timed_out set; when the program has exited, helpers it left behind in
 // its group are killed too. Output beyond max_output bytes per stream is dropped. Throws Error
-// when the program cannot be started (naming it and the reason).
+// when the program cannot be started (naming it and the reason). A non-empty working_dir is the
+// program's working directory (LinuxCNC's interpreter finds the subroutine files a program calls
+// there); the caller's stays as it is.
 ProgramRun run_program(const std::vector<std::string>& argv, double timeout_s,
-                       std::size_t max_output = std::size_t{256} << 20);
+                       std::size_t max_output = std::size_t{256} << 20, const std::string& working_dir = {});
 
 }  // namespace mtcal

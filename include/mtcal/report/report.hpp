@@ -3,12 +3,14 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/evaluation/metadata.hpp"
+#include "mtcal/io/sha256.hpp"
 
 namespace mtcal {
 
@@ -30,6 +32,8 @@ class Report {
   void set_verdict(ToleranceVerdict v) { verdict_ = std::move(v); }
 
   void set_machine(const Machine& m);
+  // The machine line as text, where no machine model is at hand (a history report: name, serial).
+  void set_machine_label(std::string label) { machine_ = std::move(label); }
   // Hashes the file (SHA-256) now; throws InputError if it cannot be read.
   void add_input(const std::string& label, const std::string& path);
   // A headline figure: value already formatted by the caller with its unit.
@@ -68,7 +72,7 @@ class Report {
 // the report's HTML. They join the command's output group: all of its files appear or none.
 struct StaticCopies {
   std::string pdf;      // empty: no PDF
-  std::string png_dir;  // empty: no PNG files; made when missing
+  std::string png_dir;  // empty: no PNG files; an existing directory
   std::string browser;  // the browser's executable (find_headless_browser)
   double timeout_s = 120;
   bool empty() const { return pdf.empty() && png_dir.empty(); }
@@ -85,8 +89,6 @@ std::vector<std::string> plot_image_paths(const std::string& report_path, const 
 std::string html_escape(std::string_view s);
 // JSON text safe inside a <script> element ("</" and "<!--" cannot end it).
 std::string script_safe_json(const nlohmann::json& j);
-// SHA-256 of bytes, lowercase hex (FIPS 180-4).
-std::string sha256_hex(std::string_view bytes);
 // The Plotly library bundled at build time (plotly.js-dist-min from npm).
 std::string_view plotly_js();
 // Plotly layout of a 3D scene in machine coordinates: x, y, z in mm at true aspect, no legend.

@@ -1,0 +1,502 @@
+// mtcal history list|show|import|export|event add, and --record on the result commands.
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "acceptance.hpp"
+#include "history.hpp"
+#include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/evaluation/metadata.hpp"
+#include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/io/evaluation_json.hpp"
+#include "mtcal/io/files.hpp"
+#include "mtcal/io/history_config.hpp"
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal::cli {
+
+namespace {
+
+struct RecordState {
+  bool refused = false;
+  CLI::Option* option = nullptr;
+  std::string store;  // --record's value; empty: the default store
+  std::optional<Json> result;
+  std::vector<std::string> inputs;
+  std::string machine;
+  std::unique_ptr<HistoryStore> open;
+  std::string open_name;
+};
+
+RecordState& state() {
+  static RecordState s;
+  return s;
+}
+
+bool asked() { return state().option && state().option->count() > 0; }
+
+std::string env(const char* name) {
+  const char* v = std::getenv(name);
+  return v ? v : "";
+}
+
+std::optional<HistoryConfig> config() {
+  static const std::optional<HistoryConfig> c = read_history_config(config_path());
+  return c;
+}
+
+// A value of --record that is no store: most likely the command's input, taken by --record
+// because it came right after it.
+bool looks_like_store(const std::string& s) {
+  for (const char* prefix : {"sqlite:", "postgresql:", "postgres://"})
+    if (s.rfind(prefix, 0) == 0) return true;
+  for (const char* ext : {".db", ".sqlite", ".sqlite3"})
+    if (s.size() > std::string(ext).size() &&
+        s.compare(s.size() - std::string(ext).size(), std::string::npos, ext) == 0)
+      return true;
+  return false;
+}
+
+}  // namespace
+
+std::string config_path() {
+  if (const auto p = env("MTCAL_CONFIG"); !p.empty()) return p;
+  if (const auto x = env("XDG_CONFIG_HOME"); !x.empty()) return x + "/mtcal/config.yaml";
+  if (const auto h = env("HOME"); !h.empty()) return h + "/.config/mtcal/config.yaml";
+  return "";
+}
+
+void add_record_options(CLI::App& app) {
+  state().option =
+      app.add_option("--record", state().store,
+                     "Record the command's result in the calibration history (docs/history.md): in STORE (a SQLite "
+                     "file *.db, sqlite:PATH or postgresql://...; write --record=STORE) or, without a value, in the "
+                     "default store ($MTCAL_HISTORY, or history.store in ~/.config/mtcal/config.yaml)")
+          ->expected(0, 1);
+  app.add_flag("--no-record", state().refused,
+               "Do not record this result, even where the configuration says history.record: always");
+}
+
+bool recording() {
+  auto& s = state();
+  if (s.refused) return false;
+  if (asked()) return true;
+  return config() && config()->always;
+}
+
+bool emit_json(Json j, bool json_out) {
+  if (json_out) {
+    print_json(j);  // adds the user's metadata
+  }
+  state().result = std::move(j);
+  return json_out;
+}
+
+void note_inputs(const std::vector<std::string>& inputs) {
+  for (const auto& i : inputs)
+    if (!i.empty() && i != "-") state().inputs.push_back(i);
+}
+
+void note_machine(const std::string& name) {
+  if (state().machine.empty()) state().machine = name;
+}
+
+std::unique_ptr<HistoryStore> open_cli_store(const std::string& given) {
+  std::string where = given;
+  if (where.empty()) where = env("MTCAL_HISTORY");
+  if (where.empty() && config()) where = config()->store;
+  if (where.empty())
+    throw InputError({"--store", 0, ""},
+                     "no history store given: name one (--store FILE.db or postgresql://...), or set MTCAL_HISTORY, "
+                     "or history.store in " +
+                         (config_path().empty() ? std::string("~/.config/mtcal/config.yaml") : config_path()));
+  return open_history_store(where);
+}
+
+void prepare_recording() {
+  auto& s = state();
+  if (!recording()) return;
+  if (!s.store.empty() && !looks_like_store(s.store))
+    throw InputError({"--record", 0, s.store},
+                     "expected a store (a *.db file, sqlite:PATH or postgresql://...), found '" + printable(s.store) +
+                         "'; write --record=STORE, or put --record after the command's inputs");
+  if (const std::string* date = session_metadata().get("date"); date && !is_iso8601(*date))
+    throw InputError({"--meta", 0, "date"},
+                     "expected the test date as ISO 8601 (2026-11-25 or 2026-11-25T10:30:00Z) "
+                     "to place the recorded result in time, found '" +
+                         printable(*date) + "'");
+  s.open = open_cli_store(s.store);
+}
+
+std::optional<std::string> record_result(const std::string& command) {
+  auto& s = state();
+  if (!recording()) return std::nullopt;
+  if (!s.result) {
+    if (!asked()) return std::nullopt;  // history.record: always, and a command without a result
+    throw InputError({"--record", 0, ""}, "'" + command +
+                                              "' produces no calibration result to record (see "
+                                              "docs/history.md for the commands that do)");
+  }
+  std::map<std::string, std::string> meta;
+  for (const auto& [k, v] : session_metadata().entries()) meta[k] = v;
+  std::vector<InputHash> inputs;
+  for (const auto& path : s.inputs) inputs.push_back({path, sha256_file(path)});
+  CalibrationRecord r = record_from_result(command, s.result->dump(), meta, std::move(inputs), command);
+  if (r.machine_name.empty()) r.machine_name = s.machine;
+  if (r.machine_name.empty())
+    throw InputError({"--meta", 0, "machine"},
+                     "the result names no machine to record it under: give --meta machine=NAME (and serial=...)");
+  if (!s.open) s.open = open_cli_store(s.store);
+  std::vector<std::size_t> skipped;
+  const auto ids = s.open->record_all({r}, {}, &skipped);
+  if (!skipped.empty()) {
+    std::cerr << "mtcal: this result is recorded already as " << ids[0] << " in " << s.open->describe()
+              << " (same content hash): not recorded again\n";
+    return std::nullopt;
+  }
+  std::cerr << "mtcal: recorded " << ids[0] << " in " << s.open->describe() << "\n";
+  return ids[0];
+}
+
+void unrecord(const std::string& id) {
+  if (state().open) state().open->remove(id);
+}
+
+// ---- mtcal history ... --------------------------------------------------------------------------
+
+namespace {
+
+CLI::App* g_history = nullptr;
+
+Json record_summary_json(const CalibrationRecord& r) {
+  Json j;
+  j["id"] = r.id;
+  j["machine"] = r.machine_name;
+  j["serial"] = r.machine_serial;
+  j["command"] = r.command;
+  j["measured_at"] = r.measured_at;
+  j["recorded_at"] = r.recorded_at;
+  j["parameters"] = r.parameters.size();
+  Json figs = Json::object();
+  for (const auto& f : r.figures) figs[f.name] = {{"value", f.value}, {"unit", f.unit}};
+  j["figures"] = figs;
+  j["content_hash"] = r.content_hash;
+  return j;
+}
+
+struct ListOptions {
+  std::string store, machine, command, from, to;
+  bool json_out = false;
+};
+
+int run_list(const ListOptions& o) {
+  auto store = open_cli_store(o.store);
+  const auto records = store->list({o.machine, o.command, o.from, o.to});
+  if (o.json_out) {
+    Json j;
+    j["store"] = store->describe();
+    j["records"] = Json::array();
+    for (const auto& r : records) j["records"].push_back(record_summary_json(r));
+    print_json(j);
+    return 0;
+  }
+  std::cout << fmt::format("{:<16}  {:<24}  {:<20}  {:<10}  {}\n", "id", "measured", "machine", "command", "figures");
+  for (const auto& r : records) {
+    std::string figs;
+    for (const auto& f : r.figures)
+      if (figs.size() < 60) figs += fmt::format("{}{}={:.4g} {}", figs.empty() ? "" : ", ", f.name, f.value, f.unit);
+    if (figs.empty() && !r.parameters.empty()) figs = fmt::format("{} parameters", r.parameters.size());
+    std::cout << fmt::format("{:<16}  {:<24}  {:<20}  {:<10}  {}\n", r.id, r.measured_at, r.machine_name, r.command,
+                             figs);
+  }
+  std::cout << fmt::format("{} record(s) in {}\n", records.size(), store->describe());
+  return 0;
+}
+
+struct ShowOptions {
+  std::string store, id;
+  bool json_out = false;
+};
+
+int run_show(const ShowOptions& o) {
+  auto store = open_cli_store(o.store);
+  const auto r = store->get(o.id);
+  if (!r) throw InputError({store->describe(), 0, "id"}, "no record with id '" + printable(o.id) + "'");
+  if (o.json_out) {
+    Json j = Json::parse(record_to_json_line(*r));
+    j.erase("type");
+    j.erase("result_json");
+    j["result"] = Json::parse(r->result_json, nullptr, false);
+    print_json(j);
+    return 0;
+  }
+  std::cout << fmt::format("record      {}\nmachine     {}{}\ncommand     {}\nmeasured    {}\nrecorded    {}\n", r->id,
+                           r->machine_name, r->machine_serial.empty() ? "" : " (serial " + r->machine_serial + ")",
+                           r->command, r->measured_at, r->recorded_at);
+  for (const auto& [k, v] : r->metadata) std::cout << fmt::format("  {:<22} {}\n", metadata_label(k), v);
+  for (const auto& i : r->inputs) std::cout << fmt::format("input       {}  (SHA-256 {})\n", i.path, i.sha256);
+  if (!r->parameters.empty()) {
+    std::cout << fmt::format("{:<28} {:>16} {:>14} {}\n", "parameter", "value", "u (k=1)", "unit");
+    for (const auto& p : r->parameters)
+      std::cout << fmt::format("{:<28} {:>16.8g} {:>14} {}\n", p.name, p.value,
+                               p.uncertainty ? fmt::format("{:.3g}", *p.uncertainty) : "-", p.unit);
+  }
+  if (!r->figures.empty()) {
+    std::cout << fmt::format("{:<28} {:>16} {}\n", "figure", "value", "unit");
+    for (const auto& f : r->figures) std::cout << fmt::format("{:<28} {:>16.8g} {}\n", f.name, f.value, f.unit);
+  }
+  std::cout << "content hash " << r->content_hash << "\n";
+  return 0;
+}
+
+struct ImportOptions {
+  std::string store, command;
+  std::vector<std::string> files, meta;
+  bool json_out = false;
+};
+
+// The command a result JSON came from, by the keys its --json documents.
+std::string detect_command(const Json& j) {
+  auto has = [&](std::initializer_list<const char*> keys) {
+    for (const char* k : keys)
+      if (!j.contains(k)) return false;
+    return true;
+  };
+  if (has({"A", "E", "M", "R", "targets"})) return "iso230-2";
+  if (has({"G_cw", "G_ccw"})) return "ballbar";
+  if (has({"va", "critical_pair"})) return "volumetric";
+  if (has({"parameters", "sigma0", "rank"})) return "identify";
+  return "";
+}
+
+int run_import(const ImportOptions& o) {
+  std::map<std::string, std::string> meta;
+  {
+    ReportMetadata m;  // validates keys
+    for (const auto& kv : o.meta) {
+      const auto eq = kv.find('=');
+      if (eq == std::string::npos)
+        throw InputError({"--meta", 0, ""}, "expected key=value, found '" + printable(kv) + "'");
+      m.set(kv.substr(0, eq), kv.substr(eq + 1), "--meta");
+    }
+    for (const auto& [k, v] : m.entries()) meta[k] = v;
+  }
+  auto store = open_cli_store(o.store);
+  // Everything is read first and stored in one transaction: a bad file imports nothing.
+  std::vector<CalibrationRecord> records;
+  std::vector<std::string> origin;
+  std::vector<std::string> skipped;
+  std::size_t jsonl_records = 0, jsonl_events = 0;
+  std::vector<std::string> jsonl;
+  for (const auto& path : o.files) {
+    if (path.size() > 6 && path.compare(path.size() - 6, 6, ".jsonl") == 0) {
+      jsonl.push_back(path);
+      continue;
+    }
+    const std::string text = read_text_file(path, "history import");
+    const InputHash hash{path, sha256_hex(text)};
+    const auto j = Json::parse(text, nullptr, false);
+    if (!j.is_discarded()) {
+      if (!j.is_object())
+        throw InputError({path, 0, ""}, "expected a result JSON object, found " + std::string(j.type_name()));
+      const std::string command = o.command.empty() ? detect_command(j) : o.command;
+      if (command.empty())
+        throw InputError({path, 0, ""},
+                         "cannot tell which command's result this is (expected the keys of iso230-2, "
+                         "ballbar, volumetric or identify): give --command NAME");
+      records.push_back(record_from_result(command, text, meta, {hash}, path));
+    } else {
+      // An instrument file of positioning runs (laser, CSV): evaluated to ISO 230-2 as `mtcal iso230-2` does.
+      const PositioningRuns runs = read_positioning_file(path, "auto", "mm", "");
+      Json r = to_json(evaluate_positioning(runs));
+      Json m = Json::object();
+      for (const auto& [k, v] : runs.metadata) m[k] = v;
+      r["metadata"] = m;
+      records.push_back(record_from_result("iso230-2", r.dump(), meta, {hash}, path));
+    }
+    if (records.back().machine_name.empty())
+      throw InputError({path, 0, "machine"}, "the result names no machine: give --meta machine=NAME");
+    origin.push_back(path);
+  }
+  for (const auto& path : jsonl) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError({path, 0, ""}, "cannot open the JSON-lines file");
+    const auto s = import_jsonl(*store, in, path);
+    jsonl_records += s.records;
+    jsonl_events += s.events;
+    for (const auto& k : s.skipped) skipped.push_back(path + ": " + k);
+  }
+  std::vector<std::size_t> dup;
+  const auto ids = store->record_all(records, {}, &dup);
+  for (const auto i : dup) skipped.push_back(origin[i] + ": duplicate of record " + ids[i] + " (same content hash)");
+  const std::size_t added = records.size() - dup.size() + jsonl_records;
+  if (o.json_out) {
+    Json j;
+    j["store"] = store->describe();
+    j["records_added"] = added;
+    j["events_added"] = jsonl_events;
+    j["skipped"] = skipped;
+    Json list = Json::array();
+    for (std::size_t i = 0; i < records.size(); ++i) list.push_back({{"file", origin[i]}, {"id", ids[i]}});
+    j["records"] = list;
+    print_json(j);
+    return 0;
+  }
+  for (std::size_t i = 0; i < records.size(); ++i)
+    if (std::find(dup.begin(), dup.end(), i) == dup.end())
+      std::cout << fmt::format("recorded {}  {}  ({}, {})\n", ids[i], origin[i], records[i].command,
+                               records[i].machine_name);
+  for (const auto& s : skipped) std::cout << "skipped  " << s << "\n";
+  std::cout << fmt::format("{} record(s) added, {} event(s) added, {} skipped, in {}\n", added, jsonl_events,
+                           skipped.size(), store->describe());
+  return 0;
+}
+
+struct ExportOptions {
+  std::string store, out;
+  bool json_out = false;
+};
+
+int run_export(const ExportOptions& o) {
+  check_outputs({}, {o.out});
+  auto store = open_cli_store(o.store);
+  std::ostringstream stream;
+  export_jsonl(*store, stream);
+  const std::string text = stream.str();
+  AtomicFile f(o.out);
+  f.stream() << text;
+  f.commit();
+  const auto lines = std::count(text.begin(), text.end(), '\n');
+  if (o.json_out) {
+    print_json({{"store", store->describe()}, {"out", o.out}, {"lines", lines}});
+    return 0;
+  }
+  std::cout << fmt::format("wrote {} ({} lines: records then events) from {}\n", o.out, lines, store->describe());
+  return 0;
+}
+
+struct EventOptions {
+  std::string store, machine, date, kind, note;
+  bool json_out = false;
+};
+
+int run_event_add(const EventOptions& o) {
+  const auto kind = parse_event_kind(o.kind);
+  if (!kind)
+    throw InputError({"--kind", 0, o.kind},
+                     "expected compensation-loaded, crash, repair or other, found '" + printable(o.kind) + "'");
+  auto store = open_cli_store(o.store);
+  const auto id = store->add_event({"", o.machine, o.date, *kind, o.note});
+  if (o.json_out) {
+    print_json({{"id", id},
+                {"machine", o.machine},
+                {"date", o.date},
+                {"kind", o.kind},
+                {"note", o.note},
+                {"store", store->describe()}});
+    return 0;
+  }
+  std::cout << fmt::format("event {} added: {} {} {}{}\n", id, o.machine, o.date, o.kind,
+                           o.note.empty() ? "" : " \"" + o.note + "\"");
+  return 0;
+}
+
+void add_store_option(CLI::App* c, std::string& store) {
+  c->add_option("--store", store,
+                "The history store: a SQLite file (created when absent), sqlite:PATH or postgresql://user@host/db; "
+                "default $MTCAL_HISTORY, then history.store in the configuration file");
+}
+
+}  // namespace
+
+CLI::App* history_app() { return g_history; }
+
+std::vector<Command> add_history_commands(CLI::App& app) {
+  auto* h = app.add_subcommand("history",
+                               "The calibration history: results recorded with --record, listed, shown, imported, "
+                               "exported; events between calibrations (docs/history.md)");
+  g_history = h;
+  h->require_subcommand(1);
+  h->footer(
+      "Examples:\n"
+      "  mtcal iso230-2 examples/data/iso230-2-x-axis.csv --meta machine=VMC-800 --meta date=2026-11-25 "
+      "--meta axis=X --record=history.db\n"
+      "  mtcal history list --store history.db\n"
+      "  mtcal history export --store history.db --out history.jsonl\n");
+  std::vector<Command> out;
+
+  auto lo = std::make_shared<ListOptions>();
+  auto* list = h->add_subcommand("list", "The recorded results in time order (measured), optionally of one machine");
+  add_store_option(list, lo->store);
+  list->add_option("--machine", lo->machine, "Only this machine's results");
+  list->add_option("--command", lo->command, "Only results of this command (iso230-2, identify, ballbar ...)");
+  list->add_option("--from", lo->from, "Measured on or after this ISO 8601 date");
+  list->add_option("--to", lo->to, "Measured on or before this ISO 8601 date");
+  list->add_flag("--json", lo->json_out, "Machine-readable output (keys store, records)");
+  list->footer(
+      "Examples:\n  mtcal history list --store history.db\n  mtcal history list --store history.db --machine "
+      "\"VMC 800\" --from 2026-01-01 --json\n");
+  out.push_back({list, [lo] { return run_list(*lo); }});
+
+  auto so = std::make_shared<ShowOptions>();
+  auto* show = h->add_subcommand("show", "One recorded result: machine, metadata, inputs, parameters, figures");
+  show->add_option("id", so->id, "The record's id (from history list)")->required();
+  add_store_option(show, so->store);
+  show->add_flag("--json", so->json_out,
+                 "Machine-readable output (the record, with the command's result under result)");
+  show->footer("Examples:\n  mtcal history show 3f2a9c01d4e5b6a7 --store history.db --json\n");
+  out.push_back({show, [so] { return run_show(*so); }});
+
+  auto io = std::make_shared<ImportOptions>();
+  auto* imp = h->add_subcommand("import",
+                                "Load results in bulk: result JSON files (mtcal ... --json), instrument files of "
+                                "positioning runs (evaluated to ISO 230-2), JSON-lines exports (*.jsonl); duplicates "
+                                "(same content hash) are skipped and listed; all files or none");
+  imp->add_option("files", io->files, "The files")->required();
+  add_store_option(imp, io->store);
+  imp->add_option("--command", io->command,
+                  "The command that produced the result JSON files (found from their keys when not given)");
+  imp->add_option(
+      "--meta", io->meta,
+      "Metadata of the imported results, key=value, repeatable (machine, serial, date, axis, operator ...); "
+      "wins over what the files say");
+  imp->add_flag("--json", io->json_out,
+                "Machine-readable output (keys store, records_added, events_added, skipped, records)");
+  imp->footer(
+      "Examples:\n  mtcal iso230-2 examples/data/iso230-2-x-axis.csv --json > x.json\n"
+      "  mtcal history import x.json --store history.db --meta machine=VMC-800 --meta date=2026-11-25 --meta axis=X\n"
+      "  mtcal history import old-export.jsonl --store postgresql://mtcal@db.example/shop\n");
+  out.push_back({imp, [io] { return run_import(*io); }});
+
+  auto eo = std::make_shared<ExportOptions>();
+  auto* exp = h->add_subcommand("export",
+                                "Write the whole store as JSON lines (records, then events): a backup that "
+                                "history import reads back losslessly");
+  add_store_option(exp, eo->store);
+  exp->add_option("--out", eo->out, "The JSON-lines file")->required();
+  exp->add_flag("--json", eo->json_out, "Machine-readable output (keys store, out, lines)");
+  exp->footer("Examples:\n  mtcal history export --store history.db --out history.jsonl\n");
+  out.push_back({exp, [eo] { return run_export(*eo); }});
+
+  auto* ev = h->add_subcommand("event", "Events between calibrations (compensation loaded, crash, repair)");
+  ev->require_subcommand(1);
+  auto vo = std::make_shared<EventOptions>();
+  auto* add = ev->add_subcommand("add", "Add an event to a machine's time line");
+  add_store_option(add, vo->store);
+  add->add_option("--machine", vo->machine, "The machine")->required();
+  add->add_option("--date", vo->date, "When, ISO 8601 (2026-11-25 or 2026-11-25T10:30:00Z)")->required();
+  add->add_option("--kind", vo->kind, "compensation-loaded, crash, repair or other")->required();
+  add->add_option("--note", vo->note, "What happened");
+  add->add_flag("--json", vo->json_out, "Machine-readable output (keys id, machine, date, kind, note, store)");
+  add->footer(
+      "Examples:\n  mtcal history event add --store history.db --machine VMC-800 --date 2026-11-20 --kind crash "
+      "--note \"Z hit the vice\"\n");
+  out.push_back({add, [vo] { return run_event_add(*vo); }});
+  return out;
+}
+
+}  // namespace mtcal::cli
