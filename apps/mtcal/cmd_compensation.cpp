@@ -40,7 +40,10 @@ CompensationOptions library_options(const Machine& m, const CompensateOptions& o
   c.comp_file_type = o.linuxcnc_type;
   c.skew_reference_length = o.skew_reference_length;
   c.detection_unit = o.fanuc_unit;
-  if (!o.reference.empty()) c.reference = parse_joint_values(m, o.reference, "--reference");
+  if (!o.reference.empty()) {
+    c.reference = parse_joint_values(m, o.reference, "--reference");
+    check_joints(m, c.reference, "--reference", false);  // 1e308 ran the tables with NaN positions
+  }
   if (!o.range.empty()) {
     const JointBox box = parse_box(m, o.range, "--range");
     for (std::size_t a = 0; a < m.axes.size(); ++a) {

@@ -23,6 +23,9 @@ struct Bracket {
 
 Bracket bracket(const std::vector<double>& x, double q) {
   assert(x.size() >= 2);
+  // NaN compares false with every position: upper_bound would return end() and x[i1] be read past
+  // the table (found by AddressSanitizer). A NaN position gives a NaN value, reported downstream.
+  if (std::isnan(q)) return {0, q, q};
   if (q <= x.front()) return {0, 1.0, 0.0};
   if (q >= x.back()) return {x.size() - 2, 0.0, 1.0};
   auto it = std::upper_bound(x.begin(), x.end(), q);

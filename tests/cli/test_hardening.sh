@@ -155,6 +155,11 @@ printf 'G21 G90\nG1 X0 Y0 F100\nG1 X100000\n' >far.nc
 expect_error "G-code block located in the file" "far.nc:3" -- "$MTCAL" toolpath -m "$M3" --gcode far.nc --step 1e-6 --no-travel-check
 grep -q -- "--step:" "$tmp/err" && bad "G-code error located in --step" || ok
 
+# compensate --reference Z=1e308 made the tables' positions NaN and read past a motion table
+# (AddressSanitizer: heap-buffer-overflow in MotionFunction::value); now refused, named.
+expect_error "compensate --reference 1e308" "--reference" -- "$MTCAL" compensate -m "$M3" --format linuxcnc --points 11 --reference Z=1e308 --out refcomp
+[ ! -e refcomp ] && ok || bad "compensate --reference 1e308 wrote its folder"
+
 # --- Quiet solver ----------------------------------------------------------------------------
 expect_exit 0 "identify quiet" -- "$MTCAL" identify -m "$M5" --measurements meas.csv --estimate "$EST" --scale-bar 1:2:304.8 --json
 [ ! -s "$tmp/err" ] && ok || bad "identify wrote to stderr: $(head -3 "$tmp/err")"
