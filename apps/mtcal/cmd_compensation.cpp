@@ -11,6 +11,7 @@
 #include "cmd_gcode_correction.hpp"
 #include "acceptance.hpp"
 #include "common.hpp"
+#include "gcode_input.hpp"
 #include "mtcal/compensation/compensation.hpp"
 #include "mtcal/io/compensation_output.hpp"
 #include "mtcal/io/files.hpp"
@@ -169,6 +170,7 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
                  throw InputError({"--format", 0, ""}, "expected either --format (tables) or --gcode (a program)");
                return run_gcode_correction(o->gcode);
              }
+             check_gcode_input_options(o->gcode.input, false);
              return run_tables(*o);
            }}};
 }

@@ -95,6 +95,16 @@ void add_gcode_input_options(CLI::App* app, GcodeInputOptions& o) {
                   "A work offset, \"G55:X=100,Y=50,Z=-200\" (mm, deg; repeatable; over --parameters)");
   app->add_option("--g28", o.g28, "The position G28 returns to, \"X=0,Y=0,Z=0\" (mm, deg; default all 0)");
   app->add_option("--g30", o.g30, "The position G30 returns to (mm, deg; default all 0)");
+  for (const char* name : {"--interpreter", "--rs274", "--rs274-timeout", "--tool-table", "--tool-units",
+                           "--parameters", "--parameter-units", "--work-offset", "--g28", "--g30"})
+    o.options.push_back(app->get_option(name));
+}
+
+void check_gcode_input_options(const GcodeInputOptions& o, bool program_given) {
+  if (program_given) return;
+  for (const CLI::Option* opt : o.options)
+    if (opt->count() > 0)
+      throw InputError({opt->get_name(), 0, ""}, "acts only on a G-code program: expected --gcode beside it");
 }
 
 std::vector<std::string> gcode_input_files(const GcodeInputOptions& o) {
@@ -127,6 +137,12 @@ GcodeInput open_gcode(const std::string& path, const Machine& m, const GcodeInpu
     }
   }
   if (!use_rs274) {
+    // A --rs274 the program does not need still names a program that must exist (not ignored).
+    for (const CLI::Option* opt : o.options)
+      if (opt->get_name() == "--rs274" && opt->count() > 0 && find_rs274(o.rs274).empty())
+        throw InputError({"--rs274", 0, ""}, fmt::format("'{}' is not a program that can be run (LinuxCNC's "
+                                                         "interpreter, Debian package linuxcnc-uspace)",
+                                                         printable(o.rs274)));
     in.text = std::move(program);
     in.interpreter = "mtcal";
     in.moves = std::make_unique<GcodeReader>(in.text, path, in.options);

@@ -19,12 +19,16 @@ struct GcodeInputOptions {
   std::string rs274 = "rs274";
   double rs274_timeout = 300;
   std::string tool_table, tool_units = "mm", parameters, parameter_units = "mm", g28, g30;
-  std::vector<std::string> work_offsets;  // "G55:X=100,Y=50"
+  std::vector<std::string> work_offsets;    // "G55:X=100,Y=50"
+  std::vector<const CLI::Option*> options;  // as added, to tell which were given
 };
 
 // --interpreter --rs274 --tool-table --tool-units --parameters --parameter-units --work-offset
 // --g28 --g30.
 void add_gcode_input_options(CLI::App* app, GcodeInputOptions& o);
+
+// Refuses options given without a program to act on (they would be ignored silently).
+void check_gcode_input_options(const GcodeInputOptions& o, bool program_given);
 
 // The files the options name (for the input/output checks).
 std::vector<std::string> gcode_input_files(const GcodeInputOptions& o);

@@ -467,6 +467,9 @@ class GcodeProgram:
     @property
     def source(self) -> str:
         ...
+    @property
+    def warnings(self) -> list[str]:
+        """Words read but not simulated: 'file:line: column c: word why' (the first 100)"""
 
 class Identifiability:
     """Rank and conditioning of the scaled Jacobian of a plan."""
