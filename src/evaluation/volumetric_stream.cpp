@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "mtcal/evaluation/volumetric_study.hpp"
+#include "what_if.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parallel.hpp"
 
@@ -612,16 +613,7 @@ ContributionStudy critical_pair_contributions(const Machine& m, const Configurat
     w.disagrees = (w.share > 0 && w.va > full) || (w.share <= 0 && w.va < full);
     if (w.disagrees) {
       const auto there = contributions(m, w.to, dj, std::optional<std::span<const double>>(w.from), di);
-      Vec3 own = Vec3::Zero();
-      for (const auto& c : there.items)
-        if (c.error == e) w.along_there = c.along, own = c.effect;
-      if (own.norm() > 0)
-        for (const auto& c : there.items) {
-          const double against = -c.effect.dot(own) / own.norm();
-          if (c.error != e && against > 0) w.cancelled.emplace_back(c.error, against);
-        }
-      std::stable_sort(w.cancelled.begin(), w.cancelled.end(),
-                       [](const auto& x, const auto& y) { return x.second > y.second; });
+      detail::explain_disagreement(w, there);
     }
     s.what_if.push_back(w);
   }

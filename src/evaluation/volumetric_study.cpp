@@ -1,4 +1,5 @@
 #include "mtcal/evaluation/volumetric_study.hpp"
+#include "what_if.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -139,18 +140,7 @@ ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& 
         const auto there =
             contributions(m, map.configuration(va.j), map.direction(va.j),
                           std::optional<std::span<const double>>(map.configuration(va.i)), map.direction(va.i));
-        Vec3 own = Vec3::Zero();
-        for (const auto& c : there.items)
-          if (c.error == e) w.along_there = c.along, own = c.effect;
-        // The error it cancels: the largest effect against its own there (same component,
-        // opposite sign), e.g. a squareness against the straightness along the same axis.
-        if (own.norm() > 0)
-          for (const auto& c : there.items) {
-            const double against = -c.effect.dot(own) / own.norm();
-            if (c.error != e && against > 0) w.cancelled.emplace_back(c.error, against);
-          }
-        std::stable_sort(w.cancelled.begin(), w.cancelled.end(),
-                         [](const auto& x, const auto& y) { return x.second > y.second; });
+        detail::explain_disagreement(w, there);
       }
       s.what_if.push_back(w);
     }
