@@ -237,9 +237,13 @@ int run_trend(const TrendCliOptions& o) {
   MachineTrends m;
   m.machine = o.machine;
   m.serial = records.back().machine_serial;
-  for (const auto& [name, figure] : wanted) {
+  for (const auto& want : wanted) {
+    // No structured bindings here: Debian's clang 14 refuses one captured by a lambda.
+    const auto& name = want.first;
+    const bool figure = want.second;
     auto series = figure ? store->figure_series(o.machine, name) : store->parameter_series(o.machine, name);
-    const auto [from, to] = period;
+    const auto& from = period.first;
+    const auto& to = period.second;
     std::erase_if(series, [&](const SeriesSample& s) {
       const HistoryTime at = parse_history_time(s.time, "record " + s.record_id);
       return (from && at < *from) || (to && at > *to);
