@@ -1,7 +1,6 @@
 // mtcal history list|show|import|export|event add, and --record on the result commands.
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -323,8 +322,8 @@ int run_import(const ImportOptions& o) {
     origin.push_back(path);
   }
   for (const auto& path : jsonl) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError({path, 0, ""}, "cannot open the JSON-lines file");
+    // Read through the formats layer like every other input (its size limit and messages).
+    std::istringstream in(read_text_file(path, "history import"));
     const auto s = import_jsonl(*store, in, path);
     jsonl_records += s.records;
     jsonl_events += s.events;
