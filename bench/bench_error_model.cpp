@@ -9,6 +9,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -16,6 +17,10 @@
 
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#if __has_include("mtcal/kinematics/kernel_isa.hpp")  // absent before run-time dispatch (for old-build baselines)
+#include "mtcal/kinematics/kernel_isa.hpp"
+#define MTCAL_BENCH_ISA 1
+#endif
 #include "mtcal/model/machine.hpp"
 #include "naive_chain.hpp"
 #include "synthetic.hpp"
@@ -53,18 +58,49 @@ Machine five_axis_machine() {
   return m;
 }
 
-enum class Which { ThreeAxis, FiveAxis };
+Machine hu40t_machine() { return mtcal::load_machine(MTCAL_EXAMPLES_DIR "/hu40t-wCBXfYZt.yaml"); }
+
+// The same machine with every Fourier series and table replaced by a cubic with reversal of the
+// same size: the baseline of what those forms cost over polynomials.
+Machine as_polynomials(Machine m) {
+  for (auto& ax : m.axes)
+    for (auto& f : ax.motion)
+      if (!std::holds_alternative<mtcal::Polynomial>(f.form()) && !f.is_zero()) {
+        const double size = std::abs(f.value(0.3, 1)) + 1e-9;
+        f = mtcal::MotionFunction(mtcal::Polynomial{{size, size * 1e-3, -size * 1e-6, size * 1e-9}, size * 0.1});
+      }
+  return m;
+}
+
+enum class Which { ThreeAxis, FiveAxis, Hu40t, Hu40tPolynomial, ThreeAxisPolynomial, kCount };
 
 // Built once per process; on failure returns null and sets error.
 const Case* get_case(Which which, std::string& error) {
-  static std::unique_ptr<Case> cases[2];
-  static std::string errors[2];
-  static bool built[2] = {false, false};
-  const int i = which == Which::ThreeAxis ? 0 : 1;
+  constexpr auto kCases = static_cast<std::size_t>(Which::kCount);
+  static std::unique_ptr<Case> cases[kCases];
+  static std::string errors[kCases];
+  static bool built[kCases] = {};
+  const auto i = static_cast<std::size_t>(which);
   if (!built[i]) {
     built[i] = true;
     try {
-      cases[i] = std::make_unique<Case>(which == Which::ThreeAxis ? three_axis_machine() : five_axis_machine());
+      switch (which) {
+        case Which::ThreeAxis:
+          cases[i] = std::make_unique<Case>(three_axis_machine());
+          break;
+        case Which::FiveAxis:
+          cases[i] = std::make_unique<Case>(five_axis_machine());
+          break;
+        case Which::Hu40t:
+          cases[i] = std::make_unique<Case>(hu40t_machine());
+          break;
+        case Which::Hu40tPolynomial:
+          cases[i] = std::make_unique<Case>(as_polynomials(hu40t_machine()));
+          break;
+        default:
+          cases[i] = std::make_unique<Case>(as_polynomials(three_axis_machine()));
+          break;
+      }
     } catch (const std::exception& e) {
       errors[i] = e.what();
     }
@@ -82,14 +118,14 @@ std::span<const std::int8_t> direction(const Case& c, std::size_t i) {
 
 // ---------------------------------------------------------------- batched kernel
 
-void batch(benchmark::State& state, Which which) {
+void batch(benchmark::State& state, Which which, int threads) {
   std::string error;
   const Case* c = get_case(which, error);
   if (!c) {
     state.SkipWithError(error.c_str());
     return;
   }
-  const mtcal::BatchOptions options{static_cast<int>(state.range(0))};
+  const mtcal::BatchOptions options{threads};
   std::vector<double> out(kBatch * 6);
   for (auto _ : state) {
     c->model.evaluate_batch(c->q, c->dir, out, options);
@@ -99,8 +135,8 @@ void batch(benchmark::State& state, Which which) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
 }
 
-void BM_Batch_3axis(benchmark::State& state) { batch(state, Which::ThreeAxis); }
-void BM_Batch_5axis(benchmark::State& state) { batch(state, Which::FiveAxis); }
+void BM_Batch_3axis(benchmark::State& state) { batch(state, Which::ThreeAxis, static_cast<int>(state.range(0))); }
+void BM_Batch_5axis(benchmark::State& state) { batch(state, Which::FiveAxis, static_cast<int>(state.range(0))); }
 
 void thread_args(benchmark::internal::Benchmark* b) {
   b->ArgName("threads");
@@ -111,6 +147,42 @@ void thread_args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_Batch_3axis)->Apply(thread_args);
 BENCHMARK(BM_Batch_5axis)->Apply(thread_args);
+
+// ---------------------------------------------------------------- motion-error forms, kernel levels
+
+// One thread, the kernel level in use: the shipped HU40T (Fourier series on B and C) and the
+// 3-axis VMC (a table) against the same machines with polynomials in their place.
+void BM_Forms_Hu40t(benchmark::State& state) { batch(state, Which::Hu40t, 1); }
+void BM_Forms_Hu40tPolynomial_Baseline(benchmark::State& state) { batch(state, Which::Hu40tPolynomial, 1); }
+void BM_Forms_3axisTable(benchmark::State& state) { batch(state, Which::ThreeAxis, 1); }
+void BM_Forms_3axisPolynomial_Baseline(benchmark::State& state) { batch(state, Which::ThreeAxisPolynomial, 1); }
+BENCHMARK(BM_Forms_Hu40t)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Forms_Hu40tPolynomial_Baseline)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Forms_3axisTable)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Forms_3axisPolynomial_Baseline)->Unit(benchmark::kMillisecond);
+
+#ifdef MTCAL_BENCH_ISA
+// Each instruction-set level (0 baseline, 1 AVX2, 2 AVX-512; kernel_isa.hpp), one thread: the
+// synthetic 5-axis machine (polynomials), the HU40T (Fourier) and the 3-axis VMC (table).
+void isa_batch(benchmark::State& state, Which which) {
+  const auto isa = static_cast<mtcal::KernelIsa>(state.range(0));
+  if (!mtcal::kernel_isa_supported(isa)) {
+    state.SkipWithError("this processor lacks the level");
+    return;
+  }
+  const auto saved = mtcal::kernel_isa();
+  mtcal::set_kernel_isa(isa);
+  state.SetLabel(std::string(mtcal::to_string(isa)));
+  batch(state, which, 1);
+  mtcal::set_kernel_isa(saved);
+}
+void BM_Isa_5axis(benchmark::State& state) { isa_batch(state, Which::FiveAxis); }
+void BM_Isa_Hu40t(benchmark::State& state) { isa_batch(state, Which::Hu40t); }
+void BM_Isa_3axis(benchmark::State& state) { isa_batch(state, Which::ThreeAxis); }
+BENCHMARK(BM_Isa_5axis)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Isa_Hu40t)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Isa_3axis)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+#endif
 
 // ---------------------------------------------------------------- naive baseline
 

@@ -14,6 +14,9 @@
 #include "mtcal/io/error_csv.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
+#if __has_include("mtcal/kinematics/kernel_isa.hpp")
+#include "mtcal/kinematics/kernel_isa.hpp"
+#endif
 
 namespace {
 
@@ -60,6 +63,33 @@ void BM_GridKernel_Hu40t(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(total));
 }
 BENCHMARK(BM_GridKernel_Hu40t)->Arg(1048576)->Arg(3040000)->Unit(benchmark::kMillisecond);
+
+#if __has_include("mtcal/kinematics/kernel_isa.hpp")
+// The grid kernel at 1e6 on each instruction-set level (0 baseline, 1 AVX2, 2 AVX-512).
+void BM_GridKernelIsa_Hu40t(benchmark::State& state) {
+  const auto isa = static_cast<mtcal::KernelIsa>(state.range(0));
+  if (!mtcal::kernel_isa_supported(isa)) {
+    state.SkipWithError("this processor lacks the level");
+    return;
+  }
+  const auto saved = mtcal::kernel_isa();
+  mtcal::set_kernel_isa(isa);
+  state.SetLabel(std::string(mtcal::to_string(isa)));
+  const Setup s = hu40t(1048576);
+  const ErrorModel model(s.m);
+  const std::size_t total = grid_count(s.grid), chunk = std::size_t{1} << 20;
+  std::vector<double> out(std::min(total, chunk) * 6);
+  for (auto _ : state)
+    for (std::size_t first = 0; first < total; first += chunk) {
+      const std::size_t len = std::min(chunk, total - first);
+      model.evaluate_grid(s.grid, first, std::span(out).first(len * 6), {1});
+      benchmark::DoNotOptimize(out.data());
+    }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(total));
+  mtcal::set_kernel_isa(saved);
+}
+BENCHMARK(BM_GridKernelIsa_Hu40t)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+#endif
 
 // Baseline: the point-by-point kernel (evaluate_batch) on the same configurations, chunk by chunk.
 void BM_GridPointByPoint_Hu40t_Baseline(benchmark::State& state) {

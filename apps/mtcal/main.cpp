@@ -27,6 +27,7 @@
 #include "mtcal/util/parallel.hpp"
 #include "mtcal/util/solver_log.hpp"
 #include "mtcal/util/suggest.hpp"
+#include "mtcal/kinematics/kernel_isa.hpp"
 #include "mtcal/version.hpp"
 #include "acceptance.hpp"
 #include "budget.hpp"
@@ -504,7 +505,19 @@ int main(int argc, char** argv) {
   CLI::App app{
       "mtcal - geometric accuracy of CNC machine tools: error models, evaluation, "
       "identification and compensation"};
-  app.set_version_flag("--version", std::string("mtcal ") + MTCAL_VERSION);
+  // The error kernels' instruction-set level too: the first thing to know about a speed report.
+  app.set_version_flag("--version", std::function<std::string()>([] {
+                         std::string levels;
+                         for (KernelIsa isa : supported_kernel_isas()) levels += " " + std::string(to_string(isa));
+                         std::string in_use;
+                         try {
+                           in_use = std::string(to_string(kernel_isa()));
+                         } catch (const Error& e) {
+                           in_use = std::string("none (") + e.what() + ")";
+                         }
+                         return std::string("mtcal ") + MTCAL_VERSION + "\nerror kernels: " + in_use +
+                                " (this processor:" + levels + "; MTCAL_KERNEL_ISA chooses)";
+                       }));
   app.require_subcommand(1);
   // Global options, before or after the command's name.
   app.fallthrough();

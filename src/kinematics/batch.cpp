@@ -9,6 +9,7 @@
 #include "mtcal/util/parallel.hpp"
 #include "program.hpp"
 #include "../util/kernel.hpp"
+#include "mtcal/kinematics/kernel_isa.hpp"
 
 namespace mtcal {
 
@@ -76,23 +77,16 @@ ErrorModel::Program::Program(const Machine& m)
     a.zero = detail::zero_position(ax);
     a.cos_zero = std::cos(a.sign * a.zero);
     a.sin_zero = std::sin(a.sign * a.zero);
-    for (int c = 0; c < 6; ++c) {
-      const auto* p = std::get_if<Polynomial>(&ax.motion[c].form());
-      if (!p) {
-        a.polynomial = false;
-        continue;
-      }
-      for (int i = 0; i < 4; ++i) a.poly[c][i] = p->coefficients[i];
-      a.poly[c][4] = p->reversal;
-    }
+    for (std::size_t c = 0; c < 6; ++c) a.forms[c] = detail::LaneForm(ax.motion[c]);
     axes.push_back(a);
   }
 }
 
 namespace {
 
-constexpr int kLanes = 8;
-using Lane = double[kLanes];
+using detail::kLanes;
+using detail::Lane;
+using detail::sincos_lane;
 
 // Rigid transforms of kLanes configurations, rotation row-major r[3*i+j].
 struct Block {
@@ -157,40 +151,6 @@ template <class Get>
     for (int l = 0; l < kLanes; ++l) P.t[row][l] += P.r[3 * row + a][l] * d[l];
 }
 
-// sin and cos to about 1 ulp, written in double arithmetic and selects only, without branches,
-// calls or integer work, so that loops over lanes vectorise: Cody-Waite reduction by pi/2 and
-// the fdlibm kernel polynomials on [-pi/4, pi/4] (fdlibm k_sin.c, k_cos.c).
-[[gnu::always_inline]] inline void sincos_lane(double x, double& s_out, double& c_out) {
-  constexpr double kTwoOverPi = 6.36619772367581382433e-01;
-  constexpr double kShift = 6755399441055744.0;  // 1.5 * 2^52: x + kShift - kShift rounds x
-  constexpr double kPio2_1 = 1.57079632673412561417e+00;
-  constexpr double kPio2_2 = 6.07710050630396597660e-11;
-  constexpr double kPio2_3 = 2.02226624871116645580e-21;
-  const double k = (x * kTwoOverPi + kShift) - kShift;
-  const double r = ((x - k * kPio2_1) - k * kPio2_2) - k * kPio2_3;
-  const double z = r * r;
-  const double sp = r + r * z *
-                            (-1.66666666666666324348e-01 +
-                             z * (8.33333333332248946124e-03 +
-                                  z * (-1.98412698298579493134e-04 +
-                                       z * (2.75573137070700676789e-06 +
-                                            z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)))));
-  const double cp = 1.0 - 0.5 * z +
-                    z * z *
-                        (4.16666666666666019037e-02 +
-                         z * (-1.38888888888741095749e-03 +
-                              z * (2.48015872894767294178e-05 +
-                                   z * (-2.75573143513906633035e-07 +
-                                        z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
-  // Quadrant m = k mod 4 in {-2, -1, 0, 1, 2} (-2 and 2 are the same quadrant).
-  const double m = k - 4.0 * ((k * 0.25 + kShift) - kShift);
-  const bool odd = m == 1.0 || m == -1.0;
-  const double s1 = odd ? cp : sp;
-  const double c1 = odd ? sp : cp;
-  s_out = (m <= -1.0 || m >= 2.0) ? -s1 : s1;  // quadrants 2 and 3
-  c_out = (m >= 1.0 || m <= -2.0) ? -c1 : c1;  // quadrants 1 and 2
-}
-
 // Exact error transform Trans(d) Rz(c) Ry(b) Rx(a) per lane (see error_transform).
 [[gnu::always_inline]] inline void error_block(Block& E, const Lane (&e)[6]) {
   Lane sa, ca, sb, cb, sc, cc;
@@ -224,7 +184,7 @@ struct AxisLanes {
 // Runs a program (actual or nominal) on a block; only the actual one has motion-error ops and
 // applies the zero positions. A function, not a lambda: lambdas do not inherit the kernel's
 // target_clones, always-inlined functions do.
-[[gnu::always_inline]] inline void run_program(const ErrorModel::Program& prog, const Machine& m, const AxisLanes* ax,
+[[gnu::always_inline]] inline void run_program(const ErrorModel::Program& prog, const AxisLanes* ax,
                                                const std::vector<Op>& ops, Block& B, bool actual, std::size_t begin = 0,
                                                std::size_t end = static_cast<std::size_t>(-1)) {
   set_identity(B);
@@ -245,17 +205,7 @@ struct AxisLanes {
       continue;
     }
     Lane e[6];
-    if (a.polynomial) {
-      for (int c = 0; c < 6; ++c) {
-        const auto& p = a.poly[c];
-        for (int l = 0; l < kLanes; ++l)
-          e[c][l] = ((p[3] * L.q[l] + p[2]) * L.q[l] + p[1]) * L.q[l] + p[0] + p[4] * L.dir[l];
-      }
-    } else {
-      const Axis& axis = m.axes[op.axis];
-      for (int c = 0; c < 6; ++c)
-        for (int l = 0; l < kLanes; ++l) e[c][l] = axis.motion[c].value(L.q[l], static_cast<int>(L.dir[l]));
-    }
+    for (std::size_t c = 0; c < 6; ++c) detail::motion_lanes(a.forms[c], L.q, L.dir, e[c]);
     Block E;
     error_block(E, e);
     mul_block(B, E);
@@ -321,9 +271,8 @@ struct AxisLanes {
     for (int c = 0; c < 6; ++c) out[l * 6 + c] = res[c][l];
 }
 
-MTCAL_KERNEL_CLONES
-void run_block(const ErrorModel::Program& prog, const Machine& m, const double* q, const std::int8_t* dir,
-               std::size_t count, double* out) {
+[[gnu::always_inline]] inline void run_block_impl(const ErrorModel::Program& prog, const double* q,
+                                                  const std::int8_t* dir, std::size_t count, double* out) {
   const std::size_t n = prog.axes.size();
   AxisLanes ax[6];
   for (std::size_t k = 0; k < n; ++k) {
@@ -338,16 +287,16 @@ void run_block(const ErrorModel::Program& prog, const Machine& m, const double* 
   }
 
   Block P, N;
-  run_program(prog, m, ax, prog.actual_ops, P, true);
-  run_program(prog, m, ax, prog.nominal_ops, N, false);
+  run_program(prog, ax, prog.actual_ops, P, true);
+  run_program(prog, ax, prog.nominal_ops, N, false);
   finish_block(P, N, count, out);
 }
 
 // A Joint or Motion op of the factor of one axis of a grid, per grid value (lane): the tables
 // hold the factor's rotation (row-major) and translation, SoA: tab[c * count + j], c < 12.
-MTCAL_KERNEL_CLONES
-void axis_factors(const ErrorModel::Program& prog, const Machine& m, std::size_t k, const std::vector<double>& v,
-                  const std::vector<Op>& ops, std::size_t begin, std::size_t end, bool actual, double* tab) {
+[[gnu::always_inline]] inline void axis_factors_impl(const ErrorModel::Program& prog, std::size_t k,
+                                                     const std::vector<double>& v, const std::vector<Op>& ops,
+                                                     std::size_t begin, std::size_t end, bool actual, double* tab) {
   AxisLanes ax[6]{};  // the segment's ops read axis k only
   const std::size_t count = v.size();
   for (std::size_t j0 = 0; j0 < count; j0 += kLanes) {
@@ -358,7 +307,7 @@ void axis_factors(const ErrorModel::Program& prog, const Machine& m, std::size_t
     }
     prepare_axis(prog.axes[k], L);
     Block B;
-    run_program(prog, m, ax, ops, B, actual, begin, end);
+    run_program(prog, ax, ops, B, actual, begin, end);
     for (std::size_t l = 0; l < kLanes && j0 + l < count; ++l) {
       for (std::size_t c = 0; c < 9; ++c) tab[c * count + j0 + l] = B.r[c][l];
       for (std::size_t c = 0; c < 3; ++c) tab[(9 + c) * count + j0 + l] = B.t[c][l];
@@ -394,9 +343,8 @@ inline void compose(const Pose& a, const double* tab, std::size_t count, std::si
 
 // Configurations (outer, l) for l in [l0, l1) of the fastest axis: the poses A * Fa[l] and
 // N * Fn[l] lane by lane, then the same output step as run_block.
-MTCAL_KERNEL_CLONES
-void grid_row(const Pose& A, const Pose& N, const double* fa, const double* fn, std::size_t count, std::size_t l0,
-              std::size_t l1, double* out) {
+[[gnu::always_inline]] inline void grid_row_impl(const Pose& A, const Pose& N, const double* fa, const double* fn,
+                                                 std::size_t count, std::size_t l0, std::size_t l1, double* out) {
   for (std::size_t b = l0; b < l1; b += kLanes) {
     const std::size_t len = std::min<std::size_t>(kLanes, l1 - b);
     const bool full = len == kLanes;  // contiguous loads; a short last block repeats its last value
@@ -436,6 +384,50 @@ void grid_row(const Pose& A, const Pose& N, const double* fa, const double* fn, 
   }
 }
 
+// Each kernel once per instruction-set level (util/kernel.hpp); the bodies are the always-inlined
+// functions above, so every level runs the same operations in the same order.
+#define MTCAL_KERNEL_LEVEL(ATTR, SUFFIX)                                                                           \
+  ATTR void run_block_##SUFFIX(const ErrorModel::Program& prog, const double* q, const std::int8_t* dir,          \
+                               std::size_t count, double* out) {                                                 \
+    run_block_impl(prog, q, dir, count, out);                                                                    \
+  }                                                                                                              \
+  ATTR void axis_factors_##SUFFIX(const ErrorModel::Program& prog, std::size_t k, const std::vector<double>& v,   \
+                                  const std::vector<Op>& ops, std::size_t begin, std::size_t end, bool actual,    \
+                                  double* tab) {                                                                 \
+    axis_factors_impl(prog, k, v, ops, begin, end, actual, tab);                                                 \
+  }                                                                                                              \
+  ATTR void grid_row_##SUFFIX(const Pose& A, const Pose& N, const double* fa, const double* fn, std::size_t count, \
+                              std::size_t l0, std::size_t l1, double* out) {                                     \
+    grid_row_impl(A, N, fa, fn, count, l0, l1, out);                                                             \
+  }
+
+MTCAL_KERNEL_LEVEL(, baseline)
+#if MTCAL_KERNEL_DISPATCH
+MTCAL_KERNEL_LEVEL(MTCAL_TARGET_AVX2, avx2)
+MTCAL_KERNEL_LEVEL(MTCAL_TARGET_AVX512, avx512)
+#endif
+#undef MTCAL_KERNEL_LEVEL
+
+struct Kernels {
+  decltype(&run_block_baseline) run_block;
+  decltype(&axis_factors_baseline) axis_factors;
+  decltype(&grid_row_baseline) grid_row;
+};
+
+// The kernels of the level in use (kernel_isa.hpp).
+Kernels kernels() {
+  switch (kernel_isa()) {
+#if MTCAL_KERNEL_DISPATCH
+    case KernelIsa::Avx512:
+      return {run_block_avx512, axis_factors_avx512, grid_row_avx512};
+    case KernelIsa::Avx2:
+      return {run_block_avx2, axis_factors_avx2, grid_row_avx2};
+#endif
+    default:
+      return {run_block_baseline, axis_factors_baseline, grid_row_baseline};
+  }
+}
+
 }  // namespace
 
 bool ErrorModel::grid_structured() const { return program_->grid_structured; }
@@ -456,6 +448,7 @@ void ErrorModel::evaluate_grid(std::span<const std::vector<double>> values, std:
                      std::to_string(first) + " does not fit a grid of " + std::to_string(total));
   if (count == 0) return;
   const Program& prog = *program_;
+  const Kernels kern = kernels();
   if (!prog.grid_structured) {  // point by point, in slices of bounded memory
     constexpr std::size_t kSlice = 1 << 14;
     std::vector<double> q(std::min(count, kSlice) * n);
@@ -477,9 +470,9 @@ void ErrorModel::evaluate_grid(std::span<const std::vector<double>> values, std:
   for (std::size_t k = 0; k < n; ++k) {
     act[k].resize(12 * values[k].size());
     nom[k].resize(12 * values[k].size());
-    axis_factors(prog, machine_, k, values[k], prog.actual_ops, k ? prog.actual_segment[k] : 0,
+    kern.axis_factors(prog, k, values[k], prog.actual_ops, k ? prog.actual_segment[k] : 0,
                  prog.actual_segment[k + 1], true, act[k].data());
-    axis_factors(prog, machine_, k, values[k], prog.nominal_ops, k ? prog.nominal_segment[k] : 0,
+    kern.axis_factors(prog, k, values[k], prog.nominal_ops, k ? prog.nominal_segment[k] : 0,
                  prog.nominal_segment[k + 1], false, nom[k].data());
   }
   const std::size_t last = values[n - 1].size();
@@ -503,7 +496,7 @@ void ErrorModel::evaluate_grid(std::span<const std::vector<double>> values, std:
     for (std::size_t i = b; i < e;) {
       check_interrupt();  // one range per thread: parallel_for's own check comes too late
       const std::size_t l0 = (first + i) % last, l1 = std::min(last, l0 + (e - i));
-      grid_row(n > 1 ? pa[n - 2] : identity, n > 1 ? pn[n - 2] : identity, act[n - 1].data(), nom[n - 1].data(), last,
+      kern.grid_row(n > 1 ? pa[n - 2] : identity, n > 1 ? pn[n - 2] : identity, act[n - 1].data(), nom[n - 1].data(), last,
                l0, l1, out.data() + i * 6);
       i += l1 - l0;
       if (i >= e || n == 1) continue;
@@ -547,12 +540,13 @@ void ErrorModel::evaluate_batch(std::span<const double> q, std::span<const std::
     throw ModelError("output array has " + std::to_string(out.size()) + " values, expected " +
                      std::to_string(count * 6));
   const std::size_t blocks = (count + kLanes - 1) / kLanes;
+  const Kernels kern = kernels();
   auto work = [&](std::size_t b0, std::size_t b1) {
     for (std::size_t b = b0; b < b1; ++b) {
       if ((b - b0) % 1024 == 0) check_interrupt();  // one range per thread: parallel_for's check comes too late
       const std::size_t first = b * kLanes;
       const std::size_t len = std::min<std::size_t>(kLanes, count - first);
-      run_block(*program_, machine_, q.data() + first * n, dir.empty() ? nullptr : dir.data() + first * n, len,
+      kern.run_block(*program_, q.data() + first * n, dir.empty() ? nullptr : dir.data() + first * n, len,
                 out.data() + first * 6);
     }
   };

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "chain.hpp"
+#include "lane_forms.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 
 namespace mtcal {
@@ -22,8 +23,7 @@ struct ErrorModel::Program {
     double sign = 1.0;                            // direction sign
     double zero = 0.0;                            // zero position error (internal units)
     double cos_zero = 1.0, sin_zero = 0.0;        // of sign * zero, rotary axes
-    bool polynomial = true;                       // every motion error is a polynomial: vectorised path
-    std::array<std::array<double, 5>, 6> poly{};  // c0 c1 c2 c3 reversal per component
+    std::array<detail::LaneForm, 6> forms{};      // the six motion errors, compiled for the lanes
   };
 
   std::vector<detail::Factor> chain, nominal_chain;

@@ -8,6 +8,26 @@ M3="$EXAMPLES/vmc-3axis.yaml"
 
 expect_exit 0 "--version" -- "$MTCAL" --version
 grep -q '^mtcal [0-9]' "$tmp/out" && ok || bad "--version prints mtcal VERSION"
+grep -q '^error kernels: [a-z0-9]* (this processor: baseline' "$tmp/out" && ok || bad "--version names the kernels' level: $(cat "$tmp/out")"
+
+# The kernels' instruction-set levels (MTCAL_KERNEL_ISA, docs/performance.md) give the same bytes;
+# a level that is not one, or that the processor lacks, is refused in the variable's words.
+expect_error "MTCAL_KERNEL_ISA unknown" "MTCAL_KERNEL_ISA: expected baseline, avx2 or avx512, found \"sse9\"" -- \
+  env MTCAL_KERNEL_ISA=sse9 "$MTCAL" eval -m "$M5" --at X=0
+isa_grid="X=-300:300:7,Y=-250:250:5,Z=-300:0:4,B=-90:90:7,C=0:360:9"
+python3 -c "
+import random; random.seed(4); print('X,Y,Z,B,C')
+for i in range(333): print(','.join(str(round(random.uniform(a, b), 6)) for a, b in ((-300, 300), (-250, 250), (-300, 0), (-90, 90), (0, 360))))
+" >"$tmp/isa_points.csv"
+levels=$(sed -n 's/^error kernels: .*(this processor:\([a-z0-9 ]*\);.*/\1/p' <("$MTCAL" --version))
+[ -n "$levels" ] && ok || bad "--version lists the processor's levels"
+for isa in $levels; do
+  # .npy: the doubles themselves, so that cmp compares every bit.
+  MTCAL_KERNEL_ISA=$isa "$MTCAL" eval -m "$M5" --grid "$isa_grid" --out "$tmp/isa_grid_$isa.npy" >/dev/null 2>"$tmp/err" &&
+    cmp -s "$tmp/isa_grid_baseline.npy" "$tmp/isa_grid_$isa.npy" && ok || bad "eval --grid with MTCAL_KERNEL_ISA=$isa differs from baseline or fails: $(cat "$tmp/err")"
+  MTCAL_KERNEL_ISA=$isa "$MTCAL" eval -m "$M5" --points "$tmp/isa_points.csv" --out "$tmp/isa_points_$isa.npy" >/dev/null 2>"$tmp/err" &&
+    cmp -s "$tmp/isa_points_baseline.npy" "$tmp/isa_points_$isa.npy" && ok || bad "eval --points with MTCAL_KERNEL_ISA=$isa differs from baseline or fails: $(cat "$tmp/err")"
+done
 expect_exit 0 "--help" -- "$MTCAL" --help
 grep -q 'eval' "$tmp/out" && grep -q 'errors' "$tmp/out" && ok || bad "--help lists commands"
 expect_exit 0 "eval --help" -- "$MTCAL" eval --help
