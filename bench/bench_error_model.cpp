@@ -133,6 +133,9 @@ void batch(benchmark::State& state, Which which, int threads) {
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
+#ifdef MTCAL_BENCH_ISA
+  state.counters["flops_per_config"] = c->model.batch_flops_per_configuration();
+#endif
 }
 
 void BM_Batch_3axis(benchmark::State& state) { batch(state, Which::ThreeAxis, static_cast<int>(state.range(0))); }
@@ -182,6 +185,49 @@ void BM_Isa_3axis(benchmark::State& state) { isa_batch(state, Which::ThreeAxis);
 BENCHMARK(BM_Isa_5axis)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Isa_Hu40t)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Isa_3axis)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// The machine's limit for these kernels: independent multiply-then-add chains (the kernels are
+// built without fused multiply-add, src/CMakeLists.txt; so is this file), 12 vectors of 8 lanes in
+// registers, on each level. Items are floating-point operations: items_per_second is flop/s.
+constexpr int kPeakLanes = 96;
+[[gnu::always_inline]] inline void peak_chains(double* acc, std::int64_t rounds) {
+  double x[kPeakLanes];
+  for (int i = 0; i < kPeakLanes; ++i) x[i] = acc[i];
+  for (std::int64_t r = 0; r < rounds; ++r) {
+#pragma GCC unroll 96
+    for (int i = 0; i < kPeakLanes; ++i) x[i] = x[i] * 0.9999999 + 1e-7;
+  }
+  for (int i = 0; i < kPeakLanes; ++i) acc[i] = x[i];
+}
+#define MTCAL_BENCH_PEAK(ATTR, SUFFIX) \
+  ATTR void peak_##SUFFIX(double* acc, std::int64_t rounds) { peak_chains(acc, rounds); }
+MTCAL_BENCH_PEAK(, baseline)
+#if defined(__x86_64__) && defined(__GNUC__)
+MTCAL_BENCH_PEAK(__attribute__((target("avx2,fma,bmi,bmi2"))), avx2)
+MTCAL_BENCH_PEAK(__attribute__((target("avx512f,avx512cd,avx512vl,avx512dq,avx512bw,avx2,fma,bmi,bmi2"))), avx512)
+#endif
+
+void BM_PeakMulAdd(benchmark::State& state) {
+  const auto isa = static_cast<mtcal::KernelIsa>(state.range(0));
+  if (!mtcal::kernel_isa_supported(isa)) {
+    state.SkipWithError("this processor lacks the level");
+    return;
+  }
+  auto* run = &peak_baseline;
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (isa == mtcal::KernelIsa::Avx2) run = &peak_avx2;
+  if (isa == mtcal::KernelIsa::Avx512) run = &peak_avx512;
+#endif
+  state.SetLabel(std::string(mtcal::to_string(isa)));
+  std::vector<double> acc(kPeakLanes, 1.0);
+  constexpr std::int64_t kRounds = 1 << 16;
+  for (auto _ : state) {
+    run(acc.data(), kRounds);
+    benchmark::DoNotOptimize(acc.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kRounds * kPeakLanes * 2);
+}
+BENCHMARK(BM_PeakMulAdd)->ArgName("isa")->DenseRange(0, 2);
 #endif
 
 // ---------------------------------------------------------------- naive baseline

@@ -86,6 +86,7 @@ void BM_GridKernelIsa_Hu40t(benchmark::State& state) {
       benchmark::DoNotOptimize(out.data());
     }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(total));
+  state.counters["flops_per_config"] = model.grid_flops_per_configuration();
   mtcal::set_kernel_isa(saved);
 }
 BENCHMARK(BM_GridKernelIsa_Hu40t)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);

@@ -55,6 +55,13 @@ RATES = [
     ("5-axis HU40T example (Fourier) point list, batch kernel", "BM_Forms_Hu40t"),
     ("5-axis (polynomials) point list, AVX-512 level", "BM_Isa_5axis/isa:2"),
     ("5-axis (polynomials) point list, AVX2 level", "BM_Isa_5axis/isa:1"),
+    ("5-axis (polynomials) point list, baseline level", "BM_Isa_5axis/isa:0"),
+    ("HU40T example (Fourier) point list, AVX-512 level", "BM_Isa_Hu40t/isa:2"),
+    ("HU40T example (Fourier) point list, AVX2 level", "BM_Isa_Hu40t/isa:1"),
+    ("3-axis (table) point list, AVX-512 level", "BM_Isa_3axis/isa:2"),
+    ("3-axis (table) point list, AVX2 level", "BM_Isa_3axis/isa:1"),
+    ("5-axis (HU40T) grid 1e6, grid kernel, AVX-512 level", "BM_GridKernelIsa_Hu40t/isa:2"),
+    ("5-axis (HU40T) grid 1e6, grid kernel, AVX2 level", "BM_GridKernelIsa_Hu40t/isa:1"),
     ("5-axis (HU40T) grid 1e6, grid kernel", "BM_GridKernel_Hu40t/1048576"),
     ("5-axis (HU40T) grid 3e6, grid kernel", "BM_GridKernel_Hu40t/3040000"),
     ("5-axis (HU40T) grid 3e6, stream", "BM_EvalGrid_Hu40t/3040000"),
@@ -81,15 +88,31 @@ def main():
           f"load average {data['context'].get('load_avg')}")
     for what, num, den in RATIOS:
         a, b = seconds(num), seconds(den)
-        print(f"  {what:<62} {a / b:>9.2f}x" if a and b else f"  {what:<62} {'-':>10}")
-    print("configurations / s / core:")
+        print(f"  {what:<66} {a / b:>9.2f}x" if a and b else f"  {what:<66} {'-':>10}")
+    # The limit: multiply-then-add throughput of one core per level (BM_PeakMulAdd, flop/s), and
+    # the kernels' own operation count per configuration (counter flops_per_config).
+    peaks = {i: runs[f"BM_PeakMulAdd/isa:{i}"]["items_per_second"] for i in range(3)
+             if f"BM_PeakMulAdd/isa:{i}" in runs and runs[f"BM_PeakMulAdd/isa:{i}"].get("items_per_second")}
+    if peaks:
+        names = {0: "baseline", 1: "AVX2", 2: "AVX-512"}
+        print("peak multiply-add of one core: " + ", ".join(f"{names[i]} {v / 1e9:.1f} Gflop/s" for i, v in peaks.items()))
+    print("configurations / s / core (flops a configuration, Gflop/s, share of the level's peak):")
     for what, name in RATES:
         b = runs.get(name)
         # items_per_second is per real time for UseRealTime benchmarks: rescaled to CPU time.
         rate = b.get("items_per_second") * b["real_time"] / b["cpu_time"] if b and b.get("items_per_second") else None
         if b and "real_time" not in name:
             rate = b.get("items_per_second")
-        print(f"  {what:<62} {rate / 1e6:>8.2f} M" if rate else f"  {what:<62} {'-':>10}")
+        if not rate:
+            print(f"  {what:<66} {'-':>10}")
+            continue
+        line = f"  {what:<66} {rate / 1e6:>8.2f} M"
+        flops = b.get("flops_per_config")
+        level = int(name.split("/isa:")[1]) if "/isa:" in name else (max(peaks) if peaks else None)
+        if flops and level in peaks:
+            gflops = rate * flops / 1e9
+            line += f"  {flops:>6.0f}  {gflops:>6.1f}  {100 * gflops * 1e9 / peaks[level]:>4.0f} %"
+        print(line)
     return 0
 
 

@@ -458,6 +458,9 @@ int run_command(const std::vector<Command>& commands) {
     const int rc = [&] {
       for (const auto& c : commands)
         if (c.app->parsed()) {
+          // A wrong MTCAL_KERNEL_ISA is reported whichever command runs, not only by those
+          // that reach the batched kernels.
+          kernel_isa();
           load_session_metadata();
           load_static_copies(*c.app);
           name = c.app->get_name();

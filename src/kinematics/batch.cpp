@@ -432,6 +432,55 @@ Kernels kernels() {
 
 bool ErrorModel::grid_structured() const { return program_->grid_structured; }
 
+// Operation counts of the lane code above, per configuration (one lane); each constant is counted
+// from the function it names.
+namespace {
+constexpr double kFlopsMul = 63;         // mul_const / mul_block: 3 rows x (3 x (3 mul + 2 add) + 3 mul + 3 add)
+constexpr double kFlopsRotation = 18;    // mul_rotation: 3 rows x (4 mul + 2 add)
+constexpr double kFlopsTranslation = 6;  // mul_translation: 3 rows x (mul + add)
+constexpr double kFlopsSincos = 43;      // sincos_lane: reduction 9, z 1, sine 13, cosine 15, quadrant 5
+constexpr double kFlopsErrorBlock = 3 * kFlopsSincos + 20;  // error_block: three sincos, 20 for the rotation
+constexpr double kFlopsFinish = 76;      // finish_block: R_a R_n^T 45, differences 9, norms 10, series 12
+
+double form_flops(const detail::LaneForm& f) {
+  switch (f.kind) {
+    case detail::LaneForm::Kind::Polynomial:
+      return 8;  // Horner 3 mul + 3 add, reversal mul + add
+    case detail::LaneForm::Kind::Fourier:
+      // constant + reversal 2, the sines' sum 1; per harmonic h*q, sincos, 2 mul + 2 add
+      return 3 + static_cast<double>(std::max(f.cos_terms.size(), f.sin_terms.size())) * (kFlopsSincos + 5);
+    case detail::LaneForm::Kind::Table:
+      return f.backward.empty() ? 7 : 13;  // weights 4 (2 sub, div, sub), value 3 (9 with both runs)
+  }
+  return 0;
+}
+}  // namespace
+
+double ErrorModel::batch_flops_per_configuration() const {
+  const Program& prog = *program_;
+  double flops = kFlopsFinish;
+  for (const auto& a : prog.axes) flops += a.rotary ? 1 + kFlopsSincos + 6 : 3;  // prepare_axis
+  for (const auto* ops : {&prog.actual_ops, &prog.nominal_ops})
+    for (const Op& op : *ops) {
+      if (op.kind == Op::Kind::Const) {
+        flops += kFlopsMul;
+      } else if (op.kind == Op::Kind::Joint) {
+        flops += prog.axes[static_cast<std::size_t>(op.axis)].rotary ? kFlopsRotation : kFlopsTranslation;
+      } else {
+        for (const auto& f : prog.axes[static_cast<std::size_t>(op.axis)].forms) flops += form_flops(f);
+        flops += kFlopsErrorBlock + kFlopsMul;
+      }
+    }
+  return flops;
+}
+
+double ErrorModel::grid_flops_per_configuration() const {
+  if (!program_->grid_structured) return batch_flops_per_configuration();
+  // grid_row: the two rotation products with the prefix 2 x 45, the translation error 39; then
+  // finish_block. The factors and prefix products are computed once per grid value or digit.
+  return 2 * 45 + 39 + kFlopsFinish;
+}
+
 void ErrorModel::evaluate_grid(std::span<const std::vector<double>> values, std::size_t first, std::span<double> out,
                                const BatchOptions& options) const {
   const std::size_t n = axis_count();

@@ -80,6 +80,12 @@ class ErrorModel {
                      const BatchOptions& options = {}) const;
   // Whether evaluate_grid can use the product structure (otherwise it evaluates point by point).
   bool grid_structured() const;
+  // Floating-point operations (additions, multiplications, divisions, square roots) per
+  // configuration of evaluate_batch and of evaluate_grid's kernel on this machine, counted from
+  // the kernels' code (src/kinematics/batch.cpp): the arithmetic side of an efficiency figure
+  // (docs/performance.md). Comparisons, selects and loads are not counted.
+  double batch_flops_per_configuration() const;
+  double grid_flops_per_configuration() const;
 
   // Sensitivity Jacobian d(dx dy dz rx ry rz) / d(parameter) at one configuration, columns in
   // the order of Machine::parameters(). Exact (analytic through the exact transforms).
