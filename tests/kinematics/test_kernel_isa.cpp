@@ -363,3 +363,37 @@ TEST(LaneForms, ZeroFormsGiveExactZeros) {
                                   MotionFunction(t)})
     for (double v : lanes(f, q, dir)) EXPECT_EQ(v, 0.0);
 }
+
+TEST(KernelFlops, FormsChangeTheCountByTheirOwnOperations) {
+  // The count walks the compiled program: replacing one polynomial by another form changes it by
+  // exactly the two forms' counts (a polynomial 8; a Fourier series 3 + 48 per harmonic; a table
+  // 7, or 13 with a backward run), the rest of the program being the same.
+  Machine m = mtcal::testing::nominal_machine("wCBXfYZt");
+  mtcal::testing::randomize_errors(m, 2);
+  const double base = ErrorModel(m).batch_flops_per_configuration();
+  EXPECT_GT(base, 1000.0);
+  Machine fourier = m;
+  fourier.axes[0].motion[5] = MotionFunction(Fourier{0.0, {1e-6, 2e-6}, {1e-6, 0.0, 3e-6}, 0.0});  // 3 harmonics
+  EXPECT_EQ(ErrorModel(fourier).batch_flops_per_configuration(), base - 8 + 3 + 3 * 48);
+  Machine table = m;
+  table.axes[2].motion[0] = MotionFunction(Table{{-1.0, 0.0, 1.0}, {0.0, 1e-3, 0.0}, {}});
+  EXPECT_EQ(ErrorModel(table).batch_flops_per_configuration(), base - 8 + 7);
+  table.axes[2].motion[1] = MotionFunction(Table{{-1.0, 1.0}, {0.0, 1e-3}, {1e-3, 0.0}});
+  EXPECT_EQ(ErrorModel(table).batch_flops_per_configuration(), base - 16 + 7 + 13);
+  // The grid kernel's work per configuration does not depend on the forms.
+  EXPECT_EQ(ErrorModel(fourier).grid_flops_per_configuration(), 205.0);
+  EXPECT_EQ(ErrorModel(m).grid_flops_per_configuration(), 205.0);
+}
+
+TEST(KernelFlops, AnErrorFreeMachineCountsTheNominalChainTwice) {
+  // Without errors the actual program is the nominal one (error-free slots are skipped), so the
+  // count is the output step plus the joints' preparation plus twice one program's operations.
+  const Machine m = mtcal::testing::nominal_machine("wXYfZt");
+  const double flops = ErrorModel(m).batch_flops_per_configuration();
+  const double program = (flops - 76 - 3 * 3) / 2;  // output step 76, three linear joints 3 each
+  EXPECT_EQ(program, std::floor(program));
+  // At least the three joint translations (6 each), at most those and one constant product around
+  // each (63 each).
+  EXPECT_GE(program, 3 * 6.0);
+  EXPECT_LE(program, 3 * 6.0 + 4 * 63.0);
+}
