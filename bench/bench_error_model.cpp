@@ -17,10 +17,7 @@
 
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
-#if __has_include("mtcal/kinematics/kernel_isa.hpp")  // absent before run-time dispatch (for old-build baselines)
-#include "mtcal/kinematics/kernel_isa.hpp"
-#define MTCAL_BENCH_ISA 1
-#endif
+#include "kernel_level.hpp"
 #include "mtcal/model/machine.hpp"
 #include "naive_chain.hpp"
 #include "synthetic.hpp"
@@ -168,16 +165,8 @@ BENCHMARK(BM_Forms_3axisPolynomial_Baseline)->Unit(benchmark::kMillisecond);
 // Each instruction-set level (0 baseline, 1 AVX2, 2 AVX-512; kernel_isa.hpp), one thread: the
 // synthetic 5-axis machine (polynomials), the HU40T (Fourier) and the 3-axis VMC (table).
 void isa_batch(benchmark::State& state, Which which) {
-  const auto isa = static_cast<mtcal::KernelIsa>(state.range(0));
-  if (!mtcal::kernel_isa_supported(isa)) {
-    state.SkipWithError("this processor lacks the level");
-    return;
-  }
-  const auto saved = mtcal::kernel_isa();
-  mtcal::set_kernel_isa(isa);
-  state.SetLabel(std::string(mtcal::to_string(isa)));
-  batch(state, which, 1);
-  mtcal::set_kernel_isa(saved);
+  const mtcal::bench::KernelLevel level(state);
+  if (level.ok()) batch(state, which, 1);
 }
 void BM_Isa_5axis(benchmark::State& state) { isa_batch(state, Which::FiveAxis); }
 void BM_Isa_Hu40t(benchmark::State& state) { isa_batch(state, Which::Hu40t); }
@@ -208,17 +197,14 @@ MTCAL_BENCH_PEAK(__attribute__((target("avx512f,avx512cd,avx512vl,avx512dq,avx51
 #endif
 
 void BM_PeakMulAdd(benchmark::State& state) {
-  const auto isa = static_cast<mtcal::KernelIsa>(state.range(0));
-  if (!mtcal::kernel_isa_supported(isa)) {
-    state.SkipWithError("this processor lacks the level");
-    return;
-  }
+  const mtcal::bench::KernelLevel level(state);
+  if (!level.ok()) return;
+  const auto isa = mtcal::kernel_isa();
   auto* run = &peak_baseline;
 #if defined(__x86_64__) && defined(__GNUC__)
   if (isa == mtcal::KernelIsa::Avx2) run = &peak_avx2;
   if (isa == mtcal::KernelIsa::Avx512) run = &peak_avx512;
 #endif
-  state.SetLabel(std::string(mtcal::to_string(isa)));
   std::vector<double> acc(kPeakLanes, 1.0);
   constexpr std::int64_t kRounds = 1 << 16;
   for (auto _ : state) {

@@ -14,9 +14,7 @@
 #include "mtcal/io/error_csv.hpp"
 #include "mtcal/io/joints.hpp"
 #include "mtcal/io/machine_file.hpp"
-#if __has_include("mtcal/kinematics/kernel_isa.hpp")
-#include "mtcal/kinematics/kernel_isa.hpp"
-#endif
+#include "kernel_level.hpp"
 
 namespace {
 
@@ -48,9 +46,9 @@ void BM_EvalGrid_Hu40t(benchmark::State& state) {
 }
 BENCHMARK(BM_EvalGrid_Hu40t)->Arg(1048576)->Arg(3040000)->Unit(benchmark::kMillisecond);
 
-// The grid kernel alone, chunk by chunk into one reused buffer.
-void BM_GridKernel_Hu40t(benchmark::State& state) {
-  const Setup s = hu40t(state.range(0));
+// The grid kernel alone on `points` configurations, chunk by chunk into one reused buffer.
+void grid_kernel(benchmark::State& state, std::int64_t points) {
+  const Setup s = hu40t(points);
   const ErrorModel model(s.m);
   const std::size_t total = grid_count(s.grid), chunk = std::size_t{1} << 20;
   std::vector<double> out(std::min(total, chunk) * 6);
@@ -61,33 +59,18 @@ void BM_GridKernel_Hu40t(benchmark::State& state) {
       benchmark::DoNotOptimize(out.data());
     }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(total));
+#ifdef MTCAL_BENCH_ISA
+  state.counters["flops_per_config"] = model.grid_flops_per_configuration();
+#endif
 }
+void BM_GridKernel_Hu40t(benchmark::State& state) { grid_kernel(state, state.range(0)); }
 BENCHMARK(BM_GridKernel_Hu40t)->Arg(1048576)->Arg(3040000)->Unit(benchmark::kMillisecond);
 
-#if __has_include("mtcal/kinematics/kernel_isa.hpp")
+#ifdef MTCAL_BENCH_ISA
 // The grid kernel at 1e6 on each instruction-set level (0 baseline, 1 AVX2, 2 AVX-512).
 void BM_GridKernelIsa_Hu40t(benchmark::State& state) {
-  const auto isa = static_cast<mtcal::KernelIsa>(state.range(0));
-  if (!mtcal::kernel_isa_supported(isa)) {
-    state.SkipWithError("this processor lacks the level");
-    return;
-  }
-  const auto saved = mtcal::kernel_isa();
-  mtcal::set_kernel_isa(isa);
-  state.SetLabel(std::string(mtcal::to_string(isa)));
-  const Setup s = hu40t(1048576);
-  const ErrorModel model(s.m);
-  const std::size_t total = grid_count(s.grid), chunk = std::size_t{1} << 20;
-  std::vector<double> out(std::min(total, chunk) * 6);
-  for (auto _ : state)
-    for (std::size_t first = 0; first < total; first += chunk) {
-      const std::size_t len = std::min(chunk, total - first);
-      model.evaluate_grid(s.grid, first, std::span(out).first(len * 6), {1});
-      benchmark::DoNotOptimize(out.data());
-    }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(total));
-  state.counters["flops_per_config"] = model.grid_flops_per_configuration();
-  mtcal::set_kernel_isa(saved);
+  const mtcal::bench::KernelLevel level(state);
+  if (level.ok()) grid_kernel(state, 1048576);
 }
 BENCHMARK(BM_GridKernelIsa_Hu40t)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 #endif
