@@ -245,7 +245,8 @@ struct AxisLanes {
     sin_t[l] = std::sqrt(res[3][l] * res[3][l] + res[4][l] * res[4][l] + res[5][l] * res[5][l]);
     cos_t[l] = 0.5 * (d[0] + d[4] + d[8] - 1.0);
   }
-  for (int l = 0; l < kLanes; ++l) small = small && sin_t[l] < 1e-2 && cos_t[l] > 0.0;
+  // `&`, not `&&`: one vector comparison, not a branch per lane.
+  for (int l = 0; l < kLanes; ++l) small = small & (sin_t[l] < 1e-2) & (cos_t[l] > 0.0);
   if (small) {
     // theta / sin(theta) = asin(s) / s = 1 + s^2/6 + 3 s^4/40 + 5 s^6/112 + 35 s^8/1152 + ...;
     // for s < 1e-2 the omitted terms are below 1e-21 relative.
