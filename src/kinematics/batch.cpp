@@ -333,56 +333,68 @@ inline void compose(const Pose& a, const double* tab, std::size_t count, std::si
   }
 }
 
-// row[b .. b + kLanes), clamped to row[last - 1] past the end.
-[[gnu::always_inline]] inline void load_lanes(const double* row, std::size_t b, std::size_t last, bool full,
-                                              Lane& dst) {
-  if (full)
-    for (std::size_t l = 0; l < kLanes; ++l) dst[l] = row[b + l];
-  else
-    for (std::size_t l = 0; l < kLanes; ++l) dst[l] = row[std::min(b + l, last - 1)];
+
+// One block of 8 configurations of a row: the poses A * Fa[l] and N * Fn[l] lane by lane, then the
+// same output step as run_block. fa and fn point at the block's first value in tables of `stride`
+// values a row (12 rows: rotation row-major, translation).
+[[gnu::always_inline]] inline void grid_block(const Pose& A, const Pose& N, const double* fa, const double* fn,
+                                              std::size_t stride, std::size_t len, double* out) {
+  Block P, Q;
+  for (int i = 0; i < 3; ++i) {
+    const double x = A.r[3 * i], y = A.r[3 * i + 1], z = A.r[3 * i + 2];
+    for (int c = 0; c < 3; ++c) {
+      const double* f0 = fa + c * stride;
+      const double* f1 = fa + (3 + c) * stride;
+      const double* f2 = fa + (6 + c) * stride;
+      for (int l = 0; l < kLanes; ++l) P.r[3 * i + c][l] = x * f0[l] + y * f1[l] + z * f2[l];
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    const double x = N.r[3 * i], y = N.r[3 * i + 1], z = N.r[3 * i + 2];
+    for (int c = 0; c < 3; ++c) {
+      const double* f0 = fn + c * stride;
+      const double* f1 = fn + (3 + c) * stride;
+      const double* f2 = fn + (6 + c) * stride;
+      for (int l = 0; l < kLanes; ++l) Q.r[3 * i + c][l] = x * f0[l] + y * f1[l] + z * f2[l];
+    }
+  }
+  // The translation error as a sum of differences, not a difference of two tool positions
+  // (hundreds of mm): A.R (fa.t - fn.t) + (A.R - N.R) fn.t + (A.t - N.t) keeps the rounding
+  // at the size of the terms that differ.
+  Lane dft[3];
+  const double* ftn[3] = {fn + 9 * stride, fn + 10 * stride, fn + 11 * stride};
+  for (std::size_t c = 0; c < 3; ++c) {
+    const double* fat = fa + (9 + c) * stride;
+    for (int l = 0; l < kLanes; ++l) dft[c][l] = fat[l] - ftn[c][l];
+  }
+  for (int i = 0; i < 3; ++i) {
+    const double x = A.r[3 * i], y = A.r[3 * i + 1], z = A.r[3 * i + 2];
+    const double u = x - N.r[3 * i], v = y - N.r[3 * i + 1], w = z - N.r[3 * i + 2], d = A.t[i] - N.t[i];
+    for (int l = 0; l < kLanes; ++l) {
+      P.t[i][l] =
+          (x * dft[0][l] + y * dft[1][l] + z * dft[2][l]) + (u * ftn[0][l] + v * ftn[1][l] + w * ftn[2][l]) + d;
+      Q.t[i][l] = 0.0;
+    }
+  }
+  finish_block(P, Q, len, out);
 }
 
-// Configurations (outer, l) for l in [l0, l1) of the fastest axis: the poses A * Fa[l] and
-// N * Fn[l] lane by lane, then the same output step as run_block.
+// Configurations (outer, l) for l in [l0, l1) of the fastest axis, tables of `count` values a row.
+// Full blocks read the tables in place; a short last block reads a copy whose missing lanes
+// repeat its last value.
 [[gnu::always_inline]] inline void grid_row_impl(const Pose& A, const Pose& N, const double* fa, const double* fn,
                                                  std::size_t count, std::size_t l0, std::size_t l1, double* out) {
-  for (std::size_t b = l0; b < l1; b += kLanes) {
-    const std::size_t len = std::min<std::size_t>(kLanes, l1 - b);
-    const bool full = len == kLanes;  // contiguous loads; a short last block repeats its last value
-    Block P, Q;
-    for (int which = 0; which < 2; ++which) {
-      const Pose& S = which ? N : A;
-      const double* tab = which ? fn : fa;
-      Block& X = which ? Q : P;
-      Lane f[9];
-      for (std::size_t c = 0; c < 9; ++c) load_lanes(tab + c * count, b, l1, full, f[c]);
-      for (int i = 0; i < 3; ++i) {
-        const double x = S.r[3 * i], y = S.r[3 * i + 1], z = S.r[3 * i + 2];
-        for (int c = 0; c < 3; ++c)
-          for (int l = 0; l < kLanes; ++l) X.r[3 * i + c][l] = x * f[c][l] + y * f[3 + c][l] + z * f[6 + c][l];
-      }
+  std::size_t b = l0;
+  for (; b + kLanes <= l1; b += kLanes) grid_block(A, N, fa + b, fn + b, count, kLanes, out + (b - l0) * 6);
+  if (b == l1) return;
+  double ta[12 * kLanes], tn[12 * kLanes];
+  for (std::size_t c = 0; c < 12; ++c)
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const std::size_t j = std::min(b + l, l1 - 1);
+      ta[c * kLanes + l] = fa[c * count + j];
+      tn[c * kLanes + l] = fn[c * count + j];
     }
-    // The translation error as a sum of differences, not a difference of two tool positions
-    // (hundreds of mm): A.R (fa.t - fn.t) + (A.R - N.R) fn.t + (A.t - N.t) keeps the rounding
-    // at the size of the terms that differ.
-    Lane dft[3], ftn[3];
-    for (std::size_t c = 0; c < 3; ++c) {
-      Lane fat;
-      load_lanes(fn + (9 + c) * count, b, l1, full, ftn[c]);
-      load_lanes(fa + (9 + c) * count, b, l1, full, fat);
-      for (std::size_t l = 0; l < kLanes; ++l) dft[c][l] = fat[l] - ftn[c][l];
-    }
-    for (int i = 0; i < 3; ++i) {
-      const double x = A.r[3 * i], y = A.r[3 * i + 1], z = A.r[3 * i + 2];
-      const double u = x - N.r[3 * i], v = y - N.r[3 * i + 1], w = z - N.r[3 * i + 2], d = A.t[i] - N.t[i];
-      for (int l = 0; l < kLanes; ++l) {
-        P.t[i][l] =
-            (x * dft[0][l] + y * dft[1][l] + z * dft[2][l]) + (u * ftn[0][l] + v * ftn[1][l] + w * ftn[2][l]) + d;
-        Q.t[i][l] = 0.0;
-      }
-    }
-    finish_block(P, Q, len, out + (b - l0) * 6);
-  }
+  grid_block(A, N, ta, tn, kLanes, l1 - b, out + (b - l0) * 6);
 }
 
 // Each kernel once per instruction-set level (util/kernel.hpp); the bodies are the always-inlined
