@@ -284,6 +284,9 @@ constexpr double kPeckDelta = 0.254;
 // Bounds on what one block may expand into (memory, not machining: real programs stay far below).
 constexpr double kMaxRepeats = 10000;
 constexpr double kMaxPecks = 10000;
+// The pecks of one block in all (holes of L times pecks per hole): each bound alone let one block
+// of G73/G83 with L 10000 expand into 10^8 pecks, gigabytes of moves (found by fuzz_gcode).
+constexpr double kMaxBlockPecks = 100000;
 
 }  // namespace
 
@@ -704,6 +707,7 @@ bool GcodeReader::apply_block() {
       if (motion_ == 82 || motion_ == 86 || motion_ == 88 || motion_ == 89) p_col = 0;
     }
     int repeats = 1;
+    const int repeats_col = l_col;
     if (l_col) {
       // A bound so that one block cannot expand into unbounded memory.
       if (!(l >= 0 && l == std::floor(l) && l <= kMaxRepeats))
@@ -728,6 +732,11 @@ bool GcodeReader::apply_block() {
       if ((motion_ == 73 || motion_ == 83) && (r_level - bottom) / cycle_q_ > kMaxPecks)
         fail(at, fmt::format("{}: Q {} mm gives more than {} pecks to the depth (expected a larger Q)", name,
                              fmt_mm(cycle_q_), kMaxPecks));
+      if ((motion_ == 73 || motion_ == 83) && repeats * std::ceil((r_level - bottom) / cycle_q_) > kMaxBlockPecks)
+        fail(repeats_col ? repeats_col : at,
+             fmt::format("{}: L {} holes of {} pecks each give more than {} pecks in one block (expected a smaller L "
+                         "or a larger Q)",
+                         name, repeats, std::ceil((r_level - bottom) / cycle_q_), kMaxBlockPecks));
       if (bottom > r_level)
         fail(at, fmt::format("{}: the hole's bottom {} = {} mm lies above R = {} mm (expected R at or above it)", name,
                              kGcodeAxes[w], fmt_mm(bottom), fmt_mm(r_level)));

@@ -175,6 +175,13 @@ TEST(GcodeIso, CycleErrors) {
             std::string::npos);
   EXPECT_NE(error_of<InputError>("G0 Z10\nG83 X1 Z-300 R2 Q0.01\n").find("more than 10000 pecks"), std::string::npos);
   EXPECT_NE(error_of<InputError>("G80 X1\n").find("G80"), std::string::npos);
+  // Each bound alone (10000 repeats, 10000 pecks a hole) let one block expand into 10^8 pecks,
+  // gigabytes of moves (fuzz_gcode, out of memory): the pecks of a block are bounded in all, and
+  // the message points at L.
+  const std::string many = error_of<InputError>("G0 Z10\nG91 G73 X1 Z-2000 R2 Q0.25 L20\n");
+  EXPECT_NE(many.find("column 28: G73: L 20 holes of 8000 pecks each give more than 100000 pecks in one block"),
+            std::string::npos)
+      << many;
 }
 
 // G54-G59.3 from the setup, G10 L2, G53, and G43 H from a tool table: moves in the frame of the
