@@ -176,24 +176,25 @@ BENCHMARK(BM_Isa_Hu40t)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMill
 BENCHMARK(BM_Isa_3axis)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
 // The machine's limit for these kernels: independent multiply-then-add chains (the kernels are
-// built without fused multiply-add, src/CMakeLists.txt; so is this file), 12 vectors of 8 lanes in
-// registers, on each level. Items are floating-point operations: items_per_second is flop/s.
-constexpr int kPeakLanes = 96;
+// built without fused multiply-add, src/CMakeLists.txt; so is this file), 12 vectors of the level's
+// width in registers (24 doubles in SSE2, 48 in AVX2, 96 in AVX-512: the first two have 16 vector
+// registers, so more chains would spill). Items are floating-point operations: flop/s.
+template <int Lanes>
 [[gnu::always_inline]] inline void peak_chains(double* acc, std::int64_t rounds) {
-  double x[kPeakLanes];
-  for (int i = 0; i < kPeakLanes; ++i) x[i] = acc[i];
+  double x[Lanes];
+  for (int i = 0; i < Lanes; ++i) x[i] = acc[i];
   for (std::int64_t r = 0; r < rounds; ++r) {
 #pragma GCC unroll 96
-    for (int i = 0; i < kPeakLanes; ++i) x[i] = x[i] * 0.9999999 + 1e-7;
+    for (int i = 0; i < Lanes; ++i) x[i] = x[i] * 0.9999999 + 1e-7;
   }
-  for (int i = 0; i < kPeakLanes; ++i) acc[i] = x[i];
+  for (int i = 0; i < Lanes; ++i) acc[i] = x[i];
 }
-#define MTCAL_BENCH_PEAK(ATTR, SUFFIX) \
-  ATTR void peak_##SUFFIX(double* acc, std::int64_t rounds) { peak_chains(acc, rounds); }
-MTCAL_BENCH_PEAK(, baseline)
+#define MTCAL_BENCH_PEAK(ATTR, SUFFIX, LANES) \
+  ATTR void peak_##SUFFIX(double* acc, std::int64_t rounds) { peak_chains<LANES>(acc, rounds); }
+MTCAL_BENCH_PEAK(, baseline, 24)
 #if defined(__x86_64__) && defined(__GNUC__)
-MTCAL_BENCH_PEAK(__attribute__((target("avx2,fma,bmi,bmi2"))), avx2)
-MTCAL_BENCH_PEAK(__attribute__((target("avx512f,avx512cd,avx512vl,avx512dq,avx512bw,avx2,fma,bmi,bmi2"))), avx512)
+MTCAL_BENCH_PEAK(__attribute__((target("avx2,fma,bmi,bmi2"))), avx2, 48)
+MTCAL_BENCH_PEAK(__attribute__((target("avx512f,avx512cd,avx512vl,avx512dq,avx512bw,avx2,fma,bmi,bmi2"))), avx512, 96)
 #endif
 
 void BM_PeakMulAdd(benchmark::State& state) {
@@ -201,17 +202,18 @@ void BM_PeakMulAdd(benchmark::State& state) {
   if (!level.ok()) return;
   const auto isa = mtcal::kernel_isa();
   auto* run = &peak_baseline;
+  std::int64_t lanes = 24;
 #if defined(__x86_64__) && defined(__GNUC__)
-  if (isa == mtcal::KernelIsa::Avx2) run = &peak_avx2;
-  if (isa == mtcal::KernelIsa::Avx512) run = &peak_avx512;
+  if (isa == mtcal::KernelIsa::Avx2) run = &peak_avx2, lanes = 48;
+  if (isa == mtcal::KernelIsa::Avx512) run = &peak_avx512, lanes = 96;
 #endif
-  std::vector<double> acc(kPeakLanes, 1.0);
+  std::vector<double> acc(96, 1.0);
   constexpr std::int64_t kRounds = 1 << 16;
   for (auto _ : state) {
     run(acc.data(), kRounds);
     benchmark::DoNotOptimize(acc.data());
   }
-  state.SetItemsProcessed(state.iterations() * kRounds * kPeakLanes * 2);
+  state.SetItemsProcessed(state.iterations() * kRounds * lanes * 2);
 }
 BENCHMARK(BM_PeakMulAdd)->ArgName("isa")->DenseRange(0, 2);
 #endif

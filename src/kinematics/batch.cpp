@@ -77,7 +77,11 @@ ErrorModel::Program::Program(const Machine& m)
     a.zero = detail::zero_position(ax);
     a.cos_zero = std::cos(a.sign * a.zero);
     a.sin_zero = std::sin(a.sign * a.zero);
-    for (std::size_t c = 0; c < 6; ++c) a.forms[c] = detail::LaneForm(ax.motion[c]);
+    for (std::size_t c = 0; c < 6; ++c) {
+      a.forms[c] = detail::LaneForm(ax.motion[c]);
+      a.sincos_scale = std::max(a.sincos_scale, a.forms[c].harmonics);
+    }
+    if (a.rotary) a.sincos_scale = std::max(a.sincos_scale, 1.0);
     axes.push_back(a);
   }
 }
@@ -184,6 +188,7 @@ struct AxisLanes {
 // Runs a program (actual or nominal) on a block; only the actual one has motion-error ops and
 // applies the zero positions. A function, not a lambda: lambdas do not inherit the kernel's
 // target_clones, always-inlined functions do.
+template <bool Libm>
 [[gnu::always_inline]] inline void run_program(const ErrorModel::Program& prog, const AxisLanes* ax,
                                                const std::vector<Op>& ops, Block& B, bool actual, std::size_t begin = 0,
                                                std::size_t end = static_cast<std::size_t>(-1)) {
@@ -205,7 +210,7 @@ struct AxisLanes {
       continue;
     }
     Lane e[6];
-    for (std::size_t c = 0; c < 6; ++c) detail::motion_lanes(a.forms[c], L.q, L.dir, e[c]);
+    for (std::size_t c = 0; c < 6; ++c) detail::motion_lanes<Libm>(a.forms[c], L.q, L.dir, e[c]);
     Block E;
     error_block(E, e);
     mul_block(B, E);
@@ -213,9 +218,10 @@ struct AxisLanes {
 }
 
 // The joint's sines and cosines (rotary) or displacements (linear) of L.q, nominal and actual.
+template <bool Libm>
 [[gnu::always_inline]] inline void prepare_axis(const ErrorModel::Program::AxisInfo& a, AxisLanes& L) {
   if (a.rotary) {
-    for (int l = 0; l < kLanes; ++l) sincos_lane(a.sign * L.q[l], L.nom_s[l], L.nom_c[l]);
+    for (int l = 0; l < kLanes; ++l) detail::sincos_of<Libm>(a.sign * L.q[l], L.nom_s[l], L.nom_c[l]);
     for (int l = 0; l < kLanes; ++l) {
       L.act_c[l] = L.nom_c[l] * a.cos_zero - L.nom_s[l] * a.sin_zero;
       L.act_s[l] = L.nom_s[l] * a.cos_zero + L.nom_c[l] * a.sin_zero;
@@ -272,25 +278,41 @@ struct AxisLanes {
     for (int c = 0; c < 6; ++c) out[l * 6 + c] = res[c][l];
 }
 
+// Whether a block's positions reach beyond kSincosLaneLimit for some axis' sines and cosines.
+[[gnu::always_inline]] inline bool needs_libm(const ErrorModel::Program::AxisInfo& a, const AxisLanes& L) {
+  bool big = false;
+  for (int l = 0; l < kLanes; ++l) big = big | !(std::fabs(L.q[l]) * a.sincos_scale <= detail::kSincosLaneLimit);
+  return big;
+}
+
+template <bool Libm>
+[[gnu::always_inline]] inline void run_block_body(const ErrorModel::Program& prog, AxisLanes* ax, std::size_t count,
+                                                  double* out) {
+  for (std::size_t k = 0; k < prog.axes.size(); ++k) prepare_axis<Libm>(prog.axes[k], ax[k]);
+  Block P, N;
+  run_program<Libm>(prog, ax, prog.actual_ops, P, true);
+  run_program<Libm>(prog, ax, prog.nominal_ops, N, false);
+  finish_block(P, N, count, out);
+}
+
 [[gnu::always_inline]] inline void run_block_impl(const ErrorModel::Program& prog, const double* q,
                                                   const std::int8_t* dir, std::size_t count, double* out) {
   const std::size_t n = prog.axes.size();
   AxisLanes ax[6];
+  bool libm = false;
   for (std::size_t k = 0; k < n; ++k) {
-    const auto& a = prog.axes[k];
     AxisLanes& L = ax[k];
     for (int l = 0; l < kLanes; ++l) {
       const std::size_t src = std::min<std::size_t>(static_cast<std::size_t>(l), count - 1);
       L.q[l] = q[src * n + k];
       L.dir[l] = dir ? static_cast<double>(dir[src * n + k]) : 0.0;
     }
-    prepare_axis(a, L);
+    libm = libm | needs_libm(prog.axes[k], L);
   }
-
-  Block P, N;
-  run_program(prog, ax, prog.actual_ops, P, true);
-  run_program(prog, ax, prog.nominal_ops, N, false);
-  finish_block(P, N, count, out);
+  if (libm)
+    run_block_body<true>(prog, ax, count, out);
+  else
+    run_block_body<false>(prog, ax, count, out);
 }
 
 // A Joint or Motion op of the factor of one axis of a grid, per grid value (lane): the tables
@@ -306,9 +328,14 @@ struct AxisLanes {
       L.q[l] = v[std::min(j0 + l, count - 1)];
       L.dir[l] = 0.0;  // a grid has no directions of motion
     }
-    prepare_axis(prog.axes[k], L);
     Block B;
-    run_program(prog, ax, ops, B, actual, begin, end);
+    if (needs_libm(prog.axes[k], L)) {
+      prepare_axis<true>(prog.axes[k], L);
+      run_program<true>(prog, ax, ops, B, actual, begin, end);
+    } else {
+      prepare_axis<false>(prog.axes[k], L);
+      run_program<false>(prog, ax, ops, B, actual, begin, end);
+    }
     for (std::size_t l = 0; l < kLanes && j0 + l < count; ++l) {
       for (std::size_t c = 0; c < 9; ++c) tab[c * count + j0 + l] = B.r[c][l];
       for (std::size_t c = 0; c < 3; ++c) tab[(9 + c) * count + j0 + l] = B.t[c][l];

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -55,6 +56,24 @@ using Lane = double[kLanes];
   c_out = ((m == 1.0) | (m == -2.0) | (m == 2.0)) ? -c1 : c1;   // quadrants 1 and 2
 }
 
+// Below 2^22 rad (about 4e6) sincos_lane's three-part reduction by pi/2 stays within 2 ulp of the
+// C library (measured); beyond, it loses digits (1e-3 relative at 1e16 rad). A block of
+// configurations with a larger argument (continuous rotary axes turned a million times, high
+// harmonics of such angles) is run with std::sin and std::cos instead (the kernels' `Libm`
+// instantiation, chosen per block before the hot code: the same choice on every kernel level).
+constexpr double kSincosLaneLimit = 4194304.0;  // 2^22
+
+// sin and cos of one lane, the kernel's own or the C library's.
+template <bool Libm>
+[[gnu::always_inline]] inline void sincos_of(double x, double& s, double& c) {
+  if constexpr (Libm) {
+    s = std::sin(x);
+    c = std::cos(x);
+  } else {
+    sincos_lane(x, s, c);
+  }
+}
+
 // One motion-error function compiled for the lanes: its form's numbers in flat arrays.
 struct LaneForm {
   enum class Kind { Polynomial, Fourier, Table };
@@ -64,6 +83,7 @@ struct LaneForm {
   std::vector<double> cos_terms, sin_terms;  // Fourier a_1.., b_1..
   std::vector<double> positions, forward, backward;  // table; backward empty: forward both ways
   std::int64_t first_step = 0;  // table: largest power of two <= positions.size() - 2
+  double harmonics = 0.0;       // Fourier: the highest harmonic
 
   LaneForm() = default;
   explicit LaneForm(const MotionFunction& f) {
@@ -77,6 +97,7 @@ struct LaneForm {
       reversal = s->reversal;
       cos_terms = s->cos_terms;
       sin_terms = s->sin_terms;
+      harmonics = static_cast<double>(std::max(cos_terms.size(), sin_terms.size()));
     } else {
       const auto& t = std::get<Table>(f.form());
       kind = Kind::Table;
@@ -96,7 +117,9 @@ struct LaneForm {
 
 // out = f(q, dir) for 8 lanes. Polynomials and tables give the same bits as MotionFunction::value
 // (the same operations in the same order); a Fourier series differs from it by a few ulp of its
-// terms (sincos_lane against the C library's sine and cosine, about 1 ulp, and the sines' sum).
+// terms (sincos_lane against the C library's sine and cosine, within 2 ulp below kSincosLaneLimit,
+// and the sines' sum); Libm takes the C library's.
+template <bool Libm = false>
 [[gnu::always_inline]] inline void motion_lanes(const LaneForm& f, const Lane& q, const Lane& dir, Lane& out) {
   switch (f.kind) {
     case LaneForm::Kind::Polynomial: {
@@ -112,19 +135,21 @@ struct LaneForm {
       // unused the compiler would move each polynomial under its quadrant's branch, and no
       // longer vectorise.
       const std::size_t nc = f.cos_terms.size(), ns = f.sin_terms.size(), n = std::max(nc, ns);
+      // The sines start at -0, which adds to anything exactly: with no sine term the sum below
+      // leaves value's bits, a -0 included.
       double sines[kLanes];
       for (int l = 0; l < kLanes; ++l) {
         out[l] = f.constant + f.reversal * dir[l];
-        sines[l] = 0.0;
+        sines[l] = -0.0;
       }
       for (std::size_t k = 0; k < n; ++k) {
         const double a = k < nc ? f.cos_terms[k] : 0.0, b = k < ns ? f.sin_terms[k] : 0.0;
         const double h = static_cast<double>(k + 1);
+        double s[kLanes], c[kLanes];
+        for (int l = 0; l < kLanes; ++l) sincos_of<Libm>(h * q[l], s[l], c[l]);
         for (int l = 0; l < kLanes; ++l) {
-          double s, c;
-          sincos_lane(h * q[l], s, c);
-          out[l] += a * c;
-          sines[l] += b * s;
+          out[l] += a * c[l];
+          sines[l] += b * s[l];
         }
       }
       for (int l = 0; l < kLanes; ++l) out[l] += sines[l];
@@ -132,9 +157,7 @@ struct LaneForm {
     }
     case LaneForm::Kind::Table: {
       // Clamped linear interpolation as MotionFunction::value's bracket. q is first clamped to the
-      // table, which gives that bracket's bits at the ends too: at the first position t = 0 exactly,
-      // at the last t = (x[n-1] - x[n-2]) / (x[n-1] - x[n-2]) = 1 exactly; a NaN passes both
-      // clamps and gives NaN weights as there. i0 is the largest index in [0, n - 2] with
+      // table (a NaN passes both clamps and gives NaN weights, as there). i0 is the largest index in [0, n - 2] with
       // x[i0] <= q, found by a branch-free binary search (one step per bit of n - 2, the same steps
       // in every lane).
       const double* x = f.positions.data();
@@ -157,7 +180,10 @@ struct LaneForm {
         x1[l] = x[i0[l] + 1];
       }
       for (int l = 0; l < kLanes; ++l) {
-        w1[l] = (qc[l] - x0[l]) / (x1[l] - x0[l]);
+        // The bracket's exact end weights (also where the last interval's width overflows, and
+        // for -0 at a first position 0); t itself between the ends.
+        const double t = (qc[l] - x0[l]) / (x1[l] - x0[l]);
+        w1[l] = qc[l] <= lo ? 0.0 : (qc[l] >= hi ? 1.0 : t);
         w0[l] = 1.0 - w1[l];
       }
       const double* fw = f.forward.data();

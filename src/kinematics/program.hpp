@@ -24,6 +24,9 @@ struct ErrorModel::Program {
     double zero = 0.0;                            // zero position error (internal units)
     double cos_zero = 1.0, sin_zero = 0.0;        // of sign * zero, rotary axes
     std::array<detail::LaneForm, 6> forms{};      // the six motion errors, compiled for the lanes
+    // The largest multiple of the position a sine or cosine is taken of: 1 for a rotary joint, the
+    // highest Fourier harmonic (0: none). |q| * this beyond kSincosLaneLimit takes the C library.
+    double sincos_scale = 0.0;
   };
 
   std::vector<detail::Factor> chain, nominal_chain;

@@ -397,3 +397,49 @@ TEST(KernelFlops, AnErrorFreeMachineCountsTheNominalChainTwice) {
   EXPECT_GE(program, 3 * 6.0);
   EXPECT_LE(program, 3 * 6.0 + 4 * 63.0);
 }
+
+TEST(KernelIsa, HugeRotaryAnglesTakeTheCLibrarysSineAndCosine) {
+  // Beyond 2^22 rad the kernel's own reduction by pi/2 loses digits (at 1e16 rad a Fourier term
+  // was off by 1e-3 relative, at 1e20 by 1e23): a block holding such an angle (joint or harmonic)
+  // is run with std::sin and std::cos, on every level, and agrees with the scalar model.
+  const IsaGuard guard;
+  Machine m = mtcal::testing::nominal_machine("wCBXfYZt");
+  for (auto& ax : m.axes) ax.travel.reset();
+  m.axes[0].motion[5] = MotionFunction(Fourier{0.0, {1e-5, 2e-6}, {1e-5}, 0.0});  // C: ECC, 3 harmonics
+  m.axes[0].motion[0] = MotionFunction(Fourier{0.0, {1e-3}, {}, 0.0});           // C: EXC
+  const ErrorModel model(m);
+  const std::size_t n = m.axes.size();
+  std::vector<double> q;
+  for (double c : {0.5, 1.5e6, 3e7, 1e9, 1e16, 1e20, -4.5e12, 2.0})  // 1.5e6 x 3 harmonics: beyond too
+    for (double v : {c, 0.3, 10.0, 20.0, -30.0}) q.push_back(v);
+  const std::size_t N = q.size() / n;
+  for (KernelIsa isa : supported_kernel_isas()) {
+    SCOPED_TRACE(std::string(to_string(isa)));
+    set_kernel_isa(isa);
+    std::vector<double> out(N * 6);
+    model.evaluate_batch(q, {}, out, BatchOptions{1});
+    for (std::size_t r = 0; r < N; ++r) {
+      const auto e = model.evaluate(std::span(q).subspan(r * n, n));
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[r * 6 + c], e.translation[c], 1e-12) << "C = " << q[r * n];
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[r * 6 + 3 + c], e.rotation[c], 1e-15) << "C = " << q[r * n];
+    }
+  }
+}
+
+TEST(LaneForms, EdgeBitsOfTablesAndSeries) {
+  // A table whose last interval's width overflows: the end weights are still exact.
+  const MotionFunction wide(Table{{-1e308, 1e308}, {1.0, 2.0}, {}});
+  // A -0 at a first position 0, with a -0 first value and a negative second one.
+  const MotionFunction zero(Table{{0.0, 1.0}, {-0.0, -1.0}, {}});
+  // A series of signed zeros and no sine term.
+  const MotionFunction series(Fourier{-0.0, {}, {}, -0.0});
+  std::array<double, kLanes> q = {1e308, std::numeric_limits<double>::infinity(), -1e308, 0.0, -0.0, 5e307, -5e307,
+                                  1.0};
+  std::array<double, kLanes> dir = {0, 0, 0, 0, 0, 0, 0, 0};
+  for (const MotionFunction* f : {&wide, &zero, &series}) {
+    const auto got = lanes(*f, q, dir);
+    for (std::size_t l = 0; l < kLanes; ++l)
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(got[l]), std::bit_cast<std::uint64_t>(f->value(q[l], 0)))
+          << "q = " << q[l] << ": lanes " << got[l] << ", scalar " << f->value(q[l], 0);
+  }
+}
