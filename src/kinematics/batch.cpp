@@ -79,7 +79,7 @@ ErrorModel::Program::Program(const Machine& m)
     a.sin_zero = std::sin(a.sign * a.zero);
     for (std::size_t c = 0; c < 6; ++c) {
       a.forms[c] = detail::LaneForm(ax.motion[c]);
-      a.sincos_scale = std::max(a.sincos_scale, a.forms[c].harmonics);
+      a.sincos_scale = std::max(a.sincos_scale, static_cast<double>(a.forms[c].harmonics()));
     }
     if (a.rotary) a.sincos_scale = std::max(a.sincos_scale, 1.0);
     axes.push_back(a);
@@ -186,8 +186,7 @@ struct AxisLanes {
 };
 
 // Runs a program (actual or nominal) on a block; only the actual one has motion-error ops and
-// applies the zero positions. A function, not a lambda: lambdas do not inherit the kernel's
-// target_clones, always-inlined functions do.
+// applies the zero positions. Libm: the C library's sines and cosines (lane_forms.hpp).
 template <bool Libm>
 [[gnu::always_inline]] inline void run_program(const ErrorModel::Program& prog, const AxisLanes* ax,
                                                const std::vector<Op>& ops, Block& B, bool actual, std::size_t begin = 0,
@@ -360,12 +359,13 @@ inline void compose(const Pose& a, const double* tab, std::size_t count, std::si
   }
 }
 
-
 // One block of 8 configurations of a row: the poses A * Fa[l] and N * Fn[l] lane by lane, then the
 // same output step as run_block. fa and fn point at the block's first value in tables of `stride`
 // values a row (12 rows: rotation row-major, translation).
 [[gnu::always_inline]] inline void grid_block(const Pose& A, const Pose& N, const double* fa, const double* fn,
                                               std::size_t stride, std::size_t len, double* out) {
+  // The two rotation products written out apart: as one helper called for each pose (or a loop
+  // choosing pose and table at run time) the AVX2 level ran 1.2-1.5x slower (measured).
   Block P, Q;
   for (int i = 0; i < 3; ++i) {
     const double x = A.r[3 * i], y = A.r[3 * i + 1], z = A.r[3 * i + 2];
@@ -488,7 +488,7 @@ double form_flops(const detail::LaneForm& f) {
       return 8;  // Horner 3 mul + 3 add, reversal mul + add
     case detail::LaneForm::Kind::Fourier:
       // constant + reversal 2, the sines' sum 1; per harmonic h*q, sincos, 2 mul + 2 add
-      return 3 + static_cast<double>(std::max(f.cos_terms.size(), f.sin_terms.size())) * (kFlopsSincos + 5);
+      return 3 + static_cast<double>(f.harmonics()) * (kFlopsSincos + 5);
     case detail::LaneForm::Kind::Table:
       return f.backward.empty() ? 7 : 13;  // weights 4 (2 sub, div, sub), value 3 (9 with both runs)
   }

@@ -83,7 +83,6 @@ struct LaneForm {
   std::vector<double> cos_terms, sin_terms;  // Fourier a_1.., b_1..
   std::vector<double> positions, forward, backward;  // table; backward empty: forward both ways
   std::int64_t first_step = 0;  // table: largest power of two <= positions.size() - 2
-  double harmonics = 0.0;       // Fourier: the highest harmonic
 
   LaneForm() = default;
   explicit LaneForm(const MotionFunction& f) {
@@ -97,7 +96,6 @@ struct LaneForm {
       reversal = s->reversal;
       cos_terms = s->cos_terms;
       sin_terms = s->sin_terms;
-      harmonics = static_cast<double>(std::max(cos_terms.size(), sin_terms.size()));
     } else {
       const auto& t = std::get<Table>(f.form());
       kind = Kind::Table;
@@ -113,6 +111,9 @@ struct LaneForm {
       first_step = last ? static_cast<std::int64_t>(std::bit_floor(last)) : 0;
     }
   }
+
+  // The highest harmonic of a Fourier series (0 for the other forms).
+  std::size_t harmonics() const { return std::max(cos_terms.size(), sin_terms.size()); }
 };
 
 // out = f(q, dir) for 8 lanes. Polynomials and tables give the same bits as MotionFunction::value
@@ -134,7 +135,7 @@ template <bool Libm = false>
       // harmonic takes both its sine and cosine (0 where a list is shorter): with one of them
       // unused the compiler would move each polynomial under its quadrant's branch, and no
       // longer vectorise.
-      const std::size_t nc = f.cos_terms.size(), ns = f.sin_terms.size(), n = std::max(nc, ns);
+      const std::size_t nc = f.cos_terms.size(), ns = f.sin_terms.size(), n = f.harmonics();
       // The sines start at -0, which adds to anything exactly: with no sine term the sum below
       // leaves value's bits, a -0 included.
       double sines[kLanes];
@@ -157,9 +158,9 @@ template <bool Libm = false>
     }
     case LaneForm::Kind::Table: {
       // Clamped linear interpolation as MotionFunction::value's bracket. q is first clamped to the
-      // table (a NaN passes both clamps and gives NaN weights, as there). i0 is the largest index in [0, n - 2] with
-      // x[i0] <= q, found by a branch-free binary search (one step per bit of n - 2, the same steps
-      // in every lane).
+      // table (a NaN passes both clamps and gives NaN weights, as there). i0 is the largest index
+      // in [0, n - 2] with x[i0] <= q, found by a branch-free binary search (one step per bit of
+      // n - 2, the same steps in every lane).
       const double* x = f.positions.data();
       const std::int64_t last = static_cast<std::int64_t>(f.positions.size()) - 2;
       const double lo = x[0], hi = x[last + 1];
