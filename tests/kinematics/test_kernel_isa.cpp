@@ -114,6 +114,27 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
+// On every level, evaluate_batch of q (and dir, when given) against ErrorModel::evaluate
+// (MotionFunction::value per error) to 1e-12 mm and 1e-15 rad.
+void expect_every_level_agrees_with_the_scalar_model(const ErrorModel& model, const std::vector<double>& q,
+                                                      const std::vector<std::int8_t>& dir) {
+  const std::size_t n = model.axis_count(), N = q.size() / n;
+  for (KernelIsa isa : supported_kernel_isas()) {
+    SCOPED_TRACE(std::string(to_string(isa)));
+    set_kernel_isa(isa);
+    std::vector<double> out(N * 6);
+    model.evaluate_batch(q, dir, out, BatchOptions{1});
+    for (std::size_t r = 0; r < N; ++r) {
+      const auto e = model.evaluate(std::span(q).subspan(r * n, n),
+                                    dir.empty() ? std::span<const std::int8_t>() : std::span(dir).subspan(r * n, n));
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(out[r * 6 + c], e.translation[c], 1e-12) << "row " << r << ", first axis " << q[r * n];
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(out[r * 6 + 3 + c], e.rotation[c], 1e-15) << "row " << r << ", first axis " << q[r * n];
+    }
+  }
+}
+
 }  // namespace
 
 TEST(KernelIsa, NamesRoundTripAndUnknownNamesAreRefused) {
@@ -210,22 +231,10 @@ TEST(KernelIsa, MixedFormsAgreeWithTheScalarModel) {
   // per error), on every level.
   const IsaGuard guard;
   const Machine m = mixed_forms_machine(5);
-  const ErrorModel model(m);
   std::vector<std::int8_t> dir;
-  const std::size_t N = 301, n = m.axes.size();
-  const auto q = mtcal::testing::random_configurations(m, N, 23, &dir);
+  const auto q = mtcal::testing::random_configurations(m, 301, 23, &dir);
   mix_in_zero_directions(dir);
-  for (KernelIsa isa : supported_kernel_isas()) {
-    SCOPED_TRACE(std::string(to_string(isa)));
-    set_kernel_isa(isa);
-    std::vector<double> out(N * 6);
-    model.evaluate_batch(q, dir, out, BatchOptions{1});
-    for (std::size_t r = 0; r < N; ++r) {
-      const auto e = model.evaluate(std::span(q).subspan(r * n, n), std::span(dir).subspan(r * n, n));
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[r * 6 + c], e.translation[c], 1e-12) << r;
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[r * 6 + 3 + c], e.rotation[c], 1e-15) << r;
-    }
-  }
+  expect_every_level_agrees_with_the_scalar_model(ErrorModel(m), q, dir);
 }
 
 namespace {
@@ -408,22 +417,10 @@ TEST(KernelIsa, HugeRotaryAnglesTakeTheCLibrarysSineAndCosine) {
   m.axes[0].motion[5] = MotionFunction(Fourier{0.0, {1e-5, 2e-6}, {1e-5}, 0.0});  // C: ECC, 3 harmonics
   m.axes[0].motion[0] = MotionFunction(Fourier{0.0, {1e-3}, {}, 0.0});           // C: EXC
   const ErrorModel model(m);
-  const std::size_t n = m.axes.size();
   std::vector<double> q;
   for (double c : {0.5, 1.5e6, 3e7, 1e9, 1e16, 1e20, -4.5e12, 2.0})  // 1.5e6 x 3 harmonics: beyond too
     for (double v : {c, 0.3, 10.0, 20.0, -30.0}) q.push_back(v);
-  const std::size_t N = q.size() / n;
-  for (KernelIsa isa : supported_kernel_isas()) {
-    SCOPED_TRACE(std::string(to_string(isa)));
-    set_kernel_isa(isa);
-    std::vector<double> out(N * 6);
-    model.evaluate_batch(q, {}, out, BatchOptions{1});
-    for (std::size_t r = 0; r < N; ++r) {
-      const auto e = model.evaluate(std::span(q).subspan(r * n, n));
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[r * 6 + c], e.translation[c], 1e-12) << "C = " << q[r * n];
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[r * 6 + 3 + c], e.rotation[c], 1e-15) << "C = " << q[r * n];
-    }
-  }
+  expect_every_level_agrees_with_the_scalar_model(model, q, {});
 }
 
 TEST(LaneForms, EdgeBitsOfTablesAndSeries) {
