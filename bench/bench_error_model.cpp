@@ -15,7 +15,7 @@
 #include <benchmark/benchmark.h>
 #include <Eigen/Core>
 
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "kernel_level.hpp"
 #include "../src/util/kernel.hpp"

@@ -11,9 +11,9 @@
 #include <benchmark/benchmark.h>
 
 #include "mtcal/evaluation/error_stream.hpp"
-#include "mtcal/io/error_csv.hpp"
-#include "mtcal/io/joints.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/points/error_csv.hpp"
+#include "mtcal/io/text/joints.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "kernel_level.hpp"
 
 namespace {

@@ -19,7 +19,7 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
-#include "mtcal/io/history_store.hpp"
+#include "mtcal/io/history/store.hpp"
 #include "pg_server.hpp"
 
 namespace {

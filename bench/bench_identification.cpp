@@ -7,8 +7,8 @@
 #include <Eigen/SVD>
 
 #include "mtcal/identification/identification.hpp"
-#include "mtcal/io/machine_file.hpp"
-#include "mtcal/io/probing_plan_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/io/instruments/probing_plan_file.hpp"
 
 namespace {
 

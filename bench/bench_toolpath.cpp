@@ -12,8 +12,8 @@
 #include <fmt/format.h>
 
 #include "mtcal/evaluation/toolpath.hpp"
-#include "mtcal/io/gcode.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "synthetic.hpp"
 

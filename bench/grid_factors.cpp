@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "mtcal/io/joints.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/text/joints.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "naive_chain.hpp"
 
 using namespace mtcal;

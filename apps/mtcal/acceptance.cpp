@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "mtcal/io/headless_browser.hpp"
+#include "mtcal/io/system/headless_browser.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"

@@ -8,8 +8,8 @@
 #include <CLI/CLI.hpp>
 
 #include "mtcal/evaluation/tolerance.hpp"
-#include "mtcal/io/acceptance_files.hpp"
-#include "mtcal/io/json.hpp"
+#include "mtcal/io/instruments/acceptance_files.hpp"
+#include "mtcal/io/json/json.hpp"
 #include "mtcal/evaluation/metadata.hpp"
 
 namespace mtcal::cli {

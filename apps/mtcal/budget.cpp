@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "mtcal/io/files.hpp"
+#include "mtcal/io/system/files.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 

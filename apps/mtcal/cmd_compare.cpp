@@ -10,9 +10,9 @@
 #include "common.hpp"
 #include "history.hpp"
 #include "mtcal/evaluation/compare.hpp"
-#include "mtcal/io/evaluation_files.hpp"
-#include "mtcal/io/evaluation_json.hpp"
-#include "mtcal/io/files.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/json/evaluation_json.hpp"
+#include "mtcal/io/system/files.hpp"
 #include "mtcal/report/evaluation.hpp"
 
 namespace mtcal::cli {

@@ -5,6 +5,9 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -13,9 +16,9 @@
 #include "common.hpp"
 #include "gcode_input.hpp"
 #include "mtcal/compensation/compensation.hpp"
-#include "mtcal/io/compensation_output.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/joints.hpp"
+#include "mtcal/io/compensation/output.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/text/joints.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/report/compensation.hpp"
 #include "mtcal/util/errors.hpp"
@@ -61,6 +64,17 @@ CompensationOptions library_options(const Machine& m, const CompensateOptions& o
   return c;
 }
 
+// The library's messages speak of the data; where one of this command's options is the cause,
+// the command names it after the words that describe it.
+std::string naming_options(std::string text) {
+  static constexpr std::pair<std::string_view, std::string_view> kCauses[] = {
+      {"more table points", "--points"}, {"the compensation's reference position", "--reference"}};
+  for (const auto& [words, option] : kCauses)
+    if (const auto at = text.find(words); at != std::string::npos)
+      text.insert(at + words.size(), fmt::format(" ({})", option));
+  return text;
+}
+
 void print_summary(const TargetOutput& out, const std::string& dir) {
   const CompensationSummary& s = out.summary;
   std::cout << fmt::format("target       {}: numbers are {} ({})\n", s.target, to_string(s.quantity), s.sign_source);
@@ -87,7 +101,14 @@ int run_tables(const CompensateOptions& o) {
   if (!o.report.empty()) AtomicFile check(o.report);  // refuse a bad path before the work
   const CompensationTarget& target = compensation_target(o.format);
   const Machine m = load(o.gcode.model);
-  const TargetOutput out = target.run(m, library_options(m, o));
+  TargetOutput out = [&] {
+    try {
+      return target.run(m, library_options(m, o));
+    } catch (const InputError& e) {
+      throw InputError(e.where(), naming_options(std::string(e.what()).substr(e.where().describe().size() + 2)));
+    }
+  }();
+  for (auto& w : out.summary.warnings) w = naming_options(w);
   // The folder is renamed into place at once, not with the command's other outputs: everything
   // that can still fail (the report, the JSON text) comes before it.
   if (!o.report.empty()) {

@@ -15,13 +15,15 @@
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/identification/machine_params.hpp"
-#include "mtcal/io/estimated_parameters_file.hpp"
-#include "mtcal/io/evaluation_files.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/evaluation_json.hpp"
-#include "mtcal/io/joints.hpp"
-#include "mtcal/io/laser_files.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/estimated_parameters_file.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/json/acceptance_json.hpp"
+#include "mtcal/io/json/evaluation_json.hpp"
+#include "mtcal/io/json/identification_json.hpp"
+#include "mtcal/io/text/joints.hpp"
+#include "mtcal/io/instruments/laser_files.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/report/evaluation.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -34,15 +36,6 @@ struct Iso2302Options {
   bool json_out = false;
   ToleranceOptions tol;
 };
-
-// The quantities of an ISO 230-2 evaluation in µm, for tolerances.
-std::vector<std::pair<std::string, double>> positioning_values(const PositioningEvaluation& e) {
-  const auto k = micrometres_per(e.unit);
-  if (!k)
-    throw InputError({e.unit, 0, ""}, "tolerances are in µm; the measurements' unit '" + e.unit +
-                                          "' is not a known length unit (mm, um, nm, m, in)");
-  return {{"A", e.A * *k}, {"E", e.E * *k}, {"M", e.M * *k}, {"R", e.R * *k}, {"B", e.B * *k}};
-}
 
 int run_iso230_2(const Iso2302Options& o) {
   std::vector<std::string> inputs = metadata_inputs();
@@ -61,7 +54,7 @@ int run_iso230_2(const Iso2302Options& o) {
   }
   const std::string* axis = session_metadata().get("axis");
   const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Iso230_2, axis ? *axis : "");
-  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(positioning_values(e), limits);
+  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(tolerance_values(e), limits);
   if (!o.report.empty()) write_positioning_report(o.report, command_line(), runs, e, verdict);
   // After the work: a failure is one line on stderr, never warnings and then an error.
   for (const auto& w : runs.warnings) std::cerr << "mtcal: warning: " << w << "\n";
@@ -147,6 +140,52 @@ void print_ballbar(const BallbarCliOptions& o, const BallbarEvaluation& e,
   }
 }
 
+BallbarOptions ballbar_options(const BallbarCliOptions& o) {
+  BallbarOptions bo;
+  bo.nominal_radius = o.radius;
+  bo.overshoot_start = o.overshoot_start;
+  bo.overshoot_stop = o.overshoot_stop;
+  if (o.direction == "cw") bo.only = CircleDirection::CW;
+  if (o.direction == "ccw") bo.only = CircleDirection::CCW;
+  return bo;
+}
+
+// --to-params and --terms: which machine parameters the trace's diagnosis gives.
+BallbarParamsOptions ballbar_params_options(const BallbarCliOptions& o, const BallbarOptions& bo) {
+  BallbarParamsOptions po{false, false, false};
+  if (o.to_params.empty()) return po;
+  if (bo.only) throw InputError({"--to-params", 0, ""}, "--to-params needs both directions (not with --direction)");
+  for (const auto& term : split_list(o.terms)) {
+    if (term == "squareness")
+      po.squareness = true;
+    else if (term == "scale")
+      po.scale = true;
+    else if (term == "backlash")
+      po.backlash = true;
+    else
+      throw InputError({"--terms", 0, ""}, "expected squareness, scale or backlash, found '" + term + "'");
+  }
+  AtomicFile check(o.to_params);  // refuse a bad path before the work
+  return po;
+}
+
+void write_ballbar_parameters(const BallbarCliOptions& o, const std::vector<EstimatedError>& params) {
+  write_estimated_parameters(o.to_params, params,
+                             fmt::format("Squareness, scale and reversal of the {} plane from a ballbar trace (mtcal "
+                                         "ballbar --to-params; internal units mm, rad)\n{}",
+                                         o.plane, command_line()));
+}
+
+void print_ballbar_results(const BallbarCliOptions& o, const BallbarEvaluation& e,
+                           const std::optional<TraceDiagnosis>& diagnosis, const ToleranceVerdict& verdict,
+                           const std::vector<EstimatedError>& params) {
+  print_ballbar(o, e, diagnosis);
+  print_verdict(verdict);
+  for (const auto& p : params) std::cout << fmt::format("parameter {}: {}\n", p.name.str(), p.method);
+  if (!o.to_params.empty()) std::cout << "wrote " << o.to_params << "\n";
+  if (!o.report.empty()) std::cout << "report " << o.report << "\n";
+}
+
 int run_ballbar(const BallbarCliOptions& o) {
   // The bar's length defines the test: no default that could silently differ from the one used.
   if (o.radius <= 0)
@@ -158,43 +197,15 @@ int run_ballbar(const BallbarCliOptions& o) {
   std::vector<std::string> inputs = metadata_inputs();
   inputs.insert(inputs.end(), {o.trace, o.tol.file});
   check_outputs(inputs, {o.report, o.to_params});
-  BallbarOptions bo;
-  bo.nominal_radius = o.radius;
-  bo.overshoot_start = o.overshoot_start;
-  bo.overshoot_stop = o.overshoot_stop;
-  if (o.direction == "cw") bo.only = CircleDirection::CW;
-  if (o.direction == "ccw") bo.only = CircleDirection::CCW;
-  BallbarParamsOptions po{false, false, false};
-  if (!o.to_params.empty()) {
-    if (bo.only) throw InputError({"--to-params", 0, ""}, "--to-params needs both directions (not with --direction)");
-    for (const auto& term : split_list(o.terms)) {
-      if (term == "squareness")
-        po.squareness = true;
-      else if (term == "scale")
-        po.scale = true;
-      else if (term == "backlash")
-        po.backlash = true;
-      else
-        throw InputError({"--terms", 0, ""}, "expected squareness, scale or backlash, found '" + term + "'");
-    }
-    AtomicFile check(o.to_params);  // refuse a bad path before the work
-  }
+  const BallbarOptions bo = ballbar_options(o);
+  const BallbarParamsOptions po = ballbar_params_options(o, bo);
   const BallbarTrace t = read_ballbar_csv(o.trace);
   check_directions(t, bo);
   const auto e = evaluate_ballbar(t, bo);
   std::optional<TraceDiagnosis> diagnosis;
   if (!bo.only) diagnosis = diagnose_ballbar(t, bo, o.plane);
-  // ISO 230-4 quantities in µm: G is G(b) when both directions were run, else the one direction's
-  // G; F is the larger magnitude of F max and F min; H the hysteresis.
-  std::vector<std::pair<std::string, double>> values;
-  if (e.G_b)
-    values.emplace_back("G", *e.G_b * 1e3);
-  else if (e.cw || e.ccw)
-    values.emplace_back("G", (e.cw ? e.cw->G : e.ccw->G) * 1e3);
-  values.emplace_back("F", std::max(std::abs(e.F_max), std::abs(e.F_min)) * 1e3);
-  if (e.H) values.emplace_back("H", *e.H * 1e3);
   const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Iso230_4);
-  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(values, limits);
+  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(tolerance_values(e), limits);
   if (o.feed > 0 && !session_metadata().get("feed")) {
     ReportMetadata m = session_metadata();
     m.set("feed", fmt::format("{:g} mm/min", o.feed));
@@ -203,11 +214,7 @@ int run_ballbar(const BallbarCliOptions& o) {
   std::vector<EstimatedError> params;
   if (!o.to_params.empty()) {
     params = ballbar_parameters(*diagnosis, o.plane, po, t.source);
-    write_estimated_parameters(
-        o.to_params, params,
-        fmt::format("Squareness, scale and reversal of the {} plane from a ballbar trace (mtcal ballbar "
-                    "--to-params; internal units mm, rad)\n{}",
-                    o.plane, command_line()));
+    write_ballbar_parameters(o, params);
   }
   if (!o.report.empty())
     write_ballbar_report(o.report, command_line(), t, e, diagnosis, o.plane, o.radius, o.feed, verdict);
@@ -217,27 +224,12 @@ int run_ballbar(const BallbarCliOptions& o) {
     if (!verdict.empty()) j["tolerances"] = to_json(verdict);
     if (!o.report.empty()) j["report"] = o.report;
     if (!o.to_params.empty()) {
-      Json pj = Json::object();
-      for (const auto& p : params) {
-        if (p.motion) {
-          for (std::size_t k = 0; k < p.motion->parameter_count(); ++k)
-            if (p.motion->parameter(k) != 0)
-              pj[p.name.str() + "." + p.motion->parameter_suffix(k)] = {{"value", p.motion->parameter(k)},
-                                                                        {"u", p.uncertainty[k]}};
-        } else {
-          pj[p.name.str()] = {{"value", p.value}, {"u", p.uncertainty[0]}};
-        }
-      }
-      j["parameters"] = pj;
+      j["parameters"] = estimated_parameters_json(params);
       j["to_params"] = o.to_params;
     }
     if (emit_json(j, o.json_out)) return verdict_exit_code(o.tol, verdict);
   }
-  print_ballbar(o, e, diagnosis);
-  print_verdict(verdict);
-  for (const auto& p : params) std::cout << fmt::format("parameter {}: {}\n", p.name.str(), p.method);
-  if (!o.to_params.empty()) std::cout << "wrote " << o.to_params << "\n";
-  if (!o.report.empty()) std::cout << "report " << o.report << "\n";
+  print_ballbar_results(o, e, diagnosis, verdict, params);
   return verdict_exit_code(o.tol, verdict);
 }
 

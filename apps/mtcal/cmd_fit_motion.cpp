@@ -9,10 +9,10 @@
 #include "history.hpp"
 #include "mtcal/identification/machine_params.hpp"
 #include "mtcal/identification/motion_fit.hpp"
-#include "mtcal/io/estimated_parameters_file.hpp"
-#include "mtcal/io/evaluation_files.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/laser_files.hpp"
+#include "mtcal/io/model/estimated_parameters_file.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/instruments/laser_files.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {

@@ -9,10 +9,10 @@
 #include <fmt/format.h>
 
 #include "mtcal/compensation/gcode_correction.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/gcode.hpp"
-#include "mtcal/io/gcode_correction_json.hpp"
-#include "mtcal/io/gcode_rewrite.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/json/gcode_correction_json.hpp"
+#include "mtcal/io/gcode/rewrite.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -49,17 +49,7 @@ void add_gcode_correction_options(CLI::App& app, GcodeCorrectionCliOptions& o) {
 
 namespace {
 
-int run(const GcodeCorrectionCliOptions& o) {
-  if (o.gcode.empty()) throw InputError({"--gcode", 0, ""}, "expected a G-code program to correct");
-  if (o.out.empty()) throw InputError({"--out", 0, ""}, "expected the path of the corrected program");
-  {
-    auto inputs = model_inputs(o.model);
-    inputs.push_back(o.gcode);
-    for (const auto& f : gcode_input_files(o.input)) inputs.push_back(f);
-    check_outputs(inputs, {o.out});
-  }
-  const Machine m = load(o.model);
-  const ErrorModel model(m);
+GcodeCorrectionOptions correction_options(const Machine& m, const GcodeCorrectionCliOptions& o) {
   GcodeCorrectionOptions opt;
   opt.max_deviation = o.max_deviation;
   opt.linearise_arcs = o.linearise_arcs;
@@ -67,47 +57,39 @@ int run(const GcodeCorrectionCliOptions& o) {
   opt.orientation = !o.no_orientation;
   opt.travel_check = !o.no_travel_check;
   opt.origin = parse_program_origin(m, o.origin);
+  return opt;
+}
+
+// The corrected program's text: the input with new coordinates where each block's words are its
+// one move (no expansion, no offsets), else every move written anew (docs/gcode.md).
+struct CorrectedText {
+  std::string text;
+  GcodeRewriteSummary summary;
+  bool expanded = false;
+};
+
+CorrectedText corrected_text(const GcodeCorrectionCliOptions& o, const Machine& m, const GcodeProgram& program,
+                             const GcodeCorrectionResult& result) {
   GcodeRewriteOptions ro;
   ro.decimals = o.decimals;
-
-  AtomicFile file(o.out);  // refuses a bad output path before the work
-  const auto t0 = std::chrono::steady_clock::now();
-  const GcodeProgram program = read_gcode_program(o.gcode, m, o.input);
-  print_gcode_warnings(program.warnings, program.counts.warnings);
-  const GcodeCorrectionResult result = correct_program(model, program, opt);
-  GcodeRewriteSummary rs;
-  // In place only when each block's words are its one move: no expansion, no offsets.
-  const bool expanded =
-      program.interpreter != "mtcal" || program.counts.expanded_blocks > 0 || program.counts.offset_blocks > 0;
+  CorrectedText c;
+  c.expanded = program.interpreter != "mtcal" || program.counts.expanded_blocks > 0 || program.counts.offset_blocks > 0;
   std::string axes;
   for (const auto& ax : m.axes) axes += ax.letter;
-  std::string out;
-  if (expanded) {
-    out = write_expanded_gcode(result.moves, program, axes,
-                               fmt::format("mtcal compensate --gcode: corrected for machine {}", m.name), ro, &rs);
+  if (c.expanded) {
+    c.text = write_expanded_gcode(result.moves, program, axes,
+                                  fmt::format("mtcal compensate --gcode: corrected for machine {}", m.name), ro, &c.summary);
   } else {
-    const std::string text = read_text_file(o.gcode, "G-code program");
     GcodeOptions go;
     go.axes = axes;
-    out = rewrite_gcode(text, o.gcode, go, result.moves, ro, &rs);
+    c.text = rewrite_gcode(read_text_file(o.gcode, "G-code program"), o.gcode, go, result.moves, ro, &c.summary);
   }
-  file.stream() << out;
-  file.commit();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return c;
+}
 
-  if (o.json_out) {
-    Json j;
-    j["machine"] = m.name;
-    j["program"] = o.gcode;
-    j["interpreter"] = program.interpreter;
-    j["written"] = expanded ? "expanded" : "in_place";
-    j["correction"] = to_json(result);
-    j["rewrite"] = to_json(rs);
-    j["seconds"] = seconds;
-    j["out"] = o.out;
-    print_json(j);
-    return 0;
-  }
+void print_correction(const GcodeCorrectionCliOptions& o, const Machine& m, const GcodeProgram& program,
+                      const GcodeCorrectionResult& result, const CorrectedText& c, double seconds) {
+  const GcodeRewriteSummary& rs = c.summary;
   std::cout << fmt::format("machine      {} ({})\n", m.name, m.topology.chain);
   std::cout << fmt::format("program      {}: {} lines, {} moves{}\n", o.gcode, rs.lines_in, result.moves.size(),
                            program.interpreter == "rs274" ? " (read by LinuxCNC's interpreter rs274)" : "");
@@ -121,13 +103,50 @@ int run(const GcodeCorrectionCliOptions& o) {
   std::cout << fmt::format("tool point   error before {:.6f} mm, deviation after {:.6f} mm (at the points checked)\n",
                            result.max_error_before, result.max_deviation_after);
   for (const auto& w : result.warnings) std::cout << "warning      " << w << "\n";
-  if (expanded)
+  if (c.expanded)
     std::cout << fmt::format(
         "wrote        {} ({} lines: every move expanded, absolute mm; docs/gcode.md) in {:.3f} s\n", o.out,
         rs.lines_added, seconds);
   else
     std::cout << fmt::format("wrote        {} ({} lines changed, {} added) in {:.3f} s\n", o.out, rs.lines_changed,
                              rs.lines_added, seconds);
+}
+
+int run(const GcodeCorrectionCliOptions& o) {
+  if (o.gcode.empty()) throw InputError({"--gcode", 0, ""}, "expected a G-code program to correct");
+  if (o.out.empty()) throw InputError({"--out", 0, ""}, "expected the path of the corrected program");
+  {
+    auto inputs = model_inputs(o.model);
+    inputs.push_back(o.gcode);
+    for (const auto& f : gcode_input_files(o.input)) inputs.push_back(f);
+    check_outputs(inputs, {o.out});
+  }
+  const Machine m = load(o.model);
+  const ErrorModel model(m);
+  const GcodeCorrectionOptions opt = correction_options(m, o);
+  AtomicFile file(o.out);  // refuses a bad output path before the work
+  const auto t0 = std::chrono::steady_clock::now();
+  const GcodeProgram program = read_gcode_program(o.gcode, m, o.input);
+  print_gcode_warnings(program.warnings, program.counts.warnings);
+  const GcodeCorrectionResult result = correct_program(model, program, opt);
+  const CorrectedText c = corrected_text(o, m, program, result);
+  file.stream() << c.text;
+  file.commit();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!o.json_out) {
+    print_correction(o, m, program, result, c, seconds);
+    return 0;
+  }
+  Json j;
+  j["machine"] = m.name;
+  j["program"] = o.gcode;
+  j["interpreter"] = program.interpreter;
+  j["written"] = c.expanded ? "expanded" : "in_place";
+  j["correction"] = to_json(result);
+  j["rewrite"] = to_json(c.summary);
+  j["seconds"] = seconds;
+  j["out"] = o.out;
+  print_json(j);
   return 0;
 }
 

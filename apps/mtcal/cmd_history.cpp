@@ -10,10 +10,11 @@
 #include "history.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/evaluation/metadata.hpp"
-#include "mtcal/io/evaluation_files.hpp"
-#include "mtcal/io/evaluation_json.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/history_config.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/json/evaluation_json.hpp"
+#include "mtcal/io/json/history_json.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/history/config.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {
@@ -171,22 +172,6 @@ namespace {
 
 CLI::App* g_history = nullptr;
 
-Json record_summary_json(const CalibrationRecord& r) {
-  Json j;
-  j["id"] = r.id;
-  j["machine"] = r.machine_name;
-  j["serial"] = r.machine_serial;
-  j["command"] = r.command;
-  j["measured_at"] = r.measured_at;
-  j["recorded_at"] = r.recorded_at;
-  j["parameters"] = r.parameters.size();
-  Json figs = Json::object();
-  for (const auto& f : r.figures) figs[f.name] = {{"value", f.value}, {"unit", f.unit}};
-  j["figures"] = figs;
-  j["content_hash"] = r.content_hash;
-  return j;
-}
-
 struct ListOptions {
   std::string store, machine, command, from, to;
   bool json_out = false;
@@ -272,86 +257,105 @@ std::string detect_command(const Json& j) {
   return "";
 }
 
-int run_import(const ImportOptions& o) {
-  std::map<std::string, std::string> meta;
-  {
-    ReportMetadata m;  // validates keys
-    for (const auto& kv : o.meta) {
-      const auto eq = kv.find('=');
-      if (eq == std::string::npos)
-        throw InputError({"--meta", 0, ""}, "expected key=value, found '" + printable(kv) + "'");
-      m.set(kv.substr(0, eq), kv.substr(eq + 1), "--meta");
-    }
-    for (const auto& [k, v] : m.entries()) meta[k] = v;
+// --meta key=value pairs, checked as report metadata keys.
+std::map<std::string, std::string> import_metadata(const std::vector<std::string>& pairs) {
+  ReportMetadata m;  // validates keys
+  for (const auto& kv : pairs) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw InputError({"--meta", 0, ""}, "expected key=value, found '" + printable(kv) + "'");
+    m.set(kv.substr(0, eq), kv.substr(eq + 1), "--meta");
   }
+  std::map<std::string, std::string> meta;
+  for (const auto& [k, v] : m.entries()) meta[k] = v;
+  return meta;
+}
+
+// A command's result JSON, or an instrument file of positioning runs (laser, CSV) evaluated to
+// ISO 230-2 as `mtcal iso230-2` does, as the record that command would have made.
+CalibrationRecord record_from_file(const std::string& path, const std::string& command_given,
+                                   const std::map<std::string, std::string>& meta) {
+  const std::string text = read_text_file(path, "history import");
+  const InputHash hash{path, sha256_hex(text)};
+  const auto j = Json::parse(text, nullptr, false);
+  CalibrationRecord r;
+  if (!j.is_discarded()) {
+    if (!j.is_object()) throw InputError({path, 0, ""}, "expected a result JSON object, found " + std::string(j.type_name()));
+    const std::string command = command_given.empty() ? detect_command(j) : command_given;
+    if (command.empty())
+      throw InputError({path, 0, ""},
+                       "cannot tell which command's result this is (expected the keys of iso230-2, "
+                       "ballbar, volumetric or identify): give --command NAME");
+    r = record_from_result(command, text, meta, {hash}, path);
+  } else {
+    const PositioningRuns runs = read_positioning_file(path, "auto", "mm", "");
+    Json result = to_json(evaluate_positioning(runs));
+    Json m = Json::object();
+    for (const auto& [k, v] : runs.metadata) m[k] = v;
+    result["metadata"] = m;
+    r = record_from_result("iso230-2", result.dump(), meta, {hash}, path);
+  }
+  if (r.machine_name.empty()) throw InputError({path, 0, "machine"}, "the result names no machine: give --meta machine=NAME");
+  return r;
+}
+
+// What an import stored: records from result/instrument files, then JSON-lines files' contents.
+struct ImportOutcome {
+  std::vector<CalibrationRecord> records;
+  std::vector<std::string> origin, ids, skipped;
+  std::vector<std::size_t> duplicates;  // indices into records
+  std::size_t added = 0, events = 0;
+};
+
+void print_import(const ImportOutcome& r, const std::string& store, bool json_out) {
+  if (json_out) {
+    Json j;
+    j["store"] = store;
+    j["records_added"] = r.added;
+    j["events_added"] = r.events;
+    j["skipped"] = r.skipped;
+    Json list = Json::array();
+    for (std::size_t i = 0; i < r.records.size(); ++i) list.push_back({{"file", r.origin[i]}, {"id", r.ids[i]}});
+    j["records"] = list;
+    print_json(j);
+    return;
+  }
+  for (std::size_t i = 0; i < r.records.size(); ++i)
+    if (std::find(r.duplicates.begin(), r.duplicates.end(), i) == r.duplicates.end())
+      std::cout << fmt::format("recorded {}  {}  ({}, {})\n", r.ids[i], r.origin[i], r.records[i].command,
+                               r.records[i].machine_name);
+  for (const auto& s : r.skipped) std::cout << "skipped  " << s << "\n";
+  std::cout << fmt::format("{} record(s) added, {} event(s) added, {} skipped, in {}\n", r.added, r.events,
+                           r.skipped.size(), store);
+}
+
+int run_import(const ImportOptions& o) {
+  const auto meta = import_metadata(o.meta);
   auto store = open_cli_store(o.store);
   // Everything is read first and stored in one transaction: a bad file imports nothing.
-  std::vector<CalibrationRecord> records;
-  std::vector<std::string> origin;
-  std::vector<std::string> skipped;
-  std::size_t jsonl_records = 0, jsonl_events = 0;
+  ImportOutcome r;
   std::vector<std::string> jsonl;
   for (const auto& path : o.files) {
     if (path.size() > 6 && path.compare(path.size() - 6, 6, ".jsonl") == 0) {
       jsonl.push_back(path);
       continue;
     }
-    const std::string text = read_text_file(path, "history import");
-    const InputHash hash{path, sha256_hex(text)};
-    const auto j = Json::parse(text, nullptr, false);
-    if (!j.is_discarded()) {
-      if (!j.is_object())
-        throw InputError({path, 0, ""}, "expected a result JSON object, found " + std::string(j.type_name()));
-      const std::string command = o.command.empty() ? detect_command(j) : o.command;
-      if (command.empty())
-        throw InputError({path, 0, ""},
-                         "cannot tell which command's result this is (expected the keys of iso230-2, "
-                         "ballbar, volumetric or identify): give --command NAME");
-      records.push_back(record_from_result(command, text, meta, {hash}, path));
-    } else {
-      // An instrument file of positioning runs (laser, CSV): evaluated to ISO 230-2 as `mtcal iso230-2` does.
-      const PositioningRuns runs = read_positioning_file(path, "auto", "mm", "");
-      Json r = to_json(evaluate_positioning(runs));
-      Json m = Json::object();
-      for (const auto& [k, v] : runs.metadata) m[k] = v;
-      r["metadata"] = m;
-      records.push_back(record_from_result("iso230-2", r.dump(), meta, {hash}, path));
-    }
-    if (records.back().machine_name.empty())
-      throw InputError({path, 0, "machine"}, "the result names no machine: give --meta machine=NAME");
-    origin.push_back(path);
+    r.records.push_back(record_from_file(path, o.command, meta));
+    r.origin.push_back(path);
   }
+  std::size_t jsonl_records = 0;
   for (const auto& path : jsonl) {
     // Read through the formats layer like every other input (its size limit and messages).
     std::istringstream in(read_text_file(path, "history import"));
     const auto s = import_jsonl(*store, in, path);
     jsonl_records += s.records;
-    jsonl_events += s.events;
-    for (const auto& k : s.skipped) skipped.push_back(path + ": " + k);
+    r.events += s.events;
+    for (const auto& k : s.skipped) r.skipped.push_back(path + ": " + k);
   }
-  std::vector<std::size_t> dup;
-  const auto ids = store->record_all(records, {}, &dup);
-  for (const auto i : dup) skipped.push_back(origin[i] + ": duplicate of record " + ids[i] + " (same content hash)");
-  const std::size_t added = records.size() - dup.size() + jsonl_records;
-  if (o.json_out) {
-    Json j;
-    j["store"] = store->describe();
-    j["records_added"] = added;
-    j["events_added"] = jsonl_events;
-    j["skipped"] = skipped;
-    Json list = Json::array();
-    for (std::size_t i = 0; i < records.size(); ++i) list.push_back({{"file", origin[i]}, {"id", ids[i]}});
-    j["records"] = list;
-    print_json(j);
-    return 0;
-  }
-  for (std::size_t i = 0; i < records.size(); ++i)
-    if (std::find(dup.begin(), dup.end(), i) == dup.end())
-      std::cout << fmt::format("recorded {}  {}  ({}, {})\n", ids[i], origin[i], records[i].command,
-                               records[i].machine_name);
-  for (const auto& s : skipped) std::cout << "skipped  " << s << "\n";
-  std::cout << fmt::format("{} record(s) added, {} event(s) added, {} skipped, in {}\n", added, jsonl_events,
-                           skipped.size(), store->describe());
+  r.ids = store->record_all(r.records, {}, &r.duplicates);
+  for (const auto i : r.duplicates)
+    r.skipped.push_back(r.origin[i] + ": duplicate of record " + r.ids[i] + " (same content hash)");
+  r.added = r.records.size() - r.duplicates.size() + jsonl_records;
+  print_import(r, store->describe(), o.json_out);
   return 0;
 }
 

@@ -12,10 +12,10 @@
 #include "history.hpp"
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/history/analysis.hpp"
-#include "mtcal/io/acceptance_files.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/history_analysis_json.hpp"
-#include "mtcal/io/history_store.hpp"
+#include "mtcal/io/instruments/acceptance_files.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/json/history_json.hpp"
+#include "mtcal/io/history/store.hpp"
 #include "mtcal/report/history.hpp"
 #include "mtcal/util/parse.hpp"
 
@@ -188,52 +188,68 @@ std::string crossing_line(const TrendResult& t) {
   return s;
 }
 
-int run_trend(const TrendCliOptions& o) {
-  check_outputs({o.tolerance_file}, {o.report});
-  if (!o.report.empty()) AtomicFile check(o.report);  // refuse a bad report path before the work
-  auto store = open_store(o.store);
+// The machine's records, or an error naming the machines the store has.
+std::vector<CalibrationRecord> machine_records(HistoryStore& store, const std::string& machine) {
   RecordFilter filter;
-  filter.machine = o.machine;
-  const std::vector<CalibrationRecord> records = store->list(filter);
+  filter.machine = machine;
+  std::vector<CalibrationRecord> records = store.list(filter);
   if (records.empty()) {
     std::string known;
-    for (const auto& m : store->machines()) known += (known.empty() ? "" : ", ") + m;
-    throw InputError({store->describe(), 0, "machine"},
-                     "no records of machine '" + printable(o.machine) +
-                         "' (machines in the store: " + (known.empty() ? "none" : known) + ")");
+    for (const auto& m : store.machines()) known += (known.empty() ? "" : ", ") + m;
+    throw InputError({store.describe(), 0, "machine"}, "no records of machine '" + printable(machine) +
+                                                           "' (machines in the store: " + (known.empty() ? "none" : known) + ")");
   }
-  // Which quantities: those asked for, else every parameter and figure the machine's records have.
-  std::vector<std::pair<std::string, bool>> wanted;  // name, figure
+  return records;
+}
+
+// Which quantities (name, is a figure): those asked for, else every parameter and figure the records have.
+std::vector<std::pair<std::string, bool>> trend_quantities(const TrendCliOptions& o,
+                                                           const std::vector<CalibrationRecord>& records) {
+  std::vector<std::pair<std::string, bool>> wanted;
   for (const auto& p : o.parameters) wanted.emplace_back(p, false);
   for (const auto& f : o.figures) wanted.emplace_back(f, true);
-  if (wanted.empty()) {
-    std::set<std::string> params, figs;
-    for (const auto& r : records) {
-      for (const auto& p : r.parameters)
-        if (params.insert(p.name).second) wanted.emplace_back(p.name, false);
-      for (const auto& f : r.figures)
-        if (figs.insert(f.name).second) wanted.emplace_back(f.name, true);
-    }
+  if (!wanted.empty()) return wanted;
+  std::set<std::string> params, figs;
+  for (const auto& r : records) {
+    for (const auto& p : r.parameters)
+      if (params.insert(p.name).second) wanted.emplace_back(p.name, false);
+    for (const auto& f : r.figures)
+      if (figs.insert(f.name).second) wanted.emplace_back(f.name, true);
   }
-  const auto specs = parse_tolerances(o.tolerances);
-  std::map<std::string, ToleranceBand> file_bands;
-  if (!o.tolerance_file.empty()) {
-    const ToleranceFile f = read_tolerance_file(o.tolerance_file);
-    std::vector<std::string> axes;
-    for (const auto& [name, figure] : wanted)
-      if (figure && name.size() > 2 && name[name.size() - 2] == '_') axes.push_back(name.substr(name.size() - 1));
-    file_bands = history_figure_bands(f, axes);
-  }
+  return wanted;
+}
+
+// The bands of a tolerance file (--tolerance-file) for the figures wanted; each --tolerance must
+// name one of the quantities.
+std::map<std::string, ToleranceBand> trend_file_bands(const TrendCliOptions& o,
+                                                      const std::vector<std::pair<std::string, bool>>& wanted,
+                                                      const std::vector<ToleranceSpec>& specs) {
   for (const auto& s : specs)
     if (std::none_of(wanted.begin(), wanted.end(), [&](const auto& w) { return w.first == s.quantity; }))
       throw InputError({"--tolerance", 0, s.quantity},
                        "tolerance of " + printable(s.quantity) + ", which is not among the quantities of the trend");
+  if (o.tolerance_file.empty()) return {};
+  const ToleranceFile f = read_tolerance_file(o.tolerance_file);
+  std::vector<std::string> axes;
+  for (const auto& [name, figure] : wanted)
+    if (figure && name.size() > 2 && name[name.size() - 2] == '_') axes.push_back(name.substr(name.size() - 1));
+  return history_figure_bands(f, axes);
+}
 
-  // --from/--to: a date includes its whole day at the end of the period.
+// --from/--to: a date includes its whole day at the end of the period.
+std::pair<std::optional<HistoryTime>, std::optional<HistoryTime>> trend_period(const TrendCliOptions& o) {
   std::pair<std::optional<HistoryTime>, std::optional<HistoryTime>> period;
   if (!o.from.empty()) period.first = parse_history_time(o.from, "--from", "date");
   if (!o.to.empty())
     period.second = parse_history_time(o.to, "--to", "date") + std::chrono::seconds(o.to.size() == 10 ? 86400 - 1 : 0);
+  return period;
+}
+
+MachineTrends machine_trends(const TrendCliOptions& o, HistoryStore& store, const std::vector<CalibrationRecord>& records) {
+  const auto wanted = trend_quantities(o, records);
+  const auto specs = parse_tolerances(o.tolerances);
+  const auto file_bands = trend_file_bands(o, wanted, specs);
+  const auto period = trend_period(o);
   MachineTrends m;
   m.machine = o.machine;
   m.serial = records.back().machine_serial;
@@ -241,7 +257,7 @@ int run_trend(const TrendCliOptions& o) {
     // No structured bindings here: Debian's clang 14 refuses one captured by a lambda.
     const auto& name = want.first;
     const bool figure = want.second;
-    auto series = figure ? store->figure_series(o.machine, name) : store->parameter_series(o.machine, name);
+    auto series = figure ? store.figure_series(o.machine, name) : store.parameter_series(o.machine, name);
     const auto& from = period.first;
     const auto& to = period.second;
     std::erase_if(series, [&](const SeriesSample& s) {
@@ -249,10 +265,9 @@ int run_trend(const TrendCliOptions& o) {
       return (from && at < *from) || (to && at > *to);
     });
     if (series.empty())
-      throw InputError({store->describe(), 0, name},
+      throw InputError({store.describe(), 0, name},
                        "machine '" + printable(o.machine) + "' has no " + (figure ? "figure " : "parameter ") +
-                           printable(name) +
-                           (period.first || period.second ? " in the period asked for" : " in any record"));
+                           printable(name) + (from || to ? " in the period asked for" : " in any record"));
     std::optional<ToleranceBand> band;
     const auto spec = std::find_if(specs.begin(), specs.end(), [&](const auto& s) { return s.quantity == name; });
     if (spec != specs.end())
@@ -261,15 +276,11 @@ int run_trend(const TrendCliOptions& o) {
       band = band_in_unit(fb->second, series.front().unit, name, o.tolerance_file);
     m.series.push_back(trend_from_series(name, figure, series, band));
   }
-  m.events = store->events(o.machine);
+  m.events = store.events(o.machine);
+  return m;
+}
 
-  if (!o.report.empty()) write_trend_report(o.report, command_line(), m, records, store->describe());
-  if (o.json_out) {
-    Json j = to_json(m);
-    if (!o.report.empty()) j["report"] = o.report;
-    print_json(j);
-    return 0;
-  }
+void print_trends(const MachineTrends& m, const std::vector<CalibrationRecord>& records) {
   std::cout << fmt::format("machine {}{}: {} calibrations from {} to {}, {} events\n", m.machine,
                            m.serial.empty() ? "" : " (serial " + m.serial + ")", records.size(),
                            records.front().measured_at, records.back().measured_at, m.events.size());
@@ -291,6 +302,22 @@ int run_trend(const TrendCliOptions& o) {
     if (!t.note.empty()) std::cout << "  note: " << t.note << "\n";
   }
   for (const auto& e : m.events) std::cout << fmt::format("event {} {}: {}\n", e.date, to_string(e.kind), e.note);
+}
+
+int run_trend(const TrendCliOptions& o) {
+  check_outputs({o.tolerance_file}, {o.report});
+  if (!o.report.empty()) AtomicFile check(o.report);  // refuse a bad report path before the work
+  auto store = open_store(o.store);
+  const std::vector<CalibrationRecord> records = machine_records(*store, o.machine);
+  const MachineTrends m = machine_trends(o, *store, records);
+  if (!o.report.empty()) write_trend_report(o.report, command_line(), m, records, store->describe());
+  if (o.json_out) {
+    Json j = to_json(m);
+    if (!o.report.empty()) j["report"] = o.report;
+    print_json(j);
+    return 0;
+  }
+  print_trends(m, records);
   if (!o.report.empty()) std::cout << "report " << o.report << "\n";
   return 0;
 }

@@ -9,8 +9,8 @@
 #include <fmt/format.h>
 
 #include "mtcal/evaluation/error_stream.hpp"
-#include "mtcal/io/joints.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/text/joints.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 #include "mtcal/util/units.hpp"

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mtcal/evaluation/motion_program.hpp"
-#include "mtcal/io/json.hpp"
+#include "mtcal/io/json/json.hpp"
 #include "mtcal/model/machine.hpp"
 #include "mtcal/util/errors.hpp"
 

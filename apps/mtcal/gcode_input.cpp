@@ -6,8 +6,8 @@
 #include <fmt/format.h>
 
 #include "common.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/rs274.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/gcode/rs274.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {

@@ -9,7 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mtcal/evaluation/motion_program.hpp"
-#include "mtcal/io/gcode.hpp"
+#include "mtcal/io/gcode/reader.hpp"
 #include "mtcal/model/machine.hpp"
 
 namespace mtcal::cli {

@@ -9,7 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common.hpp"
-#include "mtcal/io/history_store.hpp"
+#include "mtcal/io/history/store.hpp"
 
 namespace mtcal::cli {
 

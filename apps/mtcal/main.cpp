@@ -16,11 +16,11 @@
 
 #include "mtcal/evaluation/contributions.hpp"
 #include "mtcal/evaluation/error_stream.hpp"
-#include "mtcal/io/error_csv.hpp"
-#include "mtcal/io/error_map_json.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/joints.hpp"
-#include "mtcal/io/number_format.hpp"
+#include "mtcal/io/points/error_csv.hpp"
+#include "mtcal/io/json/error_map_json.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/text/joints.hpp"
+#include "mtcal/io/text/number_format.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/report/error_map.hpp"
 #include "mtcal/util/errors.hpp"
@@ -29,6 +29,7 @@
 #include "mtcal/util/suggest.hpp"
 #include "mtcal/kinematics/kernel_isa.hpp"
 #include "mtcal/version.hpp"
+#include "mtcal/report/report.hpp"
 #include "acceptance.hpp"
 #include "budget.hpp"
 #include "common.hpp"
@@ -462,6 +463,9 @@ int run_command(const std::vector<Command>& commands) {
           // that reach the batched kernels.
           kernel_isa();
           load_session_metadata();
+          set_static_copy_note(
+              "A static copy for e-mail: the same command with <code>--report-pdf FILE</code> (the report printed to "
+              "PDF) or <code>--report-png DIR</code> (each plot as a PNG image), docs/reports.md.");
           load_static_copies(*c.app);
           name = c.app->get_name();
           prepare_recording();

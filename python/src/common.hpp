@@ -12,7 +12,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "mtcal/io/json.hpp"
+#include "mtcal/io/json/json.hpp"
 #include "mtcal/model/machine.hpp"
 
 namespace mtcal::python {

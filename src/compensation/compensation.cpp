@@ -32,6 +32,25 @@ double interpolate_held(std::span<const double> positions, std::span<const doubl
   return values[i - 1] + t * (values[i] - values[i - 1]);
 }
 
+double ControllerTable::value_at(double q, std::int8_t dir) const {
+  double p = q / unit;
+  if (wrap_turn) p -= 360.0 * std::floor(p / 360.0);
+  const std::vector<double>& column = dir < 0 && !reverse.empty() ? reverse : forward;
+  return sign * interpolate_held(position, column, p) * unit;
+}
+
+CorrectionRule table_rule(std::vector<ControllerTable> tables, std::size_t joints) {
+  for (const auto& t : tables)
+    if (t.input >= joints || t.output >= joints)
+      throw ModelError("table_rule: a table's joint is not one of the machine's " + std::to_string(joints));
+  return [tables = std::move(tables), joints](std::span<const double> q, std::span<const std::int8_t> dir) {
+    AppliedCorrection c;
+    c.joint.assign(joints, 0.0);
+    for (const auto& t : tables) c.joint[t.output] += t.value_at(q[t.input], dir[t.input]);
+    return c;
+  };
+}
+
 ResidualSummary predict_residual(const ErrorModel& model, const std::vector<std::vector<double>>& axis_values,
                                  const CorrectionRule& rule, int threads) {
   const std::size_t n = model.axis_count();

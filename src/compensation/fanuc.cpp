@@ -136,7 +136,7 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
     if (!fits)
       throw InputError({kTarget, 0, std::string(1, ax.letter)},
                        fmt::format("expected the correction of {} to change by at most {} counts x magnification {} "
-                                   "per interval of {:g} {}; use more points (--points)",
+                                   "per interval of {:g} {}; use a shorter interval: more table points",
                                    ax.letter, kFanucMaxValue, kFanucMaxMagnification, t.interval, joint_unit_name(ax)));
     const double step = u * t.magnification;
     if (ax.kind == AxisKind::Rotary) {
@@ -194,21 +194,16 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
     throw InputError({m.source, 0, ""},
                      "nothing to compensate for FANUC pitch error compensation: no axis has a positioning error "
                      "of a detection unit or more");
-  out.summary.residual = residual_before_after(
-      model, model, residual_grid(m, sampling, o.residual_points),
-      [&](std::span<const double> q, std::span<const std::int8_t>) {
-        AppliedCorrection c;
-        c.joint.assign(m.axes.size(), 0.0);
-        for (const auto& t : out.axes) {
-          const std::size_t a = *m.axis_index(t.axis);
-          const double f = joint_unit_factor(m.axes[a]);
-          double p = q[a] / f;
-          if (t.travel_per_rev > 0) p -= 360.0 * std::floor(p / 360.0);
-          c.joint[a] = interpolate_held(t.node, t.absolute, p) * f;
-        }
-        return c;
-      },
-      o.threads);
+  // The control adds the correction at the axis's position in its own unit (mm, deg); a rotary
+  // axis's table covers one turn (parameter 3624), its position taken modulo 360 deg.
+  std::vector<ControllerTable> applied;
+  for (const auto& t : out.axes) {
+    const std::size_t a = *m.axis_index(t.axis);
+    applied.push_back({.input = a, .output = a, .position = t.node, .forward = t.absolute,
+                       .unit = joint_unit_factor(m.axes[a]), .wrap_turn = t.travel_per_rev > 0});
+  }
+  out.summary.residual = residual_before_after(model, model, residual_grid(m, sampling, o.residual_points),
+                                               table_rule(std::move(applied), m.axes.size()), o.threads);
   out.summary.target = kTarget;
   out.summary.quantity = TableQuantity::Correction;
   out.summary.sign_source =

@@ -53,22 +53,15 @@ HeidenhainCompensation compensate_heidenhain(const Machine& m, const Compensatio
     throw InputError({m.source, 0, ""},
                      "nothing to compensate for HEIDENHAIN: the model has no error along a linear axis that a "
                      "linear axis's motion causes");
-  // The control moves axis K by minus the sum of its columns' values (assumed sign, docs).
-  std::vector<std::size_t> arg(out.tables.size());
-  for (std::size_t k = 0; k < out.tables.size(); ++k) arg[k] = *m.axis_index(out.tables[k].axis);
-  out.summary.residual = residual_before_after(
-      model, model, residual_grid(m, sampling, o.residual_points),
-      [&](std::span<const double> q, std::span<const std::int8_t>) {
-        AppliedCorrection c;
-        c.joint.assign(m.axes.size(), 0.0);
-        for (std::size_t k = 0; k < out.tables.size(); ++k) {
-          const HeidenhainComTable& t = out.tables[k];
-          for (std::size_t col = 0; col < t.columns.size(); ++col)
-            c.joint[*m.axis_index(t.columns[col])] -= interpolate_held(t.position, t.values[col], q[arg[k]]);
-        }
-        return c;
-      },
-      o.threads);
+  // The control moves the column's axis by minus the value (assumed sign, docs), indexed by the
+  // table's axis (*.CMA), one column for both directions.
+  std::vector<ControllerTable> applied;
+  for (const auto& t : out.tables)
+    for (std::size_t col = 0; col < t.columns.size(); ++col)
+      applied.push_back({.input = *m.axis_index(t.axis), .output = *m.axis_index(t.columns[col]), .position = t.position,
+                         .forward = t.values[col], .sign = -1.0});
+  out.summary.residual = residual_before_after(model, model, residual_grid(m, sampling, o.residual_points),
+                                               table_rule(std::move(applied), m.axes.size()), o.threads);
   out.summary.target = kTarget;
   out.summary.quantity = TableQuantity::Error;
   out.summary.sign_source =
@@ -91,7 +84,7 @@ HeidenhainCompensation compensate_heidenhain(const Machine& m, const Compensatio
   out.summary.warnings.push_back(
       "the values are errors and the control is assumed to move each axis by minus the value: this sign is not "
       "confirmed by a public HEIDENHAIN document, check it on the control (move to a table point and compare); "
-      "angular errors are held only where they act at the reference position (--reference); the table editor may "
+      "angular errors are held only where they act at the compensation's reference position; the table editor may "
       "round the values");
   return out;
 }

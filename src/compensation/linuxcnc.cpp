@@ -125,25 +125,17 @@ LinuxcncCompensation compensate_linuxcnc(const Machine& m, const CompensationOpt
   // the forward column while the joint moves +): the pins hold their errors exactly, the tables the rest.
   // usrmotLoadComp() turns the columns into trims at the nodes (type 0: nominal - column); those
   // are what compute_screw_comp() interpolates.
-  std::vector<std::array<std::vector<double>, 2>> trims;
+  std::vector<ControllerTable> applied;
   for (const auto& t : out.tables) {
-    std::array<std::vector<double>, 2> tr{t.forward, t.reverse};
+    const std::size_t a = *m.axis_index(t.axis);
+    ControllerTable trim{.input = a, .output = a, .position = t.nominal, .forward = t.forward, .reverse = t.reverse};
     if (out.comp_file_type == 0)
-      for (auto& col : tr)
-        for (std::size_t i = 0; i < col.size(); ++i) col[i] = t.nominal[i] - col[i];
-    trims.push_back(std::move(tr));
+      for (auto* col : {&trim.forward, &trim.reverse})
+        for (std::size_t i = 0; i < col->size(); ++i) (*col)[i] = t.nominal[i] - (*col)[i];
+    applied.push_back(std::move(trim));
   }
-  CorrectionRule rule = [&](std::span<const double> q, std::span<const std::int8_t> dir) {
-    AppliedCorrection c;
-    c.joint.assign(m.axes.size(), 0.0);
-    for (std::size_t k = 0; k < out.tables.size(); ++k) {
-      const std::size_t a = *m.axis_index(out.tables[k].axis);
-      c.joint[a] = interpolate_held(out.tables[k].nominal, trims[k][dir[a] >= 0 ? 0 : 1], q[a]);
-    }
-    return c;
-  };
-  out.summary.residual =
-      residual_before_after(ErrorModel(m), model, residual_grid(m, sampling, o.residual_points), rule, o.threads);
+  out.summary.residual = residual_before_after(ErrorModel(m), model, residual_grid(m, sampling, o.residual_points),
+                                               table_rule(std::move(applied), m.axes.size()), o.threads);
   out.summary.target = kTarget;
   out.summary.quantity = o.comp_file_type == 0 ? TableQuantity::ActualPosition : TableQuantity::Correction;
   out.summary.sign_source =

@@ -107,25 +107,17 @@ SiemensCompensation compensate_siemens(const Machine& m, const CompensationOptio
     p.back() = max;
     return p;
   };
-  std::vector<std::vector<double>> positions, cec_positions;
-  for (const auto& t : out.tables) positions.push_back(node_positions(t.min, t.max, t.step, t.values.size()));
-  for (const auto& t : out.cec) cec_positions.push_back(node_positions(t.min, t.max, t.step, t.values.size()));
-  out.summary.residual = residual_before_after(
-      model, model, residual_grid(m, sampling, o.residual_points),
-      [&](std::span<const double> q, std::span<const std::int8_t>) {
-        AppliedCorrection c;
-        c.joint.assign(m.axes.size(), 0.0);
-        for (std::size_t k = 0; k < out.tables.size(); ++k) {
-          const std::size_t a = *m.axis_index(out.tables[k].axis);
-          c.joint[a] -= interpolate_held(positions[k], out.tables[k].values, q[a]);
-        }
-        for (std::size_t k = 0; k < out.cec.size(); ++k) {
-          const std::size_t in = *m.axis_index(out.cec[k].input), to = *m.axis_index(out.cec[k].output);
-          c.joint[to] += interpolate_held(cec_positions[k], out.cec[k].values, q[in]);
-        }
-        return c;
-      },
-      o.threads);
+  std::vector<ControllerTable> applied;
+  for (const auto& t : out.tables) {
+    const std::size_t a = *m.axis_index(t.axis);
+    applied.push_back({.input = a, .output = a, .position = node_positions(t.min, t.max, t.step, t.values.size()),
+                       .forward = t.values, .sign = -1.0});
+  }
+  for (const auto& t : out.cec)
+    applied.push_back({.input = *m.axis_index(t.input), .output = *m.axis_index(t.output),
+                       .position = node_positions(t.min, t.max, t.step, t.values.size()), .forward = t.values});
+  out.summary.residual = residual_before_after(model, model, residual_grid(m, sampling, o.residual_points),
+                                               table_rule(std::move(applied), m.axes.size()), o.threads);
   out.summary.target = kTarget;
   out.summary.quantity = TableQuantity::Error;
   out.summary.sign_source =

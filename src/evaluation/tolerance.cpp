@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mtcal/evaluation/ballbar.hpp"
+#include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -52,6 +54,25 @@ std::optional<double> micrometres_per(std::string_view unit) {
   if (unit == "m") return 1e6;
   if (unit == "in" || unit == "inch") return 25400.0;
   return std::nullopt;
+}
+
+std::vector<std::pair<std::string, double>> tolerance_values(const PositioningEvaluation& e) {
+  const auto k = micrometres_per(e.unit);
+  if (!k)
+    throw InputError({e.unit, 0, ""}, "tolerances are in µm; the measurements' unit '" + e.unit +
+                                          "' is not a known length unit (mm, um, nm, m, in)");
+  return {{"A", e.A * *k}, {"E", e.E * *k}, {"M", e.M * *k}, {"R", e.R * *k}, {"B", e.B * *k}};
+}
+
+std::vector<std::pair<std::string, double>> tolerance_values(const BallbarEvaluation& e) {
+  std::vector<std::pair<std::string, double>> values;
+  if (e.G_b)
+    values.emplace_back("G", *e.G_b * 1e3);
+  else if (e.cw || e.ccw)
+    values.emplace_back("G", (e.cw ? e.cw->G : e.ccw->G) * 1e3);
+  values.emplace_back("F", std::max(std::abs(e.F_max), std::abs(e.F_min)) * 1e3);
+  if (e.H) values.emplace_back("H", *e.H * 1e3);
+  return values;
 }
 
 }  // namespace mtcal

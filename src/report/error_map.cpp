@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "mtcal/io/joints.hpp"
+#include "mtcal/io/text/joints.hpp"
 #include "mtcal/report/report.hpp"
 
 namespace mtcal {

@@ -10,8 +10,8 @@
 
 #include <fmt/format.h>
 
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/headless_browser.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/system/headless_browser.hpp"
 #include "mtcal/model/machine.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/version.hpp"
@@ -183,10 +183,8 @@ function mtcalPrintImage(gd) {
   if (plots_ > 0)
     h += fmt::format(
         "<noscript><div class=\"warnings noscript\"><strong>JavaScript is off here</strong>: the {} plot{} of this "
-        "report cannot be drawn; every number is in the tables. A static copy for e-mail: the same command "
-        "with <code>--report-pdf FILE</code> (the report printed to PDF) or <code>--report-png DIR</code> (each "
-        "plot as a PNG image), docs/reports.md.</div></noscript>\n",
-        plots_, plots_ == 1 ? "" : "s");
+        "report cannot be drawn; every number is in the tables. {}</div></noscript>\n",
+        plots_, plots_ == 1 ? "" : "s", static_copy_note());
   if (!verdict_.empty()) {
     std::size_t failed = 0;
     for (const auto& c : verdict_.checks) failed += c.pass ? 0 : 1;
@@ -282,6 +280,17 @@ std::optional<std::string> base64_decode(std::string_view in) {
 }  // namespace
 
 void set_static_copies(StaticCopies copies) { copies_setting() = std::move(copies); }
+
+namespace {
+std::string& static_copy_note_setting() {
+  static std::string note =
+      "A static copy for e-mail: the report printed to PDF, or each plot as a PNG image, made by the program "
+      "that wrote this report with a headless browser (docs/reports.md).";
+  return note;
+}
+}  // namespace
+void set_static_copy_note(std::string html) { static_copy_note_setting() = std::move(html); }
+const std::string& static_copy_note() { return static_copy_note_setting(); }
 const StaticCopies& static_copies() { return copies_setting(); }
 
 std::vector<std::string> plot_images_from_dom(std::string_view dom) {

@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "mtcal/io/error_csv.hpp"
-#include "mtcal/io/joints.hpp"
+#include "mtcal/io/points/error_csv.hpp"
+#include "mtcal/io/text/joints.hpp"
 #include "mtcal/report/report.hpp"
 
 namespace mtcal {

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "mtcal/io/joints.hpp"
+#include "mtcal/io/text/joints.hpp"
 #include "mtcal/report/report.hpp"
 
 namespace mtcal {

@@ -119,4 +119,10 @@ expect_error "nothing to compensate" "nothing to compensate" -- "$MTCAL" compens
   --set EXX.1=0 --set EXX.2=0 --set EXX.3=0 --set EXX.b=0 --format linuxcnc --out "$tmp/x4"
 [ ! -e "$tmp/x4" ] && ok || bad "output left when nothing to compensate"
 expect_error "no format, no program" "--format" -- "$MTCAL" compensate -m "$M3" --out "$tmp/x5"
+# The library's message in the data's words; the command names the option that is the cause.
+expect_error "fanuc steep table names --points" "more table points (--points)" -- "$MTCAL" compensate -m "$M3" \
+  --set EXX.1=100ppm --format fanuc --fanuc-unit 0.000001 --points 2 --out "$tmp/x6"
+[ ! -e "$tmp/x6" ] && ok || bad "output left by a fanuc table too steep"
+"$MTCAL" compensate -m "$M5" --format heidenhain --out "$tmp/hh-ref" > "$tmp/out" 2>&1 \
+  && grep -q "reference position (--reference)" "$tmp/out" && ok || bad "heidenhain warning names --reference"
 summary_and_exit

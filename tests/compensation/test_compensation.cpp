@@ -2,10 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "mtcal/compensation/compensation.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -23,6 +24,35 @@ TEST(InterpolateHeld, LinearInsideHeldOutside) {
   const std::vector<double> one{2.0}, w{7.0};
   EXPECT_DOUBLE_EQ(interpolate_held(one, w, -3.0), 7.0);
   EXPECT_THROW(interpolate_held(p, w, 0.0), ModelError);
+}
+
+// A controller's table and its rule, against hand values: interpolation and held ends, the column
+// of the direction of motion, the sign, the table's unit and a rotary axis's turn.
+TEST(ControllerTable, AppliesItsRuleAsTheControllerDoes) {
+  ControllerTable t{.input = 1, .output = 0, .position = {0.0, 10.0, 30.0}, .forward = {1.0, 3.0, -1.0},
+                    .reverse = {2.0, 4.0, 0.0}, .sign = -1.0};
+  EXPECT_DOUBLE_EQ(t.value_at(5.0, +1), -2.0);   // -(1 + 3) / 2
+  EXPECT_DOUBLE_EQ(t.value_at(5.0, 0), -2.0);    // not moving: the forward column, as LinuxCNC's comp
+  EXPECT_DOUBLE_EQ(t.value_at(5.0, -1), -3.0);   // -(2 + 4) / 2
+  EXPECT_DOUBLE_EQ(t.value_at(-1e9, -1), -2.0);  // held below the first node
+  EXPECT_DOUBLE_EQ(t.value_at(99.0, +1), 1.0);   // held above the last
+  t.reverse.clear();                             // one column for both directions
+  EXPECT_DOUBLE_EQ(t.value_at(5.0, -1), -2.0);
+  // A rotary axis in deg, table over one turn (FANUC): 370 deg reads the table at 10 deg, 355 deg
+  // at 355 deg; positions and values in deg, q and the result in rad.
+  const double deg = std::acos(-1.0) / 180.0;
+  ControllerTable turn{.position = {0.0, 180.0, 360.0}, .forward = {0.0, 0.018, 0.0}, .unit = deg, .wrap_turn = true};
+  EXPECT_NEAR(turn.value_at(370.0 * deg, +1), 0.001 * deg, 1e-15);
+  EXPECT_NEAR(turn.value_at(-5.0 * deg, +1), 0.0005 * deg, 1e-15);
+  // The rule: tables on one joint are summed, on the joint the table names, by the input's direction.
+  const auto rule = table_rule({t, ControllerTable{.input = 0, .output = 0, .position = {0.0}, .forward = {0.25}}}, 2);
+  const std::vector<double> q{7.0, 5.0};
+  const std::vector<std::int8_t> dir{-1, +1};
+  const AppliedCorrection c = rule(q, dir);
+  ASSERT_EQ(c.joint.size(), 2u);
+  EXPECT_DOUBLE_EQ(c.joint[0], -2.0 + 0.25);
+  EXPECT_DOUBLE_EQ(c.joint[1], 0.0);
+  EXPECT_THROW(table_rule({ControllerTable{.input = 2, .output = 0, .position = {0.0}, .forward = {1.0}}}, 2), ModelError);
 }
 
 TEST(PredictResidual, NoCorrectionLeavesTheErrorAndExactCorrectionRemovesIt) {

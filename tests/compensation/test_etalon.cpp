@@ -12,9 +12,9 @@
 #include <sstream>
 
 #include "mtcal/compensation/isg.hpp"
-#include "mtcal/io/compensation_etalon.hpp"
-#include "mtcal/io/etalon_file.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/compensation/etalon.hpp"
+#include "mtcal/io/model/etalon_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"

@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "mtcal/compensation/fanuc.hpp"
-#include "mtcal/io/compensation_fanuc.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/compensation/fanuc.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -180,6 +180,20 @@ TEST(FanucTarget, BadInput) {
   o.detection_unit = 0.001;
   o.points = 129;
   EXPECT_THROW(compensate_fanuc(example("vmc-3axis.yaml"), o), InputError);
+  // A correction that changes by more than 127 counts x magnification 100 between two nodes: the
+  // message says what to change in the data's words (the command adds its option).
+  Machine steep = example("vmc-3axis.yaml");
+  steep.set_parameter("EXX.1", 100e-6);  // 100 ppm: 0.08 mm over 800 mm
+  o.points = 2;
+  o.detection_unit = 1e-6;
+  try {
+    compensate_fanuc(steep, o);
+    ADD_FAILURE() << "a change of 80000 counts per interval was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("use a shorter interval: more table points"), std::string::npos) << what;
+    EXPECT_EQ(what.find("--"), std::string::npos) << what;
+  }
 }
 
 }  // namespace

@@ -14,9 +14,9 @@
 
 #include "mtcal/compensation/gcode_correction.hpp"
 #include "mtcal/evaluation/toolpath.hpp"
-#include "mtcal/io/gcode.hpp"
-#include "mtcal/io/gcode_rewrite.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/gcode/rewrite.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 

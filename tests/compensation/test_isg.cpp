@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "mtcal/compensation/isg.hpp"
-#include "mtcal/io/compensation_isg.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/compensation/isg.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 

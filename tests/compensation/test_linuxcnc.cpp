@@ -8,8 +8,8 @@
 #include <fmt/format.h>
 
 #include "mtcal/compensation/linuxcnc.hpp"
-#include "mtcal/io/compensation_linuxcnc.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/compensation/linuxcnc.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 

@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "mtcal/compensation/siemens.hpp"
-#include "mtcal/io/compensation_siemens.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/compensation/siemens.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 

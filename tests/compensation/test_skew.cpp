@@ -11,8 +11,8 @@
 #include <sstream>
 
 #include "mtcal/compensation/skew.hpp"
-#include "mtcal/io/compensation_firmware.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/compensation/firmware.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "mtcal/compensation/tables.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "mtcal/evaluation/compare.hpp"
-#include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;

@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "mtcal/evaluation/diagonals.hpp"
-#include "mtcal/io/joints.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/text/joints.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
 

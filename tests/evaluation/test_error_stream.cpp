@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "mtcal/evaluation/error_stream.hpp"
-#include "mtcal/io/joints.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/text/joints.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "mtcal/evaluation/iso230_2.hpp"
-#include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "mtcal/evaluation/toolpath.hpp"
-#include "mtcal/io/gcode.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
 

@@ -6,8 +6,8 @@
 
 #include "brute_force.hpp"
 #include "mtcal/evaluation/volumetric.hpp"
-#include "mtcal/io/joints.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/text/joints.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::fuzz {

@@ -1,6 +1,6 @@
 // libFuzzer target: the method-comparison CSV (mtcal compare).
 #include "fuzz_common.hpp"
-#include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(mtcal::fuzz::as_text(data, size));

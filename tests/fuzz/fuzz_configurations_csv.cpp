@@ -1,6 +1,6 @@
 // libFuzzer target: the configurations CSV (mtcal eval --points) on a 5-axis machine.
 #include "fuzz_common.hpp"
-#include "mtcal/io/error_csv.hpp"
+#include "mtcal/io/points/error_csv.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto& m = mtcal::fuzz::example_machine("hu40t-wCBXfYZt.yaml");

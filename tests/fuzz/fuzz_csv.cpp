@@ -1,6 +1,6 @@
 // libFuzzer target: the two CSV tokenisers every table reader starts from (numeric and text cells).
 #include "fuzz_common.hpp"
-#include "mtcal/io/csv.hpp"
+#include "mtcal/io/text/csv.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(mtcal::fuzz::as_text(data, size));

@@ -1,7 +1,7 @@
 // libFuzzer target: the Etalon exchange format read as a parameter file (io/etalon_file), applied
 // to the 5-axis example machine.
 #include "fuzz_common.hpp"
-#include "mtcal/io/etalon_file.hpp"
+#include "mtcal/io/model/etalon_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text = mtcal::fuzz::as_text(data, size);

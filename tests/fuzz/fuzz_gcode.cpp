@@ -1,7 +1,7 @@
 // libFuzzer target: the G-code reader (toolpath, compensate --gcode, predict --gcode) in its ISO dialect, under a
 // setup with work offsets, a tool table and G28/G30 positions so that G54-G59.3, G43 H and G28 paths run too.
 #include "fuzz_common.hpp"
-#include "mtcal/io/gcode.hpp"
+#include "mtcal/io/gcode/reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const mtcal::GcodeSetup setup = [] {

@@ -1,6 +1,6 @@
-// libFuzzer target: the setup files of a G-code program: a LinuxCNC tool table and parameter file (io/gcode.hpp).
+// libFuzzer target: the setup files of a G-code program: a LinuxCNC tool table and parameter file (io/gcode/reader.hpp).
 #include "fuzz_common.hpp"
-#include "mtcal/io/gcode.hpp"
+#include "mtcal/io/gcode/reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto text = mtcal::fuzz::as_text(data, size);

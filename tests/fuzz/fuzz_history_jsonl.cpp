@@ -1,9 +1,9 @@
-// libFuzzer target: the history store's JSON-lines reader (io/history_store.hpp, import_jsonl)
+// libFuzzer target: the history store's JSON-lines reader (io/history/store.hpp, import_jsonl)
 // into an in-memory SQLite store; a refused line must be an InputError and leave nothing behind.
 #include <sstream>
 
 #include "fuzz_common.hpp"
-#include "mtcal/io/history_store.hpp"
+#include "mtcal/io/history/store.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const auto store = mtcal::open_history_store("sqlite::memory:");

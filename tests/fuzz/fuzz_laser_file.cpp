@@ -1,6 +1,6 @@
 // libFuzzer target: the Renishaw LaserXL/CARTO ASCII export (.rtl linear, .rta rotary; io/laser_files).
 #include "fuzz_common.hpp"
-#include "mtcal/io/laser_files.hpp"
+#include "mtcal/io/instruments/laser_files.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   // The first byte's low bit picks the linear or the rotary reading of the same text.

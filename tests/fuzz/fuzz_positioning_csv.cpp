@@ -1,6 +1,6 @@
 // libFuzzer target: the ISO 230-2 positioning CSV (target, run, direction, measured).
 #include "fuzz_common.hpp"
-#include "mtcal/io/evaluation_files.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = mtcal::fuzz::write_input(data, size, ".csv");

@@ -1,6 +1,6 @@
 // libFuzzer target: the prediction model file (YAML, mtcal predict --model).
 #include "fuzz_common.hpp"
-#include "mtcal/io/prediction_model_file.hpp"
+#include "mtcal/io/model/prediction_model_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(mtcal::fuzz::as_text(data, size));

@@ -1,7 +1,7 @@
 // libFuzzer target: the probing plan / measurement CSV (simulate, identify, identifiability) on a
 // 5-axis machine.
 #include "fuzz_common.hpp"
-#include "mtcal/io/probing_plan_file.hpp"
+#include "mtcal/io/instruments/probing_plan_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto& m = mtcal::fuzz::example_machine("hu40t-wCBXfYZt.yaml");

@@ -1,7 +1,7 @@
 // libFuzzer target: the separation inputs (position observations per step, dimension table).
 #include "fuzz_common.hpp"
-#include "mtcal/io/csv.hpp"
-#include "mtcal/io/separation_file.hpp"
+#include "mtcal/io/text/csv.hpp"
+#include "mtcal/io/instruments/separation_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(mtcal::fuzz::as_text(data, size));

@@ -15,7 +15,7 @@
 #include <random>
 #include <string>
 
-#include "mtcal/io/history_store.hpp"
+#include "mtcal/io/history/store.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2 && !(argc == 5 && std::string(argv[2]) == "--fleet")) {

@@ -14,8 +14,8 @@
 
 #include <gtest/gtest.h>
 
-#include "mtcal/io/history_config.hpp"
-#include "mtcal/io/history_store.hpp"
+#include "mtcal/io/history/config.hpp"
+#include "mtcal/io/history/store.hpp"
 #include "pg_server.hpp"
 
 using namespace mtcal;

@@ -5,7 +5,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "mtcal/io/history_analysis_json.hpp"
+#include "mtcal/io/instruments/acceptance_files.hpp"
+#include "mtcal/io/json/history_json.hpp"
 #include "mtcal/report/history.hpp"
 #include "mtcal/util/errors.hpp"
 

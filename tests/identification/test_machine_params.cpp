@@ -10,8 +10,8 @@
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/identification/machine_params.hpp"
 #include "mtcal/identification/motion_fit.hpp"
-#include "mtcal/io/estimated_parameters_file.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/estimated_parameters_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "mtcal/io/compensation_output.hpp"
+#include "mtcal/io/compensation/output.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {

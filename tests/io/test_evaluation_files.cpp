@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "mtcal/io/error_csv.hpp"
-#include "mtcal/io/evaluation_files.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/points/error_csv.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <string>
 
-#include "mtcal/io/gcode.hpp"
+#include "mtcal/io/gcode/reader.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "mtcal/io/gcode.hpp"
-#include "mtcal/io/gcode_rewrite.hpp"
+#include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/gcode/rewrite.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;

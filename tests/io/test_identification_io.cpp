@@ -10,11 +10,11 @@
 #include <gtest/gtest.h>
 
 #include "mtcal/identification/identification.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/identification_json.hpp"
-#include "mtcal/io/identified_parameters_file.hpp"
-#include "mtcal/io/machine_file.hpp"
-#include "mtcal/io/probing_plan_file.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/json/identification_json.hpp"
+#include "mtcal/io/model/identified_parameters_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {

@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "mtcal/evaluation/iso230_2.hpp"
-#include "mtcal/io/evaluation_files.hpp"
-#include "mtcal/io/laser_files.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/instruments/laser_files.hpp"
 #include "mtcal/report/evaluation.hpp"
 #include "mtcal/util/errors.hpp"
 

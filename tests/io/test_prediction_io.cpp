@@ -8,13 +8,13 @@
 
 #include <gtest/gtest.h>
 
-#include "mtcal/io/csv.hpp"
-#include "mtcal/io/files.hpp"
-#include "mtcal/io/gcode.hpp"
-#include "mtcal/io/prediction_json.hpp"
-#include "mtcal/io/prediction_model_file.hpp"
-#include "mtcal/io/prediction_points.hpp"
-#include "mtcal/io/separation_file.hpp"
+#include "mtcal/io/text/csv.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/json/prediction_json.hpp"
+#include "mtcal/io/model/prediction_model_file.hpp"
+#include "mtcal/io/points/prediction_points.hpp"
+#include "mtcal/io/instruments/separation_file.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {

@@ -7,9 +7,9 @@
 #include <numbers>
 #include <string>
 
-#include "mtcal/io/machine_file.hpp"
-#include "mtcal/io/probing_files.hpp"
-#include "mtcal/io/probing_json.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/io/instruments/probing_files.hpp"
+#include "mtcal/io/json/probing_json.hpp"
 #include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/util/errors.hpp"
 

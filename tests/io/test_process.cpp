@@ -1,11 +1,11 @@
-// Starting another program (io/process.hpp) and reading a rendered report's plot images
+// Starting another program (io/system/process.hpp) and reading a rendered report's plot images
 // (report/report.hpp): exit status, output, signals, the time limit, no shell, bad input.
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <csignal>
 
-#include "mtcal/io/process.hpp"
+#include "mtcal/io/system/process.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <string>
 
-#include "mtcal/io/rs274.hpp"
+#include "mtcal/io/gcode/rs274.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;

@@ -4,7 +4,7 @@
 // (tests/testing/small_displacement.cpp) built from the definitions in docs/conventions.md.
 #include <gtest/gtest.h>
 
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "small_displacement.hpp"
 #include "synthetic.hpp"

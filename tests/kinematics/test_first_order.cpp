@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/kinematics/first_order.hpp"

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "jacobian_check.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"

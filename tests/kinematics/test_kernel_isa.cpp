@@ -16,7 +16,7 @@
 #include <random>
 
 #include "../../src/kinematics/lane_forms.hpp"
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/kinematics/kernel_isa.hpp"
 #include "mtcal/util/errors.hpp"

@@ -1,7 +1,7 @@
 // The CSV reader: header, comments, byte order mark, and every bad input with file, line, column.
 #include <gtest/gtest.h>
 
-#include "mtcal/io/csv.hpp"
+#include "mtcal/io/text/csv.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;

@@ -7,7 +7,7 @@
 
 #include <sys/stat.h>
 
-#include "mtcal/io/files.hpp"
+#include "mtcal/io/system/files.hpp"
 #include "mtcal/util/errors.hpp"
 
 using namespace mtcal;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "mtcal/io/joints.hpp"
+#include "mtcal/io/text/joints.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
 

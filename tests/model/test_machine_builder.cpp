@@ -7,7 +7,7 @@
 #include <numbers>
 #include <string>
 
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/model/machine_builder.hpp"
 #include "mtcal/util/errors.hpp"

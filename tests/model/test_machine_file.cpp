@@ -9,7 +9,7 @@
 #include <set>
 #include <string>
 
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"

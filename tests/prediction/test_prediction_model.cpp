@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "mtcal/io/prediction_model_file.hpp"
+#include "mtcal/io/model/prediction_model_file.hpp"
 #include "mtcal/prediction/prediction_model.hpp"
 #include "mtcal/util/errors.hpp"
 

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "mtcal/io/csv.hpp"
-#include "mtcal/io/separation_file.hpp"
+#include "mtcal/io/text/csv.hpp"
+#include "mtcal/io/instruments/separation_file.hpp"
 #include "mtcal/prediction/regression.hpp"
 #include "mtcal/prediction/separation.hpp"
 #include "mtcal/util/errors.hpp"

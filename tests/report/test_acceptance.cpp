@@ -9,7 +9,8 @@
 
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/evaluation/tolerance.hpp"
-#include "mtcal/io/acceptance_files.hpp"
+#include "mtcal/io/instruments/acceptance_files.hpp"
+#include "mtcal/io/json/acceptance_json.hpp"
 #include "mtcal/report/evaluation.hpp"
 #include "mtcal/evaluation/metadata.hpp"
 #include "mtcal/report/report.hpp"

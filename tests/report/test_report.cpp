@@ -49,4 +49,16 @@ TEST(Report, DocumentHasSummaryFiguresWarningsTablesAndPlots) {
                  {{"data", {{{"type", "bar"}, {"x", {1, 2}}, {"y", {3, 4}}}}}, {"layout", nlohmann::json::object()}});
   EXPECT_EQ(again.html("2026-01-01 00:00:00 UTC"), h);
   EXPECT_THROW(r.add_input("data", "/nonexistent/file.csv"), InputError);
+  // The <noscript> note on static copies: the library's words by default (no option of a
+  // command), the writing program's own where it sets one.
+  const std::size_t note = h.find("<noscript>");
+  ASSERT_NE(note, std::string::npos);
+  const std::string noscript = h.substr(note, h.find("</noscript>", note) - note);
+  EXPECT_NE(noscript.find("A static copy for e-mail"), std::string::npos) << noscript;
+  EXPECT_EQ(noscript.find("--"), std::string::npos) << noscript;
+  const std::string before = static_copy_note();
+  set_static_copy_note("print it with <code>write_report(pdf=...)</code>");
+  const std::string named = r.html("2026-01-01 00:00:00 UTC");
+  set_static_copy_note(before);
+  EXPECT_NE(named.find("print it with <code>write_report(pdf=...)</code></div></noscript>"), std::string::npos);
 }

@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
-#include "mtcal/io/machine_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/probing/rotary_axis.hpp"
 #include "mtcal/util/parallel.hpp"
 

@@ -37,6 +37,29 @@ struct AppliedCorrection {
 // nominal configuration q (internal units) and each axis's direction of motion.
 using CorrectionRule = std::function<AppliedCorrection(std::span<const double> q, std::span<const std::int8_t> dir)>;
 
+// A table as a controller holds it, with the rule it applies it by: the value at a position is
+// interpolated linearly between the nodes and held beyond the ends (interpolate_held: LinuxCNC's
+// compute_screw_comp(), SINUMERIK EEC and CEC, HEIDENHAIN *.COM, FANUC pitch error compensation),
+// read from the column of the input joint's direction of motion (reverse while it moves -, forward
+// otherwise; one column for both when reverse is empty), and moves the output joint by
+// sign x value. The values are in the quantity the controller reads (TableQuantity); the sign says
+// what it does with them (-1: it moves the axis by minus an error).
+struct ControllerTable {
+  std::size_t input = 0;                 // joint whose position indexes the table (chain order)
+  std::size_t output = 0;                // joint whose command the value changes
+  std::vector<double> position{};            // nodes, strictly increasing, in the table's unit of the input
+  std::vector<double> forward{}, reverse{};  // values at the nodes, in the table's unit of the output
+  double sign = +1.0;
+  double unit = 1.0;  // internal units per table unit, of position and value alike (deg -> rad: pi/180)
+  bool wrap_turn = false;  // a rotary input is taken modulo 360 deg into [0, 360) first (FANUC)
+  // The change of the output joint's command (internal units) at the input's position q (internal units).
+  double value_at(double q, std::int8_t dir) const;
+};
+
+// The rule of a set of tables on a machine of `joints` axes: each table adds its value_at to its
+// output joint, tables on the same joint summed (SINUMERIK K3 4.4.3; one table per joint elsewhere).
+CorrectionRule table_rule(std::vector<ControllerTable> tables, std::size_t joints);
+
 // Something of the model a target cannot hold, and the largest error it leaves over the
 // sampled travel (mm for a translation, rad for a rotation, as `unit` says).
 struct NotCompensated {

@@ -9,6 +9,9 @@
 
 namespace mtcal {
 
+struct PositioningEvaluation;
+struct BallbarEvaluation;
+
 // Permitted values of one test's quantities (e.g. ISO 230-2 "A", "E", "M", "R", "B"; ISO 230-4
 // "G", "F", "H"; volumetric "VA"), every one in µm.
 struct Tolerances {
@@ -43,5 +46,13 @@ ToleranceVerdict check_tolerances(const std::vector<std::pair<std::string, doubl
 // Micrometres in one unit of length named as measurement files name it (mm, um, µm, micron, nm,
 // m, in, inch); nullopt for a name it does not know. 1 in = 25.4 mm exactly (NIST SP 811 B.8).
 std::optional<double> micrometres_per(std::string_view unit);
+
+// The quantities an acceptance test is judged by, in µm, for check_tolerances:
+// ISO 230-2 A, E, M, R, B (clause 2) converted from the evaluation's unit (InputError, located at
+// the unit, when that unit is not a length micrometres_per knows);
+// ISO 230-4 G (G(b) when both directions were run, else the one direction's G), F (the larger
+// magnitude of F max and F min) and H (hysteresis, both directions).
+std::vector<std::pair<std::string, double>> tolerance_values(const PositioningEvaluation& e);
+std::vector<std::pair<std::string, double>> tolerance_values(const BallbarEvaluation& e);
 
 }  // namespace mtcal

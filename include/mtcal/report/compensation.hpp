@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "mtcal/io/compensation_output.hpp"
+#include "mtcal/io/compensation/output.hpp"
 #include "mtcal/model/machine.hpp"
 
 namespace mtcal {

@@ -10,7 +10,7 @@
 
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/evaluation/metadata.hpp"
-#include "mtcal/io/sha256.hpp"
+#include "mtcal/io/system/sha256.hpp"
 
 namespace mtcal {
 
@@ -68,7 +68,7 @@ class Report {
 
 // Static copies of every report this process writes, for where JavaScript does not run (e-mail):
 // the report printed to PDF (pdf) and each plot as a PNG file in png_dir (REPORT-plot-N.png, the
-// images the page makes for printing), made by headless Chromium (io/headless_browser.hpp) from
+// images the page makes for printing), made by headless Chromium (io/system/headless_browser.hpp) from
 // the report's HTML. They join the command's output group: all of its files appear or none.
 struct StaticCopies {
   std::string pdf;      // empty: no PDF
@@ -79,6 +79,10 @@ struct StaticCopies {
 };
 void set_static_copies(StaticCopies copies);
 const StaticCopies& static_copies();
+// What a report's <noscript> note says about making those copies (HTML): the program that writes
+// the report names its own way (the command its options, Python its arguments).
+void set_static_copy_note(std::string html);
+const std::string& static_copy_note();
 // The plots' print images in a page as a browser rendered it (img.plot-print with a
 // data:image/png;base64 source), decoded, in page order. Throws Error for a malformed one.
 std::vector<std::string> plot_images_from_dom(std::string_view dom);

@@ -4,7 +4,7 @@
 #include <exception>
 #include <vector>
 
-#include <mtcal/io/machine_file.hpp>
+#include <mtcal/io/model/machine_file.hpp>
 #include <mtcal/kinematics/error_model.hpp>
 #include <mtcal/version.hpp>
 

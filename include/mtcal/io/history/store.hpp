@@ -1,0 +1,110 @@
+// The calibration history store: results and events of machines kept in SQLite or PostgreSQL.
+#pragma once
+
+#include <cstddef>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mtcal/history/record.hpp"
+#include "mtcal/io/system/sha256.hpp"
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal {
+
+// A database could not be opened, read or written (the message names the store and the
+// database's own message).
+class StoreError : public Error {
+ public:
+  using Error::Error;
+};
+
+// What import_jsonl did.
+struct ImportSummary {
+  std::size_t records = 0, events = 0;  // added
+  std::vector<std::string> skipped;     // "line N: duplicate of record ID (content hash H)"
+};
+
+// A history store. Every write is one transaction: it happens completely or not at all.
+// Concurrent writers (processes or threads, each with its own store object) lose nothing.
+// One object is not meant to be shared between threads.
+class HistoryStore {
+ public:
+  virtual ~HistoryStore() = default;
+
+  // Stores r in one transaction and returns its id. Fills id (when empty: a new unique id),
+  // recorded_at (when empty: now, UTC), measured_at (when empty: recorded_at) and content_hash.
+  // Throws StoreError; InputError for a record without machine_name or command, or with a bad
+  // date.
+  virtual std::string record(CalibrationRecord r) = 0;
+  // Removes a record (a command whose outputs failed after recording); false if there was none.
+  virtual bool remove(const std::string& id) = 0;
+
+  // Records in measured_at order (then recorded_at, id).
+  virtual std::vector<CalibrationRecord> list(const RecordFilter& filter = {}) = 0;
+  virtual std::optional<CalibrationRecord> get(const std::string& id) = 0;
+  // The record with this content hash, if one is stored.
+  virtual std::optional<std::string> find_by_content_hash(const std::string& content_hash) = 0;
+  // Machine names, sorted.
+  virtual std::vector<std::string> machines() = 0;
+
+  // A parameter (ISO 230 name) or figure of one machine in measured_at order.
+  virtual std::vector<SeriesSample> parameter_series(const std::string& machine, const std::string& parameter) = 0;
+  virtual std::vector<SeriesSample> figure_series(const std::string& machine, const std::string& figure) = 0;
+  // Per machine that has it, the latest (by measured_at) value of a parameter / figure, by machine.
+  virtual std::vector<LatestValue> latest_parameter(const std::string& parameter) = 0;
+  virtual std::vector<LatestValue> latest_figure(const std::string& figure) = 0;
+
+  // Events: added in one transaction; listed in date order (machine empty: all machines).
+  virtual std::string add_event(Event e) = 0;
+  virtual std::vector<Event> events(const std::string& machine = {}) = 0;
+
+  // The schema version of the open store (kHistorySchemaVersion after opening).
+  virtual int schema_version() = 0;
+  // "sqlite:/path/to/file" or "postgresql://host:port/db" (without a password).
+  virtual std::string describe() const = 0;
+
+  // Many records (and events) in ONE transaction: bulk import, benchmarks. Records whose
+  // content hash is stored already (or repeated within `records`) are skipped and their
+  // indices returned in `skipped` when given.
+  virtual std::vector<std::string> record_all(std::vector<CalibrationRecord> records, std::vector<Event> events = {},
+                                              std::vector<std::size_t>* skipped = nullptr) = 0;
+};
+
+// The schema this program writes (docs/history.md lists the versions and their migrations).
+inline constexpr int kHistorySchemaVersion = 2;
+
+// Opens (creating it when absent, migrating it to kHistorySchemaVersion) the store named by
+// connection: "postgresql://..." or "postgres://..." (libpq URI; also "postgresql:" followed by
+// a libpq key=value string) for PostgreSQL, "sqlite:PATH" or a plain PATH for SQLite.
+// Throws StoreError when it cannot be opened, InputError for an empty connection string.
+std::unique_ptr<HistoryStore> open_history_store(const std::string& connection);
+
+// Export: one JSON object per line, records in list() order then events, each with "type":
+// "record" or "event". The same store exports to the same bytes (every field in a fixed order).
+void export_jsonl(HistoryStore& store, std::ostream& out);
+// Import of what export_jsonl wrote, in one transaction: ids, recorded_at and content hashes
+// kept; a record whose content hash is stored already is skipped (listed in the summary); an
+// event whose id is stored already is skipped. Throws InputError naming `source` and the line
+// for a malformed line, and imports nothing then.
+ImportSummary import_jsonl(HistoryStore& store, std::istream& in, const std::string& source);
+
+// JSON of one record / event as export_jsonl writes it (without the "type" key), and back
+// (InputError located at where/line for a missing or mistyped field).
+std::string record_to_json_line(const CalibrationRecord& r);
+std::string event_to_json_line(const Event& e);
+
+// A record built from a command's result JSON (what `mtcal CMD --json` prints): parameters and
+// figures are taken from the keys each command documents (docs/history.md, "What is recorded").
+// machine_name/serial/measured_at from metadata ("machine", "serial", "date") when present, else
+// from the result's "machine" key. Throws InputError located at source for text that is not a
+// JSON object.
+CalibrationRecord record_from_result(const std::string& command, const std::string& result_json,
+                                     const std::map<std::string, std::string>& metadata, std::vector<InputHash> inputs,
+                                     const std::string& source = "result");
+
+}  // namespace mtcal
