@@ -37,6 +37,7 @@ test-linuxcnc: DEPS_FLAGS = --linuxcnc
 # docs/gcode.md), which `make test` skips when linuxcnc-uspace is not installed.
 test-linuxcnc: build
 	tests/linuxcnc/run $(MTCAL)
+	tests/linuxcnc/run-kins $(MTCAL)
 	MTCAL_REQUIRE_RS274=1 tests/linuxcnc/ncfiles/run $(MTCAL)
 
 # The benchmarks, then the ratios against their baselines of the same run (bench/ratios.py) and
