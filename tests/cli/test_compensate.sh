@@ -119,4 +119,23 @@ expect_error "nothing to compensate" "nothing to compensate" -- "$MTCAL" compens
   --set EXX.1=0 --set EXX.2=0 --set EXX.3=0 --set EXX.b=0 --format linuxcnc --out "$tmp/x4"
 [ ! -e "$tmp/x4" ] && ok || bad "output left when nothing to compensate"
 expect_error "no format, no program" "--format" -- "$MTCAL" compensate -m "$M3" --out "$tmp/x5"
+# --format linuxcnc-kins (issue 30): the module's files, the largest correction in the INI, refusals.
+expect_exit 0 "linuxcnc-kins" -- "$MTCAL" compensate -m "$M5" --format linuxcnc-kins --residual-points 3 --out "$tmp/lk"
+for f in mtcal_kins.c build.sh linuxcnc-kins.ini linuxcnc-kins.hal README.txt; do [ -f "$tmp/lk/$f" ] && ok || bad "linuxcnc-kins: no $f"; done
+grep -q "^KINEMATICS = mtcal_kins$" "$tmp/lk/linuxcnc-kins.ini" && grep -q "^#   joint 3 (B): " "$tmp/lk/linuxcnc-kins.ini" \
+  && ok || bad "linuxcnc-kins INI: kinematics and largest correction per joint"
+grep -q "halcompile --install mtcal_kins.c" "$tmp/lk/build.sh" && grep -q "linuxcnc-uspace-dev" "$tmp/lk/build.sh" \
+  && ok || bad "linuxcnc-kins build line"
+printf 'mtcal_machine: 1\nname: two\ntopology: wXfYt\nunits: {length: mm, angle: deg}\naxes:\n  X: {direction: +x, travel: [-100, 100]}\n  Y: {direction: +y, travel: [-100, 100]}\ntool: {length: 0, spindle_point: [0, 0, 0], axis: +z}\nerrors:\n  EXX: {unit: um, argument_unit: m, polynomial: [0, 5]}\n' >"$tmp/two.yaml"
+expect_error "linuxcnc-kins two linear axes" "exactly three" -- "$MTCAL" compensate -m "$tmp/two.yaml" --format linuxcnc-kins \
+  --out "$tmp/x30"
+[ ! -e "$tmp/x30" ] && ok || bad "output left by a topology the module cannot represent"
+expect_error "linuxcnc-kins no room" "leaves its travel" -- "$MTCAL" compensate -m "$M3" --format linuxcnc-kins \
+  --range "X=-400:400" --out "$tmp/x31"
+[ ! -e "$tmp/x31" ] && ok || bad "output left when a corrected joint leaves its travel"
+# 0.6 rad of squareness (with the CLI's plausibility warning): the fixed cap of steps is not enough.
+"$MTCAL" compensate -m "$M3" --format linuxcnc-kins --set EC0Y=0.6rad --out "$tmp/x32" >"$tmp/out" 2>"$tmp/err" \
+  && bad "linuxcnc-kins not converging: exit 0" || { grep -q "error: .*does not converge at X=" "$tmp/err" && ok \
+  || bad "linuxcnc-kins not converging: $(cat "$tmp/err")"; }
+[ ! -e "$tmp/x32" ] && ok || bad "output left when the inverse does not converge"
 summary_and_exit
