@@ -10,6 +10,7 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -41,10 +42,20 @@ std::string run(const std::string& cmd) {
   return {};
 }
 
+// The folders of the compiled harnesses, removed when the test binary ends.
+struct TempDirs {
+  std::vector<fs::path> dirs;
+  ~TempDirs() {
+    std::error_code ec;
+    for (const auto& d : dirs) fs::remove_all(d, ec);
+  }
+} temp_dirs;
+
 // Builds the harness for one module; returns the executable.
 fs::path build_harness(const std::string& source, const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / fmt::format("mtcal-kins-{}-{}", ::getpid(), name);
   fs::create_directories(dir);
+  temp_dirs.dirs.push_back(dir);
   std::ofstream(dir / "module.c") << source;
   const fs::path exe = dir / "harness";
   // The module must compile warning-free as strict C99 (the LinuxCNC build uses its own flags).
