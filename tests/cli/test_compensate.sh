@@ -126,6 +126,10 @@ grep -q "^KINEMATICS = mtcal_kins$" "$tmp/lk/linuxcnc-kins.ini" && grep -q "^#  
   && ok || bad "linuxcnc-kins INI: kinematics and largest correction per joint"
 grep -q "halcompile --install mtcal_kins.c" "$tmp/lk/build.sh" && grep -q "linuxcnc-uspace-dev" "$tmp/lk/build.sh" \
   && ok || bad "linuxcnc-kins build line"
+# Without linuxcnc-uspace-dev (no halcompile on the PATH): one line naming the package.
+PATH=/nonexistent /bin/sh "$tmp/lk/build.sh" >"$tmp/out" 2>"$tmp/err" && bad "build.sh without halcompile: exit 0" \
+  || { [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "install Debian's linuxcnc-uspace-dev" "$tmp/err" && ok \
+  || bad "build.sh without halcompile: $(cat "$tmp/err")"; }
 printf 'mtcal_machine: 1\nname: two\ntopology: wXfYt\nunits: {length: mm, angle: deg}\naxes:\n  X: {direction: +x, travel: [-100, 100]}\n  Y: {direction: +y, travel: [-100, 100]}\ntool: {length: 0, spindle_point: [0, 0, 0], axis: +z}\nerrors:\n  EXX: {unit: um, argument_unit: m, polynomial: [0, 5]}\n' >"$tmp/two.yaml"
 expect_error "linuxcnc-kins two linear axes" "exactly three" -- "$MTCAL" compensate -m "$tmp/two.yaml" --format linuxcnc-kins \
   --out "$tmp/x30"

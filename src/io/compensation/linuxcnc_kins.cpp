@@ -250,11 +250,11 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
                    "linuxcnc-kins).\n"
                    "# Needs Debian's linuxcnc-uspace-dev (halcompile, kinematics.h, Makefile.modinc); root to install.\n"
                    "set -e\n"
-                   "cd \"$(dirname \"$0\")\"\n"
                    "command -v halcompile >/dev/null 2>&1 || {{ echo \"halcompile not found: install Debian's "
                    "linuxcnc-uspace-dev\" >&2; exit 1; }}\n"
                    "[ -f /usr/include/linuxcnc/kinematics.h ] || {{ echo \"/usr/include/linuxcnc/kinematics.h not "
                    "found: install Debian's linuxcnc-uspace-dev\" >&2; exit 1; }}\n"
+                   "cd \"$(dirname \"$0\")\"\n"
                    "halcompile --install {0}.c\n",
                    k.module_name)});
   // INI snippet: kinematics, joints with their limits, COMP_FILE of the direction-dependent terms.
