@@ -33,10 +33,14 @@ test: build
 # prerequisites, one apt-get update) and runs LinuxCNC headless, about 1.5 minutes
 # (tests/linuxcnc/run, docs/compensation-linuxcnc-test.md).
 test-linuxcnc: DEPS_FLAGS = --linuxcnc
+# Then the kinematics module of --format linuxcnc-kins built with halcompile (linuxcnc-uspace-dev) and
+# run on the four example machines, about 6.5 minutes on 2 cores (tests/linuxcnc/run-kins,
+# docs/compensation-linuxcnc-kins.md).
 # Then LinuxCNC's example programs through its interpreter rs274 (tests/linuxcnc/ncfiles/run,
 # docs/gcode.md), which `make test` skips when linuxcnc-uspace is not installed.
 test-linuxcnc: build
 	tests/linuxcnc/run $(MTCAL)
+	tests/linuxcnc/run-kins $(MTCAL)
 	MTCAL_REQUIRE_RS274=1 tests/linuxcnc/ncfiles/run $(MTCAL)
 
 # The benchmarks, then the ratios against their baselines of the same run (bench/ratios.py) and

@@ -125,4 +125,27 @@ expect_error "fanuc steep table names --points" "more table points (--points)" -
 [ ! -e "$tmp/x6" ] && ok || bad "output left by a fanuc table too steep"
 "$MTCAL" compensate -m "$M5" --format heidenhain --out "$tmp/hh-ref" > "$tmp/out" 2>&1 \
   && grep -q "reference position (--reference)" "$tmp/out" && ok || bad "heidenhain warning names --reference"
+# --format linuxcnc-kins (issue 30): the module's files, the largest correction in the INI, refusals.
+expect_exit 0 "linuxcnc-kins" -- "$MTCAL" compensate -m "$M5" --format linuxcnc-kins --residual-points 3 --out "$tmp/lk"
+for f in mtcal_kins.c build.sh linuxcnc-kins.ini linuxcnc-kins.hal README.txt; do [ -f "$tmp/lk/$f" ] && ok || bad "linuxcnc-kins: no $f"; done
+grep -q "^KINEMATICS = mtcal_kins$" "$tmp/lk/linuxcnc-kins.ini" && grep -q "^#   joint 3 (B): " "$tmp/lk/linuxcnc-kins.ini" \
+  && ok || bad "linuxcnc-kins INI: kinematics and largest correction per joint"
+grep -q "halcompile --install mtcal_kins.c" "$tmp/lk/build.sh" && grep -q "linuxcnc-uspace-dev" "$tmp/lk/build.sh" \
+  && ok || bad "linuxcnc-kins build line"
+# Without linuxcnc-uspace-dev (no halcompile on the PATH): one line naming the package.
+PATH=/nonexistent /bin/sh "$tmp/lk/build.sh" >"$tmp/out" 2>"$tmp/err" && bad "build.sh without halcompile: exit 0" \
+  || { [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "install Debian's linuxcnc-uspace-dev" "$tmp/err" && ok \
+  || bad "build.sh without halcompile: $(cat "$tmp/err")"; }
+printf 'mtcal_machine: 1\nname: two\ntopology: wXfYt\nunits: {length: mm, angle: deg}\naxes:\n  X: {direction: +x, travel: [-100, 100]}\n  Y: {direction: +y, travel: [-100, 100]}\ntool: {length: 0, spindle_point: [0, 0, 0], axis: +z}\nerrors:\n  EXX: {unit: um, argument_unit: m, polynomial: [0, 5]}\n' >"$tmp/two.yaml"
+expect_error "linuxcnc-kins two linear axes" "exactly three" -- "$MTCAL" compensate -m "$tmp/two.yaml" --format linuxcnc-kins \
+  --out "$tmp/x30"
+[ ! -e "$tmp/x30" ] && ok || bad "output left by a topology the module cannot represent"
+expect_error "linuxcnc-kins no room" "leaves its travel" -- "$MTCAL" compensate -m "$M3" --format linuxcnc-kins \
+  --range "X=-400:400" --out "$tmp/x31"
+[ ! -e "$tmp/x31" ] && ok || bad "output left when a corrected joint leaves its travel"
+# 0.6 rad of squareness (with the CLI's plausibility warning): the fixed cap of steps is not enough.
+"$MTCAL" compensate -m "$M3" --format linuxcnc-kins --set EC0Y=0.6rad --out "$tmp/x32" >"$tmp/out" 2>"$tmp/err" \
+  && bad "linuxcnc-kins not converging: exit 0" || { grep -q "error: .*does not converge at X=" "$tmp/err" && ok \
+  || bad "linuxcnc-kins not converging: $(cat "$tmp/err")"; }
+[ ! -e "$tmp/x32" ] && ok || bad "output left when the inverse does not converge"
 summary_and_exit

@@ -120,6 +120,8 @@ def main():
         r = {"label": move.get("label", ""), "target": move["target"], "joints": after}
         stat()
         r["world"] = list(s.position[:9])
+        r["actual"] = list(s.actual_position[:9])  # kinematicsForward of the joints' feedback
+        r["joint_position"] = list(s.joint_position[:joints])
         readings.append(r)
     elapsed = time.time() - t_moves
 

@@ -11,6 +11,7 @@
 #include "mtcal/io/compensation/heidenhain.hpp"
 #include "mtcal/io/compensation/isg.hpp"
 #include "mtcal/io/compensation/linuxcnc.hpp"
+#include "mtcal/io/compensation/linuxcnc_kins.hpp"
 #include "mtcal/io/compensation/siemens.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/util/errors.hpp"
@@ -24,6 +25,11 @@ const std::vector<CompensationTarget>& compensation_targets() {
   static const std::vector<CompensationTarget> targets = {
       {"linuxcnc", "LinuxCNC: COMP_FILE per linear joint (type 0 or 1), INI snippet, trt-kins pins",
        [](const Machine& m, const CompensationOptions& o) { return linuxcnc_output(compensate_linuxcnc(m, o)); }},
+      {"linuxcnc-kins",
+       "LinuxCNC kinematics module (C) applying the whole error model in the controller; reversal in COMP_FILEs",
+       [](const Machine& m, const CompensationOptions& o) {
+         return linuxcnc_kins_output(compensate_linuxcnc_kins(m, o));
+       }},
       {"siemens", "Siemens SINUMERIK: %_N_AX_EEC_INI per linear axis, %_N_NC_CEC_INI sag/straightness/squareness tables",
        [](const Machine& m, const CompensationOptions& o) { return siemens_output(compensate_siemens(m, o)); }},
       {"isg", "Beckhoff/ISG TF5280 volumetric compensation: ISO 230-1 parameters in the ISG CSV format",

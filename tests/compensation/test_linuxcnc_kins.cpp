@@ -1,0 +1,219 @@
+// The C module of --format linuxcnc-kins, compiled as plain C with the system's C compiler and a
+// small harness (tests/compensation/linuxcnc_kins_harness.c), against the C++ library: on random
+// configurations of the four example machines its joints put the model's actual tool point on the
+// commanded one to 1e-9 mm, equal the C++ solver's, and its forward inverts its inverse.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "mtcal/compensation/linuxcnc_kins.hpp"
+#include "mtcal/io/compensation/linuxcnc_kins.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/util/errors.hpp"
+#include "synthetic.hpp"
+
+using namespace mtcal;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+Machine example(const char* f) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + f); }
+
+CompensationOptions quick() {
+  CompensationOptions o;
+  o.residual_points = 3;
+  o.threads = 1;
+  return o;
+}
+
+std::string run(const std::string& cmd) {
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) throw std::runtime_error("command failed (" + std::to_string(rc) + "): " + cmd);
+  return {};
+}
+
+// The folders of the compiled harnesses, removed when the test binary ends.
+struct TempDirs {
+  std::vector<fs::path> dirs;
+  ~TempDirs() {
+    std::error_code ec;
+    for (const auto& d : dirs) fs::remove_all(d, ec);
+  }
+} temp_dirs;
+
+// Builds the harness for one module; returns the executable.
+fs::path build_harness(const std::string& source, const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("mtcal-kins-{}-{}", ::getpid(), name);
+  fs::create_directories(dir);
+  temp_dirs.dirs.push_back(dir);
+  std::ofstream(dir / "module.c") << source;
+  const fs::path exe = dir / "harness";
+  // The module must compile warning-free as strict C99 (the LinuxCNC build uses its own flags).
+  run(fmt::format("{} -std=c99 -pedantic -Wall -Wextra -Werror -O2 -DMTCAL_KINS_STANDALONE "
+                  "'-DMTK_MODULE=\"{}\"' {} -o {} -lm",
+                  MTCAL_C_COMPILER, (dir / "module.c").string(), MTCAL_KINS_HARNESS, exe.string()));
+  return exe;
+}
+
+std::vector<std::vector<double>> drive(const fs::path& exe, const std::string& input) {
+  const fs::path in = exe.parent_path() / "in.txt", out = exe.parent_path() / "out.txt";
+  std::ofstream(in) << input;
+  run(fmt::format("{} < {} > {}", exe.string(), in.string(), out.string()));
+  std::ifstream f(out);
+  std::vector<std::vector<double>> rows;
+  for (std::string line; std::getline(f, line);) {
+    std::istringstream s(line);
+    std::vector<double> r;
+    for (double v; s >> v;) r.push_back(v);
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST(LinuxcncKinsModule, GeneratedCMatchesTheLibraryOnEveryExample) {
+  for (const char* f : {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"}) {
+    const Machine m = example(f);
+    const LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
+    const fs::path exe = build_harness(linuxcnc_kins_source(k), std::string(f).substr(0, 4));
+    const CommandedJointSolver s(m);  // the library, with the full model (directions unused)
+    const std::size_t n = m.axes.size();
+    // World rotary order: the rotary letters of the coordinates; joint order: the coordinates.
+    std::vector<std::size_t> world_slot(n, 0);
+    std::size_t slot = 0;
+    for (const char c : k.coordinates)
+      if (c == 'A' || c == 'B' || c == 'C') world_slot[*m.axis_index(c)] = slot++;
+    const auto q = mtcal::testing::random_configurations(m, 100, 21);
+    std::string input;
+    std::vector<CommandedPose> poses;
+    std::vector<double> lengths;
+    for (std::size_t r = 0; r < 100; ++r) {
+      const double L = r % 3 == 0 ? 0.0 : r % 3 == 1 ? m.tool.length : 37.25;
+      const CommandedPose p = s.nominal_forward({q.data() + r * n, n}, L);
+      std::vector<double> w(3 + s.rotary_count());
+      for (int i = 0; i < 3; ++i) w[static_cast<std::size_t>(i)] = p.point[i];
+      for (std::size_t j = 0; j < s.rotary_count(); ++j) w[3 + world_slot[s.rotary_axes()[j]]] = p.rotary[j] / kDeg;
+      input += fmt::format("I {:.17g}", L);
+      for (double v : w) input += fmt::format(" {:.17g}", v);
+      input += "\n";
+      poses.push_back(p);
+      lengths.push_back(L);
+    }
+    const auto rows = drive(exe, input);
+    ASSERT_EQ(rows.size(), 100u) << f;
+    std::string forward_input;
+    for (std::size_t r = 0; r < 100; ++r) {
+      ASSERT_EQ(rows[r].size(), 3 + n) << f;
+      ASSERT_EQ(rows[r][0], 0.0) << f << " inverse status, row " << r;
+      // The C joints (LinuxCNC order, mm and deg) in chain order, internal units.
+      std::vector<double> qc(n);
+      for (std::size_t a = 0; a < n; ++a) {
+        const double v = rows[r][3 + k.coordinates.find(m.axes[a].letter)];
+        qc[a] = m.axes[a].kind == AxisKind::Rotary ? v * kDeg : v;
+      }
+      // Independent of the C: the C++ model's actual tool point at the C joints.
+      EXPECT_LE((s.actual_pose(qc, lengths[r]).t - poses[r].point).norm(), 1e-9) << f << " row " << r;
+      const auto lib = s.inverse(poses[r], lengths[r]);
+      ASSERT_TRUE(lib.converged);
+      for (std::size_t a = 0; a < n; ++a) EXPECT_NEAR(qc[a], lib.q[a], 1e-9) << f << " axis " << m.axes[a].letter;
+      forward_input += fmt::format("F {:.17g}", lengths[r]);
+      for (std::size_t j = 0; j < n; ++j) forward_input += fmt::format(" {:.17g}", rows[r][3 + j]);
+      forward_input += "\n";
+    }
+    const auto back = drive(exe, forward_input);
+    ASSERT_EQ(back.size(), 100u);
+    for (std::size_t r = 0; r < 100; ++r) {
+      ASSERT_EQ(back[r][0], 0.0) << f << " forward status";
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(back[r][1 + static_cast<std::size_t>(i)], poses[r].point[i], 1e-9) << f;
+      for (std::size_t j = 0; j < s.rotary_count(); ++j)
+        EXPECT_NEAR(back[r][4 + world_slot[s.rotary_axes()[j]]], poses[r].rotary[j] / kDeg, 1e-9) << f;
+    }
+  }
+}
+
+TEST(LinuxcncKinsModule, NonFiniteInputIsAnErrorNotAPosition) {
+  const Machine m = example("head-head-5axis.yaml");
+  const LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
+  const fs::path exe = build_harness(linuxcnc_kins_source(k), "nan");
+  const auto rows = drive(exe, "I 150 nan 0 0 0 0\nI inf 0 0 0 0 0\nI 150 0 0 1e300 0 0\nF 150 nan 0 0 0 0\n");
+  ASSERT_EQ(rows.size(), 4u);
+  for (const auto& r : rows) EXPECT_LT(r[0], 0.0);
+}
+
+TEST(LinuxcncKinsModule, UnconvergedAtTheCapIsAnError) {
+  // One step allowed: the example's errors need more, and the module must say so.
+  const Machine m = example("hu40t-wCBXfYZt.yaml");
+  LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
+  k.solver.max_iterations = 1;
+  const fs::path exe = build_harness(linuxcnc_kins_source(k), "cap");
+  const auto rows = drive(exe, "I 150 100 50 -20 10 30\n");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0][0], -2.0);
+}
+
+TEST(LinuxcncKinsModule, RefusesWhatItCannotRepresentOrReach) {
+  // A topology with two linear axes.
+  Machine two = example("vmc-3axis.yaml");
+  two.axes.pop_back();
+  two.topology.axes.pop_back();
+  try {
+    compensate_linuxcnc_kins(two, quick());
+    FAIL() << "expected a refusal";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("exactly three"), std::string::npos) << e.what();
+  }
+  // The commanded travel up to the joint limits: the correction has no room.
+  const Machine m = example("vmc-3axis.yaml");
+  CompensationOptions o = quick();
+  for (const auto& ax : m.axes) o.sampling.push_back({ax.letter, ax.travel->min, ax.travel->max, 3});
+  try {
+    compensate_linuxcnc_kins(m, o);
+    FAIL() << "expected a refusal";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("leaves its travel"), std::string::npos) << e.what();
+  }
+  // Errors too large for the fixed cap: not converged on the pre-check grid, with the configuration.
+  Machine wild = example("head-head-5axis.yaml");
+  wild.set_parameter("EB0Z", 0.3);  // 0.3 rad of squareness
+  LinuxcncKinsOptions ko;
+  ko.solver.max_iterations = 3;
+  try {
+    compensate_linuxcnc_kins(wild, quick(), ko);
+    FAIL() << "expected a refusal";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not converge at X="), std::string::npos) << e.what();
+  }
+  // A module name that is not a C identifier.
+  ko = {};
+  ko.module_name = "my-kins";
+  EXPECT_THROW(compensate_linuxcnc_kins(m, quick(), ko), InputError);
+}
+
+TEST(LinuxcncKinsModule, ReversalTablesCancelTheOwnAxisDirectionTerms) {
+  // Head-head: EXX has forward/backward runs, EYY and EZZ reversal terms. A type-1 column is the
+  // correction: value(q, +) - value(q, 0) of the axis's own error, negated (direction sign +1).
+  const Machine m = example("head-head-5axis.yaml");
+  const LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
+  std::string joints;
+  for (const auto& t : k.reversal_tables) joints += t.axis;
+  EXPECT_EQ(joints, "XYZAC");
+  const auto& y = *std::find_if(k.reversal_tables.begin(), k.reversal_tables.end(), [](const auto& t) { return t.axis == 'Y'; });
+  // EYY reversal 1.4 um: forward column -1.4 um, reverse +1.4 um everywhere.
+  for (std::size_t i = 0; i < y.nominal.size(); ++i) {
+    EXPECT_NEAR(y.forward[i], -1.4e-3, 1e-12);
+    EXPECT_NEAR(y.reverse[i], 1.4e-3, 1e-12);
+  }
+  // The residual with the module and the tables is below the one without the tables.
+  EXPECT_LT(k.summary.residual.max_norm_after, 0.2 * k.summary.residual.max_norm_before);
+}

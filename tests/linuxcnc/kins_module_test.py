@@ -1,0 +1,198 @@
+#!/usr/bin/python3
+# The kinematics module of `mtcal compensate --format linuxcnc-kins` in LinuxCNC itself (issue 30):
+# per example machine, build the module mtcal wrote (its build.sh: halcompile --install), start the
+# sim configuration of tests/linuxcnc with it as [KINS]KINEMATICS, command poses spread over the
+# travel (G53 G1 in world coordinates: tool point and rotary coordinates) with the machine file's
+# tool length and with none, read the joints the controller computed (joint.N.pos-cmd, what
+# linuxcnc.stat().joint_position reports) and its forward (stat.actual_position), and check
+#   - the actual tool point of the model at those joints (this script's own nominal chain plus
+#     `mtcal eval`'s error e = actual - nominal) equals the commanded point within 0.1 um;
+#   - actual_position equals the command within 1e-6 mm.
+# Prints per machine max |e| and VA of the tool point before (nominal joints) and after (the module).
+# The direction-dependent COMP_FILE tables are not loaded: the check reads pos-cmd, before them.
+# Usage (through tests/linuxcnc/run-kins): kins_module_test.py --mtcal PATH --root ROOT [--case NAME] [--keep DIR]
+import argparse
+import csv
+import fcntl
+import itertools
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+import yaml
+
+import lcnc_test as L
+from lcnc_test import Failure
+
+TOL_POINT_MM = 1e-4     # issue 30: the actual tool point on the command within 0.1 um
+TOL_FORWARD_MM = 1e-6   # and the forward kinematics equal to the command within 1e-6 mm
+MODULE = "mtcal_kins"
+CASES = {
+    "vmc-3axis": {"machine": "examples/machines/vmc-3axis.yaml", "poses": 26},
+    "hu40t": {"machine": "examples/machines/hu40t-wCBXfYZt.yaml", "poses": 26},
+    "rrttt": {"machine": "examples/machines/rrttt-table-table.yaml", "poses": 26},
+    "head-head": {"machine": "examples/machines/head-head-5axis.yaml", "poses": 26},
+}
+
+
+def model_error(machine_path, letters, joints, workdir, tag):
+    """e = actual - nominal tool point (mm, workpiece frame) of the model at each joint set, through
+    `mtcal eval` (direction of motion 0). Like lcnc_test.mtcal_eval, without its echo check: mtcal eval
+    prints the joint columns back with 12 significant digits, and LinuxCNC's joints have more."""
+    pin = os.path.join(workdir, "eval-%s-in.csv" % tag)
+    pout = os.path.join(workdir, "eval-%s-out.csv" % tag)
+    with open(pin, "w") as f:
+        f.write(",".join(letters) + "\n")
+        for q in joints:
+            f.write(",".join(repr(float(q[l])) for l in letters) + "\n")
+    L.run([L.MTCAL, "eval", "--machine", machine_path, "--points", pin, "--out", pout], "mtcal eval (%s)" % tag)
+    with open(pout) as f:
+        rows = list(csv.DictReader(f))
+    if len(rows) != len(joints):
+        raise Failure("mtcal eval (%s): expected %d rows, found %d" % (tag, len(joints), len(rows)))
+    for q, r in zip(joints, rows):
+        for l in letters:
+            if abs(float(r[l]) - q[l]) > 1e-9 * max(1.0, abs(q[l])):
+                raise Failure("mtcal eval (%s): row for %s=%r came back as %r" % (tag, l, q[l], r[l]))
+    return np.array([[float(r[k]) for k in ("dx", "dy", "dz")] for r in rows])
+
+
+def with_tool_length(src, dst, length):
+    with open(src) as f:
+        doc = yaml.safe_load(f)
+    doc.setdefault("tool", {})["length"] = float(length)
+    with open(dst, "w") as f:
+        yaml.safe_dump(doc, f, sort_keys=False)
+
+
+def poses_for(m, count, seed, tool_length):
+    """World poses (x y z mm, rotary coordinates deg in the coordinates' order) of nominal joints
+    drawn inside the travel less 10 % at each end (rotary axes within +-170 deg)."""
+    rng = np.random.default_rng(seed)
+    letters = "".join(l for l in "XYZABC" if l in m.chain)
+    out = []
+    for _ in range(count):
+        q = {}
+        for l in letters:
+            lo, hi = m.travel(l)
+            if l in "ABC":
+                lo, hi = max(lo, -170.0), min(hi, 170.0)
+            span = hi - lo
+            q[l] = float(rng.uniform(lo + 0.1 * span, hi - 0.1 * span))
+        p = m.nominal_tool_point(q)
+        out.append((q, [float(v) for v in p] + [q[l] for l in letters if l in "ABC"]))
+    return letters, out
+
+
+def machine_case(name, spec, workdir):
+    src = os.path.join(L.ROOT, spec["machine"])
+    out = os.path.join(workdir, "out")
+    L.run([L.MTCAL, "compensate", "--machine", src, "--format", "linuxcnc-kins", "--out", out, "--residual-points", "3"],
+          "mtcal compensate --format linuxcnc-kins")
+    L.run(["sh", os.path.join(out, "build.sh")], "build.sh (halcompile --install)")
+    base = L.Machine(src)
+    results = []
+    for tag, length in (("tool", float((base.doc.get("tool") or {}).get("length", 0.0))), ("no-tool", 0.0)):
+        m_path = os.path.join(workdir, "machine-%s.yaml" % tag)
+        with_tool_length(src, m_path, length)
+        m = L.Machine(m_path)
+        letters, poses = poses_for(m, spec["poses"], 7 if tag == "tool" else 8, length)
+        limits, axis_limits = {}, {}
+        for l in letters:
+            lo, hi = m.travel(l)
+            limits[l] = (lo - 1000, hi + 1000) if l in "XYZ" else (lo - 10, hi + 10)
+            axis_limits[l] = (-5000, 5000) if l in "XYZ" else limits[l]
+        cfg = os.path.join(workdir, "cfg-" + tag)
+        tool_hal = os.path.join(workdir, "tool-%s.hal" % tag)
+        with open(tool_hal, "w") as f:
+            f.write("setp %s.tool-length %.9f\n" % (MODULE, length))
+        L.write_config(cfg, name, letters, MODULE, limits, axis_limits, {}, ["linuxcnc-kins.hal", os.path.basename(tool_hal)],
+                       [os.path.join(out, "linuxcnc-kins.hal"), tool_hal])
+        moves = [{"target": p, "read": True, "label": "pose%d" % i} for i, (_, p) in enumerate(poses)]
+        res = L.run_linuxcnc(cfg, {"joints": len(letters), "coordinates": letters, "moves": moves, "feed": 30000})
+        if len(res["readings"]) != len(poses):
+            raise Failure("%s: %d readings for %d poses" % (name, len(res["readings"]), len(poses)))
+        # After: the joints LinuxCNC computed; before: the nominal joints of the same poses.
+        after = [{l: r["joints"][j]["pos_cmd"] for j, l in enumerate(letters)} for r in res["readings"]]
+        before = [q for q, _ in poses]
+        e = model_error(m_path, letters, after + before, workdir, tag)
+        target = np.array([p[:3] for _, p in poses])
+        actual_after = np.array([m.nominal_tool_point(q) for q in after]) + e[:len(after)]
+        actual_before = np.array([m.nominal_tool_point(q) for q in before]) + e[len(after):]
+        d_after = actual_after - target
+        d_before = actual_before - target
+        fwd = max(max(abs(r["actual"][i] - p[i]) for i in range(3)) for r, (_, p) in zip(res["readings"], poses))
+        rot_w = max([abs(r["actual"][3 + "ABC".index(l)] - p[3 + k]) for r, (_, p) in zip(res["readings"], poses)
+                     for k, l in enumerate(x for x in letters if x in "ABC")] or [0.0])
+
+        def va(d):
+            return max(float(np.linalg.norm(a - b)) for a, b in itertools.combinations(d, 2))
+
+        c = {"check": "%s %s" % (name, tag), "poses": len(poses), "tool_length_mm": length,
+             "max_e_before_um": float(np.max(np.linalg.norm(d_before, axis=1))) * 1e3,
+             "max_e_after_um": float(np.max(np.linalg.norm(d_after, axis=1))) * 1e3,
+             "va_before_um": va(d_before) * 1e3, "va_after_um": va(d_after) * 1e3,
+             "forward_mm": fwd, "forward_rotary_deg": rot_w, "linuxcnc_seconds": round(res["seconds"], 1)}
+        c["ok"] = c["max_e_after_um"] * 1e-3 <= TOL_POINT_MM and fwd <= TOL_FORWARD_MM and rot_w <= 1e-6 and c["max_e_before_um"] > 1.0
+        results.append(c)
+    return results
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--mtcal", required=True)
+    ap.add_argument("--root", required=True)
+    ap.add_argument("--case", action="append")
+    ap.add_argument("--keep")
+    ap.add_argument("--results")
+    a = ap.parse_args()
+    L.MTCAL, L.ROOT = os.path.abspath(a.mtcal), os.path.abspath(a.root)
+    if shutil.which("halcompile") is None or not os.path.exists("/usr/include/linuxcnc/kinematics.h"):
+        print("FAIL linuxcnc-kins: halcompile or /usr/include/linuxcnc/kinematics.h missing: install Debian's linuxcnc-uspace-dev "
+              "(scripts/install-deps --linuxcnc)")
+        return 1
+    base = os.path.abspath(a.keep) if a.keep else tempfile.mkdtemp(prefix="mtcal-lcnc-kins-", dir="/tmp")
+    os.makedirs(base, exist_ok=True)
+    passed = failed = 0
+    checks = []
+    with open(L.LOCK_FILE, "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        for name in a.case or list(CASES):
+            workdir = os.path.join(base, name)
+            shutil.rmtree(workdir, ignore_errors=True)
+            os.makedirs(workdir)
+            print("-- %s: %s, kinematics module %s" % (name, CASES[name]["machine"], MODULE), flush=True)
+            try:
+                cs = machine_case(name, CASES[name], workdir)
+            except Failure as e:
+                cs = [{"check": name, "ok": False, "why": str(e)}]
+            for c in cs:
+                checks.append(c)
+                if c["ok"]:
+                    passed += 1
+                    print("PASS %s: %d poses, tool length %g mm: max |e| %.3f -> %.6f um, VA %.3f -> %.6f um; forward %.2g mm, "
+                          "rotary %.2g deg; LinuxCNC run %.1f s" % (c["check"], c["poses"], c["tool_length_mm"], c["max_e_before_um"],
+                                                                  c["max_e_after_um"], c["va_before_um"], c["va_after_um"],
+                                                                  c["forward_mm"], c["forward_rotary_deg"], c["linuxcnc_seconds"]), flush=True)
+                else:
+                    failed += 1
+                    print("FAIL %s: %s" % (c["check"], c.get("why") or json.dumps(c)), flush=True)
+    if a.results:
+        with open(a.results, "w") as f:
+            json.dump({"checks": checks}, f, indent=1)
+    if not a.keep and not failed:
+        shutil.rmtree(base, ignore_errors=True)
+    elif failed:
+        print("files of this run kept in %s" % base)
+    print("linuxcnc-kins: %d passed, %d failed" % (passed, failed))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
