@@ -6,10 +6,12 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <random>
 #include <set>
 #include <tuple>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <fmt/format.h>
 
@@ -230,7 +232,7 @@ namespace {
 // Scaled variance above which an unknown counts as undetermined: with the 1e-10 ridge an
 // undetermined unknown has a variance of about 1e10, a determined one of order 1 to its
 // conditioning squared (columns of unit RMS per pose).
-constexpr double kRidge = 1e-10, kUndetermined = 1e6;
+constexpr double kRidge = 1e-10, kUndetermined = 1e4;
 
 // The exchange algorithm's state: the information of the selected poses (unit-norm columns,
 // ridge), its inverse and the parameters' block of it.
@@ -277,7 +279,13 @@ class Design {
     }
     refresh();
   }
-  bool determined() const { return (cov_.diagonal().head(p_).array() < kUndetermined).all(); }
+  // Every direction of the parameters determined: the largest eigenvalue of their covariance
+  // block below the threshold (a marginal variance can be small along a null direction that is
+  // mostly the artefact's unknowns).
+  bool determined() const {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(cov_.topLeftCorner(p_, p_), Eigen::EigenvaluesOnly);
+    return es.eigenvalues().maxCoeff() < kUndetermined;
+  }
   double value(DesignCriterion c) const { return criterion(c, cov_.topLeftCorner(p_, p_).diagonal(), logdet_); }
   // The criterion after adding (sign +1) or removing (sign -1) each candidate, for those with
   // want[j]; infinity elsewhere. One product with the inverse for all candidates (Sherman-Morrison-
@@ -384,20 +392,6 @@ std::size_t exchange(Design& d, DesignCriterion c, int max_passes, std::size_t& 
   return swaps;
 }
 
-// Greedy build-up to n poses, or (n == 0) until the targets are met (value <= 1 of MaxU).
-void build_up(Design& d, DesignCriterion c, std::size_t n, const std::function<void(const char*, std::size_t)>& progress) {
-  while (n == 0 ? !(d.determined() && d.value(DesignCriterion::MaxU) <= 1.0) : d.size() < n) {
-    if (d.size() == d.count()) break;
-    if (progress) progress("greedy", d.size());
-    const DesignCriterion now = d.determined() ? c : DesignCriterion::D;
-    std::vector<bool> want(d.count());
-    for (std::size_t j = 0; j < d.count(); ++j) want[j] = !d.chosen(j);
-    const std::size_t j = best(d.trial(now, +1, want));
-    if (j == d.count()) break;
-    d.add(j);
-  }
-}
-
 const char* criterion_name(DesignCriterion c) {
   return c == DesignCriterion::D ? "D" : c == DesignCriterion::A ? "A" : "max-u";
 }
@@ -475,33 +469,46 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   }
   Design d(rows, first, fixed, p, w, o.threads);
 
+  // Backward elimination from every candidate, then exchange. (A forward build-up is myopic
+  // here: a scale bar fixes the scale only once both its balls are probed, so no single pose
+  // improves the criterion and the build-up never takes the second ball.)
+  std::vector<std::size_t> all(count);
+  for (std::size_t j = 0; j < count; ++j) all[j] = j;
+  d.set(all);
+  auto remove_best = [&](DesignCriterion c, double limit) {
+    std::vector<bool> want(d.count());
+    for (std::size_t j = 0; j < d.count(); ++j) want[j] = d.chosen(j);
+    const auto v = d.trial(c, -1, want);
+    const std::size_t j = best(v);
+    if (j == v.size() || !(v[j] <= limit)) return false;
+    d.remove(j);
+    return true;
+  };
   if (o.poses > 0) {
-    build_up(d, o.criterion, o.poses, o.progress);
+    while (d.size() > o.poses) {
+      if (o.progress) o.progress("eliminate", d.size());
+      if (!remove_best(o.criterion, kInf)) break;
+    }
     out.greedy_poses = d.size();
     out.exchanges = exchange(d, o.criterion, o.max_passes, out.passes, o.progress);
   } else {
-    // Fewest poses for the targets: build up (D until determined, then the largest relative
-    // uncertainty), improve by exchange, then drop the pose whose loss hurts least while an
-    // exchange brings the targets back.
-    build_up(d, DesignCriterion::MaxU, 0, o.progress);
-    out.greedy_poses = d.size();
-    out.exchanges = exchange(d, DesignCriterion::MaxU, o.max_passes, out.passes, o.progress);
-    while (d.size() > 1) {
-      if (o.progress) o.progress("reduce", d.size());
-      const std::vector<std::size_t> keep = d.selection();
+    // Fewest poses for the targets (largest relative uncertainty <= 1): remove while a removal
+    // keeps the targets; when none does, an exchange lowers the largest relative uncertainty and
+    // removal is tried again. The count found is an upper bound of the true minimum.
+    for (bool initial = true;; initial = false) {
+      while (d.size() > 1) {
+        if (o.progress) o.progress("eliminate", d.size());
+        if (!remove_best(DesignCriterion::MaxU, 1.0)) break;
+      }
+      if (initial) out.greedy_poses = d.size();
+      const std::size_t swaps = exchange(d, DesignCriterion::MaxU, o.max_passes, out.passes, o.progress);
+      out.exchanges += swaps;
+      if (swaps == 0 || d.size() <= 1) break;
       std::vector<bool> want(d.count());
       for (std::size_t j = 0; j < d.count(); ++j) want[j] = d.chosen(j);
-      const std::size_t j = best(d.trial(DesignCriterion::MaxU, -1, want));
-      if (j == d.count()) break;
-      d.remove(j);
-      std::size_t passes = 0;
-      const std::size_t swaps = exchange(d, DesignCriterion::MaxU, o.max_passes, passes, o.progress);
-      if (!(d.determined() && d.value(DesignCriterion::MaxU) <= 1.0)) {
-        d.set(keep);
-        break;
-      }
-      out.exchanges += swaps;
-      out.passes += passes;
+      const auto v = d.trial(DesignCriterion::MaxU, -1, want);
+      const std::size_t j = best(v);
+      if (j == v.size() || !(v[j] <= 1.0)) break;
     }
   }
   out.selected = d.selection();
@@ -543,7 +550,13 @@ PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, cons
     SimulationOptions so;
     so.noise = o.sigma_ball;
     so.seed = seed + k;
+    // The bars' calibrated lengths are uncertain by sigma_scale_bar, as the prediction weighs them:
+    // each run's true length is drawn about the nominal one (an exact bar would make the spread
+    // of the scale-related parameters smaller than predicted).
+    std::mt19937_64 rng(seed + k + 0x5ca1eULL);
+    std::normal_distribution<double> g(0.0, 1.0);
     so.scale_bars = o.scale_bars;
+    for (auto& bar : so.scale_bars) bar.length += o.sigma_scale_bar * g(rng);
     try {
       const Simulation sim = simulate_probing(truth, plan, so);
       const IdentificationResult r = identify(prior, sim.measurements, o);

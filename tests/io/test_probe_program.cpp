@@ -152,15 +152,15 @@ TEST(ProbeProgram, LinuxcncInterpreterReadsTheProgram) {
   const Rs274Output out = run_rs274(path, GcodeSetup{});
   std::filesystem::remove_all(dir);
   EXPECT_FALSE(out.missing_end);
-  // One STRAIGHT_PROBE per touch, at the touch's end; the interpreter prints inches (its machine
-  // units) and the rotary axes in degrees.
+  // One STRAIGHT_PROBE per touch, at the touch's end (the program is in mm, G21, and the calls
+  // come in the program's units here; the rotary axes in degrees).
   const std::regex call(R"(STRAIGHT_PROBE\(\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+))");
   std::size_t i = 0;
   for (auto it = std::sregex_iterator(out.calls.begin(), out.calls.end(), call); it != std::sregex_iterator(); ++it, ++i) {
     ASSERT_LT(i, touches.size());
     const auto& t = touches[i];
     for (int a = 0; a < 3; ++a)
-      EXPECT_NEAR(std::stod((*it)[a + 1]) * 25.4, t.end[*m.axis_index("XYZ"[a])], 1e-3) << "probe " << i;
+      EXPECT_NEAR(std::stod((*it)[a + 1]), t.end[*m.axis_index("XYZ"[a])], 1e-3) << "probe " << i;
     EXPECT_NEAR(std::stod((*it)[5]), t.end[*m.axis_index('B')] * 180 / std::numbers::pi, 1e-3);
     EXPECT_NEAR(std::stod((*it)[6]), t.end[*m.axis_index('C')] * 180 / std::numbers::pi, 1e-3);
   }
