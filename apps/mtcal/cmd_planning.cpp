@@ -169,7 +169,7 @@ int run_plan(const PlanOptions& o) {
   std::cout << fmt::format("candidates: {} considered, {} kept;", cands.considered, cands.plan.records.size());
   for (const auto& [name, n] : cands.removed) std::cout << fmt::format(" {} removed by {}", n, name) << ";";
   std::cout << "\n";
-  std::cout << fmt::format("designed plan: {} poses at {} indexations (criterion {}, greedy {} poses, {} exchanges in {} passes){}\n",
+  std::cout << fmt::format("designed plan: {} poses at {} indexations (criterion {}, {} after elimination, {} exchanges in {} passes){}\n",
                            design.plan.records.size(), report.time.indexations, design.criterion, design.greedy_poses,
                            design.exchanges, design.passes, design.target_met ? "" : "; TARGET NOT MET");
   std::cout << fmt::format("estimated time: {:.0f} s (moves {:.0f} s, probing {:.0f} s, indexing {:.0f} s; {} touches)\n",

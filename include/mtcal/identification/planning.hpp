@@ -95,7 +95,7 @@ struct DesignOptions {
   std::string poses_source = "poses";
   int max_passes = 30;  // Fedorov exchange passes (each tries every selected pose)
   int threads = 0;
-  // Called with a phase ("greedy", "exchange", "reduce") and the current number of poses.
+  // Called with a phase ("eliminate", "exchange") and the current number of poses.
   std::function<void(const char* phase, std::size_t poses)> progress;
 };
 
@@ -106,18 +106,19 @@ struct PlanDesign {
   PlanPrediction all_candidates;       // with every candidate: the best reachable
   std::string criterion;               // "D", "A", "max-u"
   double criterion_value = 0.0;        // log det Cov (D), sum (u/ref)^2 (A), max u/ref (max-u)
-  std::size_t greedy_poses = 0;        // poses after the greedy build-up
+  std::size_t greedy_poses = 0;        // poses after the first backward elimination
   std::size_t exchanges = 0, passes = 0;
   bool target_met = true;
 };
-// Wynn-Fedorov design over the candidates (Fedorov 1972, Theory of Optimal Experiments ch. 3;
-// Atkinson, Donev & Tobias 2007, Optimum Experimental Designs, ch. 9 and 12): greedy build-up
-// (each step adds the candidate that most improves the criterion; D until every parameter is
-// determined), then exchange passes (each selected pose removed in turn and the best candidate
-// put in its place, while that improves the criterion). With target_u: build up until every
-// target is met, then remove poses while an exchange can restore the targets. Each pose is used
-// once. Information matrices of columns scaled to unit RMS per candidate, with a 1e-10 ridge so that undetermined
-// unknowns have a large finite variance during build-up; the result is re-predicted exactly by
+// Exchange design over the candidates (Fedorov 1972, Theory of Optimal Experiments ch. 3;
+// Atkinson, Donev & Tobias 2007, Optimum Experimental Designs, ch. 12; Cook & Nachtsheim 1980):
+// backward elimination from every candidate (each step removes the pose whose loss hurts the
+// criterion least) down to `poses`, then exchange passes (each selected pose removed in turn and
+// the best candidate put in its place, while that improves the criterion). With target_u: remove
+// while the targets stay met, exchange, and remove again while possible. (A forward build-up is
+// myopic where two poses are needed together: a scale bar's two balls.) Each pose is used once.
+// Information matrices of columns scaled to unit RMS per candidate, with a 1e-10 ridge so that
+// undetermined unknowns have a large finite variance; the result is re-predicted exactly by
 // predict_plan. Throws InputError for a budget that cannot be met (with the best reachable
 // uncertainty), parameters no candidate set identifies (the null-space combination), more poses
 // than candidates, or a target for a parameter not estimated.
