@@ -1,0 +1,325 @@
+// mtcal plan: the fewest probing poses that identify the requested parameters (docs/planning.md).
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "acceptance.hpp"
+#include "budget.hpp"
+#include "common.hpp"
+#include "planning_command.hpp"
+#include "history.hpp"
+#include "mtcal/identification/planning.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/gcode/probe_program.hpp"
+#include "mtcal/io/instruments/probe_log.hpp"
+#include "mtcal/io/json/planning_json.hpp"
+#include "mtcal/io/instruments/probing_plan_file.hpp"
+#include "mtcal/util/errors.hpp"
+#include "mtcal/util/units.hpp"
+
+namespace mtcal::cli {
+namespace {
+
+struct PlanOptions {
+  ModelOptions model;
+  std::vector<std::string> estimate, scale_bars, target_u;
+  std::string artefact, against, out, criterion = "d";
+  std::size_t poses = 0, monte_carlo = 0;
+  std::uint64_t seed = 1;
+  double sigma_um = 1.0, rotary_step_deg = 15.0;
+  ProbeReach reach;
+  TimingOptions timing;
+  ProbeCycle cycle;
+  std::string gcode, dialect = "linuxcnc", log = "mtcal-contacts.txt";
+  int threads = 0;
+  bool json_out = false;
+};
+
+// The probing cycle's options, shared by plan --gcode and probe-log (they must be the same).
+void add_cycle_options(CLI::App* c, ProbeCycle& cycle) {
+  c->add_option("--ball-diameter", cycle.ball_diameter, "Reference ball diameter, mm")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--tip-diameter", cycle.tip_diameter, "Stylus tip diameter, mm")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--overtravel", cycle.overtravel, "Probing moves end this far beyond the expected contact, mm")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--clearance", cycle.clearance, "Height above a ball between its touches, mm")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+}
+
+// "EX0C=0.5um,EXX.1=2um/m,EC0Y=1e-6": targets with a unit, or bare in the parameter's internal
+// unit (mm, rad, mm/mm).
+std::vector<std::pair<std::string, double>> parse_targets(const Machine& m, const std::vector<std::string>& specs) {
+  std::vector<std::pair<std::string, double>> out;
+  const auto params = m.parameters();
+  for (const auto& s : specs) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError({"--target-u", 0, s},
+                       "expected PARAMETER=U (U with a unit, or in the parameter's unit), found '" + printable(s) + "'");
+    const std::string name = s.substr(0, eq);
+    const auto i = m.parameter_index(name);
+    if (!i)
+      throw InputError({"--target-u", 0, name}, "unknown parameter '" + printable(name) + "'" + name_hint(m, name) +
+                                                    " (" + parameter_naming(m) + ")");
+    out.emplace_back(name, parse_in_unit(s.substr(eq + 1), params[*i].unit, {"--target-u", 0, name}));
+  }
+  return out;
+}
+
+void print_prediction(const PlanPrediction& p, const PlanPrediction* against, const PlanMonteCarlo* mc) {
+  std::cout << fmt::format("{:<10} {:>12} {:<7}{}{}\n", "parameter", "u", "unit", against ? "  u (against)" : "",
+                           mc ? "  u (Monte Carlo)  ratio" : "");
+  for (std::size_t i = 0; i < p.parameters.size(); ++i) {
+    const auto& e = p.parameters[i];
+    std::cout << fmt::format("{:<10} {:>12.4g} {:<7}", e.name, e.u, e.unit);
+    if (against) std::cout << fmt::format(" {:>12.4g}", against->parameters[i].u);
+    if (mc) std::cout << fmt::format(" {:>16.4g} {:>6.3f}", mc->stdev[i], mc->stdev[i] / e.u);
+    std::cout << "\n";
+  }
+}
+
+int run_plan(const PlanOptions& o) {
+  auto inputs = model_inputs(o.model);
+  inputs.push_back(o.artefact);
+  inputs.push_back(o.against);
+  check_outputs(inputs, {o.out});
+  const Machine m = load(o.model);
+  if (o.artefact.empty() && o.against.empty())
+    throw InputError({"--artefact", 0, ""}, "expected the artefact's balls and facets: --artefact PLAN.csv or --against PLAN.csv");
+  std::optional<ProbingPlan> against;
+  if (!o.against.empty()) against = read_probing_csv(m, o.against);
+  const ProbingPlan artefact = o.artefact.empty() ? *against : read_probing_csv(m, o.artefact);
+
+  IdentificationOptions io;
+  io.estimate = o.estimate;
+  io.estimate_source = "--estimate";
+  for (const auto& s : o.scale_bars) io.scale_bars.push_back(parse_scale_bar(s, "--scale-bar"));
+  io.sigma_ball = io.sigma_facet = io.sigma_scale_bar = o.sigma_um * 1e-3;
+
+  const CandidateSet cands =
+      candidate_configurations(m, artefact.features, rotary_grid(m, o.rotary_step_deg * std::numbers::pi / 180), o.reach);
+
+  std::optional<PlanPrediction> against_pred;
+  std::optional<TimeEstimate> against_time;
+  if (against) {
+    against_pred = predict_plan(m, *against, io);
+    against_time = estimate_time(m, *against, o.timing);
+  }
+  DesignOptions d;
+  d.model = io;
+  d.criterion = o.criterion == "a" ? DesignCriterion::A : o.criterion == "max-u" ? DesignCriterion::MaxU : DesignCriterion::D;
+  d.poses = o.poses;
+  d.poses_source = "--poses";
+  d.target_source = "--target-u";
+  d.target_u = parse_targets(m, o.target_u);
+  d.threads = o.threads;
+  if (d.poses == 0 && d.target_u.empty()) {
+    if (!against_pred)
+      throw InputError({"--poses", 0, ""}, "expected a budget: --poses N, --target-u PARAM=U or --against PLAN.csv");
+    for (const auto& e : against_pred->parameters) d.target_u.emplace_back(e.name, e.u);
+    d.target_source = "--against " + o.against;
+  }
+  for (const auto* path : {&o.out, &o.gcode})
+    if (!path->empty()) AtomicFile check(*path);
+  Progress progress("plan: poses", 0);
+  if (progress.active()) d.progress = [&](const char*, std::size_t n) { progress.update(n, n); };
+  const PlanDesign design = design_plan(m, cands.plan, d);
+  PlanReport report;
+  report.candidates = &cands;
+  report.design = &design;
+  report.time = estimate_time(m, design.plan, o.timing);
+  report.against = against_pred;
+  report.against_time = against_time;
+  report.against_path = o.against;
+  if (o.monte_carlo > 0) {
+    Machine prior = m;
+    for (const auto& e : design.prediction.parameters) prior.set_parameter(e.name, 0.0);
+    report.monte_carlo = plan_monte_carlo(m, prior, design.plan, io, o.monte_carlo, o.seed, o.threads);
+  }
+  if (!o.out.empty()) {
+    report.out = o.out;
+    write_probing_csv(o.out, m, design.plan,
+                      fmt::format("Designed by mtcal plan: machine {}, {} poses, criterion {}, {} candidates",
+                                  o.model.machine, design.plan.records.size(), design.criterion,
+                                  cands.plan.records.size()));
+  }
+  if (!o.gcode.empty()) {
+    report.gcode = o.gcode;
+    ProbeProgramOptions po;
+    po.dialect = o.dialect == "iso" ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
+    po.probe_feed = o.timing.probe_feed;
+    po.log = o.log;
+    po.header = fmt::format("machine {}: {} poses designed by mtcal plan", m.name, design.plan.records.size());
+    ProbeCycle cycle = o.cycle;
+    cycle.approach = o.timing.approach;
+    cycle.touches_per_ball = o.timing.touches_per_ball;
+    write_probe_program(o.gcode, m, design.plan, cycle, po);
+  }
+  if ((o.json_out || recording()) && emit_json(to_json(report), o.json_out)) return 0;
+
+  std::cout << fmt::format("candidates: {} considered, {} kept;", cands.considered, cands.plan.records.size());
+  for (const auto& [name, n] : cands.removed) std::cout << fmt::format(" {} removed by {}", n, name) << ";";
+  std::cout << "\n";
+  std::cout << fmt::format("designed plan: {} poses at {} indexations (criterion {}, {} after elimination, {} exchanges in {} passes){}\n",
+                           design.plan.records.size(), report.time.indexations, design.criterion, design.greedy_poses,
+                           design.exchanges, design.passes, design.target_met ? "" : "; TARGET NOT MET");
+  std::cout << fmt::format("estimated time: {:.0f} s (moves {:.0f} s, probing {:.0f} s, indexing {:.0f} s; {} touches)\n",
+                           report.time.total, report.time.moves, report.time.probing, report.time.indexing,
+                           report.time.touches);
+  if (against_pred)
+    std::cout << fmt::format("against {}: {} poses, {:.0f} s; the designed plan has {:.0f} % fewer poses\n", o.against,
+                             against_pred->poses, against_time->total,
+                             100.0 * (static_cast<double>(against_pred->poses) - static_cast<double>(design.plan.records.size())) /
+                                 static_cast<double>(against_pred->poses));
+  print_prediction(design.prediction, against_pred ? &*against_pred : nullptr,
+                   report.monte_carlo ? &*report.monte_carlo : nullptr);
+  if (report.monte_carlo)
+    std::cout << fmt::format("Monte Carlo: {} runs of simulate -> identify ({} failed), seed {}\n", report.monte_carlo->runs,
+                             report.monte_carlo->failed, o.seed);
+  if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
+  if (!o.gcode.empty()) std::cout << "wrote " << o.gcode << "\n";
+  return 0;
+}
+
+struct ProbeLogOptions {
+  ModelOptions model;
+  std::string plan, log, dialect = "linuxcnc", out;
+  ProbeCycle cycle;
+  double approach = 3.0;
+  int touches = 5;
+  bool json_out = false;
+};
+
+int run_probe_log(const ProbeLogOptions& o) {
+  auto inputs = model_inputs(o.model);
+  inputs.push_back(o.plan);
+  inputs.push_back(o.log);
+  check_outputs(inputs, {o.out});
+  const Machine m = load(o.model);
+  const ProbingPlan plan = plan_targets(m, read_probing_csv(m, o.plan));
+  const auto contacts =
+      read_probe_log(m, o.log, o.dialect == "iso" ? ProbeLogFormat::IsoCsv : ProbeLogFormat::LinuxCNC);
+  ProbeCycle cycle = o.cycle;
+  cycle.approach = o.approach;
+  cycle.touches_per_ball = o.touches;
+  const ProbingPlan meas = measurements_from_contacts(m, plan, cycle, contacts);
+  write_probing_csv(o.out, m, meas,
+                    fmt::format("Measured: plan {}, probe log {} ({} contacts)", o.plan, o.log, contacts.size()));
+  if (o.json_out) {
+    print_json(Json{{"records", meas.records.size()}, {"contacts", contacts.size()}, {"out", o.out}});
+    return 0;
+  }
+  std::cout << fmt::format("{} contacts of {} -> {} measurement records; wrote {}\n", contacts.size(), o.log,
+                           meas.records.size(), o.out);
+  return 0;
+}
+
+}  // namespace
+
+std::vector<Command> add_planning_commands(CLI::App& app) {
+  auto o = std::make_shared<PlanOptions>();
+  auto* c = app.add_subcommand("plan",
+                               "Design a probing plan: the fewest poses (indexations x balls and facets) that identify "
+                               "the requested parameters to a budget; predicted uncertainties, measuring time");
+  add_model_options(c, o->model);
+  c->add_option("--estimate", o->estimate, "Parameters or errors to identify (as mtcal identify --estimate)")
+      ->delimiter(',')
+      ->required();
+  c->add_option("--scale-bar", o->scale_bars, "Calibrated distance between two balls: BALL:BALL:LENGTH (mm)");
+  c->add_option("--sigma-um", o->sigma_um, "Standard deviation of a reading (ball centre coordinate, facet touch), um")
+      ->transform(length_in(1e-3, "LENGTH"))
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--artefact", o->artefact, "Plan or measurement CSV whose balls and facets are used (its rows are not)");
+  c->add_option("--against", o->against,
+                "A given plan: its predicted uncertainties are the budget unless --poses or --target-u is given");
+  auto* poses = c->add_option("--poses", o->poses, "Budget: exactly this many poses")->check(CLI::Range(1, 100000));
+  c->add_option("--target-u", o->target_u,
+                "Budget: PARAMETER=U, a standard uncertainty (0.5um, 2urad, 1um/m; bare: the parameter's unit "
+                "mm, rad, mm/mm); the fewest poses that reach every target")
+      ->delimiter(',')
+      ->excludes(poses);
+  c->add_option("--criterion", o->criterion, "d (D-optimal), a (A-optimal) or max-u (largest relative u); with --poses")
+      ->check(CLI::IsMember({"d", "a", "max-u"}))
+      ->capture_default_str();
+  c->add_option("--rotary-step-deg", o->rotary_step_deg, "Candidate grid step of every rotary axis over its travel, deg")
+      ->check(CLI::Range(0.01, 360.0))
+      ->capture_default_str();
+  c->add_option("--max-tilt-deg", o->reach.max_tilt_deg, "Largest angle of the probe from the balls' stems' opposite, deg")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
+  c->add_option("--stylus-length", o->reach.stylus_length, "Stylus length, tip centre to holder, mm")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--holder-radius", o->reach.holder_radius, "Probe holder radius, mm")
+      ->check(CLI::NonNegativeNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--table-z", o->reach.table_z, "Table plane, z in the workpiece frame, mm")
+      ->check(kFinite)
+      ->capture_default_str();
+  c->add_option("--rapid", o->timing.rapid, "Rapid feed, mm/min")->check(CLI::PositiveNumber & kFinite)->capture_default_str();
+  c->add_option("--rotary-speed", o->timing.rotary_speed, "Indexing speed, deg/min")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--probe-feed", o->timing.probe_feed, "Probing feed, mm/min")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--approach", o->timing.approach, "Probing distance before the expected contact, mm")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--touches", o->timing.touches_per_ball, "Touches per ball centre (the program: 4 or 5)")
+      ->check(CLI::Range(4, 5))
+      ->capture_default_str();
+  c->add_option("--monte-carlo", o->monte_carlo,
+                "Check the prediction: runs of simulate (the machine as truth) -> identify on the designed plan")
+      ->check(CLI::Range(0, 100000));
+  c->add_option("--seed", o->seed, "First seed of the Monte Carlo runs")->capture_default_str();
+  c->add_option("--threads", o->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+  c->add_option("--out", o->out, "Plan CSV to write (mtcal simulate --plan, identifiability --plan)");
+  c->add_option("--gcode", o->gcode, "Probing program to write for the designed plan (--dialect)");
+  c->add_option("--dialect", o->dialect, "G-code dialect: linuxcnc (G38.2, PROBEOPEN log) or iso (G31, #5061 CSV)")
+      ->check(CLI::IsMember({"linuxcnc", "iso"}))
+      ->capture_default_str();
+  c->add_option("--log-name", o->log, "LinuxCNC: the file (PROBEOPEN ...) writes the contacts to")->capture_default_str();
+  add_cycle_options(c, o->cycle);
+  c->add_flag("--json", o->json_out, "Machine-readable output: poses predicted{parameters{u}} time against ...");
+  c->footer(
+      "Examples:\n"
+      "  mtcal plan -m examples/machines/hu40t-wCBXfYZt.yaml --estimate EC0Y,EB0Z,EA0Z,EX0C,EY0C \\\n"
+      "      --scale-bar 1:2:304.8 --against examples/plans/hu40t-samba-tango.csv --out plan.csv\n"
+      "  mtcal plan -m examples/machines/rrttt-table-table.yaml --artefact examples/plans/rrttt-viprey-sphere.csv \\\n"
+      "      --estimate EY0C,EZ0A --poses 12 --criterion d --json\n");
+  std::vector<Command> out{{c, [o] { return run_plan(*o); }}};
+  auto l = std::make_shared<ProbeLogOptions>();
+  auto* lc = app.add_subcommand("probe-log",
+                                "Read the contacts a probing program of mtcal plan logged (LinuxCNC PROBEOPEN or the "
+                                "ISO #5061 CSV) into a measurement CSV for mtcal identify --measurements");
+  add_model_options(lc, l->model);
+  lc->add_option("--plan", l->plan, "The plan the program was written for (mtcal plan --out)")->required();
+  lc->add_option("--log", l->log, "The probe log")->required();
+  lc->add_option("--dialect", l->dialect, "linuxcnc (9 numbers a line) or iso (#5061,#5062,#5063[,...] CSV)")
+      ->check(CLI::IsMember({"linuxcnc", "iso"}))
+      ->capture_default_str();
+  lc->add_option("--approach", l->approach, "As given to mtcal plan, mm")->check(CLI::PositiveNumber & kFinite)->capture_default_str();
+  lc->add_option("--touches", l->touches, "As given to mtcal plan")->check(CLI::Range(4, 5))->capture_default_str();
+  add_cycle_options(lc, l->cycle);
+  lc->add_option("--out", l->out, "Measurement CSV to write (mtcal identify --measurements)")->required();
+  lc->add_flag("--json", l->json_out, "Machine-readable output: records contacts out");
+  lc->footer(
+      "Examples:\n"
+      "  mtcal probe-log -m examples/machines/hu40t-wCBXfYZt.yaml --plan plan.csv --log mtcal-contacts.txt \\\n"
+      "      --out measured.csv && mtcal identify -m ... --measurements measured.csv --estimate ...\n");
+  out.push_back({lc, [l] { return run_probe_log(*l); }});
+  return out;
+}
+
+}  // namespace mtcal::cli

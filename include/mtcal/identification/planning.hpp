@@ -1,0 +1,198 @@
+// Planning a probing measurement (docs/planning.md): candidate configurations within reach, an optimal design, predicted uncertainties, measuring time.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mtcal/identification/identification.hpp"
+#include "mtcal/identification/probing_plan.hpp"
+#include "mtcal/model/machine.hpp"
+
+namespace mtcal {
+
+// ---- The instrument and its reach ----
+
+// A touch probe on balls on stems and on facets, all fixed to the workpiece side. The tool axis a
+// is the unit vector from the probe's tip to the spindle, in the workpiece frame, at a
+// configuration's nominal pose.
+struct ProbeReach {
+  // Stem direction of every ball, from its centre into the stem (workpiece frame): down to the table.
+  Vec3 stem = Vec3(0, 0, -1);
+  // Largest angle between a and -stem (deg): 90 lets the probe come horizontally, never from the
+  // stem's side (the stylus would reach into the stem).
+  double max_tilt_deg = 90.0;
+  // Stylus length from the tip centre to the holder (mm) and the holder's radius (mm): the holder,
+  // a disc of that radius at that distance along a, must stay above the table plane.
+  double stylus_length = 50.0, holder_radius = 20.0;
+  double table_z = 0.0;  // the table plane, z in the workpiece frame (mm)
+};
+
+// Candidate configurations: every feature at every indexation of a grid over the rotary axes.
+struct CandidateGrid {
+  // Per rotary axis of the machine (chain order among the rotary axes): the values (rad).
+  std::vector<std::vector<double>> rotary;
+};
+// The rotary grid of step `step` (rad) over each rotary axis' travel (or [-pi, pi) without one);
+// a travel of a full turn or more is sampled over one turn only (the same poses again otherwise).
+CandidateGrid rotary_grid(const Machine& m, double step);
+
+struct CandidateSet {
+  ProbingPlan plan;  // the features and one record per surviving candidate (nominal targets)
+  std::size_t considered = 0;
+  // Per constraint, in the order applied: name and the number of candidates it removed.
+  std::vector<std::pair<std::string, std::size_t>> removed;
+};
+// Every feature of `features` at every grid indexation (facets: each pre-move pattern of the linear
+// axes other than the probing one), then the constraints: "travel" (a linear target outside its
+// axis' travel), "stem" (a ball approached beyond max_tilt_deg), "facet side" (the probe behind a
+// facet's plane: a . n < 0), "table" (at a ball, the holder below the table plane). Throws InputError when
+// no candidate is left, naming how many each constraint removed.
+CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeFeature>& features,
+                                      const CandidateGrid& grid, const ProbeReach& reach);
+// The constraint (name as above) that rejects record r of a plan (with nominal targets), or "".
+std::string reach_violation(const Machine& m, const ProbingPlan& plan, const ProbingRecord& r, const ProbeReach& reach);
+
+// ---- Predicted uncertainty ----
+
+struct PredictedParameter {
+  std::string name, unit;
+  double u = 0.0;       // predicted standard uncertainty (internal units)
+  double target = 0.0;  // the budget's target (0: none)
+};
+struct PlanPrediction {
+  std::size_t poses = 0, residuals = 0, unknowns = 0, rank = 0;
+  double condition = 0.0;  // of the column-equilibrated Jacobian (analyse_jacobian)
+  std::vector<PredictedParameter> parameters;
+  Eigen::MatrixXd covariance;  // of the machine parameters, internal units
+};
+// sigma^2 (J^T J)^-1 of the machine parameters of options.estimate at the plan's nominal targets,
+// the error-free machine and the nominal artefact (the weights 1/sigma of the options), through
+// analyse_jacobian (fitting/least_squares.hpp). Throws InputError naming the null-space
+// combination (as identifiability does) when a requested parameter is not identifiable.
+PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const IdentificationOptions& options);
+
+// ---- Optimal design ----
+
+enum class DesignCriterion {
+  D,     // maximise det of the parameters' information (Ds: the artefact's unknowns are nuisance)
+  A,     // minimise the sum of the parameters' relative variances
+  MaxU,  // minimise the largest relative standard uncertainty (u / target)
+};
+
+struct DesignOptions {
+  IdentificationOptions model;  // estimate, scale bars, sigmas (ball, facet, scale bar)
+  DesignCriterion criterion = DesignCriterion::D;
+  // Budget: exactly this many poses, or (when 0) the fewest poses that meet target_u.
+  std::size_t poses = 0;
+  // Per requested parameter name: the standard uncertainty to reach (internal units).
+  std::vector<std::pair<std::string, double>> target_u;
+  std::string target_source = "target uncertainty";  // location of messages about the targets
+  std::string poses_source = "poses";
+  int max_passes = 30;  // Fedorov exchange passes (each tries every selected pose)
+  int threads = 0;
+  // Called with a phase ("eliminate", "exchange") and the current number of poses.
+  std::function<void(const char* phase, std::size_t poses)> progress;
+};
+
+struct PlanDesign {
+  ProbingPlan plan;                    // the selected candidates, grouped by indexation
+  std::vector<std::size_t> selected;   // indices into the candidates' records (plan order)
+  PlanPrediction prediction;           // predict_plan of the selected plan
+  PlanPrediction all_candidates;       // with every candidate: the best reachable
+  std::string criterion;               // "D", "A", "max-u"
+  double criterion_value = 0.0;        // log det Cov (D), sum (u/ref)^2 (A), max u/ref (max-u)
+  std::size_t greedy_poses = 0;        // poses after the first backward elimination
+  std::size_t exchanges = 0, passes = 0;
+  bool target_met = true;
+};
+// Exchange design over the candidates (Fedorov 1972, Theory of Optimal Experiments ch. 3;
+// Atkinson, Donev & Tobias 2007, Optimum Experimental Designs, ch. 12; Cook & Nachtsheim 1980):
+// backward elimination from every candidate (each step removes the pose whose loss hurts the
+// criterion least) down to `poses`, then exchange passes (each selected pose removed in turn and
+// the best candidate put in its place, while that improves the criterion). With target_u: remove
+// while the targets stay met, exchange, and remove again while possible. (A forward build-up is
+// myopic where two poses are needed together: a scale bar's two balls.) Each pose is used once.
+// Information matrices of columns scaled to unit RMS per candidate, with a 1e-10 ridge so that
+// undetermined unknowns have a large finite variance; the result is re-predicted exactly by
+// predict_plan. Throws InputError for a budget that cannot be met (with the best reachable
+// uncertainty), parameters no candidate set identifies (the null-space combination), more poses
+// than candidates, or a target for a parameter not estimated.
+PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates, const DesignOptions& options);
+
+// ---- The prediction checked by simulation ----
+
+struct PlanMonteCarlo {
+  std::size_t runs = 0, failed = 0;  // failed: the solver did not converge, or threw
+  std::vector<double> stdev, mean;   // per estimated parameter (order of predict_plan's parameters)
+};
+// runs x (simulate_probing of `truth` with noise options.sigma_ball (balls) and the plan, seeds
+// seed, seed+1, ...; then identify from `prior`): the spread of the estimates, to set beside
+// predict_plan. Scale bars of options are imposed in the simulation. Independent of threads.
+PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, const ProbingPlan& plan,
+                                const IdentificationOptions& options, std::size_t runs, std::uint64_t seed,
+                                int threads = 0);
+
+// ---- The probing program's touches, and the contacts back as measurements ----
+
+// Geometry of the probing cycle (mm). Positions are the machine's axis values (mm, rad) in chain
+// order, as the plan's nominal targets are: the probe tip's centre is on a ball's centre at the
+// record's target, and on a facet's plane at its target.
+struct ProbeCycle {
+  double ball_diameter = 25.4, tip_diameter = 3.0;
+  double approach = 3.0;    // start this far from the expected contact
+  double overtravel = 2.0;  // and probe up to this far beyond it
+  double clearance = 10.0;  // above a ball (along the tool axis) between its touches
+  int touches_per_ball = 5;  // the pole, then 4 on the equator (tool frame); 5 or 4+1 only
+};
+// One probing move: from start to end (both full configurations, the rotary axes at the record's
+// indexation), expected to trip at expected.
+struct ProbeTouch {
+  std::size_t record = 0;
+  std::vector<double> start, end, expected;
+};
+// Per ball record touches_per_ball touches around the target (first along the tool axis, from
+// above; then along the other two linear axes, both ways), per facet record one along its probing
+// axis in its approach direction. Throws InputError for a cycle geometry that is not positive.
+std::vector<ProbeTouch> probe_touches(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle);
+
+// A probed position as a controller logs it: axis values (chain order, internal units; NaN for
+// an axis the log does not have) and where it was read.
+struct LoggedContact {
+  std::vector<double> q;
+  std::string source;
+  int line = 0;
+};
+// The measurements of a plan from the logged contacts of its program, in order: a ball's centre is
+// the sphere fitted to its touches (radius free), a facet's reading the contact. Throws InputError
+// located at the log's line for a count other than the touches', a contact at other rotary values
+// than its record's (1e-6 rad) or farther than approach + overtravel from the expected trip point.
+ProbingPlan measurements_from_contacts(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                                       const std::vector<LoggedContact>& contacts);
+
+// ---- Measuring time ----
+
+struct TimingOptions {
+  double rapid = 10000.0;        // mm/min, linear moves between poses (axes move together)
+  double rotary_speed = 5400.0;  // deg/min, indexing (rotary axes move together)
+  double probe_feed = 200.0;     // mm/min, the probing move
+  double approach = 3.0;         // mm, probing distance before the expected contact (and retract)
+  int touches_per_ball = 5;      // touches of a ball centre cycle (four on the equator and the pole)
+  double ball_radius = 12.7;     // mm, moves around a ball between touches
+  double settle = 0.5;           // s, dwell after each indexing (clamping)
+};
+struct TimeEstimate {
+  double total = 0.0, moves = 0.0, probing = 0.0, indexing = 0.0;  // s
+  std::size_t indexations = 0, touches = 0;
+};
+// The plan's records in order: rapid between targets (the slowest axis sets the time), indexing
+// when the rotary values change (the slowest rotary axis, plus settle), per ball touches_per_ball
+// touches and per facet one, each approach at probe_feed and retract at rapid, with moves of
+// 2 ball_radius + 2 approach between a ball's touches.
+TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const TimingOptions& options);
+
+}  // namespace mtcal

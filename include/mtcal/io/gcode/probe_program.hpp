@@ -1,0 +1,34 @@
+// The probing program of a plan (docs/planning.md): G-code for LinuxCNC (G38.2, PROBEOPEN log) or an ISO control (G31).
+#pragma once
+
+#include <string>
+
+#include "mtcal/identification/planning.hpp"
+
+namespace mtcal {
+
+enum class ProbeDialect { LinuxCNC, Iso };
+
+struct ProbeProgramOptions {
+  ProbeDialect dialect = ProbeDialect::LinuxCNC;
+  double probe_feed = 200.0;  // mm/min of the probing moves
+  double feed = 2000.0;       // mm/min of the moves near the artefact (G1)
+  std::string log = "mtcal-contacts.txt";  // LinuxCNC: the file PROBEOPEN writes
+  std::string header;  // a line for the header comment (machine, plan); no parentheses
+};
+
+// The program: a header that states the coordinates (the machine's axis values of mtcal's model,
+// mm and deg: G54 offsets zero, no tool length offset, G49) and the cycle; per record a retract of
+// the tool-axis linear axis to its travel end, the indexation (G0 of the rotary axes), then per
+// touch a move over the start, down, the probing move (G38.2 / G31 at probe_feed) and the
+// retract. LinuxCNC: (PROBEOPEN log) ... (PROBECLOSE) around the touches, which makes LinuxCNC
+// write one line of the 9 probed coordinates per G38.2 (LinuxCNC G-code overview, "Probe
+// Logging"). ISO: the skip position #5061-#5063 after each G31 is to be written as one CSV line
+// (read_probe_log, ProbeLogFormat::IsoCsv). Every move is a full-word absolute block (G90).
+std::string probe_program(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                          const ProbeProgramOptions& options);
+// probe_program written to path (complete or not at all).
+void write_probe_program(const std::string& path, const Machine& m, const ProbingPlan& plan,
+                         const ProbeCycle& cycle, const ProbeProgramOptions& options);
+
+}  // namespace mtcal

@@ -1,0 +1,33 @@
+// JSON of a designed probing plan (mtcal plan --json, docs/planning.md): predicted uncertainties, time, the comparison.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "mtcal/identification/planning.hpp"
+#include "mtcal/io/json/json.hpp"
+
+namespace mtcal {
+
+Json to_json(const PlanPrediction& p);
+Json to_json(const TimeEstimate& t);
+Json to_json(const CandidateSet& c);
+Json to_json(const PlanMonteCarlo& mc, const PlanPrediction& predicted);
+
+// What mtcal plan reports, keys in this order: criterion, criterion_value, candidates {considered,
+// kept, removed {constraint: count}}, poses, greedy_poses, exchanges, passes, target_met,
+// predicted (to_json(PlanPrediction)), best_reachable, time, [against {plan, poses, predicted,
+// time, fewer_poses_percent}], [monte_carlo], out, gcode.
+struct PlanReport {
+  const CandidateSet* candidates = nullptr;
+  const PlanDesign* design = nullptr;
+  TimeEstimate time;
+  std::optional<PlanPrediction> against;
+  std::optional<TimeEstimate> against_time;
+  std::string against_path;
+  std::optional<PlanMonteCarlo> monte_carlo;
+  std::string out, gcode;
+};
+Json to_json(const PlanReport& r);
+
+}  // namespace mtcal

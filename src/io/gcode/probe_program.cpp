@@ -1,0 +1,109 @@
+#include "mtcal/io/gcode/probe_program.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal {
+
+namespace {
+
+// "X12.345000 Y-3.000000 Z40.000000" for the given axes of q (mm; deg for rotary axes).
+std::string words(const Machine& m, const std::vector<double>& q, bool rotary) {
+  std::string out;
+  for (std::size_t k = 0; k < m.axes.size(); ++k) {
+    if ((m.axes[k].kind == AxisKind::Rotary) != rotary) continue;
+    const double v = rotary ? q[k] * 180.0 / std::numbers::pi : q[k];
+    out += fmt::format("{}{}{:.6f}", out.empty() ? "" : " ", m.axes[k].letter, std::abs(v) < 5e-7 ? 0.0 : v);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string probe_program(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                          const ProbeProgramOptions& o) {
+  for (const auto& [name, v] : {std::pair{"probing feed", o.probe_feed}, std::pair{"feed", o.feed}})
+    if (!(v > 0) || !std::isfinite(v)) throw InputError({name, 0, ""}, fmt::format("expected > 0 mm/min, found {:g}", v));
+  if (o.log.find_first_of("()\n\r") != std::string::npos)
+    throw InputError({"probe log", 0, o.log}, "a log file name may not contain parentheses or line ends");
+  const std::vector<ProbeTouch> touches = probe_touches(m, plan, cycle);
+  const bool lcnc = o.dialect == ProbeDialect::LinuxCNC;
+  // The tool-axis linear axis and its safe end: where the tool is farthest from the workpiece.
+  std::size_t tz = m.axes.size();
+  for (std::size_t k = 0; k < m.axes.size(); ++k)
+    if (m.axes[k].kind == AxisKind::Linear && m.axes[k].direction_axis == m.tool.tool_axis) tz = k;
+  if (tz == m.axes.size() || !m.axes[tz].travel)
+    throw InputError({m.source, 0, ""}, "the linear axis along the tool needs a travel (its end is the safe retract)");
+  const Axis& zax = m.axes[tz];
+  const double safe = zax.direction_sign > 0 ? zax.travel->max : zax.travel->min;
+  const char zl = zax.letter;
+  const double rho = (cycle.ball_diameter + cycle.tip_diameter) / 2;
+
+  std::string s;
+  if (!lcnc) s += "%\n";
+  s += fmt::format("(mtcal probing program, {} dialect: {} records, {} probing moves)\n", lcnc ? "LinuxCNC" : "ISO",
+                   plan.records.size(), touches.size());
+  if (!o.header.empty()) s += "(" + o.header + ")\n";
+  s += "(Coordinates: the machine's axis values of mtcal's model, mm and deg; the tool length is in the model.)\n";
+  s += "(Run with the G54 work offsets zero and no tool length offset: G54 G49 below.)\n";
+  s += fmt::format("(Cycle: ball diameter {:g} mm, tip diameter {:g} mm, approach {:g} mm, overtravel {:g} mm, "
+                   "clearance {:g} mm, {} touches a ball; safe retract {}{:g})\n",
+                   cycle.ball_diameter, cycle.tip_diameter, cycle.approach, cycle.overtravel, cycle.clearance,
+                   cycle.touches_per_ball, zl, safe);
+  if (lcnc)
+    s += "(Each G38.2 contact is logged by LinuxCNC to the PROBEOPEN file: X Y Z A B C U V W a line.)\n";
+  else
+    s += "(After each G31 record the skip position #5061 #5062 #5063 as one CSV line, in order: mtcal reads that file.)\n";
+  s += "G21 G90 G94 G17 G40 G49 G54 G80\n";
+  if (lcnc) s += fmt::format("(PROBEOPEN {})\n", o.log);
+  const std::size_t none = plan.records.size();
+  std::size_t current = none;
+  std::vector<double> last_rotary;
+  for (std::size_t i = 0; i < touches.size(); ++i) {
+    const ProbeTouch& t = touches[i];
+    const ProbingRecord& r = plan.records[t.record];
+    const bool ball = plan.features[r.feature].kind == ProbeFeature::Kind::Ball;
+    if (t.record != current) {
+      current = t.record;
+      s += fmt::format("(record {}: indexation {}, {} {}, plan line {})\n", t.record + 1, r.indexation,
+                       ball ? "ball" : "facet", plan.features[r.feature].id, r.line);
+      s += fmt::format("G0 {}{:.6f}\n", zl, safe);
+      const std::string rot = words(m, r.q, true);
+      if (!rot.empty() && rot != (last_rotary.empty() ? std::string() : words(m, last_rotary, true)))
+        s += "G0 " + rot + "\n";
+      last_rotary = r.q;
+      // Over the start at the safe level, then down to it.
+      std::vector<double> over = t.start;
+      over[tz] = safe;
+      s += "G0 " + words(m, over, false) + "\n";
+    } else if (ball) {
+      // Between a ball's touches: up to the clearance level above the ball, over, down.
+      std::vector<double> lift = touches[i - 1].start, over = t.start;
+      const double top = r.q[tz] + zax.direction_sign * (rho + cycle.clearance);
+      lift[tz] = top;
+      over[tz] = top;
+      s += fmt::format("G1 {} F{:g}\n", words(m, lift, false), o.feed);
+      s += fmt::format("G1 {} F{:g}\n", words(m, over, false), o.feed);
+    }
+    s += fmt::format("G1 {} F{:g}\n", words(m, t.start, false), o.feed);
+    s += fmt::format("{} {} F{:g}\n", lcnc ? "G38.2" : "G31", words(m, t.end, false), o.probe_feed);
+    s += fmt::format("G1 {} F{:g}\n", words(m, t.start, false), o.feed);
+  }
+  s += fmt::format("G0 {}{:.6f}\n", zl, safe);
+  if (lcnc) s += "(PROBECLOSE)\n";
+  s += "M2\n";
+  if (!lcnc) s += "%\n";
+  return s;
+}
+
+void write_probe_program(const std::string& path, const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                         const ProbeProgramOptions& options) {
+  write_file_atomically(path, probe_program(m, plan, cycle, options));
+}
+
+}  // namespace mtcal

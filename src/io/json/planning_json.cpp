@@ -1,0 +1,67 @@
+#include "mtcal/io/json/planning_json.hpp"
+
+namespace mtcal {
+
+Json to_json(const PlanPrediction& p) {
+  Json params = Json::object();
+  for (const auto& e : p.parameters) {
+    Json j = {{"u", number_or_null(e.u)}, {"unit", e.unit}};
+    if (e.target > 0) j["target"] = e.target;
+    params[e.name] = j;
+  }
+  return {{"poses", p.poses},         {"residuals", p.residuals}, {"unknowns", p.unknowns},
+          {"rank", p.rank},           {"condition", number_or_null(p.condition)},
+          {"parameters", params}};
+}
+
+Json to_json(const TimeEstimate& t) {
+  return {{"total_s", t.total},         {"moves_s", t.moves},   {"probing_s", t.probing},
+          {"indexing_s", t.indexing},   {"indexations", t.indexations}, {"touches", t.touches}};
+}
+
+Json to_json(const CandidateSet& c) {
+  Json removed = Json::object();
+  for (const auto& [name, n] : c.removed) removed[name] = n;
+  return {{"considered", c.considered}, {"kept", c.plan.records.size()}, {"removed", removed}};
+}
+
+Json to_json(const PlanMonteCarlo& mc, const PlanPrediction& predicted) {
+  Json params = Json::object();
+  for (std::size_t i = 0; i < predicted.parameters.size() && i < mc.stdev.size(); ++i) {
+    const double u = predicted.parameters[i].u;
+    params[predicted.parameters[i].name] = {{"u_monte_carlo", mc.stdev[i]},
+                                            {"ratio", number_or_null(u > 0 ? mc.stdev[i] / u : NAN)}};
+  }
+  return {{"runs", mc.runs}, {"failed", mc.failed}, {"parameters", params}};
+}
+
+Json to_json(const PlanReport& r) {
+  const PlanDesign& d = *r.design;
+  Json j;
+  j["criterion"] = d.criterion;
+  j["criterion_value"] = number_or_null(d.criterion_value);
+  if (r.candidates) j["candidates"] = to_json(*r.candidates);
+  j["poses"] = d.plan.records.size();
+  j["greedy_poses"] = d.greedy_poses;
+  j["exchanges"] = d.exchanges;
+  j["passes"] = d.passes;
+  j["target_met"] = d.target_met;
+  j["predicted"] = to_json(d.prediction);
+  j["best_reachable"] = to_json(d.all_candidates);
+  j["time"] = to_json(r.time);
+  if (r.against) {
+    Json a = {{"plan", r.against_path}, {"poses", r.against->poses}, {"predicted", to_json(*r.against)}};
+    if (r.against_time) a["time"] = to_json(*r.against_time);
+    a["fewer_poses_percent"] =
+        r.against->poses > 0 ? 100.0 * (static_cast<double>(r.against->poses) - static_cast<double>(d.plan.records.size())) /
+                                   static_cast<double>(r.against->poses)
+                             : 0.0;
+    j["against"] = a;
+  }
+  if (r.monte_carlo) j["monte_carlo"] = to_json(*r.monte_carlo, d.prediction);
+  if (!r.out.empty()) j["out"] = r.out;
+  if (!r.gcode.empty()) j["gcode"] = r.gcode;
+  return j;
+}
+
+}  // namespace mtcal

@@ -1,0 +1,266 @@
+// The probing program of a plan through mtcal's G-code reader and LinuxCNC's rs274, its probe logs
+// read back into measurements that identify reads, and the log reader's bad inputs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "mtcal/identification/planning.hpp"
+#include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/gcode/probe_program.hpp"
+#include "mtcal/io/instruments/probe_log.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/io/instruments/probing_plan_file.hpp"
+#include "mtcal/io/gcode/rs274.hpp"
+#include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal {
+namespace {
+
+const std::string kPlans = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/";
+
+Machine hu40t() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml"); }
+
+// A small plan: the paper's first six ball probings and four facet touches of indexation 17.
+ProbingPlan small_plan(const Machine& m) {
+  ProbingPlan p = read_probing_csv(m, kPlans + "hu40t-samba-tango.csv");
+  std::vector<ProbingRecord> keep(p.records.begin(), p.records.begin() + 6);
+  for (const auto& r : p.records)
+    if (p.features[r.feature].kind == ProbeFeature::Kind::Facet && r.indexation == 17) keep.push_back(r);
+  p.records = keep;
+  return plan_targets(m, p);
+}
+
+GcodeOptions xyzbc() {
+  GcodeOptions o;
+  o.axes = "XYZBC";
+  return o;
+}
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return "";
+}
+
+// LinuxCNC's log of the program's touches as a perfect machine would trip them: the expected
+// contacts, plus noise; "%.6f" nine columns like LinuxCNC.
+std::string log_of(const Machine& m, const std::vector<ProbeTouch>& touches, double noise, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::string s;
+  for (const auto& t : touches) {
+    std::array<double, 9> v{};
+    const std::string letters = "XYZABCUVW";
+    for (std::size_t c = 0; c < 9; ++c)
+      if (const auto k = m.axis_index(letters[c]))
+        v[c] = m.axes[*k].kind == AxisKind::Rotary ? t.expected[*k] * 180 / std::numbers::pi
+                                                    : t.expected[*k] + noise * g(rng);
+    s += fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", v[0], v[1], v[2], v[3], v[4],
+                     v[5], v[6], v[7], v[8]);
+  }
+  return s;
+}
+
+TEST(ProbeProgram, TouchesSitOnTheBallAndTheFacet) {
+  const Machine m = hu40t();
+  const ProbingPlan p = small_plan(m);
+  const ProbeCycle c;
+  const auto touches = probe_touches(m, p, c);
+  ASSERT_EQ(touches.size(), 6u * 5 + 4);
+  const double rho = (c.ball_diameter + c.tip_diameter) / 2;
+  const std::size_t X = *m.axis_index('X'), Y = *m.axis_index('Y'), Z = *m.axis_index('Z');
+  for (const auto& t : touches) {
+    const auto& r = p.records[t.record];
+    const Vec3 centre(r.q[X], r.q[Y], r.q[Z]), e(t.expected[X], t.expected[Y], t.expected[Z]),
+        s(t.start[X], t.start[Y], t.start[Z]), f(t.end[X], t.end[Y], t.end[Z]);
+    if (p.features[r.feature].kind == ProbeFeature::Kind::Ball) {
+      EXPECT_NEAR((e - centre).norm(), rho, 1e-12);
+      EXPECT_NEAR((s - centre).norm(), rho + c.approach, 1e-12);
+      EXPECT_NEAR((f - centre).norm(), rho - c.overtravel, 1e-12);
+    } else {
+      // The facet (x = 200, normal +x) is probed along X towards -x: start 3 mm before, end 2 beyond.
+      EXPECT_NEAR((e - centre).norm(), 0.0, 1e-12);
+      EXPECT_NEAR(s.x() - e.x(), c.approach, 1e-9);
+      EXPECT_NEAR(e.x() - f.x(), c.overtravel, 1e-9);
+    }
+  }
+}
+
+TEST(ProbeProgram, MtcalsReaderFollowsTheProgram) {
+  const Machine m = hu40t();
+  const ProbingPlan p = small_plan(m);
+  const ProbeCycle c;
+  const auto touches = probe_touches(m, p, c);
+  for (const auto dialect : {ProbeDialect::LinuxCNC, ProbeDialect::Iso}) {
+    ProbeProgramOptions o;
+    o.dialect = dialect;
+    const std::string prog = probe_program(m, p, c, o);
+    const char* word = dialect == ProbeDialect::LinuxCNC ? "G38.2" : "G31";
+    // mtcal's reader simulates no probing (the path depends on the trip): it says so at the first
+    // probing move (LinuxCNC) ...
+    if (dialect == ProbeDialect::LinuxCNC) {
+      const std::string msg = message_of([&] { parse_gcode(prog, "probe.ngc", xyzbc()); });
+      EXPECT_NE(msg.find("G38.2 probing"), std::string::npos) << msg;
+    }
+    // ... so each probing move is read as the straight feed to its end (the probe not tripping):
+    // every such move ends at its touch's end, at its record's indexation.
+    const std::string as_feed = std::regex_replace(prog, std::regex(dialect == ProbeDialect::LinuxCNC ? "G38\\.2" : "G31"), "G1");
+    const GcodeProgram g = parse_gcode(as_feed, "probe.ngc", xyzbc());
+    std::size_t i = 0;
+    std::istringstream lines(prog);
+    std::string line;
+    std::vector<int> probe_lines;
+    for (int n = 1; std::getline(lines, line); ++n)
+      if (line.rfind(word, 0) == 0) probe_lines.push_back(n);
+    ASSERT_EQ(probe_lines.size(), touches.size());
+    for (const auto& mv : g.moves) {
+      if (i < probe_lines.size() && mv.line == probe_lines[i]) {
+        const auto& t = touches[i];
+        for (char a : {'X', 'Y', 'Z'}) EXPECT_NEAR(mv.end[std::string("XYZABC").find(a)], t.end[*m.axis_index(a)], 1e-6);
+        for (char a : {'B', 'C'})
+          EXPECT_NEAR(mv.end[std::string("XYZABC").find(a)], t.end[*m.axis_index(a)] * 180 / std::numbers::pi, 1e-6);
+        ++i;
+      }
+    }
+    EXPECT_EQ(i, touches.size());
+  }
+}
+
+TEST(ProbeProgram, LinuxcncInterpreterReadsTheProgram) {
+  if (find_rs274().empty()) GTEST_SKIP() << "LinuxCNC's rs274 is not installed (linuxcnc-uspace)";
+  const Machine m = hu40t();
+  const ProbingPlan p = small_plan(m);
+  const ProbeCycle c;
+  const auto touches = probe_touches(m, p, c);
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("mtcal-probe-{}", ::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "probe.ngc").string();
+  write_probe_program(path, m, p, c, {});
+  const Rs274Output out = run_rs274(path, GcodeSetup{});
+  std::filesystem::remove_all(dir);
+  EXPECT_FALSE(out.missing_end);
+  // One STRAIGHT_PROBE per touch, at the touch's end (the program is in mm, G21, and the calls
+  // come in the program's units here; the rotary axes in degrees).
+  const std::regex call(R"(STRAIGHT_PROBE\(\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+))");
+  std::size_t i = 0;
+  for (auto it = std::sregex_iterator(out.calls.begin(), out.calls.end(), call); it != std::sregex_iterator(); ++it, ++i) {
+    ASSERT_LT(i, touches.size());
+    const auto& t = touches[i];
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(std::stod((*it)[a + 1]), t.end[*m.axis_index("XYZ"[a])], 1e-3) << "probe " << i;
+    EXPECT_NEAR(std::stod((*it)[5]), t.end[*m.axis_index('B')] * 180 / std::numbers::pi, 1e-3);
+    EXPECT_NEAR(std::stod((*it)[6]), t.end[*m.axis_index('C')] * 180 / std::numbers::pi, 1e-3);
+  }
+  EXPECT_EQ(i, touches.size());
+}
+
+TEST(ProbeLog, ContactsBackToMeasurementsThatIdentifyReads) {
+  const Machine m = hu40t();
+  const ProbingPlan p = small_plan(m);
+  const ProbeCycle c;
+  const auto touches = probe_touches(m, p, c);
+  // Noise-free: the ball centres are the targets to the log's 6 decimals.
+  const auto contacts = parse_probe_log(m, log_of(m, touches, 0.0, 1), "probe.txt", ProbeLogFormat::LinuxCNC);
+  const ProbingPlan meas = measurements_from_contacts(m, p, c, contacts);
+  EXPECT_TRUE(meas.measured);
+  for (std::size_t i = 0; i < p.records.size(); ++i)
+    for (char a : {'X', 'Y', 'Z'})
+      EXPECT_NEAR(meas.records[i].q[*m.axis_index(a)], p.records[i].q[*m.axis_index(a)], 2e-6) << i;
+  // The measurement file round trip: what identify --measurements reads.
+  const ProbingPlan again = parse_probing_csv(m, probing_csv(m, meas), "meas.csv");
+  EXPECT_TRUE(again.measured);
+  EXPECT_EQ(again.records.size(), p.records.size());
+  // The ISO CSV of #5061-#5063 gives the same centres.
+  std::string iso = "#5061,#5062,#5063\n";
+  for (const auto& t : touches)
+    iso += fmt::format("{:.6f},{:.6f},{:.6f}\n", t.expected[*m.axis_index('X')], t.expected[*m.axis_index('Y')],
+                       t.expected[*m.axis_index('Z')]);
+  const ProbingPlan meas_iso =
+      measurements_from_contacts(m, p, c, parse_probe_log(m, iso, "probe.csv", ProbeLogFormat::IsoCsv));
+  for (std::size_t i = 0; i < p.records.size(); ++i)
+    EXPECT_NEAR(meas_iso.records[i].q[*m.axis_index('X')], meas.records[i].q[*m.axis_index('X')], 1e-9);
+}
+
+TEST(ProbeLog, BadLogsSayFileAndLine) {
+  const Machine m = hu40t();
+  const ProbingPlan p = small_plan(m);
+  const ProbeCycle c;
+  const auto touches = probe_touches(m, p, c);
+  const std::string good = log_of(m, touches, 0.0, 1);
+  auto lines = [&] {
+    std::vector<std::string> v;
+    std::istringstream in(good);
+    for (std::string l; std::getline(in, l);) v.push_back(l);
+    return v;
+  }();
+  auto join = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& l : v) s += l + "\n";
+    return s;
+  };
+  auto meas = [&](const std::string& text) {
+    measurements_from_contacts(m, p, c, parse_probe_log(m, text, "probe.txt", ProbeLogFormat::LinuxCNC));
+  };
+  // Unparsable line.
+  auto bad = lines;
+  bad[3] = "1.0 2.0 abc 0 0 0 0 0 0";
+  std::string msg = message_of([&] { meas(join(bad)); });
+  EXPECT_NE(msg.find("probe.txt:4"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected a number for Z, found 'abc'"), std::string::npos) << msg;
+  // Wrong count of numbers.
+  bad = lines;
+  bad[5] = "1 2 3";
+  msg = message_of([&] { meas(join(bad)); });
+  EXPECT_NE(msg.find("probe.txt:6"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected 9 numbers"), std::string::npos) << msg;
+  // Missing line: the log ends early.
+  bad = lines;
+  bad.pop_back();
+  msg = message_of([&] { meas(join(bad)); });
+  EXPECT_NE(msg.find("expected 34 contacts"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("found 33"), std::string::npos) << msg;
+  // Extra line: located at the first extra one.
+  bad = lines;
+  bad.push_back(lines.back());
+  msg = message_of([&] { meas(join(bad)); });
+  EXPECT_NE(msg.find("probe.txt:35"), std::string::npos) << msg;
+  // Out of order: two ball touches of different indexations swapped (B/C differ).
+  bad = lines;
+  std::swap(bad[4], bad[20]);
+  msg = message_of([&] { meas(join(bad)); });
+  EXPECT_NE(msg.find("probe.txt:5"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("does not follow the plan"), std::string::npos) << msg;
+  // Out of order within one indexation: position far from the expected trip point.
+  bad = lines;
+  std::swap(bad[0], bad[5]);  // ball 3's pole against ball 4's pole, same B and C
+  msg = message_of([&] { meas(join(bad)); });
+  EXPECT_NE(msg.find("probe.txt:1"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("mm from where the plan's record 1"), std::string::npos) << msg;
+  // Non-finite and empty.
+  bad = lines;
+  bad[2] = "nan 0 0 0 0 0 0 0 0";
+  msg = message_of([&] { meas(join(bad)); });
+  EXPECT_NE(msg.find("probe.txt:3"), std::string::npos) << msg;
+  msg = message_of([&] { meas("\n\n"); });
+  EXPECT_NE(msg.find("found no contact"), std::string::npos) << msg;
+  // ISO: two numbers only.
+  msg = message_of([&] { parse_probe_log(m, "#5061,#5062,#5063\n1,2\n", "probe.csv", ProbeLogFormat::IsoCsv); });
+  EXPECT_NE(msg.find("probe.csv:2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected 3 to 6 numbers"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace mtcal
