@@ -1,5 +1,7 @@
 # The two commands README promises: `make demo` and `make test`. Both install what is missing,
-# configure, build (Release, -j2) and run.
+# configure, build (Release, -j2) and run. `make demo` builds only what the demo runs (the library and
+# the command: Ninja target mtcal); `make test` builds everything it tests (all: tests, fuzz replays,
+# the Python module, benchmarks); `make bench` only the benchmarks (docs/building.md, build times).
 BUILD ?= build
 JOBS ?= 2
 CMAKE_EXTRA_FLAGS ?=
@@ -9,7 +11,7 @@ COMPILERS = $(if $(filter default,$(origin CXX)),,-DCMAKE_CXX_COMPILER=$(CXX)) \
             $(if $(filter default,$(origin CC)),,-DCMAKE_C_COMPILER=$(CC))
 MTCAL = $(BUILD)/apps/mtcal/mtcal
 
-.PHONY: all deps configure build demo test test-linuxcnc bench test-sanitize fuzz fuzz-run format clean
+.PHONY: all deps configure build demo test build-times test-linuxcnc bench test-sanitize fuzz fuzz-run format clean
 
 all: build
 
@@ -22,9 +24,13 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-demo: build
+demo: configure
+	cmake --build $(BUILD) -j $(JOBS) --target mtcal
 	scripts/demo $(MTCAL)
 
+# ctest -j: every test, none left out by label (the slow groups have labels only to pick them by
+# hand: `ctest -L browser`, `ctest -LE 'browser|linuxcnc|postgresql'`; docs/building.md); a test
+# that cannot run here (no Chromium, no rs274) is listed SKIPPED with its reason.
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
@@ -45,7 +51,8 @@ test-linuxcnc: build
 
 # The benchmarks, then the ratios against their baselines of the same run (bench/ratios.py) and
 # `eval --grid` against the grid-aware numpy peer (bench/grid_peer.py); docs/performance.md.
-bench: build
+bench: configure
+	cmake --build $(BUILD) -j $(JOBS) --target mtcal_bench mtcal_grid_factors mtcal
 	$(BUILD)/bench/mtcal_bench --benchmark_min_time=0.5 --benchmark_out=$(BUILD)/bench.json
 	/usr/bin/python3 bench/ratios.py $(BUILD)/bench.json
 	/usr/bin/python3 bench/grid_peer.py --build $(BUILD)
@@ -70,6 +77,10 @@ fuzz: deps
 
 fuzz-run: fuzz
 	scripts/run-fuzzers build-fuzz/tests/fuzz $(FUZZ_SECONDS) build-fuzz/fuzz-logs
+
+# Compile-seconds per unit of the last build (scripts/build-times; docs/building.md).
+build-times:
+	scripts/build-times $(BUILD)
 
 # Reformat every C++ file git knows with .clang-format (clang-format 14, Debian's clang-format).
 format:

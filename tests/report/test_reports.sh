@@ -120,7 +120,7 @@ if command -v node >/dev/null; then
   node_rc=$?
   cat "$tmp/browser"
 else
-  echo "SKIPPED: node is not installed"
+  echo "SKIPPED: node is not installed (Debian: nodejs npm; scripts/install-deps installs them)"
   node_rc=77
 fi
 echo "$pass passed, $fail failed"
