@@ -101,7 +101,7 @@ void print_json(Json j) {
     if (!j.contains("metadata") || !j["metadata"].is_object()) j["metadata"] = Json::object();
     for (const auto& [k, v] : session_metadata().entries()) j["metadata"][k] = v;
   }
-  std::cout << j.dump(2) << "\n";
+  std::cout << json_text(j, 2) << "\n";
 }
 
 void add_tolerance_options(CLI::App* cmd, ToleranceOptions& o, const std::string& quantities) {

@@ -89,7 +89,7 @@ int run_tables(const CompensateOptions& o) {
   const Machine m = load(o.gcode.model);
   const TargetOutput out = target.run(m, library_options(m, o));
   // The folder is renamed into place at once, not with the command's other outputs: everything
-  // that can still fail (the report, the JSON text) comes before it.
+  // that can still fail (the report) comes before it.
   if (!o.report.empty()) {
     std::vector<std::pair<std::string, std::string>> inputs;
     for (const auto& f : o.gcode.model.params) inputs.emplace_back("parameter file", f);  // the machine file is shown
@@ -101,7 +101,6 @@ int run_tables(const CompensateOptions& o) {
     (*j)["machine"] = m.name;
     (*j)["out"] = o.gcode.out;
     if (!o.report.empty()) (*j)["report"] = o.report;
-    (void)j->dump();  // throws here, before the folder is written, on text that is not UTF-8
   }
   write_target_output(o.gcode.out, out);
   if (j) {

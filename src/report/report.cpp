@@ -12,6 +12,7 @@
 
 #include "mtcal/io/files.hpp"
 #include "mtcal/io/headless_browser.hpp"
+#include "mtcal/io/json.hpp"
 #include "mtcal/model/machine.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/version.hpp"
@@ -54,9 +55,10 @@ std::string html_escape(std::string_view s) {
 }
 
 std::string script_safe_json(const nlohmann::json& j) {
-  // dump() escapes control characters; "<" is escaped too so that no "</script" or "<!--" in a
-  // user string can end the script element (JSON allows \u003c anywhere in a string).
-  const std::string text = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  // json_text escapes control characters and replaces bytes that are not UTF-8; "<" is escaped
+  // too so that no "</script" or "<!--" in a user string can end the script element (JSON allows
+  // \u003c anywhere in a string).
+  const std::string text = json_text(j);
   std::string out;
   out.reserve(text.size());
   for (char c : text) {
