@@ -170,7 +170,11 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
                return run_gcode_correction(o->gcode);
              }
              check_gcode_input_options(o->gcode.input, false);
-             return run_tables(*o);
+             try {
+               return run_tables(*o);
+             } catch (const InputError& e) {
+               rethrow_for_options(e, {{"points", "--points"}});  // a controller's table limit
+             }
            }}};
 }
 

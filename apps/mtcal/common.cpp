@@ -13,6 +13,7 @@
 #include "mtcal/io/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
+#include "mtcal/util/request_error.hpp"
 #include "mtcal/util/units.hpp"
 
 namespace mtcal::cli {
@@ -92,12 +93,21 @@ void require_finite_numbers(CLI::App& app) {
 }
 
 void rethrow_for_options(const InputError& e, const std::vector<std::pair<std::string, std::string>>& names) {
+  const std::string message = std::string(e.what()).substr(e.where().describe().size() + 2);
   for (const auto& [from, to] : names)
     if (e.where().file == from) {
       SourceLocation where = e.where();
       where.file = to;
-      throw InputError(where, std::string(e.what()).substr(e.where().describe().size() + 2));
+      throw InputError(where, message);
     }
+  // Located in the data (a program's block), caused by the values of options: those are named.
+  if (const auto* r = dynamic_cast<const RequestError*>(&e)) {
+    std::string options;
+    for (const auto& cause : r->causes())
+      for (const auto& [from, to] : names)
+        if (cause == from) options += (options.empty() ? "" : ", ") + to;
+    if (!options.empty()) throw InputError(e.where(), message + " (" + options + ")");
+  }
   throw;
 }
 
