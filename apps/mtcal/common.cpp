@@ -179,8 +179,13 @@ CLI::Validator quantity_validator(Dimension d, double bare_factor, const char* u
   return CLI::Validator(
       [=](std::string& s) -> std::string {
         try {
-          // Rewritten as a bare number in the option's unit, which CLI11 then converts.
-          s = fmt::format("{:.17g}", parse_quantity(s, d, bare_factor, false, {}) / bare_factor);
+          // Rewritten as a bare number in the option's unit, which CLI11 then converts: 17
+          // digits read back to the same double. A bare number stays as written; a decimal unit
+          // of a decimal option's unit ("20um" for an option in mm) converts exactly.
+          const double internal = parse_quantity(s, d, bare_factor, false, {});  // checks the unit
+          const TypedValue v = parse_typed_value(s, d, {});
+          const auto value = v.unit ? convert_number(v.text, v.unit->to_internal, bare_factor) : v.number;
+          s = fmt::format("{:.17g}", value.value_or(internal / bare_factor));
           return {};
         } catch (const InputError& e) {
           std::string msg = std::string(e.what()).substr(e.where().describe().size() + 2);

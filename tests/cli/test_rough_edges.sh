@@ -49,4 +49,12 @@ expect_error "compensate --points" "expected at most 256 positions per table (th
   -- "$MTCAL" compensate -m "$M3" --format linuxcnc --points 300 --out comp
 [ ! -e comp ] && ok || bad "comp written"
 
+# --- 3. A decimal unit reads exactly: 20urad is 2e-5, bit for bit ---------------------------------
+"$MTCAL" eval -m "$M3" --at X=100,Y=200,Z=-100 --set EC0Y=20urad --json >a.json 2>&1
+"$MTCAL" eval -m "$M3" --at X=100,Y=200,Z=-100 --set EC0Y=2e-5 --json >b.json 2>&1
+cmp -s a.json b.json && ok || bad "--set EC0Y=20urad and 2e-5 differ: $(diff a.json b.json | head -5)"
+"$MTCAL" eval -m "$M3" --at X=100,Y=200,Z=-100 --set EX0Y=20um --json >a.json 2>&1
+"$MTCAL" eval -m "$M3" --at X=100,Y=200,Z=-100 --set EX0Y=0.02 --json >b.json 2>&1
+cmp -s a.json b.json && ok || bad "--set EX0Y=20um and 0.02 differ"
+
 summary_and_exit
