@@ -341,3 +341,5 @@ void Report::write(const std::string& path) const {
 }
 
 }  // namespace mtcal
+    // A folder that is not there yet is made, as one of the command's outputs (all or none).
+    if (std::error_code ec; !std::filesystem::exists(copies.png_dir, ec)) create_output_directory(copies.png_dir);
