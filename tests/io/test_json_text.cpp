@@ -54,7 +54,9 @@ TEST(JsonText, IsUtf8AgreesWithTheJsonLibrary) {
     valid += strict;
     const std::string fixed = utf8_text(s);
     ASSERT_TRUE(is_utf8(fixed));
-    if (strict) ASSERT_EQ(fixed, s);
+    if (strict) {
+      ASSERT_EQ(fixed, s);
+    }
   }
   EXPECT_GT(valid, 1000);  // both kinds were tried
   EXPECT_LT(valid, 19000);
