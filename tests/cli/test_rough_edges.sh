@@ -58,15 +58,15 @@ cmp -s a.json b.json && ok || bad "--set EC0Y=20urad and 2e-5 differ: $(diff a.j
 cmp -s a.json b.json && ok || bad "--set EX0Y=20um and 0.02 differ"
 
 # --- 5. LinuxCNC's "tool not found" says what to do ------------------------------------------------
-NC=/usr/share/linuxcnc/ncfiles/comp.ngc
+NC=/usr/share/linuxcnc/ncfiles/skeleton.ngc  # T1 M06 G43 H1
 SIM=/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/sim_mm.tbl
 if command -v rs274 >/dev/null && [ -f "$NC" ] && [ -f "$SIM" ]; then
-  expect_error "tool not found" "not found in the tool table" -- "$MTCAL" toolpath -m "$M3" --gcode "$NC" \
-    --origin X=-100,Y=-100,Z=-400
+  expect_error "tool not found" "Requested tool 1 not found in the tool table" -- "$MTCAL" toolpath -m "$M3" \
+    --gcode "$NC" --interpreter rs274 --no-travel-check
   grep -qF "(give the tools with --tool-table FILE in LinuxCNC's format, e.g. its sim configuration's $SIM)" "$tmp/err" &&
     ok || bad "tool table hint: $(cat "$tmp/err")"
-  expect_exit 0 "with the sim tool table" -- "$MTCAL" toolpath -m "$M3" --gcode "$NC" --origin X=-100,Y=-100,Z=-400 \
-    --tool-table "$SIM"
+  expect_exit 0 "with the sim tool table" -- "$MTCAL" toolpath -m "$M3" --gcode "$NC" --interpreter rs274 \
+    --no-travel-check --tool-table "$SIM"
 else
   echo "note: LinuxCNC (linuxcnc-uspace) not installed: the tool table message is not checked"
 fi
