@@ -159,7 +159,9 @@ GcodeInput open_gcode(const std::string& path, const Machine& m, const GcodeInpu
       // LinuxCNC's "Requested tool 1 not found in the tool table" (its sample programs select
       // tools): say where the tools come from. The message stays the interpreter's.
       if (std::string(e.what()).find("not found in the tool table") == std::string::npos) throw;
-      const std::string message = std::string(e.what()).substr(e.where().describe().size() + 2);
+      std::string message = std::string(e.what()).substr(e.where().describe().size() + 2);
+      // The line's text goes (its number is in the location): what to do must fit in one line.
+      if (const auto at = message.rfind(" (in '"); at != std::string::npos) message.resize(at);
       const std::string hint =
           o.tool_table.empty()
               ? fmt::format("give the tools with --tool-table FILE in LinuxCNC's format, e.g. its sim "

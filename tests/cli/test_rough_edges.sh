@@ -24,17 +24,17 @@ for cmd in eval volumetric; do
 done
 # A machine name and metadata from files written in Latin-1, and a --meta value.
 sed 's/^name: .*/name: "Fr\xe4se 800"/' "$M3" >latin1.yaml
-expect_exit 0 "machine name in Latin-1" -- "$MTCAL" eval -m latin1.yaml --at X=0,Y=0,Z=-100 --json
+expect_exit 0 "machine name in Latin-1" -- "$MTCAL" volumetric -m latin1.yaml --grid X=0:10:3,Y=0,Z=-100 --json
 [ "$(json_get "d['machine']")" = "Fr${fffd}se 800" ] && ok || bad "machine name: $(head -c 300 "$tmp/out")"
 expect_exit 0 "--meta in Latin-1" -- "$MTCAL" iso230-2 "$X" --meta $'operator=J\xe9r\xf4me' --json
 [ "$(json_get "d['metadata']['operator']")" = "J${fffd}r${fffd}me" ] && ok || bad "--meta: $(head -c 300 "$tmp/out")"
 # History: the record holds what its JSON holds; the export is JSON lines any parser reads.
 expect_exit 0 "--record Latin-1" -- "$MTCAL" iso230-2 "$X" --meta $'machine=Fr\xe4se' --meta date=2026-11-01 \
   --meta $'operator=J\xe9r\xf4me' --record="$tmp/h.db"
-expect_exit 0 "history export" -- "$MTCAL" history export --store "$tmp/h.db"
+expect_exit 0 "history export" -- "$MTCAL" history export --store "$tmp/h.db" --out export.jsonl
 python3 -c "
 import json, sys
-recs = [json.loads(l) for l in open('$tmp/out', encoding='utf-8') if l.strip()]
+recs = [json.loads(l) for l in open('export.jsonl', encoding='utf-8') if l.strip()]
 r = [x for x in recs if 'machine_name' in x or 'machine' in x][0]
 assert 'Fr\ufffdse' in json.dumps(r, ensure_ascii=False), r
 " && ok || bad "history export: $(head -c 400 "$tmp/out")"
