@@ -69,8 +69,8 @@ void add_static_copy_options(CLI::App& app) {
                     "Also write the report printed to PDF (A4, plots as images), for e-mail and where JavaScript "
                     "does not run; made by headless Chromium (Debian package chromium); needs --report");
     sub->add_option("--report-png", copy_options().png_dir,
-                    "Also write each plot of the report as a PNG image into this existing directory "
-                    "(REPORT-plot-N.png), by headless Chromium; needs --report");
+                    "Also write each plot of the report as a PNG image into this directory (REPORT-plot-N.png; made "
+                    "if missing, in an existing folder), by headless Chromium; needs --report");
     sub->add_option("--browser-timeout", copy_options().timeout_s,
                     "Seconds the browser may take for each static copy (default 120)")
         ->check(CLI::PositiveNumber);
@@ -87,10 +87,24 @@ void load_static_copies(CLI::App& cmd) {
   const std::string report_path = report->as<std::string>();
   if (!o.pdf.empty() && std::filesystem::weakly_canonical(o.pdf) == std::filesystem::weakly_canonical(report_path))
     throw InputError({"--report-pdf", 0, ""}, "names the same file as --report ('" + printable(o.pdf) + "')");
-  // Checked before the browser is looked for and before any work: a mistyped folder is not made.
-  if (!o.png_dir.empty() && !std::filesystem::is_directory(o.png_dir))
-    throw InputError({"--report-png", 0, ""},
-                     "expected an existing directory for the plot images, found '" + printable(o.png_dir) + "'");
+  // Checked before the browser is looked for and before any work. A folder that is not there is
+  // made when the images are written, as `compensate --out DIR` makes its folder (and removed
+  // again if the command fails); its parent must exist, so that a mistyped path makes nothing.
+  if (!o.png_dir.empty()) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::path dir = fs::path(o.png_dir).lexically_normal();
+    if (!dir.has_filename()) dir = dir.parent_path();  // "png/" names the folder png
+    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+      throw InputError({"--report-png", 0, ""},
+                       "expected a directory for the plot images, found a file '" + printable(o.png_dir) + "'");
+    if (!fs::exists(dir, ec) && !fs::is_directory(parent, ec))
+      throw InputError({"--report-png", 0, ""},
+                       "expected a directory for the plot images (a new one is made in an existing folder), found "
+                       "that the folder '" +
+                           printable(parent.string()) + "' does not exist");
+  }
   const HeadlessBrowser b = find_headless_browser(o.timeout_s);
   set_static_copies({o.pdf, o.png_dir, b.program, o.timeout_s});
 }
@@ -101,7 +115,7 @@ void print_json(Json j) {
     if (!j.contains("metadata") || !j["metadata"].is_object()) j["metadata"] = Json::object();
     for (const auto& [k, v] : session_metadata().entries()) j["metadata"][k] = v;
   }
-  std::cout << j.dump(2) << "\n";
+  std::cout << json_text(j, 2) << "\n";
 }
 
 void add_tolerance_options(CLI::App* cmd, ToleranceOptions& o, const std::string& quantities) {

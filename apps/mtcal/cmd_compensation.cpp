@@ -110,7 +110,7 @@ int run_tables(const CompensateOptions& o) {
   }();
   for (auto& w : out.summary.warnings) w = naming_options(w);
   // The folder is renamed into place at once, not with the command's other outputs: everything
-  // that can still fail (the report, the JSON text) comes before it.
+  // that can still fail (the report) comes before it.
   if (!o.report.empty()) {
     std::vector<std::pair<std::string, std::string>> inputs;
     for (const auto& f : o.gcode.model.params) inputs.emplace_back("parameter file", f);  // the machine file is shown
@@ -122,7 +122,6 @@ int run_tables(const CompensateOptions& o) {
     (*j)["machine"] = m.name;
     (*j)["out"] = o.gcode.out;
     if (!o.report.empty()) (*j)["report"] = o.report;
-    (void)j->dump();  // throws here, before the folder is written, on text that is not UTF-8
   }
   write_target_output(o.gcode.out, out);
   if (j) {
@@ -192,7 +191,11 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
                return run_gcode_correction(o->gcode);
              }
              check_gcode_input_options(o->gcode.input, false);
-             return run_tables(*o);
+             try {
+               return run_tables(*o);
+             } catch (const InputError& e) {
+               rethrow_for_options(e, {{"points", "--points"}});  // a controller's table limit
+             }
            }}};
 }
 

@@ -98,7 +98,7 @@ int run_fit_motion(const FitMotionOptions& o) {
     j["units"] = "internal: mm and rad";
     j["warnings"] = warnings;
     if (!o.out.empty()) j["out"] = o.out;
-    if (o.json_out) std::cout << j.dump(2) << "\n";
+    if (o.json_out) std::cout << json_text(j, 2) << "\n";
     emit_json(j, false);  // noted for --record (printed above as it always was)
     return 0;
   }

@@ -145,8 +145,8 @@ std::optional<std::string> record_result(const std::string& command) {
   for (const auto& [k, v] : session_metadata().entries()) meta[k] = v;
   std::vector<InputHash> inputs;
   for (const auto& path : s.inputs) inputs.push_back({path, sha256_file(path)});
-  CalibrationRecord r = record_from_result(command, s.result->dump(), meta, std::move(inputs), command);
-  if (r.machine_name.empty()) r.machine_name = s.machine;
+  CalibrationRecord r = record_from_result(command, json_text(*s.result), meta, std::move(inputs), command);
+  if (r.machine_name.empty()) r.machine_name = utf8_text(s.machine);
   if (r.machine_name.empty())
     throw InputError({"--meta", 0, "machine"},
                      "the result names no machine to record it under: give --meta machine=NAME (and serial=...)");
@@ -292,7 +292,7 @@ CalibrationRecord record_from_file(const std::string& path, const std::string& c
     Json m = Json::object();
     for (const auto& [k, v] : runs.metadata) m[k] = v;
     result["metadata"] = m;
-    r = record_from_result("iso230-2", result.dump(), meta, {hash}, path);
+    r = record_from_result("iso230-2", json_text(result), meta, {hash}, path);
   }
   if (r.machine_name.empty()) throw InputError({path, 0, "machine"}, "the result names no machine: give --meta machine=NAME");
   return r;

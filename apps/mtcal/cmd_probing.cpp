@@ -176,7 +176,7 @@ int run_rotary(const RotaryOptions& o) {
       j["tilt"] = r.line.tilt;
       j["rms"] = r.line.rms;
       j["notes"] = r.notes;
-      std::cout << j.dump(2) << "\n";
+      std::cout << json_text(j, 2) << "\n";
       return 0;
     }
     print_line(r);

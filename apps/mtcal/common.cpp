@@ -13,6 +13,7 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
+#include "mtcal/util/request_error.hpp"
 #include "mtcal/util/units.hpp"
 
 namespace mtcal::cli {
@@ -92,12 +93,21 @@ void require_finite_numbers(CLI::App& app) {
 }
 
 void rethrow_for_options(const InputError& e, const std::vector<std::pair<std::string, std::string>>& names) {
+  const std::string message = std::string(e.what()).substr(e.where().describe().size() + 2);
   for (const auto& [from, to] : names)
     if (e.where().file == from) {
       SourceLocation where = e.where();
       where.file = to;
-      throw InputError(where, std::string(e.what()).substr(e.where().describe().size() + 2));
+      throw InputError(where, message);
     }
+  // Located in the data (a program's block), caused by the values of options: those are named.
+  if (const auto* r = dynamic_cast<const RequestError*>(&e)) {
+    std::string options;
+    for (const auto& cause : r->causes())
+      for (const auto& [from, to] : names)
+        if (cause == from) options += (options.empty() ? "" : ", ") + to;
+    if (!options.empty()) throw InputError(e.where(), message + " (" + options + ")");
+  }
   throw;
 }
 
@@ -169,8 +179,13 @@ CLI::Validator quantity_validator(Dimension d, double bare_factor, const char* u
   return CLI::Validator(
       [=](std::string& s) -> std::string {
         try {
-          // Rewritten as a bare number in the option's unit, which CLI11 then converts.
-          s = fmt::format("{:.17g}", parse_quantity(s, d, bare_factor, false, {}) / bare_factor);
+          // Rewritten as a bare number in the option's unit, which CLI11 then converts: 17
+          // digits read back to the same double. A bare number stays as written; a decimal unit
+          // of a decimal option's unit ("20um" for an option in mm) converts exactly.
+          const double internal = parse_quantity(s, d, bare_factor, false, {});  // checks the unit
+          const TypedValue v = parse_typed_value(s, d, {});
+          const auto value = v.unit ? convert_number(v.text, v.unit->to_internal, bare_factor) : v.number;
+          s = fmt::format("{:.17g}", value.value_or(internal / bare_factor));
           return {};
         } catch (const InputError& e) {
           std::string msg = std::string(e.what()).substr(e.where().describe().size() + 2);

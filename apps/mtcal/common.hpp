@@ -57,7 +57,9 @@ std::vector<std::vector<double>> checked_grid(const Machine& m, const std::strin
 
 // Called in a catch block of an InputError: when the library located it in one of its parameters
 // (names[i].first, e.g. "step"), rethrows it located in the option that gave the value
-// (names[i].second, e.g. "--step"), message unchanged; otherwise rethrows it as it is.
+// (names[i].second, e.g. "--step"), message unchanged; a RequestError located in the data whose
+// causes are among those parameters gets the options added, "... (--step, --angle-step)";
+// otherwise rethrows it as it is.
 [[noreturn]] void rethrow_for_options(const InputError& e,
                                       const std::vector<std::pair<std::string, std::string>>& names);
 

@@ -14,6 +14,9 @@ namespace mtcal::cli {
 namespace {
 
 constexpr double kInch = 25.4;
+// The tool table of LinuxCNC's sim configuration axis_mm.ini (T1-T10 in mm), which the Debian
+// package linuxcnc-uspace installs (dpkg -L linuxcnc-uspace).
+constexpr const char* kLinuxcncSimToolTable = "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/sim_mm.tbl";
 
 double units_scale(const std::string& units, const char* option) {
   if (units == "mm") return 1.0;
@@ -149,7 +152,25 @@ GcodeInput open_gcode(const std::string& path, const Machine& m, const GcodeInpu
     return in;
   }
   refuse_lathe_program(program, path);
-  Rs274Output out = run_rs274(path, in.options.setup, rs274_options(o));
+  Rs274Output out = [&] {
+    try {
+      return run_rs274(path, in.options.setup, rs274_options(o));
+    } catch (const InputError& e) {
+      // LinuxCNC's "Requested tool 1 not found in the tool table" (its sample programs select
+      // tools): say where the tools come from. The message stays the interpreter's.
+      if (std::string(e.what()).find("not found in the tool table") == std::string::npos) throw;
+      std::string message = std::string(e.what()).substr(e.where().describe().size() + 2);
+      // The line's text goes (its number is in the location): what to do must fit in one line.
+      if (const auto at = message.rfind(" (in '"); at != std::string::npos) message.resize(at);
+      const std::string hint =
+          o.tool_table.empty()
+              ? fmt::format("give the tools with --tool-table FILE in LinuxCNC's format, e.g. its sim "
+                            "configuration's {}",
+                            kLinuxcncSimToolTable)
+              : "--tool-table " + printable(o.tool_table, 160);
+      throw InputError(e.where(), message + " (" + hint + ")");
+    }
+  }();
   in.text = std::move(out.calls);
   in.interpreter = "rs274";
   if (out.missing_end)

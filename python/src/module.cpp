@@ -20,7 +20,8 @@ py::object to_py(const Json& j) {
     case Json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
     case Json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
     case Json::value_t::number_float: return py::float_(j.get<double>());
-    case Json::value_t::string: return py::str(j.get_ref<const std::string&>());
+    // Python's str is Unicode: bytes that are not UTF-8 become U+FFFD, as in the --json text.
+    case Json::value_t::string: return py::str(utf8_text(j.get_ref<const std::string&>()));
     case Json::value_t::array: {
       py::list l;
       for (const auto& e : j) l.append(to_py(e));
@@ -28,7 +29,7 @@ py::object to_py(const Json& j) {
     }
     case Json::value_t::object: {
       py::dict d;
-      for (const auto& [key, value] : j.items()) d[py::str(key)] = to_py(value);
+      for (const auto& [key, value] : j.items()) d[py::str(utf8_text(key))] = to_py(value);
       return d;
     }
     default: return py::none();

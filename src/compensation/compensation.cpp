@@ -8,6 +8,7 @@
 #include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/request_error.hpp"
 #include "mtcal/util/parallel.hpp"
 
 namespace mtcal {
@@ -113,9 +114,10 @@ std::vector<AxisSampling> resolve_sampling(const Machine& m, const CompensationO
     AxisSampling s = given != o.sampling.end() ? *given : default_sampling(m, ax.letter, points);
     if (s.points == 0) s.points = points;
     if (s.points > max_points)
-      throw InputError({target, 0, std::string(1, ax.letter)},
-                       fmt::format("expected at most {} positions per table (the controller's limit), found {}",
-                                   max_points, s.points));
+      throw RequestError({target, 0, std::string(1, ax.letter)},
+                         fmt::format("expected at most {} positions per table (the controller's limit), found {}",
+                                     max_points, s.points),
+                         {"points"});
     sample_positions(s, target);  // checks the range and the count
     if (ax.travel) {
       const double lo = to_user_units(ax, ax.travel->min), hi = to_user_units(ax, ax.travel->max);

@@ -12,6 +12,7 @@
 #include "mtcal/kinematics/transform.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/request_error.hpp"
 
 namespace mtcal {
 namespace {
@@ -441,11 +442,12 @@ class Corrector {
         len = (t1 - t) / 2;
       }
       if (++tries > 4 * o_.max_pieces_per_move || cm.pieces.size() > o_.max_pieces_per_move || !(len > 1e-12))
-        throw InputError({where_of(program_.source, mv.line), 0, ""},
-                         fmt::format("the move cannot be cut into pieces that stay within {} mm of the programmed "
-                                     "path (more than {} pieces, or pieces shorter than 1e-12 of the move); expected "
-                                     "a larger largest deviation",
-                                     o_.max_deviation, o_.max_pieces_per_move));
+        throw RequestError({where_of(program_.source, mv.line), 0, ""},
+                           fmt::format("the move cannot be cut into pieces that stay within {} mm of the programmed "
+                                       "path (more than {} pieces, or pieces shorter than 1e-12 of the move); expected "
+                                       "a larger largest deviation",
+                                       o_.max_deviation, o_.max_pieces_per_move),
+                           {"max deviation"});
     }
   }
 

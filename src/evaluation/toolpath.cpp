@@ -8,6 +8,7 @@
 
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/request_error.hpp"
 
 namespace mtcal {
 namespace {
@@ -83,10 +84,11 @@ bool ToolpathInterpolator::start(const GcodeMove& move) {
   const double parts = std::max(
       {1.0, std::ceil(length_ / options_.step * (1 - 1e-12)), std::ceil(rotary / options_.angle_step * (1 - 1e-12))});
   if (!(parts <= kMaxPartsPerBlock))
-    throw InputError({options_.program, move.line, ""},
-                     fmt::format("this block would need {:.3g} points (more than {:g}); expected a larger step or "
-                                 "angle step between points",
-                                 parts, kMaxPartsPerBlock));
+    throw RequestError({options_.program, move.line, ""},
+                       fmt::format("this block would need {:.3g} points (more than {:g}); expected a larger step or "
+                                   "angle step between points",
+                                   parts, kMaxPartsPerBlock),
+                       {"step", "angle step"});
   parts_ = static_cast<std::size_t>(parts);
   s0_ = s_;
   ++blocks_;

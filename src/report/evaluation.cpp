@@ -274,11 +274,16 @@ void write_positioning_report(const std::string& path, const std::string& comman
       if (t.R > e.targets[i_r].R) i_r = i;
       if (std::abs(t.reversal) > std::abs(e.targets[i_b].reversal)) i_b = i;
     }
-    // Brackets: a vertical segment with end ticks and a label, in data coordinates.
+    // Brackets: a vertical segment with end ticks and a label, in data coordinates. The labels
+    // are placed so that no two can overlap at any plot width: a label above its bracket
+    // (Label::Above) has its bottom at the bracket's top, one below has its top at the bracket's
+    // bottom; sideways it is centred on the bracket or lies wholly to its left or right.
     const double x0 = e.targets.front().target, x1 = e.targets.back().target;
     const double span = std::abs(x1 - x0) > 0 ? std::abs(x1 - x0) : 1.0;
     json shapes = json::array(), notes = json::array();
-    auto bracket = [&](double xb, double lo, double hi, const std::string& label, const char* colour) {
+    enum class Side { Centre, Left, Right };
+    auto bracket = [&](double xb, double lo, double hi, const std::string& label, const char* colour, bool above,
+                       Side side) {
       const double tick = span * 0.008;
       for (auto [xa, ya, xc, yc] :
            {std::array{xb, lo * k, xb, hi * k}, std::array{xb - tick, lo * k, xb + tick, lo * k},
@@ -290,16 +295,23 @@ void write_positioning_report(const std::string& path, const std::string& comman
                           {"y1", yc},
                           {"line", {{"color", colour}, {"width", 2}}}});
       notes.push_back({{"x", xb},
-                       {"y", hi * k},
+                       {"y", (above ? hi : lo) * k},
                        {"text", label},
                        {"showarrow", false},
-                       {"yanchor", "bottom"},
+                       {"xanchor", side == Side::Centre ? "center" : side == Side::Left ? "right" : "left"},
+                       {"xshift", side == Side::Centre ? 0 : side == Side::Left ? -3 : 3},
+                       {"yanchor", above ? "bottom" : "top"},
+                       // Readable where a label lies on the data.
+                       {"bgcolor", "rgba(255,255,255,0.75)"},
                        {"font", {{"color", colour}, {"size", 13}}}});
     };
+    // The whole-axis brackets right of the data. Their tops and bottoms are ordered (M's range
+    // lies within E's, E's within A's): E above, M below, A above and to its right, so that E
+    // and A never meet.
     const double right = std::max(x0, x1);
-    bracket(right + 0.04 * span, lo_e, hi_e, fmt::format("E {:.2f}", e.E * k), "rgb(44,160,44)");
-    bracket(right + 0.10 * span, lo_m, hi_m, fmt::format("M {:.2f}", e.M * k), "rgb(0,0,0)");
-    bracket(right + 0.16 * span, lo_a, hi_a, fmt::format("A {:.2f}", e.A * k), "rgb(148,103,189)");
+    bracket(right + 0.06 * span, lo_e, hi_e, fmt::format("E {:.2f}", e.E * k), "rgb(44,160,44)", true, Side::Centre);
+    bracket(right + 0.12 * span, lo_m, hi_m, fmt::format("M {:.2f}", e.M * k), "rgb(0,0,0)", false, Side::Centre);
+    bracket(right + 0.18 * span, lo_a, hi_a, fmt::format("A {:.2f}", e.A * k), "rgb(148,103,189)", true, Side::Right);
     {
       const auto& t = e.targets[i_r];
       double lo = std::min(t.mean_up - 2 * t.s_up, t.mean_down - 2 * t.s_down);
@@ -308,12 +320,17 @@ void write_positioning_report(const std::string& path, const std::string& comman
         lo = t.mean_up - 2 * t.s_up, hi = t.mean_up + 2 * t.s_up;
       else if (t.R == t.R_down && t.R_down > 2 * t.s_up + 2 * t.s_down + std::abs(t.reversal))
         lo = t.mean_down - 2 * t.s_down, hi = t.mean_down + 2 * t.s_down;
-      bracket(t.target + 0.012 * span, lo, hi, fmt::format("R {:.2f}", e.R * k), "rgb(255,127,14)");
+      // R's label above its bracket, B's below; of the two, the label of the bracket further
+      // left lies to its left and the other's to its right (at one target: B left, R right).
+      // R's bracket holds both means of its target, so at one target R's top is above B's bottom.
       const auto& b = e.targets[i_b];
-      bracket(b.target - 0.012 * span, std::min(b.mean_up, b.mean_down), std::max(b.mean_up, b.mean_down),
-              fmt::format("B {:.2f}", e.B * k), "rgb(140,86,75)");
+      const double xr = t.target + 0.012 * span, xb = b.target - 0.012 * span;
+      bracket(xr, lo, hi, fmt::format("R {:.2f}", e.R * k), "rgb(255,127,14)", true,
+              xr > xb ? Side::Right : Side::Left);
+      bracket(xb, std::min(b.mean_up, b.mean_down), std::max(b.mean_up, b.mean_down), fmt::format("B {:.2f}", e.B * k),
+              "rgb(140,86,75)", false, xr > xb ? Side::Left : Side::Right);
     }
-    layout["xaxis"]["range"] = {std::min(x0, x1) - 0.03 * span, right + 0.22 * span};
+    layout["xaxis"]["range"] = {std::min(x0, x1) - 0.03 * span, right + 0.30 * span};
     layout["shapes"] = shapes;
     layout["annotations"] = notes;
   }

@@ -12,6 +12,7 @@
 
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/system/headless_browser.hpp"
+#include "mtcal/io/json/json.hpp"
 #include "mtcal/model/machine.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/version.hpp"
@@ -54,9 +55,10 @@ std::string html_escape(std::string_view s) {
 }
 
 std::string script_safe_json(const nlohmann::json& j) {
-  // dump() escapes control characters; "<" is escaped too so that no "</script" or "<!--" in a
-  // user string can end the script element (JSON allows \u003c anywhere in a string).
-  const std::string text = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  // json_text escapes control characters and replaces bytes that are not UTF-8; "<" is escaped
+  // too so that no "</script" or "<!--" in a user string can end the script element (JSON allows
+  // \u003c anywhere in a string).
+  const std::string text = json_text(j);
   std::string out;
   out.reserve(text.size());
   for (char c : text) {
@@ -114,7 +116,8 @@ void Report::add_plot(const std::string& caption, nlohmann::json figure) {
                        scene ? " scene" : "", id, html_escape(caption));
   body_ += fmt::format(
       "<script>(function(){{var "
-      "f={};Plotly.newPlot('{}',f.data,f.layout,{{responsive:true,displaylogo:false}}).then(mtcalPrintImage);}})();"
+      "f={};Plotly.newPlot('{}',f.data,f.layout,{{responsive:true,displaylogo:false}}).then(mtcalSeparateLabels)"
+      ".then(mtcalPrintImage);}})();"
       "</script>\n",
       script_safe_json(figure), id);
 }
@@ -159,6 +162,29 @@ footer { margin-top: 3em; color: #777; font-size: 0.85em; }
   // when printing: a 3D (WebGL) scene prints blank and an SVG sized for the screen is cropped on
   // paper. mtcalPending counts the images still being made (the browser test waits for 0).
   h += R"(<script>
+// Labels (annotations) that overlap once drawn are moved up, each past the labels before it,
+// in one relayout: the plots place their labels apart, and this holds for any size of text.
+function mtcalSeparateLabels(gd) {
+  var nodes = gd.querySelectorAll('g.annotation');
+  if (nodes.length < 2) return Promise.resolve(gd);
+  var placed = [], shifts = {};
+  Array.prototype.forEach.call(nodes, function (node) {
+    var i = Number(node.getAttribute('data-index')), r = node.getBoundingClientRect();
+    var box = {left: r.left, right: r.right, top: r.top, bottom: r.bottom}, dy = 0, moved = true;
+    while (moved) {
+      moved = false;
+      placed.forEach(function (p) {
+        if (box.left < p.right && p.left < box.right && box.top < p.bottom && p.top < box.bottom) {
+          var up = box.bottom - p.top + 2;
+          box.top -= up; box.bottom -= up; dy += up; moved = true;
+        }
+      });
+    }
+    placed.push(box);
+    if (dy > 0) shifts['annotations[' + i + '].yshift'] = ((gd.layout.annotations[i] || {}).yshift || 0) + dy;
+  });
+  return Object.keys(shifts).length ? Plotly.relayout(gd, shifts) : Promise.resolve(gd);
+}
 window.mtcalPending = 0;
 function mtcalPrintImage(gd) {
   window.mtcalPending++;
@@ -342,6 +368,8 @@ void Report::write(const std::string& path) const {
     if (images.size() != plots_)
       throw Error(fmt::format("the browser made {} of the report's {} plot images ({})", images.size(), plots_,
                               browser.program));
+    // A folder that is not there yet is made, as one of the command's outputs (all or none).
+    if (std::error_code ec; !std::filesystem::exists(copies.png_dir, ec)) create_output_directory(copies.png_dir);
     const auto paths = plot_image_paths(path, copies.png_dir, images.size());
     for (std::size_t k = 0; k < images.size(); ++k) write_file_atomically(paths[k], images[k]);
   }

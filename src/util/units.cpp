@@ -1,6 +1,7 @@
 #include "mtcal/util/units.hpp"
 
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <numbers>
 
@@ -46,7 +47,46 @@ bool is_ratio(std::string_view canonical) {
   return canonical.find('/') != std::string_view::npos || canonical == "ppm";
 }
 
+// The power of ten that factor is (1e-3 -> -3: the double nearest to it, as the table and a
+// reader of "1e-3" have it), or nullopt (25.4, pi/180).
+std::optional<int> power_of_ten(double factor) {
+  static const std::array<double, 49> powers = [] {
+    std::array<double, 49> p{};
+    for (int k = -24; k <= 24; ++k) p[static_cast<std::size_t>(k + 24)] = *parse_number("1e" + std::to_string(k));
+    return p;
+  }();
+  for (int k = -24; k <= 24; ++k)
+    if (factor == powers[static_cast<std::size_t>(k + 24)]) return k;
+  return std::nullopt;
+}
+
 }  // namespace
+
+std::optional<double> convert_number(std::string_view number, double from_factor, double to_factor) {
+  const auto v = parse_number(number);
+  if (!v) return std::nullopt;
+  const auto from = power_of_ten(from_factor), to = power_of_ten(to_factor);
+  if (from && to) {
+    // "20" urad -> "20e-6" rad: the decimal the user wrote, scaled exactly, then rounded once.
+    std::string digits(number);
+    long long exponent = 0;
+    bool exact = true;
+    if (const auto e = digits.find_first_of("eE"); e != std::string::npos) {
+      std::string_view ex = std::string_view(digits).substr(e + 1);
+      if (!ex.empty() && ex.front() == '+') ex.remove_prefix(1);
+      const auto [end, ec] = std::from_chars(ex.data(), ex.data() + ex.size(), exponent);
+      exact = ec == std::errc() && end == ex.data() + ex.size() && std::abs(exponent) < (1LL << 40);  // "0e99...9"
+      digits.resize(e);
+    }
+    // Beyond a double's range (parse_number refuses infinity, and a result that rounds to 0
+    // from_chars reports out of range) the multiplication below gives the answer.
+    if (exact)
+      if (const auto out = parse_number(digits + "e" + std::to_string(exponent + *from - *to))) return out;
+  }
+  const double out = *v * from_factor / to_factor;
+  if (!std::isfinite(out)) return std::nullopt;
+  return out;
+}
 
 std::optional<Unit> find_unit(std::string_view name) {
   for (const auto& e : kUnits)
@@ -72,8 +112,8 @@ TypedValue parse_typed_value(std::string_view text, Dimension d, const SourceLoc
     const auto v = parse_number(std::string_view(t).substr(0, k));
     if (!v) continue;
     const std::string rest = trim(std::string_view(t).substr(k));
-    if (rest.empty()) return {*v, std::nullopt};
-    if (const auto u = find_unit(rest)) return {*v, u};
+    if (rest.empty()) return {*v, std::nullopt, t.substr(0, k)};
+    if (const auto u = find_unit(rest)) return {*v, u, t.substr(0, k)};
     throw InputError(where,
                      fmt::format("unknown unit '{}' in '{}' (expected {} unit: {})", printable(rest), printable(t),
                                  d == Dimension::Length ? "a length" : "an angle", accepted_units(d)));
@@ -92,10 +132,9 @@ double parse_quantity(std::string_view text, Dimension d, double bare_factor, bo
                                         : v.unit->dimension == Dimension::Length ? "a length"
                                                                                  : "an angle",
                                         kind, accepted_units(d, slopes)));
-  const double out = v.number * v.unit->to_internal;
-  if (!std::isfinite(out))
-    throw InputError(where, fmt::format("'{}' is beyond the range of a number", printable(text)));
-  return out;
+  const auto out = convert_number(v.text, v.unit->to_internal);
+  if (!out) throw InputError(where, fmt::format("'{}' is beyond the range of a number", printable(text)));
+  return *out;
 }
 
 double parse_in_unit(std::string_view text, std::string_view internal_unit, const SourceLocation& where) {
@@ -114,7 +153,9 @@ double parse_in_unit(std::string_view text, std::string_view internal_unit, cons
     if (!v.unit->ratio)
       throw InputError(where, fmt::format("'{}' does not fit a value in {}; expected a bare number or a slope: {}",
                                           v.unit->name, internal_unit, "um/m, ppm, mm/m"));
-    return v.number * v.unit->to_internal;
+    const auto out = convert_number(v.text, v.unit->to_internal);
+    if (!out) throw InputError(where, fmt::format("'{}' is beyond the range of a number", printable(t)));
+    return *out;
   }
   const auto v = parse_number(t);
   if (!v)

@@ -152,6 +152,43 @@ TEST(Files, OutputGroupRestoresReplacedTargetsWhenALaterRenameFails) {
   EXPECT_EQ(files, 1u);  // no temporaries or backups left
 }
 
+// Issue 29, item 4: a folder made for outputs (--report-png DIR) is one of the group's outputs:
+// it stays with its files when the group commits and goes with them when it does not, also when
+// a rename fails; without a group it stays.
+TEST(Files, OutputDirectoryBelongsToTheGroup) {
+  const fs::path d = fresh_dir("group-dir");
+  const fs::path made = d / "png", file = made / "r-plot-1.png";
+  {
+    OutputGroup g;
+    create_output_directory(made.string());
+    EXPECT_TRUE(fs::is_directory(made));  // there for the files to be written into
+    write_file_atomically(file.string(), "png\n");
+  }
+  EXPECT_FALSE(fs::exists(made));  // abandoned: files and folder gone
+  {
+    OutputGroup g;
+    create_output_directory(made.string());
+    write_file_atomically(file.string(), "png\n");
+    g.commit();
+  }
+  EXPECT_EQ(content(file), "png\n");
+  fs::remove_all(made);
+  const fs::path other = fresh_dir("group-dir-b");
+  {
+    OutputGroup g;
+    create_output_directory(made.string());
+    write_file_atomically(file.string(), "png\n");
+    write_file_atomically((other / "b.csv").string(), "b\n");
+    fs::remove_all(other);  // the last rename fails: the group undoes the first, then the folder
+    EXPECT_THROW(g.commit(), Error);
+  }
+  EXPECT_FALSE(fs::exists(made));
+  create_output_directory(made.string());  // no group: it stays
+  EXPECT_TRUE(fs::is_directory(made));
+  EXPECT_THROW(create_output_directory((d / "no" / "such").string()), Error);  // the parent must exist
+  EXPECT_THROW(create_output_directory(made.string()), Error);                 // exists already
+}
+
 TEST(Files, InputLimitIsALimitError) {
   const fs::path d = fresh_dir("limit");
   const fs::path p = d / "big.csv";

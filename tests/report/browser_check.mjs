@@ -2,7 +2,8 @@
 // any JavaScript error or dialog, checks that every plot rendered with data and fits the page at
 // 1280x800, saves screenshots; prints each report to PDF (page.pdf, print CSS) and checks with
 // poppler-utils that the PDF holds one non-blank image per plot (pdfimages) and that the pages
-// rendered to pixels (pdftoppm) carry the plots' colours.
+// rendered to pixels (pdftoppm) carry the plots' colours; no two labels (annotations) of a plot
+// overlap.
 // Usage: node browser_check.mjs SCREENSHOT_DIR REPORT.html:PLOTS [REPORT.html:PLOTS ...]
 // Exit 77 (ctest SKIPPED) when Chromium or playwright-core is not installed, with the reason.
 import { existsSync, mkdirSync, readFileSync, readdirSync } from 'node:fs';
@@ -113,6 +114,22 @@ for (const spec of specs) {
   // Static images for print: one per plot, made after rendering.
   await page.waitForFunction((n) => window.mtcalPending === 0 && document.querySelectorAll('img.plot-print').length >= n,
                              expected, { timeout: 60000 }).catch(() => problems.push('print images not made in 60 s'));
+  // Labels (annotations: the ISO 230-2 brackets' A E M R B ...) never overlap one another.
+  const overlaps = await page.evaluate(() => {
+    const found = [];
+    for (const el of document.querySelectorAll('.plot')) {
+      const boxes = Array.from(el.querySelectorAll('g.annotation-text-g')).map((g) => ({
+        text: g.textContent, r: g.getBoundingClientRect() }));
+      for (let i = 0; i < boxes.length; i++)
+        for (let j = i + 1; j < boxes.length; j++) {
+          const a = boxes[i].r, b = boxes[j].r;
+          if (a.width > 0 && b.width > 0 && a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom)
+            found.push(`${el.id}: '${boxes[i].text}' and '${boxes[j].text}'`);
+        }
+    }
+    return found;
+  });
+  if (overlaps.length) problems.push(`labels overlap: ${overlaps.join('; ')}`);
   const images = await page.evaluate(() => document.querySelectorAll('img.plot-print').length);
   if (images !== expected) problems.push(`expected ${expected} print images, found ${images}`);
   const tables = await page.evaluate(() => document.querySelectorAll('table').length);

@@ -19,9 +19,15 @@ expect_error "MTCAL_CHROMIUM not a program" "MTCAL_CHROMIUM names '$tmp/none'" -
   env MTCAL_CHROMIUM="$tmp/none" "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/png"
 outputs_absent "bad MTCAL_CHROMIUM"
 expect_error "pdf without report" "--report-pdf: expected --report FILE.html beside it" -- "$MTCAL" iso230-2 "$RTL" --report-pdf "$tmp/r.pdf"
-expect_error "png folder missing" "--report-png: expected an existing directory for the plot images, found '$tmp/nodir'" -- \
-  "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/nodir"
-[ ! -e "$tmp/nodir" ] && outputs_absent "png folder missing" || bad "the missing folder was made"
+# A folder that is not there is made (issue 29), in a folder that is: a mistyped path is refused
+# before any work, and nothing is made.
+expect_error "png folder's parent missing" "--report-png: expected a directory for the plot images (a new one is made in an existing folder), found that the folder '$tmp/nodir' does not exist" -- \
+  "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/nodir/png"
+[ ! -e "$tmp/nodir" ] && outputs_absent "png folder's parent missing" || bad "the missing folder was made"
+: >"$tmp/afile"
+expect_error "png folder is a file" "--report-png: expected a directory for the plot images, found a file" -- \
+  "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/afile"
+outputs_absent "png folder is a file"
 expect_error "pdf is the report" "names the same file as --report" -- \
   "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-pdf "$tmp/r.html"
 
@@ -60,6 +66,17 @@ fake dom "echo '<html><body><div class=\"plot\"></div><img class=\"plot-print\" 
 expect_exit 0 "stand-in PNG" -- env MTCAL_CHROMIUM="$tmp/dom" "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/png"
 cmp -s "$tmp/png/r-plot-1.png" <(printf '%s' "$png64" | base64 -d) && ok || bad "PNG copy: $(ls -l "$tmp/png" 2>&1)"
 rm -rf "$tmp/r.html" "$tmp/png"/*
+# A folder that is not there is made with the images (as compensate --out makes its folder)...
+expect_exit 0 "stand-in PNG, new folder" -- env MTCAL_CHROMIUM="$tmp/dom" "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" \
+  --report-png "$tmp/newpng/"
+cmp -s "$tmp/newpng/r-plot-1.png" <(printf '%s' "$png64" | base64 -d) && ok || bad "PNG copy in a new folder: $(ls -l "$tmp" 2>&1)"
+rm -rf "$tmp/r.html" "$tmp/newpng"
+# ... and goes again, with its images, when the command fails after writing them (here: its
+# standard output is closed, which is found when the results are flushed, after the work).
+env MTCAL_CHROMIUM="$tmp/dom" "$MTCAL" iso230-2 "$RTL" --report "$tmp/r.html" --report-png "$tmp/newpng" >&- 2>"$tmp/err"
+rc=$?
+[ "$rc" -ne 0 ] && grep -qF "cannot write the results to standard output" "$tmp/err" && ok || bad "closed stdout: exit $rc, $(cat "$tmp/err")"
+[ ! -e "$tmp/newpng" ] && outputs_absent "new folder of a failed command" || bad "the new folder of a failed command was left: $(ls -R "$tmp/newpng")"
 # A page whose images were not all made: an error, no outputs.
 fake nodom "echo '<html><body>no images</body></html>'"
 expect_error "no plot images" "the browser made 0 of the report's 1 plot images" -- \

@@ -3,8 +3,11 @@
 // suffixes with the accepted ones named, the plausibility warnings, and name suggestions.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <numbers>
+#include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mtcal/util/errors.hpp"
@@ -87,6 +90,69 @@ TEST(TypedValue, ParameterUnits) {
   EXPECT_NE(error_of([&] { in("3urad", "mm"); }).find("'urad' is an angle"), std::string::npos);
   EXPECT_NE(error_of([&] { in("3mm", "mm/mm"); }).find("does not fit a value in mm/mm"), std::string::npos);
   EXPECT_NE(error_of([&] { in("3um", "rad/mm^2"); }).find("expected a number in rad/mm^2"), std::string::npos);
+}
+
+// Issue 29, item 3: a decimal unit converts the number as written, rounded once, so the value is
+// the double of the same number written in the internal unit, bit for bit (EXPECT_EQ).
+TEST(TypedValue, DecimalUnitsReadExactly) {
+  auto in = [](const std::string& s, const std::string& unit) { return parse_in_unit(s, unit, {"--set", 0, "P"}); };
+  ASSERT_NE(20 * 1e-6, 2e-5);  // the product read before: 1.9999999999999998e-05
+  EXPECT_EQ(in("20urad", "rad"), 2e-5);
+  EXPECT_EQ(in("20um/m", "rad"), 2e-5);
+  EXPECT_EQ(in("20ppm", "mm/mm"), 2e-5);
+  EXPECT_EQ(in("0.02mm/m", "rad"), 2e-5);
+  EXPECT_EQ(in("3um", "mm"), 0.003);
+  EXPECT_EQ(length("7nm"), 7e-6);
+  EXPECT_EQ(length("0.4m"), 400.0);
+  EXPECT_EQ(length("+1.5e+2um"), 0.15);
+  EXPECT_EQ(length("-.5um"), -0.0005);
+  EXPECT_EQ(length("5.um"), 0.005);
+  EXPECT_EQ(angle("3mrad"), 0.003);
+  // Between two decimal units (an option in um given in mm) and back.
+  EXPECT_EQ(convert_number("0.02", 1.0, 1e-3), 20.0);
+  EXPECT_EQ(convert_number("20", 1e-3, 1.0), 0.02);
+  // At the ends of the range: what the shift cannot give is the product (or refused).
+  EXPECT_EQ(convert_number("1e-320", 1e-6), 1e-320 * 1e-6);
+  EXPECT_FALSE(convert_number("1e308", 1e3).has_value());
+  // The other factors are one rounding more: the number read times the factor (docs/conventions.md).
+  EXPECT_EQ(length("6in"), 6 * 25.4);
+  EXPECT_EQ(angle("90deg"), 90 * kDeg);
+  EXPECT_EQ(angle("36arcsec"), 36 * (kDeg / 3600));
+}
+
+// The same property over random numbers: every decimal unit gives, for the number as written,
+// what the C library's strtod (correctly rounded, independent of the reader's from_chars) gives
+// for the number with the unit's exponent added to its own.
+TEST(TypedValue, DecimalUnitsMatchStrtodWithTheShiftedExponent) {
+  std::mt19937_64 rng(29);
+  const std::vector<std::pair<std::string, int>> units{
+      {"um", -3}, {"nm", -6}, {"m", 3}, {"mm", 0}};
+  const std::vector<std::pair<std::string, int>> angles{{"mrad", -3}, {"urad", -6}, {"um/m", -6}, {"mm/m", -3},
+                                                        {"ppm", -6},  {"rad", 0}};
+  int checked = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    // 1..19 significant digits, a decimal point somewhere or none, an exponent or none.
+    std::string digits = std::to_string(rng() % 9 + 1);
+    const int n = static_cast<int>(rng() % 19);
+    for (int k = 0; k < n; ++k) digits += static_cast<char>('0' + rng() % 10);
+    const std::size_t point = rng() % (digits.size() + 1);
+    std::string mantissa = digits;
+    if (point < digits.size()) mantissa.insert(point, ".");
+    if (rng() % 2) mantissa = "-" + mantissa;
+    const int exponent = static_cast<int>(rng() % 41) - 20;
+    const bool with_exponent = rng() % 2;
+    const std::string number = with_exponent ? mantissa + "e" + std::to_string(exponent) : mantissa;
+    const int e0 = with_exponent ? exponent : 0;
+    for (const bool is_angle : {false, true})
+      for (const auto& [unit, shift] : is_angle ? angles : units) {
+        const std::string reference = mantissa + "e" + std::to_string(e0 + shift);
+        const double expected = std::strtod(reference.c_str(), nullptr);
+        const double got = is_angle ? angle(number + unit) : length(number + unit);
+        ASSERT_EQ(got, expected) << number << unit << " against " << reference;
+        ++checked;
+      }
+  }
+  EXPECT_EQ(checked, 4000 * 10);
 }
 
 TEST(TypedValue, PlausibilityWarnings) {

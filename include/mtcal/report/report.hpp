@@ -72,7 +72,7 @@ class Report {
 // the report's HTML. They join the command's output group: all of its files appear or none.
 struct StaticCopies {
   std::string pdf;      // empty: no PDF
-  std::string png_dir;  // empty: no PNG files; an existing directory
+  std::string png_dir;  // empty: no PNG files; made (create_output_directory) if missing
   std::string browser;  // the browser's executable (find_headless_browser)
   double timeout_s = 120;
   bool empty() const { return pdf.empty() && png_dir.empty(); }

@@ -32,10 +32,20 @@ std::string accepted_units(Dimension d, bool with_ratios = true);
 struct TypedValue {
   double number = 0.0;
   std::optional<Unit> unit;  // nullopt: no suffix
+  std::string text;          // the number as written ("20", "-1.5e-3"), for convert_number
 };
 // Throws InputError located at `where` for text that is no number with a known unit after it
 // (the message lists the units of `d`).
 TypedValue parse_typed_value(std::string_view text, Dimension d, const SourceLocation& where);
+
+// A number as written (parse_number's syntax) in a unit whose factor to mm or rad is from_factor,
+// in the unit whose factor is to_factor (1: mm or rad). Where both factors are powers of ten
+// (mm, um, nm, m, rad, mrad, urad, um/m, mm/m, ppm) the decimal exponent of the number as written
+// is shifted and the result read once, correctly rounded: "20" urad is the double "2e-5" rad is,
+// bit for bit. Other factors (in, deg, arcsec) multiply the number read: one more rounding
+// (docs/conventions.md, "Units"). nullopt for text that is not a number or a result beyond the
+// range of a double.
+std::optional<double> convert_number(std::string_view number, double from_factor, double to_factor = 1.0);
 
 // A length or angle typed by a person in internal units (mm, rad): a bare number is in the unit
 // whose factor to mm/rad is bare_factor (1 for mm, pi/180 for deg); a suffix must be of dimension

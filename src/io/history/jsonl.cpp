@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "internal.hpp"
+#include "mtcal/io/json/json.hpp"
 
 namespace mtcal {
 
@@ -161,12 +162,12 @@ Event parse_event(const ordered_json& j, const std::string& source, int line) {
 
 }  // namespace
 
-std::string record_to_json_line(const CalibrationRecord& r) { return record_json(r).dump(); }
-std::string event_to_json_line(const Event& e) { return event_json(e).dump(); }
+std::string record_to_json_line(const CalibrationRecord& r) { return json_text(record_json(r)); }
+std::string event_to_json_line(const Event& e) { return json_text(event_json(e)); }
 
 void export_jsonl(HistoryStore& store, std::ostream& out) {
-  for (const auto& r : store.list({})) out << record_json(r).dump() << '\n';
-  for (const auto& e : store.events()) out << event_json(e).dump() << '\n';
+  for (const auto& r : store.list({})) out << json_text(record_json(r)) << '\n';
+  for (const auto& e : store.events()) out << json_text(event_json(e)) << '\n';
 }
 
 ImportSummary import_jsonl(HistoryStore& store, std::istream& in, const std::string& source) {
@@ -280,12 +281,15 @@ CalibrationRecord record_from_result(const std::string& command, const std::stri
   r.command = command;
   // The result's own "metadata" (an instrument file's header, the user's --meta) under the
   // metadata given here, which wins.
+  // Text that is not UTF-8 (a file name, a --meta value) is kept as the JSON output has it: with
+  // U+FFFD for the bytes that are not (json_text; docs/reliability.md).
   if (j.contains("metadata") && j["metadata"].is_object())
     for (const auto& [k, v] : j["metadata"].items())
       if (v.is_string()) r.metadata[k] = v.get<std::string>();
-  for (const auto& [k, v] : metadata) r.metadata[k] = v;
+  for (const auto& [k, v] : metadata) r.metadata[utf8_text(k)] = utf8_text(v);
   r.inputs = std::move(inputs);
-  r.result_json = j.dump();
+  for (auto& i : r.inputs) i.path = utf8_text(i.path);
+  r.result_json = json_text(j);
   if (const auto it = r.metadata.find("machine"); it != r.metadata.end())
     r.machine_name = it->second;
   else if (j.contains("machine") && j["machine"].is_string())

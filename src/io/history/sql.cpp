@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "internal.hpp"
+#include "mtcal/io/json/json.hpp"
 
 namespace mtcal::history_detail {
 
@@ -153,7 +154,7 @@ std::string now_utc() {
 std::string metadata_to_json(const std::map<std::string, std::string>& m) {
   ordered_json j = ordered_json::object();
   for (const auto& [k, v] : m) j[k] = v;
-  return j.dump();
+  return json_text(j);
 }
 
 std::map<std::string, std::string> metadata_from_json(const std::string& text) {
@@ -170,7 +171,7 @@ std::map<std::string, std::string> metadata_from_json(const std::string& text) {
 std::string inputs_to_json(const std::vector<InputHash>& in) {
   ordered_json j = ordered_json::array();
   for (const auto& i : in) j.push_back({{"path", i.path}, {"sha256", i.sha256}});
-  return j.dump();
+  return json_text(j);
 }
 
 std::vector<InputHash> inputs_from_json(const std::string& text) {
@@ -206,7 +207,7 @@ std::string content_hash(const CalibrationRecord& r) {
   for (const auto& f : r.figures) fs.push_back({f.name, f.value, unc(f.uncertainty), f.unit});
   j.push_back(fs);
   j.push_back(r.result_json);
-  return sha256_hex(j.dump());
+  return sha256_hex(json_text(j));
 }
 
 void check_record(const CalibrationRecord& r) {
@@ -229,6 +230,30 @@ void check_record(const CalibrationRecord& r) {
     if (!std::isfinite(f.value) || (f.uncertainty && !std::isfinite(*f.uncertainty)))
       bad("figures", "figure " + f.name + ": expected finite numbers");
   }
+  // The store's text is UTF-8 (PostgreSQL's text columns refuse anything else; the JSON lines
+  // export is JSON): record_from_result makes a command's text so (json_text's U+FFFD).
+  auto utf8 = [&](const std::string& field, const std::string& text) {
+    if (!is_utf8(text))
+      bad(field, "expected UTF-8 text, found '" + printable(text) + "'");
+  };
+  for (const auto& [field, text] : {std::pair<const char*, const std::string&>{"machine_name", r.machine_name},
+                                    {"machine_serial", r.machine_serial},
+                                    {"command", r.command},
+                                    {"result_json", r.result_json}})
+    utf8(field, text);
+  for (const auto& [k, v] : r.metadata) {
+    utf8("metadata", k);
+    utf8("metadata " + k, v);
+  }
+  for (const auto& i : r.inputs) utf8("inputs", i.path);
+  for (const auto& p : r.parameters) {
+    utf8("parameters", p.name);
+    utf8("parameters", p.unit);
+  }
+  for (const auto& f : r.figures) {
+    utf8("figures", f.name);
+    utf8("figures", f.unit);
+  }
   for (const auto& i : r.inputs)
     if (i.sha256.size() != 64 || i.sha256.find_first_not_of("0123456789abcdef") != std::string::npos)
       bad("inputs", "input " + printable(i.path) + ": expected 64 lowercase hex digits of SHA-256, found '" +
@@ -238,6 +263,9 @@ void check_record(const CalibrationRecord& r) {
 void check_event(const Event& e) {
   const std::string where = e.id.empty() ? std::string("event") : "event " + e.id;
   if (e.machine.empty()) throw InputError({where, 0, "machine"}, "expected the machine's name, found none");
+  for (const auto& [field, text] : {std::pair<const char*, const std::string&>{"machine", e.machine}, {"note", e.note}})
+    if (!is_utf8(text))
+      throw InputError({where, 0, field}, "expected UTF-8 text, found '" + printable(text) + "'");
   if (!is_iso8601(e.date))
     throw InputError({where, 0, "date"}, "expected an ISO 8601 date (2026-11-25 or 2026-11-25T10:30:00Z), found '" +
                                              printable(e.date) + "'");

@@ -63,7 +63,10 @@ double quantity(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
     auto e = entries(n, ctx, {"value", "unit", "description"});
     if (!e.count("value")) ctx.fail(n, "missing key 'value'");
     if (!e.count("unit")) ctx.fail(n, fmt::format("missing key 'unit' ({} unit)", an(expected)));
-    return number(e["value"], ctx.child("value")) * unit(e["unit"], ctx.child("unit"), expected, true).to_internal;
+    (void)number(e["value"], ctx.child("value"));  // refuses what is no number
+    const auto v = convert_number(e["value"].Scalar(), unit(e["unit"], ctx.child("unit"), expected, true).to_internal);
+    if (!v) ctx.child("value").fail(e["value"], "'" + printable(e["value"].Scalar()) + "' is beyond the range of a number");
+    return *v;
   }
   const char* example = expected == Dimension::Length ? "12 um" : "25 urad";
   if (!n.IsScalar())
@@ -73,9 +76,10 @@ double quantity(const YAML::Node& n, const Ctx& ctx, Dimension expected) {
   in >> num >> u >> extra;
   if (u.empty() || !extra.empty())
     ctx.fail(n, fmt::format("expected '<number> <unit>' such as '{}', found '{}'", example, n.Scalar()));
-  const auto v = parse_number(num);
-  if (!v) ctx.fail(n, "expected a number before the unit, found '" + printable(num) + "'");
-  return *v * checked_unit(u, n, ctx, expected, true).to_internal;
+  if (!parse_number(num)) ctx.fail(n, "expected a number before the unit, found '" + printable(num) + "'");
+  const auto v = convert_number(num, checked_unit(u, n, ctx, expected, true).to_internal);
+  if (!v) ctx.fail(n, "'" + printable(n.Scalar()) + "' is beyond the range of a number");
+  return *v;
 }
 
 struct Direction {

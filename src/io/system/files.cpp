@@ -54,6 +54,9 @@ volatile std::sig_atomic_t g_used[kMaxPending];
 extern "C" void remove_pending_and_exit(int sig) {
   for (int i = 0; i < kMaxPending; ++i)
     if (g_used[i]) ::unlink(g_pending[i]);
+  // Directories made for outputs, once the files in them are gone (rmdir leaves a full one).
+  for (int i = kMaxPending - 1; i >= 0; --i)
+    if (g_used[i]) ::rmdir(g_pending[i]);
   std::signal(sig, SIG_DFL);
   std::raise(sig);
 }
@@ -191,6 +194,26 @@ OutputGroup::~OutputGroup() {
     std::remove(f.tmp.c_str());
     if (f.slot >= 0) g_used[f.slot] = 0;
   }
+  remove_directories();
+}
+
+void OutputGroup::remove_directories() {
+  // Newest first: a directory made inside another goes before it.
+  for (auto it = dirs_.rbegin(); it != dirs_.rend(); ++it) {
+    ::rmdir(it->first.c_str());
+    if (it->second >= 0) g_used[it->second] = 0;
+  }
+  dirs_.clear();
+}
+
+void OutputGroup::add_directory(std::string path, int slot) { dirs_.emplace_back(std::move(path), slot); }
+
+void create_output_directory(const std::string& path) {
+  if (::mkdir(path.c_str(), 0777) != 0)  // the umask applies, as to any new directory
+    throw Error("cannot create the directory '" + path + "': " + std::strerror(errno));
+  OutputGroup* g = OutputGroup::current();
+  if (!g) return;
+  g->add_directory(path, register_pending(path));
 }
 
 OutputGroup* OutputGroup::current() { return g_group; }
@@ -223,6 +246,7 @@ void OutputGroup::commit() {
       if (!backup[j].empty()) std::remove(backup[j].c_str());
     for (const auto& f : files_)
       if (f.slot >= 0) g_used[f.slot] = 0;
+    remove_directories();
     done_ = true;
     throw Error("cannot write '" + files_[i].path + "': " + why + " (no output written)");
   }
@@ -230,6 +254,8 @@ void OutputGroup::commit() {
     if (!b.empty()) std::remove(b.c_str());
   for (const auto& f : files_)
     if (f.slot >= 0) g_used[f.slot] = 0;
+  for (const auto& d : dirs_)
+    if (d.second >= 0) g_used[d.second] = 0;
   done_ = true;
 }
 

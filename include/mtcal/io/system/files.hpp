@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mtcal {
@@ -74,11 +75,23 @@ class OutputGroup {
     int slot = -1;
   };
   void add(Pending p);
+  // A directory made for this group's files (create_output_directory): removed, once its files
+  // are, unless the group commits.
+  void add_directory(std::string path, int slot);
 
  private:
+  void remove_directories();
+
   std::vector<Pending> files_;
+  std::vector<std::pair<std::string, int>> dirs_;
   bool done_ = false;
 };
+
+// Makes the directory path (its parent must exist; mode 0777 & ~umask) for outputs to be written
+// into, as `mkdir` does. While an output group is open, the directory is one of its outputs: it
+// is removed again (with the group's files in it) if the group is destroyed without commit() or
+// the program is stopped by SIGINT, SIGTERM or SIGHUP before then. Throws Error if it cannot.
+void create_output_directory(const std::string& path);
 
 // Writes text to path through an AtomicFile.
 void write_file_atomically(const std::string& path, const std::string& text);
