@@ -105,7 +105,10 @@ int run_tables(const CompensateOptions& o) {
     try {
       return target.run(m, library_options(m, o));
     } catch (const InputError& e) {
-      throw InputError(e.where(), naming_options(std::string(e.what()).substr(e.where().describe().size() + 2)));
+      const std::string message = std::string(e.what()).substr(e.where().describe().size() + 2);
+      const std::string named = naming_options(message);
+      if (named == message) throw;  // as it is (a RequestError keeps the parameters it names)
+      throw InputError(e.where(), named);
     }
   }();
   for (auto& w : out.summary.warnings) w = naming_options(w);

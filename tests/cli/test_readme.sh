@@ -65,6 +65,12 @@ for c in $commands; do
     "$tmp/help" >"$tmp/examples-$c.sh"
   n=$(grep -c '^mtcal ' "$tmp/examples-$c.sh")
   [ "$n" -ge 1 ] && ok || bad "mtcal $c --help: no example starts with 'mtcal '"
+  # probe-log reads the log a controller wrote while it ran the probing program: nothing here makes
+  # one, so its example is not run (the reader is tested on logs in test_planning: ProbeLog.*).
+  if [ "$c" = probe-log ]; then
+    echo "note: the example of mtcal probe-log needs a controller's probe log; not run here"
+    continue
+  fi
   (cd "$clone" && env -i HOME="$tmp" PATH="$clone/build/apps/mtcal:/usr/bin:/bin" LANG=C.UTF-8 \
     bash -e -o pipefail "$tmp/examples-$c.sh") >"$tmp/ex.out" 2>"$tmp/ex.err" && ok ||
     bad "an example of mtcal $c --help fails: $(tail -1 "$tmp/ex.err")"

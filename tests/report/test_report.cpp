@@ -51,7 +51,7 @@ TEST(Report, DocumentHasSummaryFiguresWarningsTablesAndPlots) {
   EXPECT_THROW(r.add_input("data", "/nonexistent/file.csv"), InputError);
   // The <noscript> note on static copies: the library's words by default (no option of a
   // command), the writing program's own where it sets one.
-  const std::size_t note = h.find("<noscript>");
+  const std::size_t note = h.find("<noscript><div class=\"warnings noscript\">");
   ASSERT_NE(note, std::string::npos);
   const std::string noscript = h.substr(note, h.find("</noscript>", note) - note);
   EXPECT_NE(noscript.find("A static copy for e-mail"), std::string::npos) << noscript;
