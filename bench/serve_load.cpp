@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -91,6 +92,7 @@ Session login(int port, const std::string& user, const std::string& password) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a closed connection must not end the run
   const int machines = argc > 1 ? std::atoi(argv[1]) : 1000;
   const int months = argc > 2 ? std::atoi(argv[2]) : 120;
   const int clients = argc > 3 ? std::atoi(argv[3]) : 50;

@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -67,6 +68,8 @@ int run_serve(const ServeCliOptions& o) {
   sigaddset(&set, SIGINT);
   sigaddset(&set, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  // A browser that closes its connection while a page is sent must not end the server.
+  std::signal(SIGPIPE, SIG_IGN);
   server::Server server(s);
   const int bound = server.bind();
   std::cerr << fmt::format("mtcal: serving {} on {}://{}:{}/ (Ctrl-C stops)\n", conn.rfind("postgres", 0) == 0 ? "the store" : conn,

@@ -288,7 +288,10 @@ form.row select{max-width:100%}
 form.inline{display:inline}
 input,select,button{font:inherit;max-width:100%}
 .plots{display:grid;grid-template-columns:repeat(auto-fill,minmax(min(100%,560px),1fr));gap:.5rem}
-.plot{height:300px;min-width:0}
+.plots{overflow:hidden;max-width:100%}
+.plot{height:300px;min-width:0;max-width:100%;overflow:hidden}
+form.row label{min-width:0;max-width:100%}
+form.row select{width:100%}
 code{overflow-wrap:anywhere}
 )";
   return css;

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <set>
@@ -451,7 +452,12 @@ struct Server::Impl {
       }
     } cleanup{dir};
     const std::string path = (dir / ("upload" + ext)).string();
-    write_file_atomically(path, file.content);
+    {
+      // Not write_file_atomically: under the command, outputs are committed when it ends.
+      std::ofstream out(path, std::ios::binary);
+      out.write(file.content.data(), static_cast<std::streamsize>(file.content.size()));
+      if (!out.flush()) throw Error("cannot write the upload to a temporary file");
+    }
     PositioningRuns runs = [&] {
       try {
         return read_positioning_file(path, "auto", "mm", "");
@@ -604,7 +610,7 @@ void Server::Impl::register_routes() {
     const auto [m, records] = trends(*store, required(req, "name"));
     // The report inlines Plotly and its data in <script> elements: this page alone allows inline scripts.
     res.set_header("Content-Security-Policy",
-                   "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data:");
+                   "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data: blob:");
     res.set_content(trend_report_html("mtcal serve", m, records, store->describe(), now_utc_text()),
                     "text/html; charset=utf-8");
   });

@@ -54,7 +54,7 @@ case "$reply" in "HTTP/1.1 4"*) ok ;; *) bad "garbage got '$reply'" ;; esac
 curl -s -o /dev/null -w '%{http_code}' "$base/login" | grep -q 200 && ok || bad "the server stopped serving after garbage"
 
 # Killed in the middle of an upload: half a multipart body sent, then SIGKILL. Nothing recorded.
-python3 - "$port" "$DATA" <<'PY' &
+python3 - "$port" "$DATA" "$tmp/sent" <<'PY' &
 import socket, sys, time
 port, path = int(sys.argv[1]), sys.argv[2]
 body = open(path, 'rb').read()
@@ -62,10 +62,12 @@ head = (f"POST /api/upload HTTP/1.1\r\nHost: x\r\nContent-Type: multipart/form-d
         f"Content-Length: {len(body) * 2 + 400}\r\n\r\n").encode()
 s = socket.create_connection(('127.0.0.1', port))
 s.sendall(head + b'--BB\r\nContent-Disposition: form-data; name="file"; filename="x.dat"\r\n\r\n' + body[: len(body) // 2])
+open(sys.argv[3], 'w').close()
 time.sleep(3)
 PY
 sender=$!
-sleep 1
+for _ in $(seq 1 100); do [ -e "$tmp/sent" ] && break; sleep 0.1; done
+[ -e "$tmp/sent" ] && ok || bad "the half upload was not sent"
 kill -9 "$pid"
 wait "$pid" 2>/dev/null
 wait "$sender" 2>/dev/null

@@ -48,7 +48,8 @@ class Server {
   // Binds host:port; returns the port (the free one chosen when port is 0). Throws Error when
   // the address cannot be bound.
   int bind();
-  // Serves until stop(); call bind() first.
+  // Serves until stop(); call bind() first. The program should ignore SIGPIPE (a client that
+  // closes its connection mid-response would otherwise end the process).
   void run();
   void stop();
   // Every route the router knows, in registration order.
