@@ -289,7 +289,17 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
   c->add_option("--dialect", o->dialect, "G-code dialect: linuxcnc (G38.2, PROBEOPEN log) or iso (G31, #5061 CSV)")
       ->check(CLI::IsMember({"linuxcnc", "iso"}))
       ->capture_default_str();
-  c->add_option("--log-name", o->log, "LinuxCNC: the file (PROBEOPEN ...) writes the contacts to")->capture_default_str();
+  // A name on the controller's machine, written into a G-code comment: any path there, but a comment
+  // ends at ')' and at the line's end, so those (and an empty name) are refused.
+  c->add_option("--log-name", o->log, "LinuxCNC: the file (PROBEOPEN ...) writes the contacts to")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            if (s.empty() || s.find_first_of("()\r\n") != std::string::npos)
+              return "expected a file name for PROBEOPEN without '(', ')' or a line break, found '" + s + "'";
+            return {};
+          },
+          "NAME"));
   add_cycle_options(c, o->cycle);
   c->add_flag("--json", o->json_out, "Machine-readable output: poses predicted{parameters{u}} time against ...");
   c->footer(

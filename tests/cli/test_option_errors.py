@@ -60,6 +60,23 @@ for args in (
 ):
     subprocess.run([MTCAL, *args], check=True, stdout=subprocess.DEVNULL)
 
+# A probing plan and its program (mtcal plan), and a probe log in LinuxCNC's form made from the
+# program: each G38.2 move's end, the rotary axes where the program left them. Those points lie on
+# a sphere about each ball (its radius plus the overshoot), so probe-log reads and fits them.
+subprocess.run([MTCAL, "plan", "-m", MR, "--artefact", f"{E}/plans/rrttt-viprey-sphere.csv", "--estimate",
+                "EY0C,EZ0A", "--poses", "12", "--out", f"{fix}/plan.csv", "--gcode", f"{fix}/probe.ngc"],
+               check=True, stdout=subprocess.DEVNULL)
+_at, _log = dict.fromkeys("XYZABC", 0.0), []
+for _line in open(f"{fix}/probe.ngc"):
+    _line = _line.split("(")[0].strip()
+    _words = {m.group(1): float(m.group(2)) for m in re.finditer(r"([XYZABC])(-?[\d.]+)", _line)}
+    if _line.startswith("G38.2"):
+        _p = {**_at, **_words}
+        _log.append(" ".join(f"{_p[a]:.6f}" for a in "XYZABC") + " 0 0 0")
+    _at.update(_words)
+with open(f"{fix}/probe-log.txt", "w") as f:
+    f.write("\n".join(_log) + "\n")
+
 # A valid invocation of each command, writing its outputs into the working folder (relative
 # names). Several for a command whose options belong to different modes.
 BASES = {
@@ -105,13 +122,19 @@ BASES = {
     "identify": [["-m", M5, "--measurements", f"{fix}/meas.csv", "--estimate", EST, "--scale-bar", "1:2:304.8",
                   "--out", "o.yaml", "--report", "o.html"]],
     "identifiability": [["-m", M5, "--plan", PLAN, "--estimate", "EX0C,EX0B,EX0X,EXt"]],
+    "plan": [["-m", MR, "--artefact", f"{E}/plans/rrttt-viprey-sphere.csv", "--estimate", "EY0C,EZ0A", "--poses",
+              "12", "--out", "o.csv", "--gcode", "o.ngc"]],
+    "probe-log": [["-m", MR, "--plan", f"{fix}/plan.csv", "--log", f"{fix}/probe-log.txt", "--out", "o.csv"]],
     # The history's own commands are subcommands (list, show ...; tests/cli/test_history.sh): the
     # group's options (--precision) checked through one of them.
     "history": [["list", "--store", "h.db"]],
 }
 
 # Options whose every value is valid text (none so far): a bad value cannot fail.
-FREE_TEXT = set()
+# plan --log-name is a file name on the controller's machine (written into the program's PROBEOPEN
+# comment, never opened by mtcal): any path text is valid there; only an empty name, parentheses
+# and line breaks are refused.
+FREE_TEXT = {"--log-name"}
 
 
 def help_text(*cmd):
