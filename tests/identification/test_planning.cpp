@@ -11,6 +11,7 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#include "input_errors.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -35,15 +36,7 @@ IdentificationOptions options(const std::vector<std::string>& names) {
   return o;
 }
 
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError";
-  return "";
-}
+using testing::error_message;
 
 TEST(Planning, ThePapersPlansAreWithinReach) {
   // The papers' configurations were measured on real machines: the default reach must allow them.
@@ -131,7 +124,7 @@ TEST(Planning, CandidatesCountWhatEachConstraintRemoved) {
   for (const auto& r : c.plan.records) EXPECT_EQ(reach_violation(m, c.plan, r, {}), "");
   Machine nowhere = m;
   nowhere.axes[*m.axis_index('X')].travel = Travel{1000, 1001};
-  const std::string msg = message_of([&] { candidate_configurations(nowhere, art.features, g, {}); });
+  const std::string msg = error_message([&] { candidate_configurations(nowhere, art.features, g, {}); });
   EXPECT_NE(msg.find("no candidate configuration is left"), std::string::npos) << msg;
   EXPECT_NE(msg.find("1440 by travel"), std::string::npos) << msg;
 }
@@ -230,7 +223,7 @@ TEST(Planning, DesignOfAGivenSize) {
   // The paper's first 20 poses cannot do it: balls 1 and 2 (the scale bar) come later.
   ProbingPlan first20 = paper;
   first20.records.resize(20);
-  const std::string why = message_of([&] { predict_plan(m, first20, d.model); });
+  const std::string why = error_message([&] { predict_plan(m, first20, d.model); });
   EXPECT_NE(why.find("never probed"), std::string::npos) << why;
   // Plan file round trip: what simulate and identify read.
   const ProbingPlan again = parse_probing_csv(m, probing_csv(m, design.plan), "designed");
@@ -264,25 +257,25 @@ TEST(Planning, BadBudgetsAndParameters) {
   d.model = options(kLocation);
   // A target below what every candidate together gives: the best reachable is named.
   d.target_u = {{"EX0C", 1e-9}};
-  std::string msg = message_of([&] { design_plan(m, c.plan, d); });
+  std::string msg = error_message([&] { design_plan(m, c.plan, d); });
   EXPECT_NE(msg.find("cannot be met"), std::string::npos) << msg;
   EXPECT_NE(msg.find("EX0C: target 1e-09 mm, best reachable"), std::string::npos) << msg;
   // A target for a parameter not estimated.
   d.target_u = {{"EZ0C", 1e-3}};
-  msg = message_of([&] { design_plan(m, c.plan, d); });
+  msg = error_message([&] { design_plan(m, c.plan, d); });
   EXPECT_NE(msg.find("'EZ0C' is not one of the estimated parameters"), std::string::npos) << msg;
   // No budget, and more poses than candidates.
   d.target_u.clear();
-  msg = message_of([&] { design_plan(m, c.plan, d); });
+  msg = error_message([&] { design_plan(m, c.plan, d); });
   EXPECT_NE(msg.find("expected a budget"), std::string::npos) << msg;
   d.poses = c.plan.records.size() + 1;
-  msg = message_of([&] { design_plan(m, c.plan, d); });
+  msg = error_message([&] { design_plan(m, c.plan, d); });
   EXPECT_NE(msg.find("expected at most the"), std::string::npos) << msg;
   // Not identifiable whatever the poses: the workpiece's x position with uncalibrated balls is the
   // balls' x (identifiability's null-space combination).
   d.poses = 10;
   d.model = options({"EX0C", "EXw"});
-  msg = message_of([&] { design_plan(m, c.plan, d); });
+  msg = error_message([&] { design_plan(m, c.plan, d); });
   EXPECT_NE(msg.find("EXw is not identifiable"), std::string::npos) << msg;
   EXPECT_NE(msg.find("EXw = "), std::string::npos) << msg;
 }

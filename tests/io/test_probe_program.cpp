@@ -20,6 +20,7 @@
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/io/gcode/rs274.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#include "input_errors.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -45,15 +46,7 @@ GcodeOptions xyzbc() {
   return o;
 }
 
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError";
-  return "";
-}
+using testing::error_message;
 
 // LinuxCNC's log of the program's touches as a perfect machine would trip them: the expected
 // contacts, plus noise; "%.6f" nine columns like LinuxCNC.
@@ -112,7 +105,7 @@ TEST(ProbeProgram, MtcalsReaderFollowsTheProgram) {
     // mtcal's reader simulates no probing (the path depends on the trip): it says so at the first
     // probing move (LinuxCNC) ...
     if (dialect == ProbeDialect::LinuxCNC) {
-      const std::string msg = message_of([&] { parse_gcode(prog, "probe.ngc", xyzbc()); });
+      const std::string msg = error_message([&] { parse_gcode(prog, "probe.ngc", xyzbc()); });
       EXPECT_NE(msg.find("G38.2 probing"), std::string::npos) << msg;
     }
     // ... so each probing move is read as the straight feed to its end (the probe not tripping):
@@ -217,47 +210,47 @@ TEST(ProbeLog, BadLogsSayFileAndLine) {
   // Unparsable line.
   auto bad = lines;
   bad[3] = "1.0 2.0 abc 0 0 0 0 0 0";
-  std::string msg = message_of([&] { meas(join(bad)); });
+  std::string msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("probe.txt:4"), std::string::npos) << msg;
   EXPECT_NE(msg.find("expected a number for Z, found 'abc'"), std::string::npos) << msg;
   // Wrong count of numbers.
   bad = lines;
   bad[5] = "1 2 3";
-  msg = message_of([&] { meas(join(bad)); });
+  msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("probe.txt:6"), std::string::npos) << msg;
   EXPECT_NE(msg.find("expected 9 numbers"), std::string::npos) << msg;
   // Missing line: the log ends early.
   bad = lines;
   bad.pop_back();
-  msg = message_of([&] { meas(join(bad)); });
+  msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("expected 34 contacts"), std::string::npos) << msg;
   EXPECT_NE(msg.find("found 33"), std::string::npos) << msg;
   // Extra line: located at the first extra one.
   bad = lines;
   bad.push_back(lines.back());
-  msg = message_of([&] { meas(join(bad)); });
+  msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("probe.txt:35"), std::string::npos) << msg;
   // Out of order: two ball touches of different indexations swapped (B/C differ).
   bad = lines;
   std::swap(bad[4], bad[20]);
-  msg = message_of([&] { meas(join(bad)); });
+  msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("probe.txt:5"), std::string::npos) << msg;
   EXPECT_NE(msg.find("does not follow the plan"), std::string::npos) << msg;
   // Out of order within one indexation: position far from the expected trip point.
   bad = lines;
   std::swap(bad[0], bad[5]);  // ball 3's pole against ball 4's pole, same B and C
-  msg = message_of([&] { meas(join(bad)); });
+  msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("probe.txt:1"), std::string::npos) << msg;
   EXPECT_NE(msg.find("mm from where the plan's record 1"), std::string::npos) << msg;
   // Non-finite and empty.
   bad = lines;
   bad[2] = "nan 0 0 0 0 0 0 0 0";
-  msg = message_of([&] { meas(join(bad)); });
+  msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("probe.txt:3"), std::string::npos) << msg;
-  msg = message_of([&] { meas("\n\n"); });
+  msg = error_message([&] { meas("\n\n"); });
   EXPECT_NE(msg.find("found no contact"), std::string::npos) << msg;
   // ISO: two numbers only.
-  msg = message_of([&] { parse_probe_log(m, "#5061,#5062,#5063\n1,2\n", "probe.csv", ProbeLogFormat::IsoCsv); });
+  msg = error_message([&] { parse_probe_log(m, "#5061,#5062,#5063\n1,2\n", "probe.csv", ProbeLogFormat::IsoCsv); });
   EXPECT_NE(msg.find("probe.csv:2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("expected 3 to 6 numbers"), std::string::npos) << msg;
 }

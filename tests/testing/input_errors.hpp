@@ -30,4 +30,16 @@ SourceLocation error_at(F f) {
   return {};
 }
 
+// The message of the InputError that f throws (a test failure if it throws none).
+template <class F>
+std::string error_message(F f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return "";
+}
+
 }  // namespace mtcal::testing
