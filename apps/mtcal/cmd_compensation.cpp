@@ -64,11 +64,12 @@ CompensationOptions library_options(const Machine& m, const CompensateOptions& o
   return c;
 }
 
-// The library's messages speak of the data; where one of this command's options is the cause,
-// the command names it after the words that describe it.
+// A target's warnings speak of the data; where one of this command's options is what they speak
+// of, the command names it after the words that describe it (errors name theirs through
+// RequestError and rethrow_for_options).
 std::string naming_options(std::string text) {
   static constexpr std::pair<std::string_view, std::string_view> kCauses[] = {
-      {"more table points", "--points"}, {"the compensation's reference position", "--reference"}};
+      {"the compensation's reference position", "--reference"}};
   for (const auto& [words, option] : kCauses)
     if (const auto at = text.find(words); at != std::string::npos)
       text.insert(at + words.size(), fmt::format(" ({})", option));
@@ -101,16 +102,7 @@ int run_tables(const CompensateOptions& o) {
   if (!o.report.empty()) AtomicFile check(o.report);  // refuse a bad path before the work
   const CompensationTarget& target = compensation_target(o.format);
   const Machine m = load(o.gcode.model);
-  TargetOutput out = [&] {
-    try {
-      return target.run(m, library_options(m, o));
-    } catch (const InputError& e) {
-      const std::string message = std::string(e.what()).substr(e.where().describe().size() + 2);
-      const std::string named = naming_options(message);
-      if (named == message) throw;  // as it is (a RequestError keeps the parameters it names)
-      throw InputError(e.where(), named);
-    }
-  }();
+  TargetOutput out = target.run(m, library_options(m, o));
   for (auto& w : out.summary.warnings) w = naming_options(w);
   // The folder is renamed into place at once, not with the command's other outputs: everything
   // that can still fail (the report) comes before it.

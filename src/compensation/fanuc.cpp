@@ -10,6 +10,7 @@
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/util/request_error.hpp"
 
 namespace mtcal {
 
@@ -134,10 +135,11 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
       if (fits) break;
     }
     if (!fits)
-      throw InputError({kTarget, 0, std::string(1, ax.letter)},
-                       fmt::format("expected the correction of {} to change by at most {} counts x magnification {} "
-                                   "per interval of {:g} {}; use a shorter interval: more table points",
-                                   ax.letter, kFanucMaxValue, kFanucMaxMagnification, t.interval, joint_unit_name(ax)));
+      throw RequestError({kTarget, 0, std::string(1, ax.letter)},
+                         fmt::format("expected the correction of {} to change by at most {} counts x magnification {} "
+                                     "per interval of {:g} {}; use a shorter interval: more table points",
+                                     ax.letter, kFanucMaxValue, kFanucMaxMagnification, t.interval, joint_unit_name(ax)),
+                         {"points"});
     const double step = u * t.magnification;
     if (ax.kind == AxisKind::Rotary) {
       // A rotary axis's reversal is in deg: named in a warning (the list of errors not held is in mm).
