@@ -69,11 +69,7 @@ function(mtcal_apply_pch)
   endif()
   mtcal_precompile_headers(mtcal_core ${MTCAL_PCH_STD} <Eigen/Core> <Eigen/Geometry> <fmt/format.h>
                            <nlohmann/json.hpp>)
-  set(own_options kinematics/batch.cpp kinematics/chain.cpp kinematics/error_model.cpp kinematics/first_order.cpp
-      kinematics/kernel_isa.cpp kinematics/transform.cpp model/motion_function.cpp evaluation/volumetric.cpp
-      evaluation/volumetric_stream.cpp evaluation/error_stream.cpp evaluation/toolpath.cpp probing/rotary_axis.cpp
-      fitting/least_squares.cpp)
-  list(TRANSFORM own_options PREPEND ${PROJECT_SOURCE_DIR}/src/)
+  mtcal_own_option_sources(own_options)
   set_source_files_properties(${own_options} DIRECTORY ${PROJECT_SOURCE_DIR}/src PROPERTIES SKIP_PRECOMPILE_HEADERS ON)
   mtcal_precompile_headers(mtcal ${MTCAL_PCH_STD} <CLI/CLI.hpp> <Eigen/Core> <fmt/format.h> <nlohmann/json.hpp>)
   if(TARGET mtcal_tests)
@@ -93,6 +89,38 @@ function(mtcal_apply_pch)
   endif()
 endfunction()
 
+# Unity (jumbo) builds: each target's units compiled in batches of MTCAL_UNITY_BATCH, so that the
+# heavy headers (Eigen, nlohmann-json, CLI11, GoogleTest, pybind11) are parsed, and their common
+# templates instantiated, once per batch instead of once per unit (docs/building.md, "Unity builds").
+# A unit compiled with its own options (-O3, -ffp-contract=off, ...) stays alone: its options must not
+# reach the units of a batch, nor theirs it. MTCAL_UNITY_BATCH balances the saving against the two
+# cores Ninja keeps busy and against incremental builds (touching one unit recompiles its batch).
+option(MTCAL_UNITY "Compile each target's units in unity batches (faster full builds, slower single-unit rebuilds)" OFF)
+set(MTCAL_UNITY_BATCH 8 CACHE STRING "Units per unity batch (MTCAL_UNITY=ON)")
+function(mtcal_apply_unity)
+  if(NOT MTCAL_UNITY)
+    return()
+  endif()
+  foreach(target mtcal_core mtcal mtcal_testing mtcal_tests mtcal_python mtcal_bench test_planning test_commanded_joints)
+    if(TARGET ${target})
+      set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${MTCAL_UNITY_BATCH})
+    endif()
+  endforeach()
+  mtcal_own_option_sources(own)
+  set_source_files_properties(${own} DIRECTORY ${PROJECT_SOURCE_DIR}/src PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+endfunction()
+
+# The library's units compiled with their own options (-O3 on the hot code, -ffp-contract=off, ...):
+# neither a target's precompiled header nor a unity batch may take them.
+function(mtcal_own_option_sources out)
+  set(own kinematics/batch.cpp kinematics/chain.cpp kinematics/error_model.cpp kinematics/first_order.cpp
+      kinematics/kernel_isa.cpp kinematics/transform.cpp model/motion_function.cpp evaluation/volumetric.cpp
+      evaluation/volumetric_stream.cpp evaluation/error_stream.cpp evaluation/toolpath.cpp probing/rotary_axis.cpp
+      fitting/least_squares.cpp)
+  list(TRANSFORM own PREPEND ${PROJECT_SOURCE_DIR}/src/)
+  set(${out} ${own} PARENT_SCOPE)
+endfunction()
+
 # -O3 only on the hot code (docs/performance.md: the error kernels, the scalar chain and motion forms
 # they reproduce, the grid/volumetric/toolpath streams), -O2 elsewhere in Release: it compiles faster
 # and the benchmarks measured no slower (docs/building.md, "-O2 outside the hot code").
@@ -105,12 +133,33 @@ function(mtcal_apply_hot_o3)
   if(MTCAL_O3_EVERYWHERE OR NOT CMAKE_BUILD_TYPE STREQUAL "Release")
     return()
   endif()
-  set(hot kinematics/batch.cpp kinematics/chain.cpp kinematics/error_model.cpp kinematics/first_order.cpp
-      kinematics/kernel_isa.cpp kinematics/transform.cpp model/motion_function.cpp evaluation/volumetric.cpp
-      evaluation/volumetric_stream.cpp evaluation/error_stream.cpp evaluation/toolpath.cpp
-      # The rotary-axis estimators measured 9-13 % slower at -O2 (BM_Triples_360, BM_LeastSquares_360).
-      probing/rotary_axis.cpp fitting/least_squares.cpp)
-  list(TRANSFORM hot PREPEND ${PROJECT_SOURCE_DIR}/src/)
+  # The list: the kernels and streams of docs/performance.md, and the rotary-axis estimators
+  # (probing/rotary_axis.cpp, fitting/least_squares.cpp), measured 9-13 % slower at -O2
+  # (BM_Triples_360, BM_LeastSquares_360).
+  mtcal_own_option_sources(hot)
   # Appended: batch.cpp and volumetric.cpp keep their own options (-ffp-contract=off, ...).
   set_property(SOURCE ${hot} DIRECTORY ${PROJECT_SOURCE_DIR}/src APPEND PROPERTY COMPILE_OPTIONS -O3)
+endfunction()
+
+# The tests' `python3`: the shell and Python test scripts start it several hundred times in all. A
+# version manager's shim first on PATH (pyenv's is a bash script that execs pyenv) costs about 0.5
+# CPU-seconds a start on this project's machines, against 0.03 s for the interpreter itself, and
+# its interpreter may lack Debian's python3-numpy and friends (the packages scripts/install-deps
+# installs belong to Debian's interpreter). The tests of the directory that calls this get a PATH
+# that starts with a folder holding one `python3`, Debian's /usr/bin/python3; nothing changes where
+# that does not exist. (CMake 3.25 sets test properties only in the directory that made the tests.)
+function(mtcal_tests_use_debian_python)
+  find_program(MTCAL_TEST_PYTHON3 NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)
+  if(NOT MTCAL_TEST_PYTHON3)
+    return()
+  endif()
+  set(dir ${PROJECT_BINARY_DIR}/test-python)
+  if(NOT EXISTS ${dir}/python3)
+    file(MAKE_DIRECTORY ${dir})
+    file(CREATE_LINK ${MTCAL_TEST_PYTHON3} ${dir}/python3 SYMBOLIC)
+  endif()
+  get_property(tests DIRECTORY PROPERTY TESTS)
+  if(tests)
+    set_property(TEST ${tests} APPEND PROPERTY ENVIRONMENT_MODIFICATION PATH=path_list_prepend:${dir})
+  endif()
 endfunction()

@@ -1,4 +1,5 @@
 #include "gcode_input.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <algorithm>
 #include <iostream>
@@ -13,14 +14,13 @@
 namespace mtcal::cli {
 namespace {
 
-constexpr double kInch = 25.4;
 // The tool table of LinuxCNC's sim configuration axis_mm.ini (T1-T10 in mm), which the Debian
 // package linuxcnc-uspace installs (dpkg -L linuxcnc-uspace).
 constexpr const char* kLinuxcncSimToolTable = "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/sim_mm.tbl";
 
 double units_scale(const std::string& units, const char* option) {
   if (units == "mm") return 1.0;
-  if (units == "in") return kInch;
+  if (units == "in") return kMmPerInch;
   throw InputError({option, 0, ""}, fmt::format("expected mm or in, found '{}'", printable(units)));
 }
 

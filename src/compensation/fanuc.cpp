@@ -16,7 +16,7 @@ namespace mtcal {
 
 namespace {
 
-constexpr const char* kTarget = "fanuc";
+constexpr const char* kFanucTarget = "fanuc";
 
 // A rotary axis that turns through a whole revolution gets a table over one turn (parameter 3625);
 // a tilting axis with a limited travel is tabulated as a linear one, in deg.
@@ -49,9 +49,9 @@ double axis_error(const ErrorModel& model, std::size_t a, std::span<const double
 FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& o) {
   const double u = o.detection_unit;
   if (!std::isfinite(u) || u <= 0.0 || u > 1.0)
-    throw InputError({kTarget, 0, "detection unit"},
+    throw InputError({kFanucTarget, 0, "detection unit"},
                      fmt::format("expected a detection unit in (0, 1] mm/deg, found {}", u));
-  const auto sampling = resolve_sampling(m, o, 51, kFanucMaxPoints, kTarget);
+  const auto sampling = resolve_sampling(m, o, 51, kFanucMaxPoints, kFanucTarget);
   const ErrorModel model(m);
   const ErrorModel linear_model(linear_axis_errors(m));  // what the linear axes' tables are sampled on
   std::vector<double> reference = o.reference;
@@ -135,7 +135,7 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
       if (fits) break;
     }
     if (!fits)
-      throw RequestError({kTarget, 0, std::string(1, ax.letter)},
+      throw RequestError({kFanucTarget, 0, std::string(1, ax.letter)},
                          fmt::format("expected the correction of {} to change by at most {} counts x magnification {} "
                                      "per interval of {:g} {}; use a shorter interval: more table points",
                                      ax.letter, kFanucMaxValue, kFanucMaxMagnification, t.interval, joint_unit_name(ax)),
@@ -206,7 +206,7 @@ FanucCompensation compensate_fanuc(const Machine& m, const CompensationOptions& 
   }
   out.summary.residual = residual_before_after(model, model, residual_grid(m, sampling, o.residual_points),
                                                table_rule(std::move(applied), m.axes.size()), o.threads);
-  out.summary.target = kTarget;
+  out.summary.target = kFanucTarget;
   out.summary.quantity = TableQuantity::Correction;
   out.summary.sign_source =
       "FANUC pitch error compensation, parameters 3620-3625 and incremental values per interval x magnification "

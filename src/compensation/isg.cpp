@@ -10,7 +10,7 @@
 namespace mtcal {
 
 namespace {
-constexpr const char* kTarget = "isg";
+constexpr const char* kIsgTarget = "isg";
 }  // namespace
 
 IsgCompensation compensate_isg(const Machine& m, const CompensationOptions& o) {
@@ -19,7 +19,7 @@ IsgCompensation compensate_isg(const Machine& m, const CompensationOptions& o) {
       throw InputError({m.source, 0, std::string(1, l)},
                        fmt::format("ISG volumetric compensation needs linear axes X, Y and Z; {} has no {}",
                                    m.topology.chain, l));
-  const auto sampling = resolve_sampling(m, o, 51, 100000, kTarget);
+  const auto sampling = resolve_sampling(m, o, 51, 100000, kIsgTarget);
   IsgCompensation out;
   // What the control evaluates: the machine with the tables in place of the motion functions
   // (linear interpolation, one table for both directions) and without set-up errors.
@@ -33,7 +33,7 @@ IsgCompensation compensate_isg(const Machine& m, const CompensationOptions& o) {
     table.axis = ax.letter;
     for (std::size_t c = 0; c < 6; ++c) {
       const Component comp = static_cast<Component>(c);
-      const ComponentTable t = sample_component(m, comp, sampling[a], kTarget);
+      const ComponentTable t = sample_component(m, comp, sampling[a], kIsgTarget);
       std::vector<double> mean(t.position.size());
       bool any = false;
       for (std::size_t i = 0; i < mean.size(); ++i) {
@@ -70,7 +70,7 @@ IsgCompensation compensate_isg(const Machine& m, const CompensationOptions& o) {
         return c;
       },
       o.threads);
-  out.summary.target = kTarget;
+  out.summary.target = kIsgTarget;
   out.summary.quantity = TableQuantity::Error;
   out.summary.sign_source =
       "Beckhoff TF5280 Volumetric Compensation (ISG kernel manual): the parameters of the ISO 230-1/-7 machine model "

@@ -15,7 +15,7 @@ namespace mtcal {
 namespace {
 
 constexpr std::size_t kDefaultPoints = 51;
-constexpr const char* kTarget = "linuxcnc";
+constexpr const char* kLinuxcncTarget = "linuxcnc";
 
 // The ISO 230-7 positions of a rotary axis line across it (the two that are not along the axis).
 std::array<Component, 2> line_positions(char axis) {
@@ -50,13 +50,13 @@ Vec3 tool_point_at_zero(const Machine& m) {
 
 LinuxcncCompensation compensate_linuxcnc(const Machine& m, const CompensationOptions& o) {
   if (o.comp_file_type != 0 && o.comp_file_type != 1)
-    throw InputError({kTarget, 0, "COMP_FILE_TYPE"},
+    throw InputError({kLinuxcncTarget, 0, "COMP_FILE_TYPE"},
                      fmt::format("expected COMP_FILE_TYPE 0 or 1, found {}", o.comp_file_type));
   LinuxcncCompensation out;
   out.comp_file_type = o.comp_file_type;
   for (const char c : std::string("XYZABC"))
     if (m.axis_index(c)) out.coordinates += c;
-  const auto sampling = resolve_sampling(m, o, kDefaultPoints, kLinuxcncMaxCompLines, kTarget);
+  const auto sampling = resolve_sampling(m, o, kDefaultPoints, kLinuxcncMaxCompLines, kLinuxcncTarget);
 
   // What the kinematics module holds: the rotary axis lines' positions (trt pins).
   std::string tilt;
@@ -104,7 +104,7 @@ LinuxcncCompensation compensate_linuxcnc(const Machine& m, const CompensationOpt
 
   // Joint tables of the linear axes: the tool point's error along the axis when it alone moves.
   const ErrorModel model(rest);
-  for (const PositioningTable& t : positioning_tables(model, sampling, o.reference, kTarget)) {
+  for (const PositioningTable& t : positioning_tables(model, sampling, o.reference, kLinuxcncTarget)) {
     LinuxcncJointTable table;
     table.axis = t.axis;
     table.joint = static_cast<int>(out.coordinates.find(t.axis));
@@ -136,7 +136,7 @@ LinuxcncCompensation compensate_linuxcnc(const Machine& m, const CompensationOpt
   }
   out.summary.residual = residual_before_after(ErrorModel(m), model, residual_grid(m, sampling, o.residual_points),
                                                table_rule(std::move(applied), m.axes.size()), o.threads);
-  out.summary.target = kTarget;
+  out.summary.target = kLinuxcncTarget;
   out.summary.quantity = o.comp_file_type == 0 ? TableQuantity::ActualPosition : TableQuantity::Correction;
   out.summary.sign_source =
       "LinuxCNC 2.9 src/emc/motion/usrmotintf.cc usrmotLoadComp(): COMP_FILE_TYPE 0 columns are the positions "

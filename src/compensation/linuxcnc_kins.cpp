@@ -14,7 +14,7 @@ namespace mtcal {
 
 namespace {
 
-constexpr const char* kTarget = "linuxcnc-kins";
+constexpr const char* kKinsTarget = "linuxcnc-kins";
 constexpr std::size_t kTablePoints = 51;
 // Default room left between the commanded travel and the joint limits (each end): the
 // corrections of the example machines are below 0.1 mm and 0.1 deg (largest_correction).
@@ -70,7 +70,7 @@ LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOption
       !std::all_of(k.module_name.begin(), k.module_name.end(),
                    [](char c) { return std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_'; }) ||
       std::isdigit(static_cast<unsigned char>(k.module_name[0])))
-    throw InputError({kTarget, 0, "module name"},
+    throw InputError({kKinsTarget, 0, "module name"},
                      fmt::format("expected a module name of 1-40 lower-case letters, digits and '_' (a C identifier), "
                                  "found '{}'",
                                  printable(k.module_name)));
@@ -144,7 +144,7 @@ LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOption
       if (const auto* tab = std::get_if<Table>(&f.form()); tab && tab->positions.size() <= kLinuxcncMaxCompLines) {
         for (double x : tab->positions) t.nominal.push_back(to_user_units(ax, x));
       } else {
-        t.nominal = sample_positions(s, kTarget);
+        t.nominal = sample_positions(s, kKinsTarget);
       }
       for (double x : t.nominal) {
         const double q = x * unit, v0 = f0.value(q, 0);
@@ -168,7 +168,7 @@ LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOption
   }
   for (auto& s : so.sampling) s.points = std::max<std::size_t>(2, k.check_points);
   so.points = k.check_points;
-  const auto sampling = resolve_sampling(m, so, k.check_points, 1000, kTarget);
+  const auto sampling = resolve_sampling(m, so, k.check_points, 1000, kKinsTarget);
 
   // Pre-check: the inverse on every configuration of the grid over the commanded travel, with the
   // machine file's tool length; converged, and the corrected joints inside the travel.
@@ -230,7 +230,7 @@ LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOption
   };
   out.summary.residual =
       residual_before_after(model, model, residual_grid(m, sampling, o.residual_points), rule, o.threads);
-  out.summary.target = kTarget;
+  out.summary.target = kKinsTarget;
   out.summary.quantity = TableQuantity::Correction;
   out.summary.sign_source =
       "kinematicsInverse returns the joints whose actual tool point (the model, e = actual - nominal) is the "

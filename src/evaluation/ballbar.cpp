@@ -1,4 +1,5 @@
 #include "mtcal/evaluation/ballbar.hpp"
+#include "mtcal/util/units.hpp"
 #include "mtcal/fitting/least_squares.hpp"
 #include "mtcal/model/joints.hpp"
 
@@ -20,7 +21,6 @@ namespace mtcal {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
 double wrap(double a) {  // to [0, 2 pi)
   a = std::fmod(a, 2 * kPi);
@@ -119,7 +119,7 @@ std::vector<TracePoint> trimmed(const std::vector<TracePoint>& all, CircleDirect
   const double total = t.empty() ? 0.0 : travel.back();
   std::vector<TracePoint> kept;
   for (std::size_t i = 0; i < t.size(); ++i)
-    if (travel[i] >= o.overshoot_start * kDeg - 1e-12 && travel[i] <= total - o.overshoot_stop * kDeg + 1e-12)
+    if (travel[i] >= o.overshoot_start * kRadPerDeg - 1e-12 && travel[i] <= total - o.overshoot_stop * kRadPerDeg + 1e-12)
       kept.push_back(t[i]);
   return kept;
 }
@@ -136,11 +136,11 @@ CircularDeviation deviation(const std::vector<TracePoint>& t, const BallbarOptio
   std::sort(a.begin(), a.end());
   double gap = a.front() + 2 * kPi - a.back();
   for (std::size_t i = 1; i < a.size(); ++i) gap = std::max(gap, a[i] - a[i - 1]);
-  if (gap > 30 * kDeg)
+  if (gap > 30 * kRadPerDeg)
     throw InputError({source, 0, ""},
                      fmt::format("the {} path leaves a gap of {:.0f} deg: a circular test goes round the "
                                  "whole circle (at most 30 deg between samples)",
-                                 name, gap / kDeg));
+                                 name, gap / kRadPerDeg));
   const auto p = points_of(t);
   CircularDeviation d;
   d.points = t.size();
@@ -227,7 +227,7 @@ TraceDiagnosis diagnose_ballbar(const std::vector<TracePoint>& trace, const Ball
                      "only in how they change with the direction)");
   const std::string a1(1, plane.size() == 2 ? plane[0] : 'X'), a2(1, plane.size() == 2 ? plane[1] : 'Y');
   const double R = o.nominal_radius;
-  constexpr double tau = 5 * kDeg;  // decay of a reversal spike
+  constexpr double tau = 5 * kRadPerDeg;  // decay of a reversal spike
   struct Column {
     std::string name, unit;
     double scale;  // value in its unit = coefficient * scale

@@ -39,7 +39,7 @@ ArtefactState nominal_artefact(const ProbingPlan& plan) {
 
 namespace {
 
-std::array<std::size_t, 3> linear_axes(const Machine& m) {
+std::array<std::size_t, 3> xyz_axes(const Machine& m) {
   return {*m.axis_index('X'), *m.axis_index('Y'), *m.axis_index('Z')};
 }
 
@@ -88,7 +88,7 @@ ProbingPlan plan_targets(const Machine& m, const ProbingPlan& plan) {
   Machine nominal_machine = m;
   nominal_machine.clear_errors();
   const ErrorModel nominal(nominal_machine);
-  const auto lin = linear_axes(m);
+  const auto lin = xyz_axes(m);
   ProbingPlan out = plan;
   for (auto& r : out.records) {
     const auto& f = plan.features[r.feature];
@@ -116,7 +116,7 @@ ProbingPlan simulate_readings(const Machine& truth, const ProbingPlan& plan, con
   Machine nominal_machine = truth;
   nominal_machine.clear_errors();
   const ErrorModel nominal(nominal_machine), actual(truth);
-  const auto lin = linear_axes(truth);
+  const auto lin = xyz_axes(truth);
   for (auto& r : out.records) {
     const auto& f = plan.features[r.feature];
     const Eigen::Matrix3d A = linear_jacobian(nominal, r.q, lin);

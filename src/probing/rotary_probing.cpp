@@ -1,5 +1,6 @@
 // Rotary-axis location test from sphere probing (probing/rotary_probing.hpp).
 #include "mtcal/probing/rotary_probing.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <cmath>
 
@@ -14,7 +15,6 @@
 namespace mtcal {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 }  // namespace
 
@@ -41,7 +41,7 @@ IndexedCentres centres_from_contacts(const ContactSet& set, const SphereProbing&
     const auto sc = sphere_centre(g.contacts, probing, fmt::format("{}:{} ({}={:g})", set.source, g.line, axis, a));
     if (out.method.empty()) out.method = sc.method;
     if (out.method != sc.method) out.method = "mixed";
-    out.centres.push_back({a * kDeg, sc.centre()});
+    out.centres.push_back({a * kRadPerDeg, sc.centre()});
     out.fits.push_back(sc);
   }
   return out;
@@ -93,7 +93,7 @@ std::vector<std::string> merge_wrapped_centres(IndexedCentres& in) {
     for (std::size_t i : g) {
       sum += in.centres[i].centre;
       if (std::abs(in.centres[i].angle) < std::abs(in.centres[rep].angle)) rep = i;
-      angles += fmt::format("{}{:g}", angles.empty() ? "" : ", ", in.centres[i].angle / kDeg);
+      angles += fmt::format("{}{:g}", angles.empty() ? "" : ", ", in.centres[i].angle / kRadPerDeg);
     }
     out.centres.push_back({in.centres[rep].angle, sum / static_cast<double>(g.size())});
     if (!in.fits.empty()) out.fits.push_back(in.fits[rep]);
@@ -166,7 +166,7 @@ RotaryAxisResult locate_rotary_axis(const NominalRotaryAxis& axis, IndexedCentre
         "the measured axis is {:.2f} deg from the nominal direction of {}: ISO 230-7 location errors are small "
         "angles about the nominal line, so only the measured line is given (give the instrument's frame if its "
         "axes are not the machine's, or check the axis letter)",
-        r.line.tilt / kDeg, axis.letter));
+        r.line.tilt / kRadPerDeg, axis.letter));
     return r;
   }
   if (options.least_squares) r.least_squares = estimate_by_least_squares(axis, r.centres.centres);

@@ -1,5 +1,6 @@
 // HTML report of the rotary-axis location test (report/probing.hpp).
 #include "mtcal/report/probing.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +17,6 @@
 namespace mtcal {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Display scale: positions and radius in um/mm, angles in urad.
 std::pair<double, const char*> display(std::size_t q) {
@@ -70,12 +70,12 @@ void write_rotary_report(const std::string& path, const std::string& command, co
         r.add_warning(
             fmt::format("The triples through the centre at {}={:g} deg were rejected {:.0f} % of the time "
                         "(median {:.0f} %): an outlying measurement?",
-                        axis.letter, centres[i].angle / kDeg, 100 * share[i], 100 * median));
+                        axis.letter, centres[i].angle / kRadPerDeg, 100 * share[i], 100 * median));
   }
   for (std::size_t i = 0; i < details.size(); ++i)
     if (details[i].rms > 0.5 * max_rms)
       r.add_warning(fmt::format("The contacts at {}={:g} deg lie {:.4f} mm rms from their sphere (limit {} mm).",
-                                axis.letter, centres[i].angle / kDeg, details[i].rms, max_rms));
+                                axis.letter, centres[i].angle / kRadPerDeg, details[i].rms, max_rms));
   if (best->value[5] > 1e-3) r.add_warning("The axis is tilted by more than 1 mrad from its nominal direction.");
   if (!u_known)
     r.add_warning(
@@ -108,7 +108,7 @@ void write_rotary_report(const std::string& path, const std::string& command, co
     cx.push_back(c.centre.x());
     cy.push_back(c.centre.y());
     cz.push_back(c.centre.z());
-    ct.push_back(fmt::format("{}={:g} deg", axis.letter, c.angle / kDeg));
+    ct.push_back(fmt::format("{}={:g} deg", axis.letter, c.angle / kRadPerDeg));
   }
   nlohmann::json data = nlohmann::json::array();
   data.push_back({{"type", "scatter3d"},
@@ -155,7 +155,7 @@ void write_rotary_report(const std::string& path, const std::string& command, co
   if (lsq) {
     nlohmann::json ang = nlohmann::json::array(), rad = ang;
     for (std::size_t i = 0; i < centres.size(); ++i) {
-      ang.push_back(centres[i].angle / kDeg);
+      ang.push_back(centres[i].angle / kRadPerDeg);
       rad.push_back(lsq->circle.quality.residuals[i] * 1e3);
     }
     r.add_plot("Radial deviation of each centre from the least-squares circle (µm)",

@@ -1,6 +1,7 @@
 #include "mtcal/util/parse.hpp"
 
 #include <charconv>
+#include <cctype>
 #include <cmath>
 
 namespace mtcal {
@@ -21,6 +22,18 @@ std::string trim(std::string_view text) {
   const auto b = text.find_first_not_of(" \t\r");
   if (b == std::string_view::npos) return "";
   return std::string(text.substr(b, text.find_last_not_of(" \t\r") - b + 1));
+}
+
+std::string to_lower(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string to_upper(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
 }
 
 }  // namespace mtcal

@@ -19,7 +19,6 @@ struct Entry {
   double factor;
 };
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr std::array<Entry, 19> kUnits{{
     {"mm", "mm", Dimension::Length, 1.0},
     {"um", "um", Dimension::Length, 1e-3},
@@ -33,8 +32,8 @@ constexpr std::array<Entry, 19> kUnits{{
     {"urad", "urad", Dimension::Angle, 1e-6},
     {"\xC2\xB5rad", "urad", Dimension::Angle, 1e-6},
     {"\xCE\xBCrad", "urad", Dimension::Angle, 1e-6},
-    {"deg", "deg", Dimension::Angle, kDeg},
-    {"arcsec", "arcsec", Dimension::Angle, kDeg / 3600.0},
+    {"deg", "deg", Dimension::Angle, kRadPerDeg},
+    {"arcsec", "arcsec", Dimension::Angle, kRadPerDeg / 3600.0},
     // A slope in length per length is an angle (small-angle reading of squareness and tilt).
     {"um/m", "um/m", Dimension::Angle, 1e-6},
     {"\xC2\xB5m/m", "um/m", Dimension::Angle, 1e-6},

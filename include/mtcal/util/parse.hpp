@@ -15,4 +15,8 @@ std::optional<double> parse_number(std::string_view text);
 // The text without leading and trailing spaces, tabs and carriage returns.
 std::string trim(std::string_view text);
 
+// The text in ASCII lower / upper case (file keywords, unit names, axis letters; not locale-aware).
+std::string to_lower(std::string_view text);
+std::string to_upper(std::string_view text);
+
 }  // namespace mtcal

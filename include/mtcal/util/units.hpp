@@ -1,6 +1,7 @@
 // Unit names accepted in files and on the command line, and their factors to mm and rad.
 #pragma once
 
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -8,6 +9,10 @@
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
+
+// Exact factors: one inch in mm (the 1959 international inch), one degree in rad.
+inline constexpr double kMmPerInch = 25.4;
+inline constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 enum class Dimension { Length, Angle };
 

@@ -1,4 +1,5 @@
 #include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -16,7 +17,6 @@
 namespace mtcal {
 namespace {
 
-constexpr double kInch = 25.4;  // mm per inch, exact by definition (1959 international inch)
 constexpr double kTwoPi = 2 * std::numbers::pi;
 // Below this chord (mm) an I J K arc's end is its start: a full circle. Far below any machine's
 // resolution, far above the rounding of incremental sums.
@@ -529,7 +529,7 @@ bool GcodeReader::apply_block() {
   // feed, spindle, tool, tool change, dwell, plane, units, tool length, coordinate system,
   // distance modes, return mode, the non-modal codes (G10 G28 G30 G53), motion, program end.
   if (units >= 0) inches_ = units == 20;
-  const double scale = inches_ ? kInch : 1.0;
+  const double scale = inches_ ? kMmPerInch : 1.0;
   if (feed >= 0) feed_ = feed * scale;
   if (s_col) spindle_ = spindle;
   if (t_col) selected_tool_ = static_cast<int>(tool);

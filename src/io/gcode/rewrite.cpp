@@ -1,4 +1,5 @@
 #include "mtcal/io/gcode/rewrite.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <algorithm>
 #include <array>
@@ -16,7 +17,6 @@
 namespace mtcal {
 namespace {
 
-constexpr double kInch = 25.4;  // mm per inch, as the reader (io/gcode/reader.cpp)
 
 int axis_slot(char letter) {
   const char* p = std::find(std::begin(kGcodeAxes), std::end(kGcodeAxes), letter);
@@ -114,7 +114,7 @@ class Rewriter {
     out_ += '\n';
   }
 
-  double scale(std::size_t slot) const { return slot < 3 && inches_ ? kInch : 1.0; }
+  double scale(std::size_t slot) const { return slot < 3 && inches_ ? kMmPerInch : 1.0; }
   double half_unit() const { return 0.5 * std::pow(10.0, -decimals_); }
 
   // The text of axis `slot`'s word for the value `v` (program units, mm/deg) and the value the
@@ -141,7 +141,7 @@ class Rewriter {
   ArcWords arc_words(const CorrectedPiece& p, GcodePlane plane) const {
     const PlaneAxes pa = plane_axes(plane);
     ArcWords a;
-    const double sc = inches_ ? kInch : 1.0;
+    const double sc = inches_ ? kMmPerInch : 1.0;
     for (int s : {pa.u, pa.v}) {
       const auto k = static_cast<std::size_t>(s);
       a.offset[k] = (p.centre[k] - held_[k]) / sc;

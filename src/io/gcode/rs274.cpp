@@ -1,4 +1,5 @@
 #include "mtcal/io/gcode/rs274.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <unistd.h>
 
@@ -21,9 +22,8 @@
 namespace mtcal {
 namespace {
 
-constexpr double kInch = 25.4;  // mm per inch, exact (1959 international inch)
-constexpr double kTwoPi = 2 * std::numbers::pi;
-constexpr std::size_t kMaxWarnings = 100;
+constexpr double kFullCircle = 2 * std::numbers::pi;
+constexpr std::size_t kMaxKeptWarnings = 100;
 // The interpreter prints 4 decimals (saicanon.cc "%.4f"): 0.00005 in is 1.3 um. An arc's end may
 // be off its circle by the rounding of the numbers printed, and more by the interpreter's own
 // tolerance for arcs (LinuxCNC: 0.002 in / 0.05 mm), which it has checked already.
@@ -58,7 +58,7 @@ void write_file(const std::string& path, const std::string& text) {
   if (!out) throw Error(fmt::format("cannot write the temporary file {}", path));
 }
 
-std::string inches(double mm) { return fmt::format("{:.10g}", mm / kInch); }
+std::string inches(double mm) { return fmt::format("{:.10g}", mm / kMmPerInch); }
 
 // The setup as LinuxCNC's tool table (LinuxCNC documentation, "Tool Table Format") in inches.
 std::string tool_table_text(const GcodeSetup& setup) {
@@ -91,7 +91,7 @@ std::string parameter_text(const GcodeSetup& setup) {
   return t;
 }
 
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+bool is_space_or_tab(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
 }  // namespace
 
@@ -111,14 +111,14 @@ std::string number_gcode_lines(std::string_view text) {
     pos = nl == std::string_view::npos ? text.size() : nl + 1;
     ++line;
     std::size_t i = 0;
-    while (i < row.size() && (is_blank(row[i]) || row[i] == '/')) ++i;
+    while (i < row.size() && (is_space_or_tab(row[i]) || row[i] == '/')) ++i;
     if (i < row.size() && row[i] == '%') {
       out += row;
     } else {
       std::size_t rest = i;
       if (rest < row.size() && (row[rest] == 'N' || row[rest] == 'n')) {
         std::size_t k = rest + 1;
-        while (k < row.size() && is_blank(row[k])) ++k;
+        while (k < row.size() && is_space_or_tab(row[k])) ++k;
         const std::size_t digits = k;
         while (k < row.size() && row[k] >= '0' && row[k] <= '9') ++k;
         if (k > digits) rest = k;
@@ -176,7 +176,7 @@ Rs274Output run_rs274(const std::string& program_path, const GcodeSetup& setup, 
   if (rows.size() >= 2) {
     std::string_view t = rows[1];
     std::size_t i = 0;
-    while (i < t.size() && (is_blank(t[i]) || t[i] == '/')) ++i;
+    while (i < t.size() && (is_space_or_tab(t[i]) || t[i] == '/')) ++i;
     if (i < t.size() && (t[i] == 'N' || t[i] == 'n')) {
       std::size_t k = i + 1;
       const auto [end, ec2] = std::from_chars(t.data() + k, t.data() + t.size(), line);
@@ -208,7 +208,7 @@ void CanonReader::fail(const std::string& what) const {
 
 void CanonReader::warn(const std::string& what) {
   ++counts_.warnings;
-  if (warnings_.size() < kMaxWarnings) warnings_.push_back(fmt::format("{}:{}: {}", source_, line_, what));
+  if (warnings_.size() < kMaxKeptWarnings) warnings_.push_back(fmt::format("{}:{}: {}", source_, line_, what));
 }
 
 bool CanonReader::next(GcodeMove& move) {
@@ -218,16 +218,16 @@ bool CanonReader::next(GcodeMove& move) {
     pos_ = nl == std::string_view::npos ? text_.size() : nl + 1;
     ++row_;
     ++counts_.lines;
-    while (!row.empty() && (is_blank(row.back()))) row.remove_suffix(1);
+    while (!row.empty() && (is_space_or_tab(row.back()))) row.remove_suffix(1);
     std::size_t i = 0;
-    while (i < row.size() && is_blank(row[i])) ++i;
+    while (i < row.size() && is_space_or_tab(row[i])) ++i;
     if (i == row.size()) continue;
     // "<count> N<line>|N..... NAME(args)" (saicanon.cc: PRINTn, print_nc_line_number).
     const std::size_t count_begin = i;
     while (i < row.size() && row[i] >= '0' && row[i] <= '9') ++i;
-    if (i == count_begin || i == row.size() || !is_blank(row[i]))
+    if (i == count_begin || i == row.size() || !is_space_or_tab(row[i]))
       fail(fmt::format("expected a call's number at the start of the line, found '{}'", printable(row)));
-    while (i < row.size() && is_blank(row[i])) ++i;
+    while (i < row.size() && is_space_or_tab(row[i])) ++i;
     line_ = 0;
     if (i < row.size() && row[i] == 'N') {
       ++i;
@@ -241,7 +241,7 @@ bool CanonReader::next(GcodeMove& move) {
         const auto [p, ec] = std::from_chars(row.data() + d, row.data() + i, line_);
         if (ec != std::errc()) line_ = 0;
       }
-      while (i < row.size() && is_blank(row[i])) ++i;
+      while (i < row.size() && is_space_or_tab(row[i])) ++i;
     }
     const std::size_t name_begin = i;
     while (i < row.size() && ((row[i] >= 'A' && row[i] <= 'Z') || row[i] == '_' || (row[i] >= '0' && row[i] <= '9')))
@@ -256,12 +256,12 @@ bool CanonReader::next(GcodeMove& move) {
     {
       std::size_t k = 0;
       while (k < args_text.size()) {
-        if (args_text[k] == ',' || is_blank(args_text[k])) {
+        if (args_text[k] == ',' || is_space_or_tab(args_text[k])) {
           ++k;
           continue;
         }
         std::size_t e = k;
-        while (e < args_text.size() && args_text[e] != ',' && !is_blank(args_text[e])) ++e;
+        while (e < args_text.size() && args_text[e] != ',' && !is_space_or_tab(args_text[e])) ++e;
         args.push_back(args_text.substr(k, e - k));
         k = e;
       }
@@ -282,7 +282,7 @@ bool CanonReader::next(GcodeMove& move) {
       for (std::size_t n : allowed) expected += (expected.empty() ? "" : " or ") + std::to_string(n);
       fail(fmt::format("{} with {} arguments (expected {})", name, args.size(), expected));
     };
-    const double scale = inches_ ? kInch : 1.0;
+    const double scale = inches_ ? kMmPerInch : 1.0;
     // Six numbers X Y Z A B C (program units and deg) from argument `first` on.
     auto xyzabc = [&](std::size_t first) {
       GcodePosition p{};
@@ -374,11 +374,11 @@ bool CanonReader::next(GcodeMove& move) {
       const double a =
           std::atan2((su - cu) * (ev - cv) - (sv - cv) * (eu - cu), (su - cu) * (eu - cu) + (sv - cv) * (ev - cv));
       double sweep = std::hypot(eu - su, ev - sv) <= 1e-7
-                         ? (ccw ? kTwoPi : -kTwoPi)
-                         : (ccw ? (a <= 0 ? a + kTwoPi : a) : (a >= 0 ? a - kTwoPi : a));
+                         ? (ccw ? kFullCircle : -kFullCircle)
+                         : (ccw ? (a <= 0 ? a + kFullCircle : a) : (a >= 0 ? a - kFullCircle : a));
       const double turns = std::abs(rotation) - 1;
       if (turns > 1e6) fail(fmt::format("ARC_FEED with {} turns", turns));
-      if (std::hypot(eu - su, ev - sv) > 1e-7) sweep += (ccw ? 1 : -1) * kTwoPi * turns;
+      if (std::hypot(eu - su, ev - sv) > 1e-7) sweep += (ccw ? 1 : -1) * kFullCircle * turns;
       move.sweep = sweep;
       position_ = end;
       ++counts_.moves;

@@ -1,5 +1,6 @@
 // Readers and writers of the acceptance tests' measurement files (io/instruments/iso230_files.hpp).
 #include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <algorithm>
 #include <array>
@@ -23,12 +24,6 @@
 namespace mtcal {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-std::string lower(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 constexpr std::array<const char*, 4> kColumns = {"method", "test", "parameter", "value"};
 
@@ -268,7 +263,7 @@ BallbarTrace read_ballbar_csv(const std::string& path) {
     const auto& cells = t.rows[r];
     const int lineno = t.lines[r];
     TracePoint p;
-    const std::string d = lower(cells[c[0]]);
+    const std::string d = to_lower(cells[c[0]]);
     if (d == "cw")
       p.direction = CircleDirection::CW;
     else if (d == "ccw")
@@ -280,7 +275,7 @@ BallbarTrace read_ballbar_csv(const std::string& path) {
     const auto radius = parse_number(cells[c[2]]);
     if (!radius || !(*radius > 0))
       throw InputError({path, lineno, "radius_mm"}, "expected a length > 0, found '" + cells[c[2]] + "'");
-    p.angle = *a * kDeg;
+    p.angle = *a * kRadPerDeg;
     p.radius = *radius;
     out.push_back(p);
   }

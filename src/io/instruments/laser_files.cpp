@@ -20,18 +20,8 @@
 namespace mtcal {
 namespace {
 
-std::string lower(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::string upper(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
-
 bool ends_with(const std::string& s, std::string_view e) {
-  return s.size() >= e.size() && lower(s.substr(s.size() - e.size())) == e;
+  return s.size() >= e.size() && to_lower(s.substr(s.size() - e.size())) == e;
 }
 
 // Whitespace- or comma-separated tokens.
@@ -85,7 +75,7 @@ struct Reader {
   }
 
   void key_value(const std::string& section, const std::string& key, const std::string& value, int line) {
-    const std::string k = lower(key);
+    const std::string k = to_lower(key);
     if (section == "TARGET DATA" && k == "target-count") {
       const auto v = parse_number(value);
       if (!v || *v != std::floor(*v) || *v < 1 || *v > 1e6)
@@ -102,7 +92,7 @@ struct Reader {
         throw InputError({source, line, "Run-count"}, "expected a whole number >= 1, found '" + printable(value) + "'");
       run_count = static_cast<long>(*v), run_count_line = line;
     } else if (section == "RUNS" && k == "direction") {
-      const std::string d = lower(value);
+      const std::string d = to_lower(value);
       if (d.rfind("uni", 0) == 0)
         out.bidirectional = false;
       else if (d.rfind("bi", 0) == 0)
@@ -120,7 +110,7 @@ struct Reader {
       (k == "target units" ? target_unit : deviation_unit) = u->name;
       (k == "target units" ? target_unit_line : deviation_unit_line) = line;
     } else if ((section == "HEADER" || section == "USER-TEXT") && k == "type") {
-      const std::string t = lower(trim(value));
+      const std::string t = to_lower(trim(value));
       if (t != "linear" && t != "rotary" && t != "straightness" && t != "angular")
         throw InputError({source, line, key},
                          "expected Linear, Rotary, Straightness or Angular, found '" + printable(value) + "'");
@@ -129,9 +119,9 @@ struct Reader {
       if (target_unit_line == 0) target_unit = t == "rotary" ? "deg" : "mm";
       if (deviation_unit_line == 0) deviation_unit = t == "rotary" || t == "angular" ? "arcsec" : "um";
     } else if ((section == "HEADER" || section == "USER-TEXT") && (k == "error" || k == "component")) {
-      out.component = upper(trim(value));
+      out.component = to_upper(trim(value));
     } else if (section == "USER-TEXT" && k == "axis") {
-      out.axis = upper(trim(value));
+      out.axis = to_upper(trim(value));
     } else if (section == "TARGET DATA" || section == "RUNS" || section == "DEVIATIONS") {
       out.runs.warnings.push_back(fmt::format("{}:{}: key '{}' of section {} is not used; kept as metadata", source,
                                               line, printable(key), section));
@@ -182,7 +172,7 @@ LaserFile parse_laser_file(const std::string& text, const std::string& source, b
     const std::string s = trim(line);
     if (s.empty()) continue;
     if (s.size() > 2 && s.substr(s.size() - 2) == "::") {
-      section = upper(trim(s.substr(0, s.size() - 2)));
+      section = to_upper(trim(s.substr(0, s.size() - 2)));
       any_section = true;
       r.reading_targets = r.reading_rows = false;
       if (std::find(kSections.begin(), kSections.end(), section) == kSections.end())
@@ -331,7 +321,7 @@ ReportMetadata laser_report_metadata(const PositioningRuns& runs) {
   for (const auto& [full, value] : runs.metadata) {
     const auto slash = full.find('/');
     if (slash == std::string::npos || trim(value).empty()) continue;
-    const std::string section = full.substr(0, slash), key = lower(trim(full.substr(slash + 1)));
+    const std::string section = full.substr(0, slash), key = to_lower(trim(full.substr(slash + 1)));
     if (key.empty()) continue;  // a free text line
     const bool user = section == "USER-TEXT" || section == "HEADER";
     bool mapped = false;

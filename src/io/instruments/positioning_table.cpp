@@ -22,11 +22,6 @@ constexpr std::string_view kMinus = "\xE2\x88\x92";  // U+2212 MINUS SIGN
 constexpr std::string_view kUp = "\xE2\x86\x91";     // U+2191 ↑
 constexpr std::string_view kDown = "\xE2\x86\x93";   // U+2193 ↓
 
-std::string lower(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 std::string unquote(std::string s) {
   s = trim(s);
   if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = trim(s.substr(1, s.size() - 2));
@@ -59,7 +54,7 @@ std::pair<Role, std::string> role_of(const std::string& header) {
     }
   }
   std::string key;
-  for (char c : lower(name))
+  for (char c : to_lower(name))
     if (std::isalnum(static_cast<unsigned char>(c))) key += c;
   static const std::map<std::string, Role> roles = {{"target", Role::Target},
                                                     {"targetposition", Role::Target},
@@ -91,7 +86,7 @@ std::pair<Role, std::string> role_of(const std::string& header) {
 
 // +1 up, -1 down, 0 unknown.
 int direction_of(const std::string& cell) {
-  const std::string c = lower(trim(cell));
+  const std::string c = to_lower(trim(cell));
   if (c == "up" || c == "+" || c == "fwd" || c == "forward" || c == "pos" || c == "positive" || c == "+1" || c == kUp)
     return 1;
   if (c == "down" || c == "-" || c == kMinus || c == "bwd" || c == "backward" || c == "neg" || c == "negative" ||

@@ -1,5 +1,6 @@
 // Readers and writers of the probing files (io/instruments/probing_files.hpp).
 #include "mtcal/io/instruments/probing_files.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <algorithm>
 #include <map>
@@ -15,7 +16,6 @@
 namespace mtcal {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 void refuse_unknown_columns(const CsvTable& t, const std::string& file, const std::vector<std::string>& allowed) {
   for (const auto& c : t.columns)
@@ -81,7 +81,7 @@ IndexedCentres read_centres_csv(const std::string& path, char axis) {
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const auto& row = t.rows[r];
     const double angle = row[ca];  // an angle given twice is one position measured twice: averaged later
-    out.centres.push_back({angle * kDeg, Point3(row[cx], row[cy], row[cz])});
+    out.centres.push_back({angle * kRadPerDeg, Point3(row[cx], row[cy], row[cz])});
   }
   return out;
 }

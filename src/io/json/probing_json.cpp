@@ -1,12 +1,12 @@
 // JSON of the rotary-axis location test (io/json/probing_json.hpp); keys documented in docs/rotary-axis.md.
 #include "mtcal/io/json/probing_json.hpp"
+#include "mtcal/util/units.hpp"
 
 #include <numbers>
 
 namespace mtcal {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 }  // namespace
 
@@ -60,7 +60,7 @@ Json to_json(const RotaryAxisResult& r) {
   Json cs = Json::array();
   for (std::size_t i = 0; i < centres.size(); ++i) {
     const auto& c = centres[i];
-    Json cj = {{"angle", c.angle / kDeg}, {"x", c.centre.x()}, {"y", c.centre.y()}, {"z", c.centre.z()}};
+    Json cj = {{"angle", c.angle / kRadPerDeg}, {"x", c.centre.x()}, {"y", c.centre.y()}, {"z", c.centre.z()}};
     if (i < details.size()) {
       // Beside the centre used (the 5-point protocol's when it applies), the least-squares fit
       // of all contacts, its rms, and the free-radius fit's tip-centre distance.

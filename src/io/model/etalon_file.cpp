@@ -1,4 +1,5 @@
 #include "mtcal/io/model/etalon_file.hpp"
+#include "mtcal/util/parse.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -16,7 +17,8 @@ namespace mtcal {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
+// Without any leading and trailing white space (std::isspace: line feeds and form feeds too).
+std::string_view trim_space(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
   return s;
@@ -46,12 +48,6 @@ std::vector<std::string_view> words(std::string_view s) {
   return out;
 }
 
-std::string upper(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
-
 [[noreturn]] void fail_at(const std::string& source, int line, const std::string& field, const std::string& what) {
   throw InputError({source, line, field}, what);
 }
@@ -69,7 +65,7 @@ bool looks_like_etalon(std::string_view text) {
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
-    const std::string_view line = trim(text.substr(pos, end - pos));
+    const std::string_view line = trim_space(text.substr(pos, end - pos));
     pos = end + 1;
     if (line.empty() || line.rfind("//", 0) == 0) continue;
     return line.front() == '[';
@@ -118,7 +114,7 @@ std::vector<EtalonBlock> parse_etalon(std::string_view text, const std::string& 
     pos = end + 1;
     ++line_no;
     if (const auto c = line.find("//"); c != std::string_view::npos) line = line.substr(0, c);
-    line = trim(line);
+    line = trim_space(line);
     if (line.empty()) {
       if (end == text.size()) break;
       continue;
@@ -127,7 +123,7 @@ std::vector<EtalonBlock> parse_etalon(std::string_view text, const std::string& 
       const auto close = line.find('}');
       row(line.substr(0, close), line_no);
       if (close != std::string_view::npos) {
-        if (!trim(line.substr(close + 1)).empty())
+        if (!trim_space(line.substr(close + 1)).empty())
           fail(line_no, blocks.back().name,
                fmt::format("expected nothing after '}}', found '{}'", printable(line.substr(close + 1))));
         if (blocks.back().argument.size() < 2)
@@ -140,7 +136,7 @@ std::vector<EtalonBlock> parse_etalon(std::string_view text, const std::string& 
         fail(line_no, "", fmt::format("expected a block name in square brackets, found '{}'", printable(line)));
       close_block(line_no);
       EtalonBlock b;
-      b.name = std::string(trim(line.substr(1, line.size() - 2)));
+      b.name = std::string(trim_space(line.substr(1, line.size() - 2)));
       b.line = line_no;
       for (const auto& other : blocks)
         if (other.name == b.name)
@@ -154,8 +150,8 @@ std::vector<EtalonBlock> parse_etalon(std::string_view text, const std::string& 
       EtalonBlock& b = blocks.back();
       if (eq == std::string_view::npos)
         fail(line_no, b.name, fmt::format("expected 'KEY = ...' in block [{}], found '{}'", b.name, printable(line)));
-      const std::string key = upper(trim(line.substr(0, eq)));
-      const std::string_view rest = trim(line.substr(eq + 1));
+      const std::string key = to_upper(trim_space(line.substr(0, eq)));
+      const std::string_view rest = trim_space(line.substr(eq + 1));
       if (has_key)
         fail(line_no, b.name,
              fmt::format("expected one VALUE or Gridpoints in block [{}], found a second key '{}'", b.name,
