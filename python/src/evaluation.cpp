@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "results.hpp"
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/compare.hpp"
 #include "mtcal/evaluation/diagonals.hpp"
@@ -255,13 +256,6 @@ BallbarTrace make_trace(const std::vector<std::string>& directions, py::handle a
   return t;
 }
 
-struct BallbarResult {
-  BallbarEvaluation evaluation;
-  std::optional<TraceDiagnosis> diagnosis;
-  std::string plane;
-  double radius = 0, feed = 0;
-};
-
 // The bar's length defines the test: required, as `mtcal ballbar --radius` (no default that could
 // silently differ from the bar used).
 void check_radius(double radius) {
@@ -284,7 +278,7 @@ BallbarResult ballbar(const BallbarTrace& trace, double radius, const std::strin
   bo.overshoot_start = overshoot_start;
   bo.overshoot_stop = overshoot_stop;
   if (direction) bo.only = direction_of(*direction, "direction");
-  BallbarResult r{evaluate_ballbar(trace, bo), std::nullopt, plane, radius, feed};
+  BallbarResult r{evaluate_ballbar(trace, bo), std::nullopt, plane, radius, feed, trace};
   if (!bo.only && diagnose) r.diagnosis = diagnose_ballbar(trace, bo, plane);
   return r;
 }
