@@ -1784,10 +1784,13 @@ def write_parameters(path: str, errors: list[EstimatedError], description: str) 
 def write_probing_csv(path: str, machine: Machine, plan: ProbingPlan, comment: str = ...) -> None:
     ...
 
-def write_report(result: PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends, path: str, pdf: str | None = ..., png_dir: str | None = ..., *, runs: PositioningRuns | None = ..., acceptance: AcceptanceVerdict | None = ..., metadata: Mapping[str, str] | None = ..., command: str = ..., browser_timeout: float = ...) -> None:
+def write_report(result: PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends, path: str, pdf: str | None = ..., png_dir: str | None = ..., *, runs: PositioningRuns | None = ..., acceptance: AcceptanceVerdict | None = ..., metadata: Mapping[str, str] | None = ..., command: str = ..., browser_timeout: float = ..., machine: Any | None = ..., max_rms: float = ..., nonzero_only: bool = ...) -> None:
     """The HTML report of a result, as the command's --report (written complete or not at all):
     iso230_2 (PositioningEvaluation; runs= the PositioningRuns), ballbar (BallbarResult), compare_methods
-    (MethodComparison), HistoryStore.trend (HistoryTrends). pdf: also the report printed to PDF,
+    (MethodComparison), HistoryStore.trend (HistoryTrends), volumetric, contributions, diagonals,
+    effects, identify, predict, rotary_axis (RotaryAxisResult; machine= optional, max_rms= as given
+    to it), compensate (TargetOutput; machine= required) and a Machine (mtcal errors --report;
+    nonzero_only as --nonzero). pdf: also the report printed to PDF,
     png_dir: each plot as PNG (--report-pdf, --report-png; headless Chromium). acceptance: an
     AcceptanceVerdict shown as PASS/FAIL (its metadata unless metadata= is given); metadata: the test's
     fields; command: the line shown as how the report was made.

@@ -13,6 +13,12 @@
 #include "mtcal/io/system/headless_browser.hpp"
 #include "mtcal/report/evaluation.hpp"
 #include "mtcal/report/history.hpp"
+#include "mtcal/report/compensation.hpp"
+#include "mtcal/report/probing.hpp"
+#include "mtcal/report/error_map.hpp"
+#include "mtcal/evaluation/contributions.hpp"
+#include "mtcal/io/compensation/output.hpp"
+#include "mtcal/probing/rotary_axis.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -164,7 +170,8 @@ against permitted values in µm, as the commands' --tolerance / --tolerance-file
   m.def(
       "write_report",
       [](py::handle result, const std::string& path, py::handle pdf, py::handle png_dir, py::handle runs,
-         py::handle acceptance, py::handle metadata, const std::string& command, double browser_timeout) {
+         py::handle acceptance, py::handle metadata, const std::string& command, double browser_timeout,
+         py::handle machine, double max_rms, bool nonzero_only) {
         ReportMetadata meta = metadata_of(metadata);
         ToleranceVerdict verdict;
         if (!acceptance.is_none()) {
@@ -194,19 +201,44 @@ against permitted values in µm, as the commands' --tolerance / --tolerance-file
         } else if (py::isinstance<HistoryTrends>(result)) {
           const auto& t = result.cast<const HistoryTrends&>();
           write = [&] { write_trend_report(path, cmd, t.trends, t.records, t.store); };
+        } else if (py::isinstance<RotaryAxisResult>(result)) {
+          const auto& r = result.cast<const RotaryAxisResult&>();
+          const Machine* mm = machine.is_none() ? nullptr : &machine.cast<const Machine&>();
+          write = [&, mm] { write_rotary_report(path, cmd, mm, r, max_rms); };
+        } else if (py::isinstance<TargetOutput>(result)) {
+          if (machine.is_none())
+            throw py::value_error("machine: expected the Machine the compensation was made of (the report shows "
+                                  "its errors before and after)");
+          const auto& mm = machine.cast<const Machine&>();
+          const auto& out = result.cast<const TargetOutput&>();
+          write = [&] { write_compensation_report(path, cmd, mm, {}, "", out); };
+        } else if (py::isinstance<Machine>(result)) {
+          // mtcal errors --report: every parameter (nonzero_only: the command's --nonzero).
+          const auto& mm = result.cast<const Machine&>();
+          write = [&] {
+            const auto listed = listed_parameters(mm, nonzero_only);
+            write_parameters_report(path, mm, listed, mm.parameter_count(), nonzero_only, {cmd, {}, "", ""});
+          };
+        } else if (py::hasattr(result, "_write_report")) {
+          // The results the other binding units keep (volumetric, contributions, diagonals, effects, identify).
+          write = [&] { result.attr("_write_report")(path, cmd); };
         } else {
-          throw py::type_error(
-              "result: expected a PositioningEvaluation, BallbarResult, MethodComparison or HistoryTrends, found " +
-              std::string(py::str(py::type::of(result).attr("__name__"))));
+          throw py::type_error("result: expected a result that has a report (docs/python.md, 'Acceptance and "
+                               "reports'), found " +
+                               std::string(py::str(py::type::of(result).attr("__name__"))));
         }
         ReportSession session(std::move(meta), copies_of(pdf, png_dir, path, browser_timeout));
         write();
       },
       "result"_a, "path"_a, "pdf"_a = py::none(), "png_dir"_a = py::none(), py::kw_only(), "runs"_a = py::none(),
       "acceptance"_a = py::none(), "metadata"_a = py::none(), "command"_a = "", "browser_timeout"_a = 120.0,
+      "machine"_a = py::none(), "max_rms"_a = 0.01, "nonzero_only"_a = false,
       R"(The HTML report of a result, as the command's --report (written complete or not at all):
 iso230_2 (PositioningEvaluation; runs= the PositioningRuns), ballbar (BallbarResult), compare_methods
-(MethodComparison), HistoryStore.trend (HistoryTrends). pdf: also the report printed to PDF,
+(MethodComparison), HistoryStore.trend (HistoryTrends), volumetric, contributions, diagonals,
+effects, identify, predict, rotary_axis (RotaryAxisResult; machine= optional, max_rms= as given
+to it), compensate (TargetOutput; machine= required) and a Machine (mtcal errors --report;
+nonzero_only as --nonzero). pdf: also the report printed to PDF,
 png_dir: each plot as PNG (--report-pdf, --report-png; headless Chromium). acceptance: an
 AcceptanceVerdict shown as PASS/FAIL (its metadata unless metadata= is given); metadata: the test's
 fields; command: the line shown as how the report was made.)");

@@ -20,6 +20,8 @@
 #include "mtcal/probing/rotary_axis.hpp"
 #include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/probing/sphere_probing.hpp"
+#include "mtcal/report/identification.hpp"
+#include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::python {
@@ -544,6 +546,12 @@ Gaussian noise (mm per reading) and an uncalibrated artefact (artefact_error, mm
 (SubsetAnalysis). As `mtcal identifiability`.)");
 
   py::class_<Identified>(m, "IdentificationRun", "An identification with its assessment (identify).")
+      .def(
+          "_write_report",
+          [](const Identified& r, const std::string& path, const std::string& command) {
+            identification_report(r.prior, r.run, {}, command).write(path);
+          },
+          "path"_a, "command"_a)
       .def_property_readonly("converged", [](const Identified& r) { return r.run.result.converged; })
       .def_property_readonly("iterations", [](const Identified& r) { return r.run.result.iterations; })
       .def_property_readonly("termination", [](const Identified& r) { return r.run.result.termination; })

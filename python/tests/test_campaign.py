@@ -171,7 +171,9 @@ def test_write_report_is_the_commands(tmp_path, kind, monkeypatch):
 
 def test_write_report_refuses_what_has_none(tmp_path, vmc):
     with pytest.raises(TypeError, match="result"):
-        mtcal.write_report(vmc, str(tmp_path / "r.html"))
+        mtcal.write_report(mtcal.read_positioning(str(LASER)), str(tmp_path / "r.html"))
+    with pytest.raises(ValueError, match="machine"):
+        mtcal.write_report(mtcal.compensate(vmc, "linuxcnc", points=5), str(tmp_path / "r.html"))
     with pytest.raises(ValueError, match="runs"):
         mtcal.write_report(mtcal.iso230_2(mtcal.read_positioning(str(LASER))), str(tmp_path / "r.html"))
     assert not (tmp_path / "r.html").exists()
@@ -259,3 +261,68 @@ def test_history_record_is_the_commands_record(tmp_path):
     assert st.record("iso230-2", result, metadata=meta, inputs=[str(LASER)]) == rid  # stored once
     with pytest.raises(mtcal.InputError, match="machine"):
         st.record("iso230-2", {"A": 1.0}, metadata={"date": "2026-01-01"})
+
+
+def report_parts(html):
+    """What a report shows of its result: the title, the plots' figures (their JSON) and every table
+    after the summary block (which names the inputs and the command line, and differs by writer)."""
+    title = re.search(r"<title>(.*?)</title>", html).group(1)
+    plots = re.findall(r"<script>\(function\(\)\{var f=(.*?);Plotly\.newPlot", html, flags=re.S)
+    body = html.split("</table>", 1)[1] if "</table>" in html else html
+    tables = re.findall(r"<table.*?</table>", body, flags=re.S)
+    return title, plots, tables
+
+
+VMC_GRID = "X=-400:400:3,Y=-250:250:3,Z=-500:0:3"
+VMC_AT = "X=100,Y=50,Z=-20"
+VMC_BOX = "X=-400:400,Y=-250:250,Z=-500:0"
+
+
+@pytest.mark.parametrize("kind", ["volumetric", "contributions", "diagonals", "effects", "compensate", "errors",
+                                  "predict"])
+def test_write_report_of_model_results_shows_what_the_command_shows(tmp_path, vmc, kind):
+    """The reports of results computed from a machine model: the same title, plots and tables as the
+    command's report of the same request (the summary block names the command's inputs)."""
+    m = ["-m", MACHINES / "vmc-3axis.yaml"]
+    kw = {}
+    if kind == "volumetric":
+        args, result = ["volumetric", *m, "--grid", VMC_GRID], mtcal.volumetric(vmc, grid=VMC_GRID)
+    elif kind == "contributions":
+        args, result = ["contributions", *m, "--at", VMC_AT], mtcal.contributions(vmc, at=vmc.parse_joints(VMC_AT))
+    elif kind == "diagonals":
+        args, result = ["diagonals", *m, "--box", VMC_BOX], mtcal.diagonals(vmc, VMC_BOX)
+    elif kind == "effects":
+        args, result = ["effects", *m, "--at", VMC_AT], mtcal.effects(vmc, vmc.parse_joints(VMC_AT))
+    elif kind == "errors":
+        args, result = ["errors", *m], vmc
+    elif kind == "predict":
+        model, points = EXAMPLES / "prediction" / "yaqoob2017-model.yaml", EXAMPLES / "prediction" / "yaqoob2017-w2-points.csv"
+        args = ["predict", "--model", model, "--points", points]
+        result = mtcal.predict(mtcal.read_prediction_model(str(model)), mtcal.read_prediction_points(str(points)))
+    else:
+        args = ["compensate", *m, "--format", "linuxcnc", "--points", 5, "--out", tmp_path / "comp"]
+        result, kw = mtcal.compensate(vmc, "linuxcnc", points=5), {"machine": vmc}
+    cli(*args, "--report", tmp_path / "cli.html")
+    mtcal.write_report(result, str(tmp_path / "py.html"), **kw)
+    mine, ref = report_parts((tmp_path / "py.html").read_text()), report_parts((tmp_path / "cli.html").read_text())
+    assert mine[0] == ref[0]
+    assert mine[1] == ref[1]
+    if kind == "compensate":  # the command names the files in the folder it wrote (--out)
+        ref = (ref[0], ref[1], [t.replace(f"<td>{tmp_path / 'comp'}/", "<td>") for t in ref[2]])
+    assert mine[2] == ref[2]
+
+
+def test_write_report_of_rotary_axis_is_the_commands(tmp_path, hu40t, monkeypatch):
+    """rotary-axis --report: the same page as the command's (the date fixed, the note on copies aside)."""
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1790000000")
+    sim = mtcal.simulate_sphere_probing(hu40t, axis="C", angles=np.radians(np.arange(0, 360, 45)), noise=5e-4, seed=3)
+    contacts = tmp_path / "contacts.csv"
+    sim.write_csv(str(contacts))
+    args = ["rotary-axis", "--axis", "C", "--contacts", str(contacts), "--sphere-diameter", "30",
+            "--stylus-diameter", "6", "--machine", str(MACHINES / "hu40t-wCBXfYZt.yaml"),
+            "--report", str(tmp_path / "cli.html")]
+    cli(*args)
+    r = mtcal.rotary_axis(mtcal.read_contacts_csv(str(contacts), "C"), axis="C", machine=hu40t, sphere_diameter=30,
+                          stylus_diameter=6)
+    mtcal.write_report(r, str(tmp_path / "py.html"), machine=hu40t, command=shlex.join(["mtcal", *args]))
+    assert strip_volatile((tmp_path / "py.html").read_text()) == strip_volatile((tmp_path / "cli.html").read_text())
