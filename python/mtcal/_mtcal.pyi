@@ -1552,7 +1552,8 @@ def evaluate(model: Machine | ErrorModel, configs: npt.ArrayLike, directions: np
     """
 
 def evaluate_tolerances(result: PositioningEvaluation | BallbarResult, tolerances: Mapping[str, float] | None = ..., *, tolerance_file: str = ..., metadata: Mapping[str, str] | None = ..., axis: str = ...) -> AcceptanceVerdict:
-    """Acceptance: the quantities of an ISO 230-2 (A, E, M, R, B) or ISO 230-4 (G, F, H) result
+    """Acceptance: the quantities of an ISO 230-2 (A, E, M, R, B), ISO 230-4 (G, F, H) or volumetric
+    (VA, VAx, VAy, VAz) result
     against permitted values in µm, as the commands' --tolerance / --tolerance-file: tolerances
     {Q: µm} over the file's section (ISO 230-2: the entry of axis, else of metadata['axis'], else
     'any'). A quantity passes when its value is at most its limit. metadata: the test's fields

@@ -56,7 +56,11 @@ std::pair<std::vector<std::pair<std::string, double>>, AcceptanceTest> judged(py
     return {tolerance_values(result.cast<const PositioningEvaluation&>()), AcceptanceTest::Iso230_2};
   if (py::isinstance<BallbarResult>(result))
     return {tolerance_values(result.cast<const BallbarResult&>().evaluation), AcceptanceTest::Iso230_4};
-  throw py::type_error("result: expected a PositioningEvaluation (iso230_2) or a BallbarResult (ballbar), found " +
+  if (py::hasattr(result, "_tolerance_values"))  // a VolumetricResult (evaluation.cpp): VA, VAx, VAy, VAz
+    return {result.attr("_tolerance_values")().cast<std::vector<std::pair<std::string, double>>>(),
+            AcceptanceTest::Volumetric};
+  throw py::type_error("result: expected a PositioningEvaluation (iso230_2), a BallbarResult (ballbar) or a "
+                       "VolumetricResult (volumetric), found " +
                        std::string(py::str(py::type::of(result).attr("__name__"))));
 }
 
@@ -148,6 +152,7 @@ void bind_acceptance_reports(py::module_& m) {
           const std::string* meta_axis = a.metadata.get("axis");
           if (test == AcceptanceTest::Iso230_2) t = f.iso230_2_for(!axis.empty() ? axis : meta_axis ? *meta_axis : "");
           if (test == AcceptanceTest::Iso230_4) t = f.iso230_4;
+          if (test == AcceptanceTest::Volumetric) t = f.volumetric;
         }
         if (!tolerances.is_none())
           for (auto item : tolerances.cast<py::dict>()) {
@@ -161,7 +166,8 @@ void bind_acceptance_reports(py::module_& m) {
       },
       "result"_a, "tolerances"_a = py::none(), py::kw_only(), "tolerance_file"_a = "", "metadata"_a = py::none(),
       "axis"_a = "",
-      R"(Acceptance: the quantities of an ISO 230-2 (A, E, M, R, B) or ISO 230-4 (G, F, H) result
+      R"(Acceptance: the quantities of an ISO 230-2 (A, E, M, R, B), ISO 230-4 (G, F, H) or volumetric
+(VA, VAx, VAy, VAz) result
 against permitted values in µm, as the commands' --tolerance / --tolerance-file: tolerances
 {Q: µm} over the file's section (ISO 230-2: the entry of axis, else of metadata['axis'], else
 'any'). A quantity passes when its value is at most its limit. metadata: the test's fields
@@ -220,7 +226,10 @@ against permitted values in µm, as the commands' --tolerance / --tolerance-file
             write_parameters_report(path, mm, listed, mm.parameter_count(), nonzero_only, {cmd, {}, "", ""});
           };
         } else if (py::hasattr(result, "_write_report")) {
-          // The results the other binding units keep (volumetric, contributions, diagonals, effects, identify).
+          // The results the other binding units keep (volumetric, contributions, diagonals, effects, identify,
+          // predict): their reports show no verdict.
+          if (!verdict.empty())
+            throw py::value_error("acceptance: this result's report shows no verdict (ISO 230-2, ballbar only)");
           write = [&] { result.attr("_write_report")(path, cmd); };
         } else {
           throw py::type_error("result: expected a result that has a report (docs/python.md, 'Acceptance and "

@@ -13,6 +13,7 @@
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/evaluation/toolpath.hpp"
 #include "mtcal/evaluation/volumetric_study.hpp"
+#include "mtcal/evaluation/volumetric_tolerance.hpp"
 #include "mtcal/io/points/error_csv.hpp"
 #include "mtcal/io/instruments/iso230_files.hpp"
 #include "mtcal/io/json/evaluation_json.hpp"
@@ -484,6 +485,7 @@ void bind_evaluation(py::module_& m) {
           "top"_a = std::size_t{1000000});
 
   py::class_<VolumetricResult>(m, "VolumetricResult", "What mtcal volumetric computes of a map.")
+      .def("_tolerance_values", [](const VolumetricResult& r) { return tolerance_values(r.study.va); })
       .def(
           "_write_report",
           [](const VolumetricResult& r, const std::string& path, const std::string& command) {

@@ -135,6 +135,12 @@ def test_evaluate_tolerances_match_cli():
     assert_same(mtcal.evaluate_tolerances(b, {"G": 15, "H": 1}).to_dict(), ref["tolerances"], tol=0)
     with pytest.raises(mtcal.InputError, match="VA"):
         mtcal.evaluate_tolerances(b, {"VA": 1})
+    grid = "X=-400:400:3,Y=-250:250:3,Z=-500:0:3"
+    ref = cli_json("volumetric", "-m", MACHINES / "vmc-3axis.yaml", "--grid", grid, "--tolerance-file", TOLERANCES,
+                   "--tolerance", "VAz=5")
+    vr = mtcal.volumetric(mtcal.Machine.load(str(MACHINES / "vmc-3axis.yaml")), grid=grid)
+    assert_same(mtcal.evaluate_tolerances(vr, {"VAz": 5}, tolerance_file=str(TOLERANCES)).to_dict(), ref["tolerances"],
+                tol=0)
     with pytest.raises(mtcal.InputError):
         mtcal.evaluate_tolerances(e, metadata={"colour": "red"})
 
