@@ -274,8 +274,10 @@ orientation_residual, direction_error (rad)}. tool_length: mm (LinuxCNC's tool o
               for (int c = 0; c < 3; ++c) pts[3 * i + static_cast<std::size_t>(c)] = f.pose.point[c];
               std::copy(f.pose.rotary.begin(), f.pose.rotary.end(), rot.begin() + static_cast<std::ptrdiff_t>(r * i));
             }
-            return py::make_tuple(q.single ? to_array(pts) : to_array(pts, 3),
-                                  q.single ? to_array(rot) : to_array(rot, r == 0 ? 1 : r));
+            py::array_t<double> rotary = q.single ? to_array(rot)
+                                         : r == 0 ? new_array({static_cast<py::ssize_t>(q.rows), 0})
+                                                  : to_array(rot, r);
+            return py::make_tuple(q.single ? to_array(pts) : to_array(pts, 3), rotary);
           },
           "configs"_a, py::kw_only(), "tool_length"_a,
           "The actual tool points (N, 3) and the rotary coordinates (N, r) that inverse maps to the joints.")

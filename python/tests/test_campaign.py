@@ -332,3 +332,30 @@ def test_write_report_of_rotary_axis_is_the_commands(tmp_path, hu40t, monkeypatc
                           stylus_diameter=6)
     mtcal.write_report(r, str(tmp_path / "py.html"), machine=hu40t, command=shlex.join(["mtcal", *args]))
     assert strip_volatile((tmp_path / "py.html").read_text()) == strip_volatile((tmp_path / "cli.html").read_text())
+
+
+def test_write_report_static_copies_through_the_browser_it_finds(tmp_path, monkeypatch):
+    """pdf= and png_dir= reach the library's static copies (the command's --report-pdf/--report-png,
+    tested in the browser by reports_in_browser): here a stand-in for Chromium named by
+    MTCAL_CHROMIUM writes what the browser would, so that no browser runs in this test."""
+    fake = tmp_path / "chromium"
+    png = "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAABJRU5ErkJggg=="
+    fake.write_text("#!/bin/sh\nfor a in \"$@\"; do case \"$a\" in\n"
+                    "  --print-to-pdf=*) printf '%%PDF-1.4 stand-in\\n' > \"${a#--print-to-pdf=}\";;\n"
+                    f"  --dump-dom) printf '<html><body><img class=\"plot-print\" src=\"data:image/png;base64,{png}\">"
+                    f"<img class=\"plot-print\" src=\"data:image/png;base64,{png}\"></body></html>';;\n"
+                    "esac; done\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("MTCAL_CHROMIUM", str(fake))
+    r = mtcal.ballbar(mtcal.read_ballbar_csv(str(TRACE)), radius=100)
+    mtcal.write_report(r, str(tmp_path / "b.html"), pdf=str(tmp_path / "b.pdf"), png_dir=str(tmp_path / "png"))
+    assert (tmp_path / "b.pdf").read_bytes().startswith(b"%PDF-1.4 stand-in")
+    assert sorted(p.name for p in (tmp_path / "png").iterdir()) == ["b-plot-1.png", "b-plot-2.png"]
+    assert (tmp_path / "b.html").read_text().startswith("<!DOCTYPE html>")
+    # No browser: nothing written, the library's message.
+    monkeypatch.setenv("MTCAL_CHROMIUM", str(tmp_path / "none"))
+    with pytest.raises(mtcal.Error, match="MTCAL_CHROMIUM"):
+        mtcal.write_report(r, str(tmp_path / "c.html"), pdf=str(tmp_path / "c.pdf"))
+    assert not (tmp_path / "c.html").exists()
+    with pytest.raises(ValueError, match="same file"):
+        mtcal.write_report(r, str(tmp_path / "d.html"), pdf=str(tmp_path / "d.html"))

@@ -86,3 +86,15 @@ def test_commanded_joints_put_the_actual_tool_on_the_commanded_point(hu40t):
     np.testing.assert_array_equal(one["q"], r["q"][0])
     with pytest.raises(ValueError, match="rotary"):
         s.inverse(points, tool_length=tool)
+
+
+def test_commanded_joints_of_a_three_axis_machine(vmc):
+    s = mtcal.CommandedJointSolver(vmc)
+    assert s.rotary_count == 0 and s.rotary_axes == []
+    q0 = np.array([[100.0, 50.0, -20.0], [-300.0, 200.0, -400.0]])
+    points, rotary = s.forward(q0, tool_length=0.0)
+    assert rotary.shape == (2, 0)
+    r = s.inverse(points, tool_length=0.0)
+    np.testing.assert_allclose(r["q"], q0, atol=1e-9)
+    m = mtcal.ErrorModel(vmc.with_tool_length(0.0))
+    np.testing.assert_allclose([m.actual_pose(q)[:3, 3] for q in r["q"]], points, atol=1e-9)
