@@ -56,6 +56,28 @@ ARG_TYPES = {
     "centre": "npt.ArrayLike | None",
     "out": "npt.NDArray[np.float64] | None",
     "array": "npt.ArrayLike",
+    "metadata": "Mapping[str, str] | None",
+}
+# The same for one function's or method's argument, where the name means something else elsewhere.
+FUNC_ARG_TYPES = {
+    ("inverse", "points"): "npt.ArrayLike",
+    ("inverse", "rotary"): "npt.ArrayLike | None",
+    ("nominal_inverse", "point"): "npt.ArrayLike",
+    ("nominal_inverse", "rotary"): "npt.ArrayLike | None",
+    ("write_report", "result"): "PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends",
+    ("write_report", "runs"): "PositioningRuns | None",
+    ("write_report", "pdf"): "str | None",
+    ("write_report", "png_dir"): "str | None",
+    ("write_report", "acceptance"): "AcceptanceVerdict | None",
+    ("evaluate_tolerances", "result"): "PositioningEvaluation | BallbarResult",
+    ("evaluate_tolerances", "tolerances"): "Mapping[str, float] | None",
+    ("trend", "tolerances"): "Mapping[str, float | tuple[float, float]] | Sequence[str] | None",
+    ("rank", "tolerances"): "Mapping[str, float | tuple[float, float]] | Sequence[str] | None",
+    ("record", "result"): "Mapping[str, Any] | str",
+    ("export", "path"): "str | None",
+    ("design_plan", "artefact"): "ProbingPlan | None",
+    ("design_plan", "against"): "ProbingPlan | None",
+    ("design_plan", "target_u"): "Mapping[str, float] | None",
 }
 ARRAY_ARGS = {"configs", "at", "q", "user", "internal", "x", "y", "targets", "runs", "up", "down", "angles",
               "radii", "centres", "angles_deg", "feeds", "origin_xyz", "sphere"}
@@ -114,7 +136,7 @@ def signature(name, line, method):
             continue
         typ = typ.strip()
         if typ in ("object", "handle"):
-            typ = ARG_TYPES.get(arg, "npt.ArrayLike" if arg in ARRAY_ARGS else "Any")
+            typ = FUNC_ARG_TYPES.get((name, arg)) or ARG_TYPES.get(arg, "npt.ArrayLike" if arg in ARRAY_ARGS else "Any")
         else:
             typ = py_type(typ)
         if default == "None" and "None" not in typ:

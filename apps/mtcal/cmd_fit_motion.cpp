@@ -1,5 +1,4 @@
 // mtcal fit-motion: laser and positioning files -> motion errors (EXX, EYX, EBX, ECC ...) in one parameter file.
-#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -7,12 +6,10 @@
 
 #include "common.hpp"
 #include "history.hpp"
-#include "mtcal/identification/machine_params.hpp"
-#include "mtcal/identification/motion_fit.hpp"
 #include "mtcal/io/model/estimated_parameters_file.hpp"
-#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/instruments/motion_fit_files.hpp"
 #include "mtcal/io/system/files.hpp"
-#include "mtcal/io/instruments/laser_files.hpp"
+#include "mtcal/io/json/motion_fit_json.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {
@@ -26,85 +23,33 @@ struct FitMotionOptions {
   bool json_out = false;
 };
 
-// "EYX=path" names the error; a bare path leaves it to the file (a laser file's Error:/Axis:).
-std::pair<std::string, std::string> split_spec(const std::string& spec) {
-  const auto eq = spec.find('=');
-  if (eq != std::string::npos && eq >= 3 && eq <= 4 && spec[0] == 'E') return {spec.substr(0, eq), spec.substr(eq + 1)};
-  return {"", spec};
-}
-
 int run_fit_motion(const FitMotionOptions& o) {
   std::vector<std::string> inputs;
-  for (const auto& s : o.files) inputs.push_back(split_spec(s).second);
+  for (const auto& s : o.files) inputs.push_back(split_motion_file_spec(s).second);
   check_outputs(inputs, {o.out});
   if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
-  std::vector<EstimatedError> errors;
-  std::vector<MotionFit> fits;
-  std::vector<std::string> warnings;
-  Json files = Json::array();
-  for (const auto& spec : o.files) {
-    auto [name, path] = split_spec(spec);
-    PositioningRuns runs;
-    if (o.format == "laser" || (o.format == "auto" && looks_like_laser(path))) {
-      const LaserFile lf = read_laser_file(path);
-      runs = lf.runs;
-      if (name.empty()) name = laser_error_name(lf);
-    } else {
-      runs = read_positioning_file(path, o.format, o.unit, o.target_unit);
-    }
-    if (name.empty())
-      throw InputError({path, 0, ""},
-                       "the file does not say which error it measured: name it, e.g. EXX=" + path + " or EYX=" + path);
-    if (o.wrap > 0) runs = merge_wrapped_targets(runs, o.wrap);
-    warnings.insert(warnings.end(), runs.warnings.begin(), runs.warnings.end());
-    MotionFitOptions fo;
-    fo.form = o.form;
-    fo.max_degree = o.degree;
-    fo.coverage = o.coverage;
-    MotionFit fit;
-    errors.push_back(estimate_motion_error(runs, name, fo, &fit));
-    fits.push_back(fit);
-  }
-  check_distinct(errors);
-  for (const auto& w : warnings) std::cerr << "mtcal: warning: " << w << "\n";
+  MotionFileOptions fo;
+  fo.fit.form = o.form;
+  fo.fit.max_degree = o.degree;
+  fo.fit.coverage = o.coverage;
+  fo.format = o.format;
+  fo.unit = o.unit;
+  fo.target_unit = o.target_unit;
+  fo.wrap = o.wrap;
+  const MotionFileFits fits = fit_motion_files(o.files, fo);
+  for (const auto& w : fits.warnings) std::cerr << "mtcal: warning: " << w << "\n";
   if (!o.out.empty())
-    write_estimated_parameters(o.out, errors,
+    write_estimated_parameters(o.out, fits.errors,
                                "Motion errors fitted by mtcal fit-motion (internal units mm, rad)\n" + command_line());
   if (o.json_out || recording()) {
-    Json j;
-    Json list = Json::array();
-    for (std::size_t i = 0; i < errors.size(); ++i) {
-      const auto& e = errors[i];
-      const auto& f = fits[i];
-      Json params = Json::object();
-      for (std::size_t k = 0; k < e.motion->parameter_count(); ++k)
-        params[e.name.str() + "." + e.motion->parameter_suffix(k)] = {{"value", e.motion->parameter(k)},
-                                                                      {"u", k < e.uncertainty.size()
-                                                                                ? Json(e.uncertainty[k])
-                                                                                : Json(nullptr)}};
-      list.push_back({{"error", e.name.str()},
-                      {"file", e.source},
-                      {"form", f.form},
-                      {"degree", f.degree},
-                      {"targets", f.targets},
-                      {"bidirectional", f.bidirectional},
-                      {"residual_rms", f.residual_rms},
-                      {"u_mean", f.u_mean},
-                      {"reason", f.reason},
-                      {"notes", f.notes},
-                      {"parameters", params}});
-    }
-    j["errors"] = list;
-    j["units"] = "internal: mm and rad";
-    j["warnings"] = warnings;
-    if (!o.out.empty()) j["out"] = o.out;
+    const Json j = motion_fits_json(fits.errors, fits.fits, fits.warnings, o.out);
     if (o.json_out) std::cout << json_text(j, 2) << "\n";
     emit_json(j, false);  // noted for --record (printed above as it always was)
     return 0;
   }
-  for (std::size_t i = 0; i < errors.size(); ++i) {
-    const auto& f = fits[i];
-    std::cout << fmt::format("{} from {}: {}\n", errors[i].name.str(), errors[i].source, f.reason);
+  for (std::size_t i = 0; i < fits.errors.size(); ++i) {
+    const auto& f = fits.fits[i];
+    std::cout << fmt::format("{} from {}: {}\n", fits.errors[i].name.str(), fits.errors[i].source, f.reason);
     for (const auto& n : f.notes) std::cout << "  note: " << n << "\n";
   }
   if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";

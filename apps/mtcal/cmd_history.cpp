@@ -15,6 +15,7 @@
 #include "mtcal/io/json/history_json.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/history/config.hpp"
+#include "mtcal/io/history/queries.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {
@@ -211,11 +212,7 @@ int run_show(const ShowOptions& o) {
   const auto r = store->get(o.id);
   if (!r) throw InputError({store->describe(), 0, "id"}, "no record with id '" + printable(o.id) + "'");
   if (o.json_out) {
-    Json j = Json::parse(record_to_json_line(*r));
-    j.erase("type");
-    j.erase("result_json");
-    j["result"] = Json::parse(r->result_json, nullptr, false);
-    print_json(j);
+    print_json(record_json(*r));
     return 0;
   }
   std::cout << fmt::format("record      {}\nmachine     {}{}\ncommand     {}\nmeasured    {}\nrecorded    {}\n", r->id,

@@ -12,7 +12,7 @@
 #include "common.hpp"
 #include "planning_command.hpp"
 #include "history.hpp"
-#include "mtcal/identification/planning.hpp"
+#include "mtcal/identification/plan_study.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/gcode/probe_program.hpp"
 #include "mtcal/io/instruments/probe_log.hpp"
@@ -99,52 +99,44 @@ int run_plan(const PlanOptions& o) {
   if (!o.against.empty()) against = read_probing_csv(m, o.against);
   const ProbingPlan artefact = o.artefact.empty() ? *against : read_probing_csv(m, o.artefact);
 
-  IdentificationOptions io;
-  io.estimate = o.estimate;
-  io.estimate_source = "--estimate";
-  for (const auto& s : o.scale_bars) io.scale_bars.push_back(parse_scale_bar(s, "--scale-bar"));
-  io.sigma_ball = io.sigma_facet = io.sigma_scale_bar = o.sigma_um * 1e-3;
-
-  const CandidateSet cands =
-      candidate_configurations(m, artefact.features, rotary_grid(m, o.rotary_step_deg * std::numbers::pi / 180), o.reach);
-
-  std::optional<PlanPrediction> against_pred;
-  std::optional<TimeEstimate> against_time;
-  if (against) {
-    against_pred = predict_plan(m, *against, io);
-    against_time = estimate_time(m, *against, o.timing);
-  }
-  DesignOptions d;
-  d.model = io;
-  d.criterion = o.criterion == "a" ? DesignCriterion::A : o.criterion == "max-u" ? DesignCriterion::MaxU : DesignCriterion::D;
-  d.poses = o.poses;
-  d.poses_source = "--poses";
-  d.target_source = "--target-u";
-  d.target_u = parse_targets(m, o.target_u);
-  d.threads = o.threads;
-  if (d.poses == 0 && d.target_u.empty()) {
-    if (!against_pred)
-      throw InputError({"--poses", 0, ""}, "expected a budget: --poses N, --target-u PARAM=U or --against PLAN.csv");
-    for (const auto& e : against_pred->parameters) d.target_u.emplace_back(e.name, e.u);
-    d.target_source = "--against " + o.against;
-  }
+  PlanStudyOptions so;
+  so.model.estimate = o.estimate;
+  so.model.estimate_source = "--estimate";
+  for (const auto& s : o.scale_bars) so.model.scale_bars.push_back(parse_scale_bar(s, "--scale-bar"));
+  so.model.sigma_ball = so.model.sigma_facet = so.model.sigma_scale_bar = o.sigma_um * 1e-3;
+  so.criterion = o.criterion == "a"       ? DesignCriterion::A
+                 : o.criterion == "max-u" ? DesignCriterion::MaxU
+                                          : DesignCriterion::D;
+  so.poses = o.poses;
+  so.target_u = parse_targets(m, o.target_u);
+  so.rotary_step = o.rotary_step_deg * std::numbers::pi / 180;
+  so.reach = o.reach;
+  so.timing = o.timing;
+  so.monte_carlo = o.monte_carlo;
+  so.seed = o.seed;
+  so.threads = o.threads;
+  so.poses_source = "--poses";
+  so.target_source = "--target-u";
+  so.against_source = "--against " + o.against;
+  if (so.poses == 0 && so.target_u.empty() && !against)
+    throw InputError({"--poses", 0, ""}, "expected a budget: --poses N, --target-u PARAM=U or --against PLAN.csv");
   for (const auto* path : {&o.out, &o.gcode})
     if (!path->empty()) AtomicFile check(*path);
   Progress progress("plan: poses", 0);
-  if (progress.active()) d.progress = [&](const char*, std::size_t n) { progress.update(n, n); };
-  const PlanDesign design = design_plan(m, cands.plan, d);
+  if (progress.active()) so.progress = [&](const char*, std::size_t n) { progress.update(n, n); };
+  const PlanStudy study = plan_study(m, artefact, against, so);
+  const CandidateSet& cands = study.candidates;
+  const PlanDesign& design = study.design;
+  const std::optional<PlanPrediction>& against_pred = study.against;
+  const std::optional<TimeEstimate>& against_time = study.against_time;
   PlanReport report;
   report.candidates = &cands;
   report.design = &design;
-  report.time = estimate_time(m, design.plan, o.timing);
+  report.time = study.time;
   report.against = against_pred;
   report.against_time = against_time;
   report.against_path = o.against;
-  if (o.monte_carlo > 0) {
-    Machine prior = m;
-    for (const auto& e : design.prediction.parameters) prior.set_parameter(e.name, 0.0);
-    report.monte_carlo = plan_monte_carlo(m, prior, design.plan, io, o.monte_carlo, o.seed, o.threads);
-  }
+  report.monte_carlo = study.monte_carlo;
   if (!o.out.empty()) {
     report.out = o.out;
     write_probing_csv(o.out, m, design.plan,

@@ -16,6 +16,7 @@
 #include "history.hpp"
 #include "mtcal/evaluation/diagonals.hpp"
 #include "mtcal/evaluation/volumetric_study.hpp"
+#include "mtcal/evaluation/volumetric_tolerance.hpp"
 #include "mtcal/io/points/error_csv.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/text/joints.hpp"
@@ -253,14 +254,7 @@ int run_volumetric(const VolumetricOptions& o) {
                        streamed.study.seconds_histogram;
   const ErrorMap& map = streamed.map;
   const VolumetricStudy& study = streamed.study;
-  // VA and its components in µm (Mohammed 2019's volumetric accuracy, docs/volumetric.md).
-  const auto& c = study.va.component;
-  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{}
-                                                  : checked_verdict({{"VA", study.va.va.value * 1e3},
-                                                                     {"VAx", c[0].value * 1e3},
-                                                                     {"VAy", c[1].value * 1e3},
-                                                                     {"VAz", c[2].value * 1e3}},
-                                                                    limits);
+  const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(tolerance_values(study.va), limits);
   if (file) file->commit();
   if (!o.report.empty())
     write_volumetric_report(o.report, model, map, study, o.box, sources(o.model, o.source), verdict);

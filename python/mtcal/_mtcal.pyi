@@ -18,6 +18,26 @@ class InputError(Error, ValueError):
 class ModelError(Error, ValueError):
     """A request the model cannot satisfy (unknown parameter name, axis not in the topology ...)."""
 
+class AcceptanceVerdict:
+    """Tolerances checked against a result, with the test's metadata."""
+    @property
+    def checks(self) -> list[Any]:
+        """(quantity, value, limit, pass) per limit, µm"""
+    @property
+    def empty(self) -> bool:
+        ...
+    @property
+    def metadata(self) -> dict[str, Any]:
+        ...
+    @property
+    def missing_metadata(self) -> list[str]:
+        """What the test's report should state and the metadata lacks, as sentences"""
+    @property
+    def passed(self) -> bool:
+        """Every check passed (False when nothing was checked)"""
+    def to_dict(self) -> dict[str, Any]:
+        """As the command's --json 'tolerances' (verdict, unit, checks)."""
+
 class Axis:
     """One axis of a machine (read-only record; internal units mm and rad)."""
     @property
@@ -128,6 +148,34 @@ class CircularDeviation:
     def points(self) -> int:
         ...
     def to_dict(self) -> dict[str, Any]:
+        ...
+
+class CommandedJointSolver:
+    """Inverse kinematics with the full error model
+    (kinematics/commanded_joints.hpp; what compensate --format linuxcnc-kins runs in the controller):
+    the joints that put the actual tool point on a commanded one, in LinuxCNC's tool-centre-point
+    convention (tool point in the workpiece frame, mm; rotary coordinates, rad). Three linear axes and
+    at most two rotary axes; directions of motion are not used (the model at dir = 0).
+    """
+    def __init__(self, machine: Machine, *, max_iterations: int = ..., point_tolerance: float = ..., orientation_tolerance: float = ..., orientation_damping: float = ...) -> None:
+        ...
+    def forward(self, configs: npt.ArrayLike, *, tool_length: float) -> tuple[Any, ...]:
+        """The actual tool points (N, 3) and the rotary coordinates (N, r) that inverse maps to the joints."""
+    def inverse(self, points: npt.ArrayLike, rotary: npt.ArrayLike | None = ..., *, tool_length: float) -> dict[str, Any]:
+        """Joints for commanded tool points (N, 3) or (3,) (mm, workpiece frame) and rotary coordinates
+        (N, r) or (r,) (rad): {q (N, k) chain order, converged, iterations, point_residual (mm),
+        orientation_residual, direction_error (rad)}. tool_length: mm (LinuxCNC's tool offset).
+        """
+    @property
+    def linear_axes(self) -> list[int]:
+        """Indices (chain order)"""
+    def nominal_inverse(self, point: npt.ArrayLike, rotary: npt.ArrayLike | None = ..., *, tool_length: float) -> npt.NDArray[np.float64]:
+        """The nominal topology's joints for one commanded tool point and rotary coordinates (no errors)."""
+    @property
+    def rotary_axes(self) -> list[int]:
+        """Indices (chain order)"""
+    @property
+    def rotary_count(self) -> int:
         ...
 
 class ComparisonData:
@@ -413,6 +461,56 @@ class ErrorParameter:
     def value(self) -> float:
         ...
 
+class EstimatedError:
+    """One error estimated from a measurement, internal units (mm, rad), with uncertainties."""
+    @property
+    def is_motion(self) -> bool:
+        """A motion error (a function of its axis); else a location error (value)"""
+    @property
+    def method(self) -> str:
+        """How: the form and its criterion, the diagnostic term ..."""
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def parameters(self) -> dict[str, Any]:
+        """NAME.SUFFIX -> value of every coefficient of a motion error (suffixes as in the parameter file: 0..3 and b, or the table's), or NAME -> value"""
+    @property
+    def rotary_argument(self) -> bool:
+        ...
+    @property
+    def source(self) -> str:
+        """The measurement file"""
+    def to_dict(self) -> dict[str, Any]:
+        """{NAME[.SUFFIX]: {value, u}} of the non-zero coefficients, as `mtcal ballbar --to-params --json`'s parameters"""
+    @property
+    def uncertainty(self) -> npt.NDArray[np.float64]:
+        """Standard uncertainties, one per entry of parameters"""
+    @property
+    def value(self) -> float:
+        """A location error's value (0 for a motion error)"""
+
+class EtalonBlock:
+    """One block of an Etalon exchange file."""
+    @property
+    def argument(self) -> npt.NDArray[np.float64]:
+        """mm or deg"""
+    @property
+    def error(self) -> npt.NDArray[np.float64]:
+        """mm or rad"""
+    @property
+    def line(self) -> int:
+        ...
+    @property
+    def name(self) -> str:
+        """'C0B' (a position error) or 'EXY' (a component error)"""
+    @property
+    def table(self) -> bool:
+        """A component error's Gridpoints, else VALUE"""
+    @property
+    def value(self) -> float:
+        """A position error: mm or rad"""
+
 class FitResult:
     """A least-squares fit of one model form (Yaqoob 2017 ch. 5)."""
     def __call__(self, x: npt.ArrayLike) -> npt.NDArray[np.float64]:
@@ -470,6 +568,71 @@ class GcodeProgram:
     @property
     def warnings(self) -> list[str]:
         """Words read but not simulated: 'file:line: column c: word why' (the first 100)"""
+
+class HistoryStore:
+    """The calibration history (docs/history.md): SQLite or PostgreSQL.
+
+    HistoryStore(connection): "FILE.db", "sqlite:PATH" (created when absent) or "postgresql://user@host/db";
+    migrated to the current schema on opening. Every write is one transaction.
+    """
+    def __init__(self, connection: str) -> None:
+        ...
+    def add_event(self, machine: str, date: str, kind: str, note: str = ...) -> str:
+        """Adds an event (compensation-loaded, crash, repair, other) to a machine's time line, as `mtcal history event add`; returns its id."""
+    def close(self) -> None:
+        """Closes the connection (also when the object goes)."""
+    @property
+    def description(self) -> str:
+        """'sqlite:/path' or 'postgresql://host:port/db' (without a password)"""
+    def diff(self, first: str, second: str, *, coverage_factor: float = ...) -> Any:
+        """What changed between two records (E_n with U = k u), as `mtcal history diff --json`."""
+    def events(self, machine: str = ...) -> list[Any]:
+        """Events in date order (machine '': all)."""
+    def export(self, path: str | None = ...) -> Any:
+        """The store as JSON lines (records then events), as `mtcal history export`: written to path (all or nothing; returns the line count), or returned as text without a path."""
+    def import_(self, path: str) -> dict[str, Any]:
+        """Imports what export wrote (a .jsonl file) in one transaction, as `mtcal history import FILE.jsonl`: ids kept, records stored already skipped. {records_added, events_added, skipped}."""
+    def list(self, *, machine: str = ..., command: str = ..., from_: str = ..., to: str = ...) -> list[Any]:
+        """The records in time order (measured), as `mtcal history list --json`'s records."""
+    def machines(self) -> list[str]:
+        """Machine names, sorted."""
+    def rank(self, *, tolerances: Mapping[str, float | tuple[float, float]] | Sequence[str] | None = ..., tolerance_file: str = ..., by: str = ..., threads: int = ...) -> Any:
+        """The machines ranked by how far they are from tolerance, as `mtcal history rank --json`."""
+    def record(self, command: str, result: Mapping[str, Any] | str, *, metadata: Mapping[str, str] | None = ..., inputs: list[str] = ...) -> str:
+        """Records a command's result, as `mtcal COMMAND --record`: command ('iso230-2', 'ballbar',
+        'volumetric', 'identify', 'fit-motion', ...), result: its to_dict() (or the --json text), metadata:
+        the test's fields (machine, serial, date ...; docs/reports.md), inputs: the input files (their
+        SHA-256 is kept). Returns the record's id; a result stored already (same content hash) is not
+        stored again and its id is returned.
+        """
+    @property
+    def schema_version(self) -> int:
+        ...
+    def show(self, id: str) -> Any:
+        """One record, as `mtcal history show --json`."""
+    def trend(self, machine: str, *, parameters: list[str] = ..., figures: list[str] = ..., tolerances: Mapping[str, float | tuple[float, float]] | Sequence[str] | None = ..., tolerance_file: str = ..., from_: str = ..., to: str = ...) -> HistoryTrends:
+        """Drift of parameters / figures of one machine, as `mtcal history trend`: neither parameters
+        nor figures: all of both. tolerances: {Q: V} (|value| <= V for a parameter, value <= V for a
+        figure) or {Q: (LO, HI)}, or ["Q=V", "Q=LO:HI"], in the recorded unit; tolerance_file: acceptance
+        tolerances (µm) of the figures. Returns HistoryTrends (to_dict(), write_report(trends, path)).
+        """
+
+class HistoryTrends:
+    """One machine's trends: series with their drift fits, and events."""
+    @property
+    def machine(self) -> str:
+        ...
+    @property
+    def records(self) -> int:
+        """How many calibrations of the machine the store has"""
+    @property
+    def serial(self) -> str:
+        ...
+    @property
+    def series(self) -> list[Any]:
+        """Per quantity: {quantity, kind, unit, samples, trend} (as in to_dict())"""
+    def to_dict(self) -> dict[str, Any]:
+        """As `mtcal history trend --json` (docs/history.md)."""
 
 class Identifiability:
     """Rank and conditioning of the scaled Jacobian of a plan."""
@@ -578,6 +741,30 @@ class IndexedCentres:
     @property
     def source(self) -> str:
         ...
+
+class LaserFile:
+    """A Renishaw laser test (.rtl linear, .rta rotary) as its file gives it."""
+    @property
+    def axis(self) -> str:
+        """The USER-TEXT Axis (upper case), '' if not given"""
+    @property
+    def bidirectional(self) -> bool:
+        ...
+    @property
+    def component(self) -> str:
+        """The ISO 230-1 error the file names (Error: EYX), or ''"""
+    @property
+    def error_name(self) -> str:
+        """The motion error the file measured (its Error:, else EXX for a linear test of X, ECC for a rotary test of C), '' when it does not say"""
+    @property
+    def kind(self) -> str:
+        """'linear', 'rotary', 'straightness' or 'angular'"""
+    @property
+    def report_metadata(self) -> dict[str, Any]:
+        """The acceptance-report fields the header states (machine, serial, date, temperatures, instrument ...)"""
+    @property
+    def runs(self) -> PositioningRuns:
+        """PositioningRuns: deviations per target and run, in the file's units"""
 
 class Machine:
     """A machine model: topology, axes, tool and workpiece set-up, and every ISO 230 error parameter by name. Values in internal units (mm, rad). Machine.load reads a machine file; MachineBuilder builds one from Python values; with_params returns a modified copy."""
@@ -738,6 +925,74 @@ class ModelComparison:
         ...
     def to_dict(self, file: str = ..., x: str = ..., y: str = ...) -> dict[str, Any]:
         """As `mtcal regress --json` (file, x, y name the data)."""
+
+class MotionFit:
+    """How one motion error was fitted."""
+    @property
+    def bidirectional(self) -> bool:
+        ...
+    @property
+    def degree(self) -> int:
+        """Polynomial degree or number of harmonics (0: a table)"""
+    @property
+    def form(self) -> str:
+        """'table', 'polynomial' or 'fourier'"""
+    @property
+    def notes(self) -> list[str]:
+        ...
+    @property
+    def reason(self) -> str:
+        ...
+    @property
+    def residual_rms(self) -> float:
+        """Of the form against the target means (mm or rad)"""
+    @property
+    def targets(self) -> int:
+        ...
+    @property
+    def u_mean(self) -> float:
+        """rms standard uncertainty of the target means (0: unknown)"""
+
+class MotionFitResult:
+    """fit_motion's result: one EstimatedError and MotionFit per file."""
+    @property
+    def errors(self) -> list[EstimatedError]:
+        ...
+    @property
+    def fits(self) -> list[MotionFit]:
+        ...
+    def parameters_yaml(self, description: str = ...) -> str:
+        """The parameter file's text (what write_parameters writes)."""
+    def to_dict(self, out: str = ...) -> dict[str, Any]:
+        """As `mtcal fit-motion --json` (out: the parameter file named, as --out)."""
+    @property
+    def warnings(self) -> list[str]:
+        """What the readers kept but did not use"""
+    def write_parameters(self, path: str, description: str = ...) -> None:
+        """Writes the parameter file (complete or not at all), as `mtcal fit-motion --out`."""
+
+class PlanResult:
+    """A designed probing plan: the poses, predicted uncertainties, time."""
+    @property
+    def criterion(self) -> str:
+        ...
+    @property
+    def plan(self) -> ProbingPlan:
+        """ProbingPlan of the selected poses (write_probing_csv writes it)"""
+    @property
+    def poses(self) -> int:
+        ...
+    @property
+    def target_met(self) -> bool:
+        ...
+    @property
+    def time(self) -> float:
+        """Estimated seconds"""
+    def to_dict(self, out: str = ..., gcode: str = ...) -> dict[str, Any]:
+        """As `mtcal plan --json` (out, gcode: the files named, as --out, --gcode)."""
+    @property
+    def uncertainties(self) -> dict[str, Any]:
+        """Predicted standard uncertainty per estimated parameter (internal units)"""
 
 class PointPair:
     """Two points i, j of a set and the value of their difference (mm)."""
@@ -1207,6 +1462,9 @@ def ballbar(trace: BallbarTrace, *, radius: float, plane: str = ..., overshoot_s
     overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.
     """
 
+def ballbar_parameters(result: BallbarResult, *, squareness: bool = ..., scale: bool = ..., backlash: bool = ...) -> list[EstimatedError]:
+    """The ISO 230-4 diagnosis of a BallbarResult as model parameters (docs/fit-motion.md): squareness -> EC0Y (XY), EA0Z (YZ), EB0Z (ZX); scaling mismatch -> the linear terms of both axes' positioning errors; backlash -> their reversal terms. As `mtcal ballbar --to-params --terms ...`. A list of EstimatedError."""
+
 def centres_from_contacts(contacts: ContactSet, *, sphere_diameter: float, stylus_diameter: float = ..., max_rms: float = ...) -> IndexedCentres:
     """One sphere fit per indexation (five-point protocol or least squares), diameters in mm."""
 
@@ -1233,6 +1491,16 @@ def contributions(machine: Machine, *, at: npt.ArrayLike | None = ..., pair: tup
     exact VA without each error (what_if). Configurations in internal units. As `mtcal contributions`.
     """
 
+def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str], scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., criterion: str = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., approach: float = ..., touches: int = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ...) -> PlanResult:
+    """Designs a probing plan, as `mtcal plan` (docs/planning.md): the fewest poses (indexations x
+    balls and facets of artefact, a ProbingPlan) that identify `estimate` to a budget: poses (exactly
+    N, with criterion 'd', 'a' or 'max-u'), target_u {parameter: u in internal units}, or the
+    predicted uncertainties of `against` (a given ProbingPlan). sigma: standard deviation of a
+    reading (mm); rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length,
+    holder_radius, table_z in mm) and timing (rapid, probe_feed mm/min, rotary_speed deg/min,
+    approach mm, touches). Returns PlanResult (plan, uncertainties, time, to_dict()).
+    """
+
 def diagonals(machine: Machine, box: str | Mapping[str, tuple[float, float]] | None, *, points: int = ..., face: bool = ..., travel_check: bool = ...) -> DiagonalsResult:
     """ISO 230-6 body (and face) diagonals of a box ("X=0:500,Y=0:400,Z=-300:0" in mm, or a dict letter -> (lo, hi) internal) simulated on the model, as `mtcal diagonals`."""
 
@@ -1245,6 +1513,9 @@ def effects(machine: Machine, at: npt.ArrayLike, *, errors: npt.ArrayLike | None
 
 def error_map(machine: Machine, configs: npt.ArrayLike | None = ..., directions: npt.ArrayLike | None = ..., *, grid: str | Mapping[str, npt.ArrayLike] | None = ..., travel_check: bool = ..., threads: int = ...) -> ErrorMap:
     """The translational error map (mm) of configs (N, k) in internal units, or of a grid (Machine.grid's spec)."""
+
+def estimated_parameters_dict(errors: list[EstimatedError]) -> Any:
+    """{NAME[.SUFFIX]: {value, u}} of the errors, as `mtcal ballbar --to-params --json`'s parameters."""
 
 def evaluate(model: Machine | ErrorModel, configs: npt.ArrayLike, directions: npt.ArrayLike | None = ..., *, threads: int = ..., travel_check: bool = ..., out: npt.NDArray[np.float64] | None = ...) -> npt.NDArray[np.float64]:
     """Volumetric error of the tool relative to the workpiece at N configurations.
@@ -1280,10 +1551,30 @@ def evaluate(model: Machine | ErrorModel, configs: npt.ArrayLike, directions: np
         the argument.
     """
 
+def evaluate_tolerances(result: PositioningEvaluation | BallbarResult, tolerances: Mapping[str, float] | None = ..., *, tolerance_file: str = ..., metadata: Mapping[str, str] | None = ..., axis: str = ...) -> AcceptanceVerdict:
+    """Acceptance: the quantities of an ISO 230-2 (A, E, M, R, B), ISO 230-4 (G, F, H) or volumetric
+    (VA, VAx, VAy, VAz) result
+    against permitted values in µm, as the commands' --tolerance / --tolerance-file: tolerances
+    {Q: µm} over the file's section (ISO 230-2: the entry of axis, else of metadata['axis'], else
+    'any'). A quantity passes when its value is at most its limit. metadata: the test's fields
+    (machine, serial, date, operator, temperature ...; --meta), checked. Returns AcceptanceVerdict.
+    """
+
 def fit_model(x: npt.ArrayLike, y: npt.ArrayLike, *, model: str = ..., loocv: bool = ...) -> FitResult:
     """Least squares of one model form to (x, y): model is a label as mtcal regress --models takes it,
     "polynomial(2)", "polynomial(1, c0=0)", "exp_approach", "stretched_exp", "logistic_ln",
     "gompertz", "saturation", "power". Returns FitResult with parameters, stddev, covariance.
+    """
+
+def fit_motion(files: list[str], *, form: str = ..., degree: int = ..., coverage: float = ..., unit: str = ..., target_unit: str = ..., format: str = ..., wrap: float = ...) -> MotionFitResult:
+    """Motion errors (EXX, EYX, EBX, ECC ...) from laser or positioning files, as `mtcal fit-motion`.
+
+    files: each "[ERROR=]FILE": a Renishaw .rtl/.rta export names its error; an ISO 230-2 .dat or a
+    table must be named ("EYX=straightness.csv"). form: 'auto' (the smoothest form within coverage x
+    the repeatability, else a table), 'table', 'polynomial' (linear axes) or 'fourier' (rotary axes);
+    degree: highest polynomial degree / harmonic (1..3); unit, target_unit: a table's units; format:
+    'auto', 'csv', 'dat' or 'laser'; wrap: targets this far apart are one position (e.g. 360).
+    Returns MotionFitResult (errors, fits, warnings, to_dict(), write_parameters(path)).
     """
 
 def identifiability(machine: Machine, plan: ProbingPlan, estimate: str | Sequence[str] | None = ..., *, candidates: Sequence[str] | None = ..., choose: int = ..., always: Sequence[str] | None = ..., scale_bars: Sequence[str | tuple[str, str, float]] | None = ..., pretravel: bool = ..., sigma: float = ..., rank_tolerance: float = ..., list: int = ..., sort: str = ..., threads: int = ...) -> Any:
@@ -1330,8 +1621,17 @@ def jacobian(model: Machine | ErrorModel, configs: npt.ArrayLike, directions: np
         (ErrorParameter.unit). Exact: analytic through the exact transforms.
     """
 
+def measurements_from_contacts(machine: Machine, plan: ProbingPlan, log: str, *, dialect: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ...) -> ProbingPlan:
+    """The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan for identify (write_probing_csv writes the command's --out). The cycle as given to the program."""
+
+def metadata_fields() -> dict[str, Any]:
+    """The test metadata an acceptance report may carry: key -> label, in the order a report lists them (the keys of --meta and of metadata= arguments)."""
+
 def pair_histogram(errors: npt.ArrayLike, bins: int = ..., upper: float = ..., *, threads: int = ...) -> Distribution:
     """Distribution of |e_i - e_j| over all pairs of errors (N, 3) in mm; bins 0: the Rice rule; upper >= VA (0: computed)."""
+
+def parameters_yaml(errors: list[EstimatedError], description: str) -> str:
+    """A parameter file (docs/machine-file.md, 'Parameter files') that Machine.load(params=[...]), Machine.with_parameter_file and every command's --params read: each error in internal units (mm, rad) at full precision with its provenance and standard uncertainties as comments; description is the first comment."""
 
 def parse_comparison_csv(text: str, source: str = ...) -> ComparisonData:
     ...
@@ -1339,8 +1639,14 @@ def parse_comparison_csv(text: str, source: str = ...) -> ComparisonData:
 def parse_csv(text: str, source: str = ...) -> CsvTable:
     ...
 
+def parse_etalon(text: str, source: str = ...) -> list[EtalonBlock]:
+    """The same from text."""
+
 def parse_gcode(text: str, source: str = ..., *, axes: str = ...) -> GcodeProgram:
     ...
+
+def parse_laser_file(text: str, source: str = ..., *, rotary: bool = ...) -> LaserFile:
+    """The same from text; rotary: the .rta defaults (deg, arcsec)."""
 
 def parse_prediction_model(text: str, source: str = ...) -> PredictionModel:
     ...
@@ -1356,6 +1662,9 @@ def predict(model: PredictionModel, points: PredictionPoints | Mapping[str, npt.
 
 def predict_ballbar(machine: Machine, plane: str, centre: npt.ArrayLike | None, *, radius: float, step: float = ...) -> BallbarTrace:
     """The trace a ballbar would record on the model: circle of radius mm (required) in plane 'XY'/'YZ'/'ZX' about the centre configuration (internal units), both directions, one sample every step rad."""
+
+def probe_program(machine: Machine, plan: ProbingPlan, *, dialect: str = ..., probe_feed: float = ..., log: str = ..., header: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ...) -> str:
+    """The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or 'iso' (G31, #5061 CSV). Text."""
 
 def probing_csv(machine: Machine, plan: ProbingPlan, comment: str = ...) -> str:
     """The plan's CSV text."""
@@ -1384,8 +1693,17 @@ def read_csv(path: str) -> CsvTable:
 def read_dimension_table(path: str) -> list[DimensionRecord]:
     """The long dimension table (workpiece, step, axis, nominal, measured, e_pf, e_pt, e_pos)."""
 
+def read_etalon(path: str) -> list[EtalonBlock]:
+    """The blocks of an Etalon exchange file (TF5280 'Etalon Exchange Format'). Machine.with_parameter_file and --params apply one to a machine."""
+
 def read_gcode(path: str, *, axes: str = ...) -> GcodeProgram:
     """A G-code program (G0 G1 G2 G3, G17-G19, G20/G21, G90/G91)."""
+
+def read_laser_file(path: str) -> LaserFile:
+    """A Renishaw LaserXL / CARTO ASCII export (.rtl linear, .rta rotary; a HEADER Type: line overrides the extension): the runs as deviations, the test's kind, axis and error, its metadata (docs/instrument-files.md). read_positioning reads the same runs for iso230_2."""
+
+def read_metadata_file(path: str) -> dict[str, Any]:
+    """A metadata YAML file (key: value lines; --meta-file) as a dict, keys checked."""
 
 def read_position_observations(path: str) -> list[PositionObservation]:
     """The CMM/probe position table (Yaqoob 2017 Table 5.3 form): one PositionObservation per filled pair."""
@@ -1398,6 +1716,9 @@ def read_prediction_model(path: str) -> PredictionModel:
 
 def read_prediction_points(path: str) -> PredictionPoints:
     ...
+
+def read_probe_log(machine: Machine, path: str, *, dialect: str = ...) -> npt.NDArray[np.float64]:
+    """The contacts a probing program logged: 'linuxcnc' (PROBEOPEN: 9 numbers a line, X Y Z A B C U V W) or 'iso' (#5061,#5062,#5063[,...] CSV). (N, k) joint values, internal units (NaN for an axis the log does not carry)."""
 
 def read_probing_plan(machine: Machine, path: str) -> ProbingPlan:
     """A plan or measurement CSV (docs/identification.md); InputError with file, line and column."""
@@ -1455,8 +1776,26 @@ def write_error_map_csv(path: str, machine: Machine, map: ErrorMap) -> None:
 def write_errors_csv(path: str, machine: Machine, configs: npt.ArrayLike, errors: npt.ArrayLike, directions: npt.ArrayLike | None = ...) -> None:
     """Writes configurations (internal units, written in mm and deg) with their errors (N, 6) as the CSV of `mtcal eval --out` (read back by read_configurations)."""
 
+def write_etalon(machine: Machine, dir: str, *, points: int = ...) -> TargetOutput:
+    """The machine's errors as an Etalon exchange file: dir/volcomp.etalon and README.txt, all or none; as `mtcal compensate --format etalon --out DIR` (compensate(machine, 'etalon') gives the same without writing). Returns the TargetOutput."""
+
+def write_parameters(path: str, errors: list[EstimatedError], description: str) -> None:
+    """A parameter file (docs/machine-file.md, 'Parameter files') that Machine.load(params=[...]), Machine.with_parameter_file and every command's --params read: each error in internal units (mm, rad) at full precision with its provenance and standard uncertainties as comments; description is the first comment. Written complete or not at all (ballbar --to-params, fit-motion --out)."""
+
 def write_probing_csv(path: str, machine: Machine, plan: ProbingPlan, comment: str = ...) -> None:
     ...
+
+def write_report(result: PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends, path: str, pdf: str | None = ..., png_dir: str | None = ..., *, runs: PositioningRuns | None = ..., acceptance: AcceptanceVerdict | None = ..., metadata: Mapping[str, str] | None = ..., command: str = ..., browser_timeout: float = ..., machine: Any | None = ..., max_rms: float = ..., nonzero_only: bool = ...) -> None:
+    """The HTML report of a result, as the command's --report (written complete or not at all):
+    iso230_2 (PositioningEvaluation; runs= the PositioningRuns), ballbar (BallbarResult), compare_methods
+    (MethodComparison), HistoryStore.trend (HistoryTrends), volumetric, contributions, diagonals,
+    effects, identify, predict, rotary_axis (RotaryAxisResult; machine= optional, max_rms= as given
+    to it), compensate (TargetOutput; machine= required) and a Machine (mtcal errors --report;
+    nonzero_only as --nonzero). pdf: also the report printed to PDF,
+    png_dir: each plot as PNG (--report-pdf, --report-png; headless Chromium). acceptance: an
+    AcceptanceVerdict shown as PASS/FAIL (its metadata unless metadata= is given); metadata: the test's
+    fields; command: the line shown as how the report was made.
+    """
 
 def write_text_file(path: str, text: str) -> None:
     """Writes text to path through a temporary file: complete or not at all."""

@@ -6,12 +6,14 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "results.hpp"
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/compare.hpp"
 #include "mtcal/evaluation/diagonals.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/evaluation/toolpath.hpp"
 #include "mtcal/evaluation/volumetric_study.hpp"
+#include "mtcal/evaluation/volumetric_tolerance.hpp"
 #include "mtcal/io/points/error_csv.hpp"
 #include "mtcal/io/instruments/iso230_files.hpp"
 #include "mtcal/io/json/evaluation_json.hpp"
@@ -21,6 +23,7 @@
 #include "mtcal/io/json/toolpath_json.hpp"
 #include "mtcal/io/json/volumetric_json.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/report/volumetric.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::python {
@@ -98,6 +101,7 @@ struct VolumetricResult {
   ErrorMap map;
   VolumetricStudy study;
   double seconds_map = 0;
+  std::string grid_text, box_text;  // the grid and box as given in the command's text form, for the report
 };
 
 VolumetricResult volumetric(const Machine& m, py::handle configs, py::handle directions, py::handle grid,
@@ -133,7 +137,9 @@ VolumetricResult volumetric(const Machine& m, py::handle configs, py::handle dir
   }
   r.threads = threads;
   const ErrorModel model(m);
-  VolumetricResult out{m, {}, {}, 0};
+  VolumetricResult out{m, {}, {}, 0, {}, {}};
+  if (py::isinstance<py::str>(grid)) out.grid_text = grid.cast<std::string>();
+  if (py::isinstance<py::str>(box)) out.box_text = box.cast<std::string>();
   const auto t0 = Clock::now();
   out.map = build_map(m, model, configs, directions, grid, travel_check, threads);
   out.seconds_map = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -174,6 +180,7 @@ ContributionResult contributions(const Machine& m, py::handle at, py::handle pai
 struct DiagonalsResult {
   Machine machine;
   std::vector<DiagonalProfile> profiles;
+  std::string box_text;  // the box in the command's text form when given so, for the report
 };
 
 DiagonalsResult diagonals(const Machine& m, py::handle box_arg, std::size_t points, bool face, bool travel_check) {
@@ -190,7 +197,8 @@ DiagonalsResult diagonals(const Machine& m, py::handle box_arg, std::size_t poin
   check_joints(m, box.lo, "box", travel_check);
   check_joints(m, box.hi, "box", travel_check);
   const ErrorModel model(m);
-  return {m, diagonal_displacements(model, box.lo, box.hi, {points, face})};
+  return {m, diagonal_displacements(model, box.lo, box.hi, {points, face}),
+          py::isinstance<py::str>(box_arg) ? box_arg.cast<std::string>() : std::string()};
 }
 
 // ---------------------------------------------------------------- ISO 230-2
@@ -255,13 +263,6 @@ BallbarTrace make_trace(const std::vector<std::string>& directions, py::handle a
   return t;
 }
 
-struct BallbarResult {
-  BallbarEvaluation evaluation;
-  std::optional<TraceDiagnosis> diagnosis;
-  std::string plane;
-  double radius = 0, feed = 0;
-};
-
 // The bar's length defines the test: required, as `mtcal ballbar --radius` (no default that could
 // silently differ from the bar used).
 void check_radius(double radius) {
@@ -284,7 +285,7 @@ BallbarResult ballbar(const BallbarTrace& trace, double radius, const std::strin
   bo.overshoot_start = overshoot_start;
   bo.overshoot_stop = overshoot_stop;
   if (direction) bo.only = direction_of(*direction, "direction");
-  BallbarResult r{evaluate_ballbar(trace, bo), std::nullopt, plane, radius, feed};
+  BallbarResult r{evaluate_ballbar(trace, bo), std::nullopt, plane, radius, feed, trace};
   if (!bo.only && diagnose) r.diagnosis = diagnose_ballbar(trace, bo, plane);
   return r;
 }
@@ -484,6 +485,13 @@ void bind_evaluation(py::module_& m) {
           "top"_a = std::size_t{1000000});
 
   py::class_<VolumetricResult>(m, "VolumetricResult", "What mtcal volumetric computes of a map.")
+      .def("_tolerance_values", [](const VolumetricResult& r) { return tolerance_values(r.study.va); })
+      .def(
+          "_write_report",
+          [](const VolumetricResult& r, const std::string& path, const std::string& command) {
+            write_volumetric_report(path, ErrorModel(r.machine), r.map, r.study, r.box_text, {command, {}, "", r.grid_text});
+          },
+          "path"_a, "command"_a)
       .def_property_readonly(
           "va", [](const VolumetricResult& r) { return r.study.va.va.value; }, "mm")
       .def_property_readonly(
@@ -531,6 +539,12 @@ a configuration). histogram: True/'auto' or a bin count. grouping: True or
 {"angle": 0.1, "magnitude": 0.9}. Returns VolumetricResult (va in mm, to_dict()).)");
 
   py::class_<ContributionResult>(m, "ContributionResult", "What mtcal contributions computes.")
+      .def(
+          "_write_report",
+          [](const ContributionResult& r, const std::string& path, const std::string& command) {
+            write_contributions_report(path, r.machine, r.study, {command, {}, "", ""});
+          },
+          "path"_a, "command"_a)
       .def_property_readonly(
           "mode", [](const ContributionResult& r) { return r.study.mode; }, "'at', 'pair' or 'critical_pair'")
       .def_property_readonly("analysis", [](const ContributionResult& r) { return r.study.analysis; })
@@ -567,6 +581,12 @@ exact VA without each error (what_if). Configurations in internal units. As `mtc
       .def_property_readonly("deviation", [](const DiagonalProfile& d) { return to_array(d.deviation); })
       .def_readonly("range", &DiagonalProfile::range);
   py::class_<DiagonalsResult>(m, "DiagonalsResult")
+      .def(
+          "_write_report",
+          [](const DiagonalsResult& r, const std::string& path, const std::string& command) {
+            write_diagonals_report(path, r.machine, r.profiles, r.box_text, {command, {}, "", ""});
+          },
+          "path"_a, "command"_a)
       .def_readonly("profiles", &DiagonalsResult::profiles)
       .def(
           "to_dict", [](const DiagonalsResult& r) { return to_py(to_json(r.machine, r.profiles)); },

@@ -20,6 +20,7 @@
 #include "mtcal/model/machine_builder.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parallel.hpp"
+#include "mtcal/report/error_map.hpp"
 
 namespace mtcal::python {
 
@@ -684,6 +685,12 @@ polynomial=[c0, c1, c2, c3] (E = sum c_i q^i, + reversal * sign of the motion), 
         kJacobianDoc);
 
   py::class_<Effects>(m, "Effects", "Effect of each single error on the tool at one configuration (mtcal effects).")
+      .def(
+          "_write_report",
+          [](const Effects& e, const std::string& path, const std::string& command) {
+            write_effects_report(path, e.machine, e.at, e.around, e.effects, {command, {}, "", ""});
+          },
+          "path"_a, "command"_a)
       .def_property_readonly("errors",
                              [](const Effects& e) {
                                std::vector<std::string> n;

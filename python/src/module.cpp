@@ -13,6 +13,12 @@
 
 namespace mtcal::python {
 
+// The binding groups declared here rather than in common.hpp, so that adding one recompiles module.cpp alone.
+void bind_measurements(py::module_& m);
+void bind_history(py::module_& m);
+void bind_acceptance_reports(py::module_& m);
+void bind_planning(py::module_& m);
+
 py::object to_py(const Json& j) {
   switch (j.type()) {
     case Json::value_t::null: return py::none();
@@ -261,6 +267,10 @@ PYBIND11_MODULE(_mtcal, m) {
   bind_evaluation(m);
   bind_probing_identification(m);
   bind_prediction_compensation(m);
+  bind_measurements(m);
+  bind_history(m);
+  bind_acceptance_reports(m);
+  bind_planning(m);
   // A private hook for the tests: the address of the buffer the functions read for an input,
   // to show that a C-contiguous float64 array is used in place.
   m.def(

@@ -17,6 +17,8 @@
 #include "mtcal/prediction/regression.hpp"
 #include "mtcal/prediction/separation.hpp"
 #include "mtcal/util/errors.hpp"
+#include "mtcal/report/prediction.hpp"
+#include "mtcal/report/report.hpp"
 
 namespace mtcal::python {
 
@@ -185,6 +187,12 @@ void bind_prediction_compensation(py::module_& m) {
         "One point per cutting move's end of a GcodeProgram (read it with axes='XYZ'): columns line X Y Z t S F dx "
         "dy dz; start_time in minutes, speed in rpm.");
   py::class_<Prediction>(m, "PredictionRun", "Predicted errors at every point (mtcal predict).")
+      .def(
+          "_write_report",
+          [](const Prediction& p, const std::string& path, const std::string& command) {
+            prediction_report(p.run, p.model, p.model.file, "points", command).write(path);
+          },
+          "path"_a, "command"_a)
       .def_property_readonly("component_names",
                              [](const Prediction& p) {
                                std::vector<std::string> v;

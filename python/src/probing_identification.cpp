@@ -2,6 +2,7 @@
 // identification with its covariance, identifiability; their files.
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include <Eigen/Core>
@@ -20,6 +21,8 @@
 #include "mtcal/probing/rotary_axis.hpp"
 #include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/probing/sphere_probing.hpp"
+#include "mtcal/report/identification.hpp"
+#include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::python {
@@ -182,6 +185,7 @@ IdentificationOptions identification_options(py::handle estimate, py::handle sca
 struct Identified {
   Machine prior;
   IdentificationRun run;
+  std::string measurements;  // the measurement file read (hashed into a report), or "" for a plan made in memory
 };
 
 Identified identify(const Machine& prior, const ProbingPlan& meas, py::handle estimate, py::handle scale_bars,
@@ -207,7 +211,9 @@ Identified identify(const Machine& prior, const ProbingPlan& meas, py::handle es
   ao.threads = threads;
   ao.truth = truth;
   LongCall release;  // without the GIL, stoppable with Ctrl-C
-  return {prior, identify_and_assess(prior, meas, opt, ao)};
+  std::error_code ec;
+  return {prior, identify_and_assess(prior, meas, opt, ao),
+          std::filesystem::is_regular_file(meas.source, ec) ? meas.source : std::string()};
 }
 
 struct Subsets {
@@ -544,6 +550,12 @@ Gaussian noise (mm per reading) and an uncalibrated artefact (artefact_error, mm
 (SubsetAnalysis). As `mtcal identifiability`.)");
 
   py::class_<Identified>(m, "IdentificationRun", "An identification with its assessment (identify).")
+      .def(
+          "_write_report",
+          [](const Identified& r, const std::string& path, const std::string& command) {
+            identification_report(r.prior, r.run, {{}, r.measurements, "", ""}, command).write(path);
+          },
+          "path"_a, "command"_a)
       .def_property_readonly("converged", [](const Identified& r) { return r.run.result.converged; })
       .def_property_readonly("iterations", [](const Identified& r) { return r.run.result.iterations; })
       .def_property_readonly("termination", [](const Identified& r) { return r.run.result.termination; })

@@ -98,8 +98,12 @@ def test_identify_equals_mtcal_identify_with_covariance(hu40t, tmp_path):
     out = tmp_path / "id.yaml"
     r.write_parameters(str(out), str(path))
     cli("identify", "-m", HU40T, "--measurements", path, "--estimate", ",".join(EST), "--scale-bar", "1:2:304.8",
-        "--out", tmp_path / "id-cli.yaml")
+        "--out", tmp_path / "id-cli.yaml", "--report", tmp_path / "id-cli.html")
     assert out.read_text() == (tmp_path / "id-cli.yaml").read_text()
+    # its report: the command's plots and tables (the summary block names the command's inputs)
+    from test_campaign import report_parts
+    mtcal.write_report(r, str(tmp_path / "id.html"))
+    assert report_parts((tmp_path / "id.html").read_text()) == report_parts((tmp_path / "id-cli.html").read_text())
     at = "X=100,Y=50,Z=-20,B=30,C=90"
     e = mtcal.evaluate(r.machine, r.machine.parse_joints(at))
     assert_same(dict(zip(["dx", "dy", "dz", "rx", "ry", "rz"], e.tolist())),

@@ -25,7 +25,7 @@ void write_compensation_report(const std::string& path, const std::string& comma
                                 to_string(s.quantity), s.sign_source));
   std::vector<std::vector<std::string>> files;
   for (const auto& f : out.files)
-    files.push_back({out_dir + "/" + f.name, std::to_string(f.text.size()), f.text.substr(0, f.text.find('\n'))});
+    files.push_back({out_dir.empty() ? f.name : out_dir + "/" + f.name, std::to_string(f.text.size()), f.text.substr(0, f.text.find('\n'))});
   rep.add_table("Files", {"file", "bytes", "first line"}, files);
 
   rep.add_section("Error before and after");

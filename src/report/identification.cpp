@@ -15,7 +15,7 @@ Report identification_report(const Machine& prior, const IdentificationRun& run,
   Report rep("Identification of " + prior.name, command);
   rep.set_machine(prior);
   for (const auto& p : in.parameter_files) rep.add_input("parameter file", p);
-  rep.add_input("measurements", in.measurements);
+  if (!in.measurements.empty()) rep.add_input("measurements", in.measurements);  // empty: made in memory (Python)
   if (truth) rep.add_input("imposed machine", in.truth);
   rep.add_figure("residual RMS", fmt::format("{:.3f} (balls), {:.3f} (facets)", r.rms_ball * 1e3, r.rms_facet * 1e3),
                  "µm");

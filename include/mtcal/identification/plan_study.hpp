@@ -1,0 +1,49 @@
+// A probing plan designed end to end (mtcal plan): candidates, the design to a budget, its time, the comparison, Monte Carlo.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mtcal/identification/planning.hpp"
+
+namespace mtcal {
+
+// What mtcal plan asks for (docs/planning.md).
+struct PlanStudyOptions {
+  IdentificationOptions model;  // estimate, scale bars, sigmas (ball, facet, scale bar)
+  DesignCriterion criterion = DesignCriterion::D;
+  std::size_t poses = 0;                                   // budget: exactly this many poses
+  std::vector<std::pair<std::string, double>> target_u;    // budget: parameter -> u (internal units)
+  double rotary_step = 0.2617993877991494;                 // candidate grid step of the rotary axes, rad (15 deg)
+  ProbeReach reach;
+  TimingOptions timing;
+  std::size_t monte_carlo = 0;  // runs of simulate -> identify on the designed plan
+  std::uint64_t seed = 1;
+  int threads = 0;
+  // Where messages about the budget are located (the command passes its options).
+  std::string poses_source = "poses", target_source = "target uncertainty", against_source = "against plan";
+  std::function<void(const char* phase, std::size_t poses)> progress;
+};
+
+// Everything the design gives (io/json/planning_json.hpp's PlanReport shows it).
+struct PlanStudy {
+  CandidateSet candidates;
+  PlanDesign design;
+  TimeEstimate time;
+  std::optional<PlanPrediction> against;
+  std::optional<TimeEstimate> against_time;
+  std::optional<PlanMonteCarlo> monte_carlo;
+};
+
+// The candidates of artefact's features over the rotary grid within reach, the plan designed to
+// the budget (options.poses, options.target_u, or else the predicted uncertainties of `against`,
+// a given plan), its measuring time, against's prediction and time, and with monte_carlo > 0 the
+// Monte Carlo check (the machine as truth, the estimated parameters zero in the prior). Throws
+// InputError located at options.poses_source without any budget.
+PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::optional<ProbingPlan>& against,
+                     const PlanStudyOptions& options);
+
+}  // namespace mtcal

@@ -1,0 +1,69 @@
+// What history diff, trend and rank ask of a store: a machine's records, its trends with tolerances, the fleet ranked.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mtcal/history/analysis.hpp"
+#include "mtcal/io/history/store.hpp"
+#include "mtcal/io/json/json.hpp"
+
+namespace mtcal {
+
+// A tolerance of a recorded quantity: "Q=V" (|value| <= V for a parameter, value <= V for a
+// figure) or "Q=LO:HI", in the quantity's recorded unit.
+struct HistoryTolerance {
+  std::string quantity;
+  std::optional<double> limit;         // Q=V
+  std::optional<ToleranceBand> range;  // Q=LO:HI
+  ToleranceBand band(bool figure) const {
+    if (range) return *range;
+    return figure ? ToleranceBand::at_most(*limit) : ToleranceBand::symmetric(*limit);
+  }
+};
+
+// "Q=V" / "Q=LO:HI" texts. Throws InputError located at `where` (field: the quantity) for text
+// of another form, a value that is not a number, V <= 0, a band with LO > HI, a quantity given twice.
+std::vector<HistoryTolerance> parse_history_tolerances(const std::vector<std::string>& specs,
+                                                       const std::string& where = "tolerances");
+
+// One record as `mtcal history show --json` prints it: the fields of its export line (without
+// "type" and the result's text) and the result as JSON under "result".
+Json record_json(const CalibrationRecord& r);
+
+// The records of one machine in time order; InputError naming the store's machines when it has none.
+std::vector<CalibrationRecord> machine_records(HistoryStore& store, const std::string& machine);
+
+// What `mtcal history trend` asks for (docs/history.md).
+struct TrendRequest {
+  std::string machine;
+  std::vector<std::string> parameters, figures;  // neither: every parameter and figure the records have
+  std::vector<HistoryTolerance> tolerances;      // each must name one of the quantities
+  std::string tolerance_file;                    // acceptance tolerances (docs/reports.md) of the figures, µm
+  std::string from, to;                          // ISO 8601; a date as `to` includes its whole day
+  // Where errors are located: the tolerances, the period's ends (the command passes its options).
+  std::string tolerance_source = "tolerances", from_source = "from", to_source = "to";
+};
+// The machine's trends: one per quantity, with its band (a tolerance of the request, else the
+// file's limit converted from µm into the recorded unit), and its events. records: the
+// machine's records (machine_records).
+MachineTrends machine_trends(HistoryStore& store, const TrendRequest& request,
+                             const std::vector<CalibrationRecord>& records);
+
+// What `mtcal history rank` asks for: tolerances (given or from a file; at least one).
+struct RankRequest {
+  std::vector<HistoryTolerance> tolerances;
+  std::string tolerance_file;
+  RankOptions options;
+  std::string tolerance_source = "tolerances";
+};
+struct StoreRanking {
+  FleetRanking ranking;
+  std::vector<std::string> not_ranked;  // machines of the store without a quantity that has a tolerance
+};
+// Every machine's series of the quantities with a tolerance, ranked (rank_fleet). Throws
+// InputError for no tolerances, a tolerance of a quantity no machine has, or no series at all.
+StoreRanking rank_store(HistoryStore& store, const RankRequest& request);
+
+}  // namespace mtcal

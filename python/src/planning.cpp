@@ -1,0 +1,296 @@
+// Python bindings of probing plans and the controller's side: plan design, probe programs and logs, commanded joints.
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "common.hpp"
+#include "mtcal/identification/plan_study.hpp"
+#include "mtcal/io/gcode/probe_program.hpp"
+#include "mtcal/io/instruments/probe_log.hpp"
+#include "mtcal/io/instruments/probing_plan_file.hpp"
+#include "mtcal/io/json/planning_json.hpp"
+#include "mtcal/kinematics/commanded_joints.hpp"
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal::python {
+
+using namespace pybind11::literals;
+
+namespace {
+
+struct PlanResult {
+  Machine machine;
+  PlanStudy study;
+  std::string against_path;
+};
+
+ProbeCycle cycle_of(double ball_diameter, double tip_diameter, double approach, double overtravel, double clearance,
+                    int touches) {
+  if (touches != 4 && touches != 5) throw py::value_error("touches: expected 4 or 5, found " + std::to_string(touches));
+  for (const auto& [name, v] : {std::pair{"ball_diameter", ball_diameter}, {"tip_diameter", tip_diameter},
+                                {"approach", approach}, {"overtravel", overtravel}, {"clearance", clearance}})
+    if (!(v > 0) || !std::isfinite(v)) throw py::value_error(std::string(name) + ": expected a length > 0 in mm");
+  ProbeCycle c;
+  c.ball_diameter = ball_diameter;
+  c.tip_diameter = tip_diameter;
+  c.approach = approach;
+  c.overtravel = overtravel;
+  c.clearance = clearance;
+  c.touches_per_ball = touches;
+  return c;
+}
+
+ProbeLogFormat log_format(const std::string& dialect) {
+  if (dialect == "linuxcnc") return ProbeLogFormat::LinuxCNC;
+  if (dialect == "iso") return ProbeLogFormat::IsoCsv;
+  throw py::value_error("dialect: expected 'linuxcnc' or 'iso', found '" + dialect + "'");
+}
+
+CommandedPose pose_of(const CommandedJointSolver& s, const double* point, const double* rotary) {
+  CommandedPose p;
+  p.point = Vec3(point[0], point[1], point[2]);
+  p.rotary.assign(rotary, rotary + s.rotary_count());
+  return p;
+}
+
+}  // namespace
+
+void bind_planning(py::module_& m) {
+  // ---------------------------------------------------------------- plan design (mtcal plan)
+  py::class_<PlanResult>(m, "PlanResult", "A designed probing plan: the poses, predicted uncertainties, time.")
+      .def_property_readonly("plan", [](const PlanResult& r) { return r.study.design.plan; },
+                             "ProbingPlan of the selected poses (write_probing_csv writes it)")
+      .def_property_readonly("poses", [](const PlanResult& r) { return r.study.design.plan.records.size(); })
+      .def_property_readonly("criterion", [](const PlanResult& r) { return r.study.design.criterion; })
+      .def_property_readonly("target_met", [](const PlanResult& r) { return r.study.design.target_met; })
+      .def_property_readonly(
+          "uncertainties",
+          [](const PlanResult& r) {
+            py::dict d;
+            for (const auto& p : r.study.design.prediction.parameters) d[py::str(p.name)] = p.u;
+            return d;
+          },
+          "Predicted standard uncertainty per estimated parameter (internal units)")
+      .def_property_readonly("time", [](const PlanResult& r) { return r.study.time.total; }, "Estimated seconds")
+      .def(
+          "to_dict",
+          [](const PlanResult& r, const std::string& out, const std::string& gcode) {
+            PlanReport rep;
+            rep.candidates = &r.study.candidates;
+            rep.design = &r.study.design;
+            rep.time = r.study.time;
+            rep.against = r.study.against;
+            rep.against_time = r.study.against_time;
+            rep.against_path = r.against_path;
+            rep.monte_carlo = r.study.monte_carlo;
+            rep.out = out;
+            rep.gcode = gcode;
+            return to_py(to_json(rep));
+          },
+          "out"_a = "", "gcode"_a = "", "As `mtcal plan --json` (out, gcode: the files named, as --out, --gcode).");
+  m.def(
+      "design_plan",
+      [](const Machine& mm, py::handle artefact, py::handle against, const std::vector<std::string>& estimate,
+         const std::vector<std::string>& scale_bars, double sigma, std::size_t poses, py::handle target_u,
+         const std::string& criterion, double rotary_step, double max_tilt_deg, double stylus_length,
+         double holder_radius, double table_z, double rapid, double rotary_speed, double probe_feed, double approach,
+         int touches, std::size_t monte_carlo, std::uint64_t seed, int threads) {
+        if (artefact.is_none() && against.is_none())
+          throw py::value_error("artefact: expected the artefact's balls and facets (a ProbingPlan), or against");
+        if (!(sigma > 0)) throw py::value_error("sigma: expected a standard deviation > 0 in mm");
+        PlanStudyOptions o;
+        o.model.estimate = estimate;
+        o.model.estimate_source = "estimate";
+        for (const auto& s : scale_bars) o.model.scale_bars.push_back(parse_scale_bar(s, "scale_bars"));
+        o.model.sigma_ball = o.model.sigma_facet = o.model.sigma_scale_bar = sigma;
+        if (criterion == "d")
+          o.criterion = DesignCriterion::D;
+        else if (criterion == "a")
+          o.criterion = DesignCriterion::A;
+        else if (criterion == "max-u")
+          o.criterion = DesignCriterion::MaxU;
+        else
+          throw py::value_error("criterion: expected 'd', 'a' or 'max-u', found '" + criterion + "'");
+        o.poses = poses;
+        if (!target_u.is_none())
+          for (auto item : target_u.cast<py::dict>())
+            o.target_u.emplace_back(py::str(item.first).cast<std::string>(), item.second.cast<double>());
+        o.rotary_step = rotary_step;
+        o.reach.max_tilt_deg = max_tilt_deg;
+        o.reach.stylus_length = stylus_length;
+        o.reach.holder_radius = holder_radius;
+        o.reach.table_z = table_z;
+        o.timing.rapid = rapid;
+        o.timing.rotary_speed = rotary_speed;
+        o.timing.probe_feed = probe_feed;
+        o.timing.approach = approach;
+        o.timing.touches_per_ball = touches;
+        o.monte_carlo = monte_carlo;
+        o.seed = seed;
+        o.threads = threads;
+        o.target_source = "target_u";
+        o.against_source = "against";
+        std::optional<ProbingPlan> given;
+        if (!against.is_none()) given = against.cast<ProbingPlan>();
+        const ProbingPlan art = artefact.is_none() ? *given : artefact.cast<ProbingPlan>();
+        PlanResult r{mm, {}, given ? given->source : std::string()};
+        LongCall release;  // without the GIL, stoppable with Ctrl-C
+        r.study = plan_study(mm, art, given, o);
+        return r;
+      },
+      "machine"_a, "artefact"_a = py::none(), py::kw_only(), "against"_a = py::none(), "estimate"_a,
+      "scale_bars"_a = std::vector<std::string>{}, "sigma"_a = 1e-3, "poses"_a = std::size_t{0},
+      "target_u"_a = py::none(), "criterion"_a = "d", "rotary_step"_a = 15 * std::numbers::pi / 180,
+      "max_tilt_deg"_a = 90.0, "stylus_length"_a = 50.0, "holder_radius"_a = 20.0, "table_z"_a = 0.0,
+      "rapid"_a = 10000.0, "rotary_speed"_a = 5400.0, "probe_feed"_a = 200.0, "approach"_a = 3.0, "touches"_a = 5,
+      "monte_carlo"_a = std::size_t{0}, "seed"_a = std::uint64_t{1}, "threads"_a = 0,
+      R"(Designs a probing plan, as `mtcal plan` (docs/planning.md): the fewest poses (indexations x
+balls and facets of artefact, a ProbingPlan) that identify `estimate` to a budget: poses (exactly
+N, with criterion 'd', 'a' or 'max-u'), target_u {parameter: u in internal units}, or the
+predicted uncertainties of `against` (a given ProbingPlan). sigma: standard deviation of a
+reading (mm); rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length,
+holder_radius, table_z in mm) and timing (rapid, probe_feed mm/min, rotary_speed deg/min,
+approach mm, touches). Returns PlanResult (plan, uncertainties, time, to_dict()).)");
+
+  // ---------------------------------------------------------------- probe programs and logs (mtcal plan --gcode, probe-log)
+  m.def(
+      "probe_program",
+      [](const Machine& mm, const ProbingPlan& plan, const std::string& dialect, double probe_feed,
+         const std::string& log, const std::string& header, double ball_diameter, double tip_diameter,
+         double approach, double overtravel, double clearance, int touches) {
+        ProbeProgramOptions po;
+        po.dialect = log_format(dialect) == ProbeLogFormat::IsoCsv ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
+        po.probe_feed = probe_feed;
+        po.log = log;
+        po.header = header;
+        return probe_program(mm, plan, cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, touches),
+                             po);
+      },
+      "machine"_a, "plan"_a, py::kw_only(), "dialect"_a = "linuxcnc", "probe_feed"_a = 200.0,
+      "log"_a = "mtcal-contacts.txt", "header"_a = "", "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0,
+      "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5,
+      "The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or "
+      "'iso' (G31, #5061 CSV). Text.");
+  m.def(
+      "read_probe_log",
+      [](const Machine& mm, const std::string& path, const std::string& dialect) {
+        const auto contacts = read_probe_log(mm, path, log_format(dialect));
+        const std::size_t k = mm.axes.size();
+        std::vector<double> q;
+        q.reserve(contacts.size() * k);
+        for (const auto& c : contacts) q.insert(q.end(), c.q.begin(), c.q.end());
+        return to_array(q, k);
+      },
+      "machine"_a, "path"_a, py::kw_only(), "dialect"_a = "linuxcnc",
+      "The contacts a probing program logged: 'linuxcnc' (PROBEOPEN: 9 numbers a line, X Y Z A B C U V W) or "
+      "'iso' (#5061,#5062,#5063[,...] CSV). (N, k) joint values, internal units (NaN for an axis the log does "
+      "not carry).");
+  m.def(
+      "measurements_from_contacts",
+      [](const Machine& mm, const ProbingPlan& plan, const std::string& log, const std::string& dialect,
+         double ball_diameter, double tip_diameter, double approach, double overtravel, double clearance,
+         int touches) {
+        const ProbeCycle cycle = cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, touches);
+        const auto contacts = read_probe_log(mm, log, log_format(dialect));
+        return measurements_from_contacts(mm, plan_targets(mm, plan), cycle, contacts);
+      },
+      "machine"_a, "plan"_a, "log"_a, py::kw_only(), "dialect"_a = "linuxcnc", "ball_diameter"_a = 25.4,
+      "tip_diameter"_a = 3.0, "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5,
+      "The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan "
+      "for identify (write_probing_csv writes the command's --out). The cycle as given to the program.");
+
+  // ---------------------------------------------------------------- commanded joints (the inverse with errors)
+  py::class_<CommandedJointSolver>(m, "CommandedJointSolver", R"(Inverse kinematics with the full error model
+(kinematics/commanded_joints.hpp; what compensate --format linuxcnc-kins runs in the controller):
+the joints that put the actual tool point on a commanded one, in LinuxCNC's tool-centre-point
+convention (tool point in the workpiece frame, mm; rotary coordinates, rad). Three linear axes and
+at most two rotary axes; directions of motion are not used (the model at dir = 0).)")
+      .def(py::init([](const Machine& mm, int max_iterations, double point_tolerance, double orientation_tolerance,
+                       double orientation_damping) {
+             CommandedJointOptions o;
+             o.max_iterations = max_iterations;
+             o.point_tolerance = point_tolerance;
+             o.orientation_tolerance = orientation_tolerance;
+             o.orientation_damping = orientation_damping;
+             return std::make_unique<CommandedJointSolver>(mm, o);
+           }),
+           "machine"_a, py::kw_only(), "max_iterations"_a = 12, "point_tolerance"_a = 1e-11,
+           "orientation_tolerance"_a = 1e-13, "orientation_damping"_a = 0.02)
+      .def_static("unsupported", &CommandedJointSolver::unsupported, "machine"_a,
+                  "Why a machine cannot be solved for, or None when it can.")
+      .def_property_readonly("rotary_count", &CommandedJointSolver::rotary_count)
+      .def_property_readonly("linear_axes", &CommandedJointSolver::linear_axes, "Indices (chain order)")
+      .def_property_readonly("rotary_axes", &CommandedJointSolver::rotary_axes, "Indices (chain order)")
+      .def(
+          "inverse",
+          [](const CommandedJointSolver& s, py::handle points, py::handle rotary, double tool_length) {
+            const std::size_t r = s.rotary_count();
+            const Rows p = as_rows(points, "points", 3, true);
+            Rows a;
+            if (r > 0) {
+              if (rotary.is_none()) throw py::value_error("rotary: expected the rotary coordinates (rad)");
+              a = as_rows(rotary, "rotary", r, true);
+              if (a.rows != p.rows)
+                throw py::value_error("rotary: expected " + std::to_string(p.rows) + " rows like points, found " +
+                                      std::to_string(a.rows));
+            }
+            const std::size_t k = s.model().machine().axes.size();
+            std::vector<double> q(p.rows * k), point_res(p.rows), dir_err(p.rows), orient_res(p.rows);
+            std::vector<int> iters(p.rows);
+            std::vector<bool> conv(p.rows);
+            {
+              LongCall release;
+              for (std::size_t i = 0; i < p.rows; ++i) {
+                const auto res = s.inverse(pose_of(s, p.data + 3 * i, r ? a.data + r * i : nullptr), tool_length);
+                std::copy(res.q.begin(), res.q.end(), q.begin() + static_cast<std::ptrdiff_t>(i * k));
+                point_res[i] = res.point_residual;
+                orient_res[i] = res.orientation_residual;
+                dir_err[i] = res.direction_error;
+                iters[i] = res.iterations;
+                conv[i] = res.converged;
+              }
+            }
+            py::dict d;
+            d["q"] = p.single ? to_array(q) : to_array(q, k);
+            d["converged"] = p.single ? py::object(py::bool_(conv[0])) : py::cast(conv);
+            d["iterations"] = p.single ? py::object(py::int_(iters[0])) : py::cast(iters);
+            d["point_residual"] = p.single ? py::object(py::float_(point_res[0])) : to_array(point_res);
+            d["orientation_residual"] = p.single ? py::object(py::float_(orient_res[0])) : to_array(orient_res);
+            d["direction_error"] = p.single ? py::object(py::float_(dir_err[0])) : to_array(dir_err);
+            return d;
+          },
+          "points"_a, "rotary"_a = py::none(), py::kw_only(), "tool_length"_a,
+          R"(Joints for commanded tool points (N, 3) or (3,) (mm, workpiece frame) and rotary coordinates
+(N, r) or (r,) (rad): {q (N, k) chain order, converged, iterations, point_residual (mm),
+orientation_residual, direction_error (rad)}. tool_length: mm (LinuxCNC's tool offset).)")
+      .def(
+          "forward",
+          [](const CommandedJointSolver& s, py::handle configs, double tool_length) {
+            const std::size_t k = s.model().machine().axes.size(), r = s.rotary_count();
+            const Rows q = as_rows(configs, "configs", k, true);
+            std::vector<double> pts(q.rows * 3), rot(q.rows * r);
+            for (std::size_t i = 0; i < q.rows; ++i) {
+              const auto f = s.forward(std::span<const double>(q.data + k * i, k), tool_length);
+              for (int c = 0; c < 3; ++c) pts[3 * i + static_cast<std::size_t>(c)] = f.pose.point[c];
+              std::copy(f.pose.rotary.begin(), f.pose.rotary.end(), rot.begin() + static_cast<std::ptrdiff_t>(r * i));
+            }
+            py::array_t<double> rotary = q.single ? to_array(rot)
+                                         : r == 0 ? new_array({static_cast<py::ssize_t>(q.rows), 0})
+                                                  : to_array(rot, r);
+            return py::make_tuple(q.single ? to_array(pts) : to_array(pts, 3), rotary);
+          },
+          "configs"_a, py::kw_only(), "tool_length"_a,
+          "The actual tool points (N, 3) and the rotary coordinates (N, r) that inverse maps to the joints.")
+      .def(
+          "nominal_inverse",
+          [](const CommandedJointSolver& s, py::handle point, py::handle rotary, double tool_length) {
+            const auto p = as_std_vector(point, "point", 3);
+            std::vector<double> a;
+            if (s.rotary_count()) a = as_std_vector(rotary, "rotary", s.rotary_count());
+            return to_array(s.nominal_inverse(pose_of(s, p.data(), a.data()), tool_length));
+          },
+          "point"_a, "rotary"_a = py::none(), py::kw_only(), "tool_length"_a,
+          "The nominal topology's joints for one commanded tool point and rotary coordinates (no errors).");
+}
+
+}  // namespace mtcal::python

@@ -1,0 +1,30 @@
+// Result records the Python module keeps beside the library's own, shared by the binding units that make and use them.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "mtcal/evaluation/ballbar.hpp"
+#include "mtcal/history/analysis.hpp"
+#include "mtcal/history/record.hpp"
+
+namespace mtcal::python {
+
+// mtcal.ballbar's result: what `mtcal ballbar` prints and reports, with the trace it evaluated
+// (for ballbar_parameters' provenance and write_report).
+struct BallbarResult {
+  BallbarEvaluation evaluation;
+  std::optional<TraceDiagnosis> diagnosis;
+  std::string plane;
+  double radius = 0, feed = 0;
+  BallbarTrace trace;
+};
+
+// HistoryStore.trend's result: one machine's trends with what a trend report shows beside them.
+struct HistoryTrends {
+  MachineTrends trends;
+  std::vector<CalibrationRecord> records;
+  std::string store;  // the store's description
+};
+
+}  // namespace mtcal::python

@@ -1,0 +1,100 @@
+"""Probing plans, probe logs and the commanded-joint solver (mtcal plan, probe-log; compensate
+--format linuxcnc-kins' inverse) against the command, and the solver against the exact model."""
+import re
+
+import numpy as np
+import pytest
+
+import mtcal
+from conftest import EXAMPLES, MACHINES, assert_same, cli, cli_json
+
+RRTTT = MACHINES / "rrttt-table-table.yaml"
+SPHERE = EXAMPLES / "plans" / "rrttt-viprey-sphere.csv"
+
+
+@pytest.fixture(scope="module")
+def rrttt():
+    return mtcal.Machine.load(str(RRTTT))
+
+
+def test_design_plan_matches_cli(tmp_path, rrttt):
+    out = tmp_path / "cli.csv"
+    ref = cli_json("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", "EY0C,EZ0A", "--poses", 12,
+                   "--out", out)
+    artefact = mtcal.read_probing_plan(rrttt, str(SPHERE))
+    r = mtcal.design_plan(rrttt, artefact, estimate=["EY0C", "EZ0A"], poses=12)
+    assert_same(r.to_dict(out=str(out)), ref, tol=0)
+    mine = tmp_path / "py.csv"
+    mtcal.write_probing_csv(str(mine), rrttt, r.plan)
+    data = lambda p: [l for l in p.read_text().splitlines() if not l.startswith("#")]  # noqa: E731
+    assert data(mine) == data(out)
+    with pytest.raises(mtcal.InputError, match="budget"):
+        mtcal.design_plan(rrttt, artefact, estimate=["EY0C"])
+    with pytest.raises(ValueError, match="criterion"):
+        mtcal.design_plan(rrttt, artefact, estimate=["EY0C"], poses=3, criterion="e")
+
+
+def test_probe_program_and_log_match_cli(tmp_path, rrttt):
+    cli("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", "EY0C,EZ0A", "--poses", 12,
+        "--out", tmp_path / "plan.csv", "--gcode", tmp_path / "probe.ngc")
+    designed = mtcal.design_plan(rrttt, mtcal.read_probing_plan(rrttt, str(SPHERE)), estimate=["EY0C", "EZ0A"], poses=12)
+    text = mtcal.probe_program(rrttt, designed.plan, header=f"machine {rrttt.name}: 12 poses designed by mtcal plan")
+    assert text == (tmp_path / "probe.ngc").read_text()
+    # A LinuxCNC probe log of that program: each G38.2 move's end (as tests/cli/test_option_errors.py makes it).
+    at, log = {}, []
+    for line in text.splitlines():
+        words = {k: float(v) for k, v in re.findall(r"([XYZABC])(-?[\d.]+)", line.split("(")[0])}
+        if line.startswith("G38.2"):
+            p = {**at, **words}
+            log.append(" ".join(f"{p.get(a, 0.0):.6f}" for a in "XYZABC") + " 0 0 0")
+        at.update(words)
+    (tmp_path / "log.txt").write_text("\n".join(log) + "\n")
+    contacts = mtcal.read_probe_log(rrttt, str(tmp_path / "log.txt"))
+    assert contacts.shape == (len(log), rrttt.axis_count)
+    ref = cli_json("probe-log", "-m", RRTTT, "--plan", tmp_path / "plan.csv", "--log", tmp_path / "log.txt",
+                   "--out", tmp_path / "cli-meas.csv")
+    plan = mtcal.read_probing_plan(rrttt, str(tmp_path / "plan.csv"))
+    meas = mtcal.measurements_from_contacts(rrttt, plan, str(tmp_path / "log.txt"))
+    assert ref["contacts"] == len(log) and ref["records"] == len(meas.configs)
+    mtcal.write_probing_csv(str(tmp_path / "py-meas.csv"), rrttt, meas)
+    data = lambda p: [l for l in p.read_text().splitlines() if not l.startswith("#")]  # noqa: E731
+    assert data(tmp_path / "py-meas.csv") == data(tmp_path / "cli-meas.csv")
+    (tmp_path / "bad.txt").write_text(log[0] + "\n1 2 x\n")
+    with pytest.raises(mtcal.InputError) as e:
+        mtcal.read_probe_log(rrttt, str(tmp_path / "bad.txt"))
+    assert e.value.line == 2
+
+
+def test_commanded_joints_put_the_actual_tool_on_the_commanded_point(hu40t):
+    """inverse() against the exact model: the model's actual tool point at the joints found is the
+    commanded point (to the solver's tolerance), and forward() gives it back."""
+    s = mtcal.CommandedJointSolver(hu40t)
+    assert mtcal.CommandedJointSolver.unsupported(hu40t) is None and s.rotary_count == 2
+    rng = np.random.default_rng(7)
+    lo = np.array([a.travel[0] for a in hu40t.axes])
+    hi = np.array([a.travel[1] for a in hu40t.axes])
+    q0 = lo + (hi - lo) * rng.uniform(0.2, 0.8, size=(20, hu40t.axis_count))
+    tool = 100.0
+    points, rotary = s.forward(q0, tool_length=tool)
+    r = s.inverse(points, rotary, tool_length=tool)
+    assert all(r["converged"]) and np.max(r["point_residual"]) < 1e-9
+    np.testing.assert_allclose(r["q"], q0, atol=1e-9)
+    m = mtcal.ErrorModel(hu40t.with_tool_length(tool))
+    for q, p in zip(r["q"], points):
+        assert np.allclose(m.actual_pose(q)[:3, 3], p, atol=1e-9)
+    one = s.inverse(points[0], rotary[0], tool_length=tool)
+    np.testing.assert_array_equal(one["q"], r["q"][0])
+    with pytest.raises(ValueError, match="rotary"):
+        s.inverse(points, tool_length=tool)
+
+
+def test_commanded_joints_of_a_three_axis_machine(vmc):
+    s = mtcal.CommandedJointSolver(vmc)
+    assert s.rotary_count == 0 and s.rotary_axes == []
+    q0 = np.array([[100.0, 50.0, -20.0], [-300.0, 200.0, -400.0]])
+    points, rotary = s.forward(q0, tool_length=0.0)
+    assert rotary.shape == (2, 0)
+    r = s.inverse(points, tool_length=0.0)
+    np.testing.assert_allclose(r["q"], q0, atol=1e-9)
+    m = mtcal.ErrorModel(vmc.with_tool_length(0.0))
+    np.testing.assert_allclose([m.actual_pose(q)[:3, 3] for q in r["q"]], points, atol=1e-9)

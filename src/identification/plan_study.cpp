@@ -1,0 +1,41 @@
+#include "mtcal/identification/plan_study.hpp"
+
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal {
+
+PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::optional<ProbingPlan>& against,
+                     const PlanStudyOptions& o) {
+  PlanStudy s;
+  s.candidates = candidate_configurations(m, artefact.features, rotary_grid(m, o.rotary_step), o.reach);
+  if (against) {
+    s.against = predict_plan(m, *against, o.model);
+    s.against_time = estimate_time(m, *against, o.timing);
+  }
+  DesignOptions d;
+  d.model = o.model;
+  d.criterion = o.criterion;
+  d.poses = o.poses;
+  d.poses_source = o.poses_source;
+  d.target_source = o.target_source;
+  d.target_u = o.target_u;
+  d.threads = o.threads;
+  d.progress = o.progress;
+  if (d.poses == 0 && d.target_u.empty()) {
+    if (!s.against)
+      throw InputError({o.poses_source, 0, ""},
+                       "expected a budget: a number of poses, target uncertainties or a plan to do better than");
+    for (const auto& e : s.against->parameters) d.target_u.emplace_back(e.name, e.u);
+    d.target_source = o.against_source;
+  }
+  s.design = design_plan(m, s.candidates.plan, d);
+  s.time = estimate_time(m, s.design.plan, o.timing);
+  if (o.monte_carlo > 0) {
+    Machine prior = m;
+    for (const auto& e : s.design.prediction.parameters) prior.set_parameter(e.name, 0.0);
+    s.monte_carlo = plan_monte_carlo(m, prior, s.design.plan, o.model, o.monte_carlo, o.seed, o.threads);
+  }
+  return s;
+}
+
+}  // namespace mtcal
