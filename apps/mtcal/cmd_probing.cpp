@@ -14,6 +14,9 @@
 #include "budget.hpp"
 #include "common.hpp"
 #include "history.hpp"
+#include "mtcal/compensation/linuxcnc_kins.hpp"
+#include "mtcal/io/compensation/linuxcnc_probe.hpp"
+#include "mtcal/io/compensation/output.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/text/joints.hpp"
 #include "mtcal/io/model/machine_file.hpp"
@@ -245,6 +248,61 @@ int run_sim(const SimOptions& o) {
   return 0;
 }
 
+struct LinuxcncProbeCliOptions {
+  ModelOptions model;
+  std::vector<std::string> spheres;
+  double sphere_diameter = 25.4, stylus_diameter = 3.0;
+  std::string out;
+  bool json_out = false;
+};
+
+int run_linuxcnc_probe(const LinuxcncProbeCliOptions& o) {
+  check_outputs(model_inputs(o.model), {o.out});
+  if (o.spheres.empty()) throw InputError({"--sphere", 0, ""}, "expected at least one sphere centre x,y,z (mm)");
+  const Machine m = load(o.model);
+  LinuxcncProbeOptions p;
+  p.stylus_diameter = o.stylus_diameter;
+  for (const auto& spec : o.spheres) {
+    const auto parts = split_list(spec);
+    if (parts.size() != 3)
+      throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + printable(spec) + "'");
+    SimulatedSphere s;
+    s.diameter = o.sphere_diameter;
+    for (int c = 0; c < 3; ++c) {
+      const auto v = parse_number(parts[static_cast<std::size_t>(c)]);
+      if (!v || std::abs(*v) > 1e6)
+        throw InputError({"--sphere", 0, ""}, "expected a number within +-1e6 mm, found '" +
+                                                  printable(parts[static_cast<std::size_t>(c)]) + "'");
+      s.centre[c] = *v;
+    }
+    p.spheres.push_back(s);
+  }
+  if (!(o.sphere_diameter > 0) || o.sphere_diameter > 1e4)
+    throw InputError({"--sphere-diameter", 0, ""}, fmt::format("expected > 0 and <= 1e4 mm, found {:g}", o.sphere_diameter));
+  if (!(o.stylus_diameter >= 0) || o.stylus_diameter > 1e3)
+    throw InputError({"--stylus-diameter", 0, ""}, fmt::format("expected >= 0 and <= 1e3 mm, found {:g}", o.stylus_diameter));
+  if (p.spheres.size() > kLinuxcncProbeMaxSpheres)
+    throw InputError({"--sphere", 0, ""},
+                     fmt::format("expected at most {} spheres, found {}", kLinuxcncProbeMaxSpheres, p.spheres.size()));
+  TargetOutput out;
+  out.files = linuxcnc_probe_files(linuxcnc_kins_model(m, p.component_name), p);
+  write_target_output(o.out, out);
+  if (o.json_out) {
+    Json j;
+    j["machine"] = m.name;
+    j["component"] = p.component_name;
+    j["spheres"] = p.spheres.size();
+    j["out"] = o.out;
+    for (const auto& f : out.files) j["files"].push_back(f.name);
+    print_json(j);
+    return 0;
+  }
+  std::cout << fmt::format("simulated probe {} of {} ({}), {} sphere(s), stylus {:g} mm\n", p.component_name, m.name,
+                           m.topology.chain, p.spheres.size(), p.stylus_diameter);
+  for (const auto& f : out.files) std::cout << "wrote        " << o.out << "/" << f.name << "\n";
+  return 0;
+}
+
 }  // namespace
 
 std::vector<Command> add_probing_commands(CLI::App& app) {
@@ -323,7 +381,31 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
       ->capture_default_str();
   s->add_option("--seed", so->seed, "Random seed of the noise")->capture_default_str();
   s->add_option("--out", so->out, "Contacts CSV to write (input of mtcal rotary-axis --contacts)")->required();
-  return {{r, [ro] { return run_rotary(*ro); }}, {s, [so] { return run_sim(*so); }}};
+
+  auto lo = std::make_shared<LinuxcncProbeCliOptions>();
+  auto* l = app.add_subcommand(
+      "linuxcnc-probe",
+      "A simulated touch probe for LinuxCNC: writes a HAL component (C, halcompile) that sets motion.probe-input "
+      "when the stylus tip of the given machine model - its errors are the truth the probe sees - touches a "
+      "sphere. docs/planning.md");
+  add_model_options(l, lo->model);
+  l->add_option("--sphere", lo->spheres,
+                "Sphere centre x,y,z (mm, the machine's workpiece frame); repeat for more spheres (up to 16)");
+  l->add_option("--sphere-diameter", lo->sphere_diameter, "Sphere diameter, mm")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite)
+      ->capture_default_str();
+  l->add_option("--stylus-diameter", lo->stylus_diameter, "Stylus tip diameter, mm")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite)
+      ->capture_default_str();
+  l->add_option("--out", lo->out, "Output directory (mtcal_probe.c, build.sh, linuxcnc-probe.hal, README.txt)")->required();
+  l->add_flag("--json", lo->json_out, "Machine-readable summary: machine, component, spheres, files, out");
+  l->footer(
+      "Examples:\n"
+      "  mtcal linuxcnc-probe -m examples/machines/rrttt-table-table.yaml --sphere 120,-80,60 --out probe/\n"
+      "  sh probe/build.sh   # halcompile --install (Debian's linuxcnc-uspace-dev)\n");
+  return {{r, [ro] { return run_rotary(*ro); }}, {s, [so] { return run_sim(*so); }}, {l, [lo] { return run_linuxcnc_probe(*lo); }}};
 }
 
 }  // namespace mtcal::cli
