@@ -20,6 +20,7 @@
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/text/joints.hpp"
 #include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/io/instruments/probe_log.hpp"
 #include "mtcal/io/instruments/probing_files.hpp"
 #include "mtcal/io/json/probing_json.hpp"
 #include "mtcal/probing/rotary_axis.hpp"
@@ -35,7 +36,7 @@ namespace {
 
 struct RotaryOptions {
   std::string axis = "C";
-  std::string contacts, centres, machine, method = "both", out, report, frame;
+  std::string contacts, centres, machine, method = "both", out, report, frame, contacts_dialect = "csv";
   double sphere_diameter = 0, stylus_diameter = 0, reject_sigma = 2.0, max_rms = 0.01;
   int bins = 40, threads = 0;
   bool json_out = false;
@@ -55,6 +56,9 @@ void check_rotary_options(const RotaryOptions& o) {
     throw InputError({"rotary-axis", 0, ""}, "expected exactly one of --contacts and --centres");
   if (!o.contacts.empty() && !(o.sphere_diameter > 0))
     throw InputError({"--sphere-diameter", 0, ""}, "expected the sphere diameter (mm) with --contacts");
+  if (o.contacts_dialect != "csv" && o.machine.empty())
+    throw InputError({"--contacts-dialect", 0, ""},
+                     "a probe log holds axis values: --machine is needed to turn them into tool positions");
   check_outputs({o.contacts, o.centres, o.machine}, {o.out, o.report});
   if (!o.out.empty() && o.machine.empty())
     throw InputError({"--out", 0, ""},
@@ -130,10 +134,18 @@ int run_rotary(const RotaryOptions& o) {
     machine = load_machine(o.machine);
     axis = NominalRotaryAxis::from(machine->axis(o.axis[0]));
   }
-  IndexedCentres centres = o.contacts.empty()
-                               ? read_centres_csv(o.centres, o.axis[0])
-                               : centres_from_contacts(read_contacts_csv(o.contacts, o.axis[0]),
-                                                       SphereProbing{o.sphere_diameter, o.stylus_diameter, o.max_rms});
+  auto contact_set = [&] {
+    if (o.contacts_dialect == "csv") return read_contacts_csv(o.contacts, o.axis[0]);
+    std::vector<LoggedAxisValues> log;
+    for (auto& c : read_probe_log(*machine, o.contacts,
+                                  o.contacts_dialect == "iso" ? ProbeLogFormat::IsoCsv : ProbeLogFormat::LinuxCNC))
+      log.push_back({std::move(c.q), c.line});
+    return contacts_from_log(*machine, o.axis[0], log, o.contacts);
+  };
+  IndexedCentres centres =
+      o.contacts.empty()
+          ? read_centres_csv(o.centres, o.axis[0])
+          : centres_from_contacts(contact_set(), SphereProbing{o.sphere_diameter, o.stylus_diameter, o.max_rms});
   if (!o.frame.empty()) apply_frame(centres, parse_frame(o.frame));
   if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
   if (!o.report.empty()) AtomicFile check(o.report);
@@ -315,6 +327,11 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
   r->add_option("--contacts", ro->contacts,
                 "CSV of probe contacts: the axis's angle (deg, column named by its letter), recorded stylus-tip "
                 "centre x,y,z (mm), approach_x,approach_y,approach_z (direction of probe motion)");
+  r->add_option("--contacts-dialect", ro->contacts_dialect,
+                "What --contacts is: csv (the columns above), linuxcnc (a PROBEOPEN probe log: X Y Z A B C U V W a "
+                "line) or iso (the #5061 CSV of mtcal probe-log); a log needs --machine")
+      ->check(CLI::IsMember({"csv", "linuxcnc", "iso"}))
+      ->capture_default_str();
   r->add_option("--centres", ro->centres, "CSV of sphere centres already known: the axis's angle (deg), x,y,z (mm)");
   r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)")
       ->transform(length_in(1.0, "LENGTH"))
