@@ -79,9 +79,13 @@ def run_program(plan, c, s, err, stat):
             messages.append({"kind": m[0], "text": m[1]})
         time.sleep(0.01)
     errors = [m for m in messages if m["kind"] in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR)]
+    stat()
+    end = {"joint_position": list(s.joint_position[:plan["joints"]]), "position": list(s.position[:9]),
+           "tool_offset": list(s.tool_offset[:9]),
+           "pos_cmd": [hal.get_value("joint.%d.pos-cmd" % j) for j in range(plan["joints"])]}
     with open("readings.json", "w") as f:
         json.dump({"program": path, "messages": messages, "completed": not errors, "program_seconds": seconds,
-                   "readings": []}, f, indent=1)
+                   "end": end, "readings": []}, f, indent=1)
     c.state(linuxcnc.STATE_OFF)
     c.wait_complete()
     print("driver: program %s %s in %.1f s" % (os.path.basename(path), "ran to its end" if not errors else

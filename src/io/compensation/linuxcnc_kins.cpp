@@ -299,9 +299,10 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
       {"linuxcnc-kins.hal",
        fmt::format("# Written by mtcal compensate --format linuxcnc-kins. [KINS]KINEMATICS loads {0} (loadrt in the\n"
                    "# main HAL file). Its tool length (mm from the spindle gauge point, default the machine file's\n"
-                   "# {1:g} mm) is a pin: set it, or connect it to motion.tooloffset.z when the tool table holds lengths\n"
-                   "# from the gauge point:\n"
-                   "#   net mtk-tool-length motion.tooloffset.z => {0}.tool-length\n"
+                   "# {1:g} mm) is a pin: set it per tool and run with G49 (no tool length offset). Do not connect it to\n"
+                   "# motion.tooloffset.z: with G43 active LinuxCNC already adds that offset to the world Z it passes to\n"
+                   "# the kinematics, and the length would count twice (the tip one length above the program;\n"
+                   "# docs/compensation-linuxcnc-kins.md, \"Tool length and G43\").\n"
                    "setp {0}.tool-length {1:.9f}\n"
                    "# Diagnostics: {0}.iterations, {0}.residual (mm), {0}.failures (refused inverses).\n",
                    k.module_name, k.tool_length)});
