@@ -40,13 +40,17 @@ test: build
 # (tests/linuxcnc/run, docs/compensation-linuxcnc-test.md).
 test-linuxcnc: DEPS_FLAGS = --linuxcnc
 # Then the kinematics module of --format linuxcnc-kins built with halcompile (linuxcnc-uspace-dev) and
-# run on the four example machines, about 6.5 minutes on 2 cores (tests/linuxcnc/run-kins,
-# docs/compensation-linuxcnc-kins.md).
+# run on the four example machines with its COMP_FILE reversal tables loaded, about 6.5 minutes on
+# 2 cores (tests/linuxcnc/run-kins, docs/compensation-linuxcnc-kins.md).
+# Then the probing program of `mtcal plan` run in LinuxCNC with the simulated probe of
+# `mtcal linuxcnc-probe` (halcompile), its log read back and identified against the truth, and a
+# probe that never trips, about 2 minutes (tests/linuxcnc/run-probe, docs/planning.md).
 # Then LinuxCNC's example programs through its interpreter rs274 (tests/linuxcnc/ncfiles/run,
 # docs/gcode.md), which `make test` skips when linuxcnc-uspace is not installed.
 test-linuxcnc: build
 	tests/linuxcnc/run $(MTCAL)
 	tests/linuxcnc/run-kins $(MTCAL)
+	tests/linuxcnc/run-probe $(MTCAL)
 	MTCAL_REQUIRE_RS274=1 tests/linuxcnc/ncfiles/run $(MTCAL)
 
 # The benchmarks, then the ratios against their baselines of the same run (bench/ratios.py) and

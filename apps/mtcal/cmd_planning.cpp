@@ -35,6 +35,7 @@ struct PlanOptions {
   TimingOptions timing;
   ProbeCycle cycle;
   std::string gcode, dialect = "linuxcnc", log = "mtcal-contacts.txt";
+  double move_feed = ProbeProgramOptions{}.feed;
   int threads = 0;
   bool json_out = false;
 };
@@ -149,6 +150,7 @@ int run_plan(const PlanOptions& o) {
     ProbeProgramOptions po;
     po.dialect = o.dialect == "iso" ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
     po.probe_feed = o.timing.probe_feed;
+    po.feed = o.move_feed;
     po.log = o.log;
     po.header = fmt::format("machine {}: {} poses designed by mtcal plan", m.name, design.plan.records.size());
     ProbeCycle cycle = o.cycle;
@@ -203,7 +205,7 @@ int run_probe_log(const ProbeLogOptions& o) {
   ProbeCycle cycle = o.cycle;
   cycle.approach = o.approach;
   cycle.touches_per_ball = o.touches;
-  const ProbingPlan meas = measurements_from_contacts(m, plan, cycle, contacts);
+  const ProbingPlan meas = measurements_from_contacts(m, plan, cycle, contacts, o.log);
   write_probing_csv(o.out, m, meas,
                     fmt::format("Measured: plan {}, probe log {} ({} contacts)", o.plan, o.log, contacts.size()));
   if (o.json_out) {
@@ -278,6 +280,10 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
   c->add_option("--threads", o->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
   c->add_option("--out", o->out, "Plan CSV to write (mtcal simulate --plan, identifiability --plan)");
   c->add_option("--gcode", o->gcode, "Probing program to write for the designed plan (--dialect)");
+  c->add_option("--move-feed", o->move_feed,
+                "The program's feed (G1) of the moves between a ball's touches, mm/min (the time estimate takes --rapid)")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
   c->add_option("--dialect", o->dialect, "G-code dialect: linuxcnc (G38.2, PROBEOPEN log) or iso (G31, #5061 CSV)")
       ->check(CLI::IsMember({"linuxcnc", "iso"}))
       ->capture_default_str();

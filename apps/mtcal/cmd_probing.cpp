@@ -14,9 +14,13 @@
 #include "budget.hpp"
 #include "common.hpp"
 #include "history.hpp"
+#include "mtcal/compensation/linuxcnc_kins.hpp"
+#include "mtcal/io/compensation/linuxcnc_probe.hpp"
+#include "mtcal/io/compensation/output.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/text/joints.hpp"
 #include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/io/instruments/probe_log.hpp"
 #include "mtcal/io/instruments/probing_files.hpp"
 #include "mtcal/io/json/probing_json.hpp"
 #include "mtcal/probing/rotary_axis.hpp"
@@ -32,7 +36,7 @@ namespace {
 
 struct RotaryOptions {
   std::string axis = "C";
-  std::string contacts, centres, machine, method = "both", out, report, frame;
+  std::string contacts, centres, machine, method = "both", out, report, frame, contacts_dialect = "csv";
   double sphere_diameter = 0, stylus_diameter = 0, reject_sigma = 2.0, max_rms = 0.01;
   int bins = 40, threads = 0;
   bool json_out = false;
@@ -52,6 +56,9 @@ void check_rotary_options(const RotaryOptions& o) {
     throw InputError({"rotary-axis", 0, ""}, "expected exactly one of --contacts and --centres");
   if (!o.contacts.empty() && !(o.sphere_diameter > 0))
     throw InputError({"--sphere-diameter", 0, ""}, "expected the sphere diameter (mm) with --contacts");
+  if (o.contacts_dialect != "csv" && o.machine.empty())
+    throw InputError({"--contacts-dialect", 0, ""},
+                     "a probe log holds axis values: --machine is needed to turn them into tool positions");
   check_outputs({o.contacts, o.centres, o.machine}, {o.out, o.report});
   if (!o.out.empty() && o.machine.empty())
     throw InputError({"--out", 0, ""},
@@ -127,10 +134,18 @@ int run_rotary(const RotaryOptions& o) {
     machine = load_machine(o.machine);
     axis = NominalRotaryAxis::from(machine->axis(o.axis[0]));
   }
-  IndexedCentres centres = o.contacts.empty()
-                               ? read_centres_csv(o.centres, o.axis[0])
-                               : centres_from_contacts(read_contacts_csv(o.contacts, o.axis[0]),
-                                                       SphereProbing{o.sphere_diameter, o.stylus_diameter, o.max_rms});
+  auto contact_set = [&] {
+    if (o.contacts_dialect == "csv") return read_contacts_csv(o.contacts, o.axis[0]);
+    std::vector<LoggedAxisValues> log;
+    for (auto& c : read_probe_log(*machine, o.contacts,
+                                  o.contacts_dialect == "iso" ? ProbeLogFormat::IsoCsv : ProbeLogFormat::LinuxCNC))
+      log.push_back({std::move(c.q), c.line});
+    return contacts_from_log(*machine, o.axis[0], log, o.contacts);
+  };
+  IndexedCentres centres =
+      o.contacts.empty()
+          ? read_centres_csv(o.centres, o.axis[0])
+          : centres_from_contacts(contact_set(), SphereProbing{o.sphere_diameter, o.stylus_diameter, o.max_rms});
   if (!o.frame.empty()) apply_frame(centres, parse_frame(o.frame));
   if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
   if (!o.report.empty()) AtomicFile check(o.report);
@@ -245,6 +260,61 @@ int run_sim(const SimOptions& o) {
   return 0;
 }
 
+struct LinuxcncProbeCliOptions {
+  ModelOptions model;
+  std::vector<std::string> spheres;
+  double sphere_diameter = 25.4, stylus_diameter = 3.0;
+  std::string out;
+  bool json_out = false;
+};
+
+int run_linuxcnc_probe(const LinuxcncProbeCliOptions& o) {
+  check_outputs(model_inputs(o.model), {o.out});
+  if (o.spheres.empty()) throw InputError({"--sphere", 0, ""}, "expected at least one sphere centre x,y,z (mm)");
+  const Machine m = load(o.model);
+  LinuxcncProbeOptions p;
+  p.stylus_diameter = o.stylus_diameter;
+  for (const auto& spec : o.spheres) {
+    const auto parts = split_list(spec);
+    if (parts.size() != 3)
+      throw InputError({"--sphere", 0, ""}, "expected x,y,z in mm, found '" + printable(spec) + "'");
+    SimulatedSphere s;
+    s.diameter = o.sphere_diameter;
+    for (int c = 0; c < 3; ++c) {
+      const auto v = parse_number(parts[static_cast<std::size_t>(c)]);
+      if (!v || std::abs(*v) > 1e6)
+        throw InputError({"--sphere", 0, ""}, "expected a number within +-1e6 mm, found '" +
+                                                  printable(parts[static_cast<std::size_t>(c)]) + "'");
+      s.centre[c] = *v;
+    }
+    p.spheres.push_back(s);
+  }
+  if (!(o.sphere_diameter > 0) || o.sphere_diameter > 1e4)
+    throw InputError({"--sphere-diameter", 0, ""}, fmt::format("expected > 0 and <= 1e4 mm, found {:g}", o.sphere_diameter));
+  if (!(o.stylus_diameter >= 0) || o.stylus_diameter > 1e3)
+    throw InputError({"--stylus-diameter", 0, ""}, fmt::format("expected >= 0 and <= 1e3 mm, found {:g}", o.stylus_diameter));
+  if (p.spheres.size() > kLinuxcncProbeMaxSpheres)
+    throw InputError({"--sphere", 0, ""},
+                     fmt::format("expected at most {} spheres, found {}", kLinuxcncProbeMaxSpheres, p.spheres.size()));
+  TargetOutput out;
+  out.files = linuxcnc_probe_files(linuxcnc_kins_model(m, p.component_name), p);
+  write_target_output(o.out, out);
+  if (o.json_out) {
+    Json j;
+    j["machine"] = m.name;
+    j["component"] = p.component_name;
+    j["spheres"] = p.spheres.size();
+    j["out"] = o.out;
+    for (const auto& f : out.files) j["files"].push_back(f.name);
+    print_json(j);
+    return 0;
+  }
+  std::cout << fmt::format("simulated probe {} of {} ({}), {} sphere(s), stylus {:g} mm\n", p.component_name, m.name,
+                           m.topology.chain, p.spheres.size(), p.stylus_diameter);
+  for (const auto& f : out.files) std::cout << "wrote        " << o.out << "/" << f.name << "\n";
+  return 0;
+}
+
 }  // namespace
 
 std::vector<Command> add_probing_commands(CLI::App& app) {
@@ -257,6 +327,11 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
   r->add_option("--contacts", ro->contacts,
                 "CSV of probe contacts: the axis's angle (deg, column named by its letter), recorded stylus-tip "
                 "centre x,y,z (mm), approach_x,approach_y,approach_z (direction of probe motion)");
+  r->add_option("--contacts-dialect", ro->contacts_dialect,
+                "What --contacts is: csv (the columns above), linuxcnc (a PROBEOPEN probe log: X Y Z A B C U V W a "
+                "line) or iso (the #5061 CSV of mtcal probe-log); a log needs --machine")
+      ->check(CLI::IsMember({"csv", "linuxcnc", "iso"}))
+      ->capture_default_str();
   r->add_option("--centres", ro->centres, "CSV of sphere centres already known: the axis's angle (deg), x,y,z (mm)");
   r->add_option("--sphere-diameter", ro->sphere_diameter, "Calibration sphere diameter, mm (with --contacts)")
       ->transform(length_in(1.0, "LENGTH"))
@@ -323,7 +398,31 @@ std::vector<Command> add_probing_commands(CLI::App& app) {
       ->capture_default_str();
   s->add_option("--seed", so->seed, "Random seed of the noise")->capture_default_str();
   s->add_option("--out", so->out, "Contacts CSV to write (input of mtcal rotary-axis --contacts)")->required();
-  return {{r, [ro] { return run_rotary(*ro); }}, {s, [so] { return run_sim(*so); }}};
+
+  auto lo = std::make_shared<LinuxcncProbeCliOptions>();
+  auto* l = app.add_subcommand(
+      "linuxcnc-probe",
+      "A simulated touch probe for LinuxCNC: writes a HAL component (C, halcompile) that sets motion.probe-input "
+      "when the stylus tip of the given machine model - its errors are the truth the probe sees - touches a "
+      "sphere. docs/planning.md");
+  add_model_options(l, lo->model);
+  l->add_option("--sphere", lo->spheres,
+                "Sphere centre x,y,z (mm, the machine's workpiece frame); repeat for more spheres (up to 16)");
+  l->add_option("--sphere-diameter", lo->sphere_diameter, "Sphere diameter, mm")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite)
+      ->capture_default_str();
+  l->add_option("--stylus-diameter", lo->stylus_diameter, "Stylus tip diameter, mm")
+      ->transform(length_in(1.0, "LENGTH"))
+      ->check(kFinite)
+      ->capture_default_str();
+  l->add_option("--out", lo->out, "Output directory (mtcal_probe.c, build.sh, linuxcnc-probe.hal, README.txt)")->required();
+  l->add_flag("--json", lo->json_out, "Machine-readable summary: machine, component, spheres, files, out");
+  l->footer(
+      "Examples:\n"
+      "  mtcal linuxcnc-probe -m examples/machines/rrttt-table-table.yaml --sphere 120,-80,60 --out probe/\n"
+      "  sh probe/build.sh   # halcompile --install (Debian's linuxcnc-uspace-dev)\n");
+  return {{r, [ro] { return run_rotary(*ro); }}, {s, [so] { return run_sim(*so); }}, {l, [lo] { return run_linuxcnc_probe(*lo); }}};
 }
 
 }  // namespace mtcal::cli

@@ -63,28 +63,11 @@ std::string joint_string(const Machine& m, std::span<const double> q) {
 
 }  // namespace
 
-LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOptions& o, const LinuxcncKinsOptions& k) {
-  if (auto why = CommandedJointSolver::unsupported(m))
-    throw InputError({m.source, 0, "topology"}, "a LinuxCNC kinematics module cannot represent this machine: " + *why);
-  if (k.module_name.empty() || k.module_name.size() > 40 ||
-      !std::all_of(k.module_name.begin(), k.module_name.end(),
-                   [](char c) { return std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_'; }) ||
-      std::isdigit(static_cast<unsigned char>(k.module_name[0])))
-    throw InputError({kKinsTarget, 0, "module name"},
-                     fmt::format("expected a module name of 1-40 lower-case letters, digits and '_' (a C identifier), "
-                                 "found '{}'",
-                                 printable(k.module_name)));
-  for (const auto& ax : m.axes)
-    if (!ax.travel)
-      throw InputError({m.source, 0, std::string(1, ax.letter)},
-                       fmt::format("expected a travel for axis {}: the module's joint limits and its pre-check grid "
-                                   "come from it",
-                                   ax.letter));
+LinuxcncKins linuxcnc_kins_model(const Machine& m, const std::string& module_name) {
   LinuxcncKins out;
-  out.module_name = k.module_name;
+  out.module_name = module_name;
   out.machine_name = m.name;
   out.topology = m.topology.chain;
-  out.solver = k.solver;
   out.workpiece_origin = m.workpiece.origin;
   out.spindle_point = m.tool.spindle_point;
   out.tool_axis = m.tool.tool_axis;
@@ -106,8 +89,8 @@ LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOption
     a.direction_sign = ax.direction_sign;
     a.point = ax.point;
     a.motion = ax.motion;
-    a.min = ax.travel->min;
-    a.max = ax.travel->max;
+    a.min = ax.travel ? ax.travel->min : 0.0;
+    a.max = ax.travel ? ax.travel->max : 0.0;
     out.axes.push_back(a);
   }
   for (const ChainStep& s : actual_chain_steps(still)) {
@@ -120,6 +103,32 @@ LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOption
     if (f.kind == KinsFactor::Kind::Joint) out.axes[static_cast<std::size_t>(f.axis)].zero_position = s.zero_position;
     out.chain.push_back(f);
   }
+
+  return out;
+}
+
+LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOptions& o, const LinuxcncKinsOptions& k) {
+  if (auto why = CommandedJointSolver::unsupported(m))
+    throw InputError({m.source, 0, "topology"}, "a LinuxCNC kinematics module cannot represent this machine: " + *why);
+  if (k.module_name.empty() || k.module_name.size() > 40 ||
+      !std::all_of(k.module_name.begin(), k.module_name.end(),
+                   [](char c) { return std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_'; }) ||
+      std::isdigit(static_cast<unsigned char>(k.module_name[0])))
+    throw InputError({kKinsTarget, 0, "module name"},
+                     fmt::format("expected a module name of 1-40 lower-case letters, digits and '_' (a C identifier), "
+                                 "found '{}'",
+                                 printable(k.module_name)));
+  for (const auto& ax : m.axes)
+    if (!ax.travel)
+      throw InputError({m.source, 0, std::string(1, ax.letter)},
+                       fmt::format("expected a travel for axis {}: the module's joint limits and its pre-check grid "
+                                   "come from it",
+                                   ax.letter));
+  LinuxcncKins out = linuxcnc_kins_model(m, k.module_name);
+  out.solver = k.solver;
+  Machine still = m;  // at direction 0, as in linuxcnc_kins_model
+  for (auto& ax : still.axes)
+    for (auto& f : ax.motion) f = without_direction(f);
 
   // Direction-dependent terms of each axis along/about itself: type-1 COMP_FILE corrections. The
   // error enters the chain next to the joint, along (about) the same line, so a joint change of

@@ -655,11 +655,24 @@ std::vector<ProbeTouch> probe_touches(const Machine& m, const ProbingPlan& plan,
 }
 
 ProbingPlan measurements_from_contacts(const Machine& m, const ProbingPlan& plan, const ProbeCycle& c,
-                                       const std::vector<LoggedContact>& contacts) {
+                                       const std::vector<LoggedContact>& contacts, const std::string& log_source) {
   const auto touches = probe_touches(m, plan, c);
   const auto lin = linear_axes(m);
   const auto rot = rotary_axes(m);
   const std::string source = contacts.empty() ? std::string("probe log") : contacts.front().source;
+  if (contacts.size() < touches.size()) {
+    // A short log: name the first contact missing, where the program stopped or a probe never
+    // tripped (LinuxCNC: "G38.2 move finished without making contact", the program ends there).
+    const std::size_t k = contacts.size();
+    const ProbeTouch& t = touches[k];
+    std::size_t nth = 1;
+    for (std::size_t i = k; i > 0 && touches[i - 1].record == t.record; --i) ++nth;
+    throw InputError({contacts.empty() ? log_source : source, contacts.empty() ? 0 : contacts.back().line, ""},
+                     fmt::format("expected {} contacts, found {}: contact {} is missing (touch {} of the plan's record "
+                                 "{}, line {}): the probe did not trip there (LinuxCNC: G38.2 move finished without "
+                                 "making contact) or the program stopped before it",
+                                 touches.size(), k, k + 1, nth, t.record + 1, plan.records[t.record].line));
+  }
   if (contacts.size() != touches.size()) {
     const int line = contacts.size() > touches.size() ? contacts[touches.size()].line
                                                       : (contacts.empty() ? 0 : contacts.back().line);

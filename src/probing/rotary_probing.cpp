@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "mtcal/fitting/fit.hpp"
+#include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -45,6 +47,59 @@ IndexedCentres centres_from_contacts(const ContactSet& set, const SphereProbing&
     out.fits.push_back(sc);
   }
   return out;
+}
+
+ContactSet contacts_from_log(const Machine& m, char axis, const std::vector<LoggedAxisValues>& log,
+                             const std::string& source) {
+  const auto k = m.axis_index(axis);
+  if (!k || m.axes[*k].kind != AxisKind::Rotary)
+    throw ModelError(fmt::format("a rotary-axis test turns a rotary axis; '{}' is not one in {}", axis, m.topology.chain));
+  if (log.empty()) throw InputError({source, 0, ""}, fmt::format("expected contacts at indexations of {}, found none", axis));
+  const ErrorModel model(m);
+  ContactSet set;
+  set.source = source;
+  set.axis = axis;
+  for (const auto& c : log) {
+    if (c.q.size() != m.axes.size())
+      throw ModelError(fmt::format("expected {} axis values a contact, found {}", m.axes.size(), c.q.size()));
+    if (!std::isfinite(c.q[*k]))
+      throw InputError({source, c.line, std::string(1, axis)}, fmt::format("expected the value of {}, found none", axis));
+    std::vector<double> q = c.q;
+    for (std::size_t a = 0; a < q.size(); ++a) {
+      if (m.axes[a].kind == AxisKind::Rotary) {
+        // The test turns one axis with the others held: a log that turns another is a different test.
+        if (a != *k && std::isfinite(q[a]) && std::isfinite(log.front().q[a]) &&
+            std::abs(q[a] - log.front().q[a]) > 1e-9)
+          throw InputError({source, c.line, std::string(1, m.axes[a].letter)},
+                           fmt::format("expected {} held at {:g} deg (line {}) while {} turns, found {:g} deg",
+                                       m.axes[a].letter, log.front().q[a] / kDeg, log.front().line, axis, q[a] / kDeg));
+        q[a] = 0.0;
+      } else if (!std::isfinite(q[a])) {
+        throw InputError({source, c.line, std::string(1, m.axes[a].letter)},
+                         fmt::format("expected the value of {}, found none", m.axes[a].letter));
+      }
+    }
+    IndexedContact ic;
+    ic.angle_deg = c.q[*k] / kDeg;
+    ic.line = c.line;
+    ic.contact.point = model.nominal_pose(q).t + m.workpiece.origin;
+    set.contacts.push_back(ic);
+  }
+  // Approach directions per indexation (consecutive contacts at one angle, as centres_from_contacts
+  // groups them): towards the centre of the free sphere through them.
+  for (std::size_t i = 0; i < set.contacts.size();) {
+    std::size_t j = i;
+    std::vector<Point3> pts;
+    while (j < set.contacts.size() && set.contacts[j].angle_deg == set.contacts[i].angle_deg)
+      pts.push_back(set.contacts[j++].contact.point);
+    if (const auto free = pts.size() >= 4 ? fit_sphere(pts) : std::nullopt)
+      for (std::size_t c = i; c < j; ++c) {
+        const Point3 d = free->centre - set.contacts[c].contact.point;
+        if (d.norm() > 0) set.contacts[c].contact.approach = d.normalized();
+      }
+    i = j;
+  }
+  return set;
 }
 
 InstrumentFrame frame_from_angles(double rx, double ry, double rz, const Point3& translation) {

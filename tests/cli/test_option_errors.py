@@ -91,6 +91,8 @@ BASES = {
                      "--frame", "0,0,0"]],
     "probe-sim": [["-m", M5, "--axis", "C", "--angles", "0:350:36", "--hold", "B=0", "--sphere", "150,0,50",
                    "--out", "o.csv"]],
+    "linuxcnc-probe": [["-m", M5, "--sphere", "150,0,50", "--sphere", "0,0,0", "--sphere-diameter", "25",
+                        "--stylus-diameter", "3", "--out", "o"]],
     "iso230-2": [[f"{E}/data/iso230-2-x-axis.csv", "--report", "o.html", "--tolerance", "A=10"]],
     "ballbar": [[f"{fix}/trace.csv", "--radius", "100", "--report", "o.html", "--to-params", "o.yaml",
                  "--tolerance", "G=10"],

@@ -16,7 +16,9 @@
 
 #include "mtcal/compensation/linuxcnc_kins.hpp"
 #include "mtcal/io/compensation/linuxcnc_kins.hpp"
+#include "mtcal/io/compensation/linuxcnc_probe.hpp"
 #include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
 
@@ -52,16 +54,16 @@ struct TempDirs {
 } temp_dirs;
 
 // Builds the harness for one module; returns the executable.
-fs::path build_harness(const std::string& source, const std::string& name) {
+fs::path build_harness(const std::string& source, const std::string& name, bool probe = false) {
   const fs::path dir = fs::temp_directory_path() / fmt::format("mtcal-kins-{}-{}", ::getpid(), name);
   fs::create_directories(dir);
   temp_dirs.dirs.push_back(dir);
   std::ofstream(dir / "module.c") << source;
   const fs::path exe = dir / "harness";
   // The module must compile warning-free as strict C99 (the LinuxCNC build uses its own flags).
-  run(fmt::format("{} -std=c99 -pedantic -Wall -Wextra -Werror -O2 -DMTCAL_KINS_STANDALONE "
-                  "'-DMTK_MODULE=\"{}\"' {} -o {} -lm",
-                  MTCAL_C_COMPILER, (dir / "module.c").string(), MTCAL_KINS_HARNESS, exe.string()));
+  run(fmt::format("{} -std=c99 -pedantic -Wall -Wextra -Werror -O2 {} '-D{}=\"{}\"' {} -o {} -lm", MTCAL_C_COMPILER,
+                  probe ? "-DMTCAL_PROBE_STANDALONE" : "-DMTCAL_KINS_STANDALONE", probe ? "MTP_MODULE" : "MTK_MODULE",
+                  (dir / "module.c").string(), probe ? MTCAL_PROBE_HARNESS : MTCAL_KINS_HARNESS, exe.string()));
   return exe;
 }
 
@@ -216,4 +218,71 @@ TEST(LinuxcncKinsModule, ReversalTablesCancelTheOwnAxisDirectionTerms) {
   }
   // The residual with the module and the tables is below the one without the tables.
   EXPECT_LT(k.summary.residual.max_norm_after, 0.2 * k.summary.residual.max_norm_before);
+}
+
+// The simulated probe of mtcal linuxcnc-probe (issue 31 item 4): its generated C, compiled as plain C
+// with a harness, puts the stylus tip where the C++ library's actual chain puts it (1e-9 mm) and
+// measures the gap to the nearest sphere; a non-finite joint is an error (the component then holds
+// the probe tripped), never a position.
+TEST(LinuxcncProbeComponent, TipAndGapMatchTheLibrary) {
+  for (const char* f : {"rrttt-table-table.yaml", "hu40t-wCBXfYZt.yaml", "head-head-5axis.yaml"}) {
+    const Machine m = example(f);
+    LinuxcncProbeOptions p;
+    p.spheres = {{Vec3(120, -80, 60), 25.4}, {Vec3(-150, 40, 10), 30.0}};
+    p.stylus_diameter = 3.0;
+    const LinuxcncKins k = linuxcnc_kins_model(m, p.component_name);
+    const fs::path exe = build_harness(linuxcnc_probe_source(k, p), "probe-" + std::string(f).substr(0, 4), true);
+    const CommandedJointSolver s(m);  // the library's actual chain (direction of motion 0)
+    const std::size_t n = m.axes.size();
+    const auto q = mtcal::testing::random_configurations(m, 50, 5);
+    std::string input;
+    for (std::size_t r = 0; r < 50; ++r) {
+      const double L = r % 2 ? m.tool.length : 12.5;
+      input += fmt::format("{:.17g}", L);
+      for (const char c : k.coordinates) {
+        const std::size_t a = *m.axis_index(c);
+        input += fmt::format(" {:.17g}", to_user_units(m.axes[a], q[r * n + a]));
+      }
+      input += "\n";
+    }
+    const auto rows = drive(exe, input);
+    ASSERT_EQ(rows.size(), 50u) << f;
+    for (std::size_t r = 0; r < 50; ++r) {
+      ASSERT_EQ(rows[r].size(), 6u);
+      ASSERT_EQ(rows[r][0], 0.0) << f << " row " << r;
+      const double L = r % 2 ? m.tool.length : 12.5;
+      const Vec3 tip = s.actual_pose({q.data() + r * n, n}, L).t;
+      // 1e-8 mm: up to 1.7e-9 mm (2e-12 relative) between the C chain and the library's was measured at
+      // the machine file's tool length on the RRTTT, the library's own rounding order.
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(rows[r][3 + static_cast<std::size_t>(i)], tip[i], 1e-8) << f << " row " << r;
+      const double g0 = (tip - p.spheres[0].centre).norm() - (25.4 + 3.0) / 2;
+      const double g1 = (tip - p.spheres[1].centre).norm() - (30.0 + 3.0) / 2;
+      EXPECT_NEAR(rows[r][1], std::min(g0, g1), 1e-8) << f;
+      EXPECT_EQ(rows[r][2], g0 <= g1 ? 0.0 : 1.0) << f;
+    }
+  }
+}
+
+TEST(LinuxcncProbeComponent, TripsOnTheSurfaceAndRefusesNonFiniteJoints) {
+  // The vmc: the tip at the sphere's pole from above, exactly at contact by the library's chain.
+  const Machine m = example("vmc-3axis.yaml");
+  const CommandedJointSolver s(m);
+  const std::vector<double> q0(m.axes.size(), 0.0);
+  const Vec3 tip0 = s.actual_pose(q0, m.tool.length).t;
+  LinuxcncProbeOptions p;
+  p.spheres = {{tip0 - Vec3(0, 0, 10.0), 16.0}};  // contact distance (16 + 4) / 2 = 10 mm
+  p.stylus_diameter = 4.0;
+  const fs::path exe = build_harness(linuxcnc_probe_source(linuxcnc_kins_model(m, p.component_name), p), "probe-trip", true);
+  const auto rows = drive(exe, fmt::format("{0:.17g} 0 0 0\n{0:.17g} nan 0 0\ninf 0 0 0\n", m.tool.length));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0][0], 0.0);
+  EXPECT_NEAR(rows[0][1], 0.0, 1e-12);  // on the surface: gap 0, the component trips (gap <= 0)
+  EXPECT_LT(rows[1][0], 0.0);
+  EXPECT_LT(rows[2][0], 0.0);
+  // Bad options: no sphere, a zero diameter.
+  LinuxcncProbeOptions none;
+  EXPECT_THROW(linuxcnc_probe_source(linuxcnc_kins_model(m, "mtcal_probe"), none), InputError);
+  LinuxcncProbeOptions zero;
+  zero.spheres = {{Vec3::Zero(), 0.0}};
+  EXPECT_THROW(linuxcnc_probe_source(linuxcnc_kins_model(m, "mtcal_probe"), zero), InputError);
 }

@@ -92,6 +92,22 @@ TEST(ProbeProgram, TouchesSitOnTheBallAndTheFacet) {
   }
 }
 
+TEST(ProbeProgram, HeaderCommentKeepsOneParenthesisPair) {
+  // The machine names of the examples hold parentheses; LinuxCNC refuses a '(' inside a comment
+  // ("Nested comment found", met running the program in LinuxCNC, tests/linuxcnc/run-probe).
+  const Machine m = hu40t();
+  ProbeProgramOptions o;
+  o.header = "machine " + m.name + " (twice (nested)): 3 poses";
+  const std::string prog = probe_program(m, small_plan(m), ProbeCycle{}, o);
+  EXPECT_NE(prog.find("(machine "), std::string::npos);
+  EXPECT_NE(prog.find("[twice [nested]]: 3 poses)"), std::string::npos) << prog.substr(0, 400);
+  std::istringstream lines(prog);
+  for (std::string line; std::getline(lines, line);) {
+    EXPECT_LE(std::count(line.begin(), line.end(), '('), 1) << line;
+    EXPECT_LE(std::count(line.begin(), line.end(), ')'), 1) << line;
+  }
+}
+
 TEST(ProbeProgram, MtcalsReaderFollowsTheProgram) {
   const Machine m = hu40t();
   const ProbingPlan p = small_plan(m);
@@ -225,6 +241,14 @@ TEST(ProbeLog, BadLogsSayFileAndLine) {
   msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("expected 34 contacts"), std::string::npos) << msg;
   EXPECT_NE(msg.find("found 33"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("contact 34 is missing"), std::string::npos) << msg;
+  // Cut after 7 contacts, where a probe that never tripped stops LinuxCNC's program: the message names
+  // the missing contact, its touch and record, and LinuxCNC's own words for it.
+  bad.resize(7);
+  msg = error_message([&] { meas(join(bad)); });
+  EXPECT_NE(msg.find("probe.txt:7"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("contact 8 is missing (touch "), std::string::npos) << msg;
+  EXPECT_NE(msg.find("G38.2 move finished without making contact"), std::string::npos) << msg;
   // Extra line: located at the first extra one.
   bad = lines;
   bad.push_back(lines.back());
@@ -247,8 +271,9 @@ TEST(ProbeLog, BadLogsSayFileAndLine) {
   bad[2] = "nan 0 0 0 0 0 0 0 0";
   msg = error_message([&] { meas(join(bad)); });
   EXPECT_NE(msg.find("probe.txt:3"), std::string::npos) << msg;
+  EXPECT_TRUE(parse_probe_log(m, "\n\n", "probe.txt", ProbeLogFormat::LinuxCNC).empty());
   msg = error_message([&] { meas("\n\n"); });
-  EXPECT_NE(msg.find("found no contact"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("found 0: contact 1 is missing (touch 1 of the plan's record 1, line"), std::string::npos) << msg;
   // ISO: two numbers only.
   msg = error_message([&] { parse_probe_log(m, "#5061,#5062,#5063\n1,2\n", "probe.csv", ProbeLogFormat::IsoCsv); });
   EXPECT_NE(msg.find("probe.csv:2"), std::string::npos) << msg;

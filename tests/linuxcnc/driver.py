@@ -2,6 +2,8 @@
 # DISPLAY program of mtcal's LinuxCNC test (tests/linuxcnc/run): drives the sim through the moves of
 # plan.json with the `linuxcnc` Python module and reads, after each move, what the motion
 # controller applies, with the `hal` module (doubles, full precision). Writes readings.json.
+# With "program" in plan.json (tests/linuxcnc/run-probe) it runs that G-code file in AUTO mode
+# instead and records the messages LinuxCNC reports.
 #
 # LinuxCNC starts it as `driver.py -ini FILE` from the configuration's folder (the linuxcnc script
 # runs [DISPLAY]DISPLAY there); its exit status becomes LinuxCNC's.
@@ -12,6 +14,7 @@
 # backlash-filt is a ramped copy of backlash-corr (compute_screw_comp()); the driver waits until
 # they are equal, i.e. the correction has settled, before it reads.
 import json
+import os
 import sys
 import time
 
@@ -43,6 +46,51 @@ def snapshot(joints):
              "motor_offset": g("joint.%d.motor-offset" % j),
              "backlash_corr": g("joint.%d.backlash-corr" % j),
              "backlash_filt": g("joint.%d.backlash-filt" % j)} for j in range(joints)]
+
+
+def run_program(plan, c, s, err, stat):
+    """AUTO mode: runs plan["program"] to its end (or until LinuxCNC stops it) and writes
+    readings.json with the operator messages and errors LinuxCNC reported (e.g. "G38.2 move finished
+    without making contact"), whether the program ran to its end, and the time it took."""
+    path = os.path.abspath(plan["program"])
+    c.mode(linuxcnc.MODE_AUTO)
+    c.wait_complete()
+    c.program_open(path)
+    t0 = time.time()
+    c.auto(linuxcnc.AUTO_RUN, 0)
+    messages, started = [], False
+    while True:
+        stat()
+        m = err.poll()
+        if m:
+            messages.append({"kind": m[0], "text": m[1]})
+        if s.interp_state != linuxcnc.INTERP_IDLE:
+            started = True
+        elif (started or time.time() - t0 > 2.0) and s.exec_state == linuxcnc.EXEC_DONE:
+            break
+        if time.time() - t0 > plan.get("timeout", 240):
+            fail("the program %s did not end within %d s" % (path, plan.get("timeout", 240)))
+        time.sleep(0.01)
+    seconds = time.time() - t0
+    t1 = time.time()
+    while time.time() - t1 < 0.3:  # errors queued as the program stopped
+        m = err.poll()
+        if m:
+            messages.append({"kind": m[0], "text": m[1]})
+        time.sleep(0.01)
+    errors = [m for m in messages if m["kind"] in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR)]
+    stat()
+    end = {"joint_position": list(s.joint_position[:plan["joints"]]), "position": list(s.position[:9]),
+           "tool_offset": list(s.tool_offset[:9]),
+           "pos_cmd": [hal.get_value("joint.%d.pos-cmd" % j) for j in range(plan["joints"])]}
+    with open("readings.json", "w") as f:
+        json.dump({"program": path, "messages": messages, "completed": not errors, "program_seconds": seconds,
+                   "end": end, "readings": []}, f, indent=1)
+    c.state(linuxcnc.STATE_OFF)
+    c.wait_complete()
+    print("driver: program %s %s in %.1f s" % (os.path.basename(path), "ran to its end" if not errors else
+                                                "stopped: " + "; ".join(m["text"] for m in errors), seconds), flush=True)
+    return 0
 
 
 def main():
@@ -79,6 +127,9 @@ def main():
     c.feedrate(1.0)
     c.rapidrate(1.0)
     wait(lambda: stat().feedrate == 1.0 and s.rapidrate == 1.0, STARTUP_TIMEOUT_S, "feed and rapid overrides at 100 %")
+
+    if "program" in plan:
+        return run_program(plan, c, s, err, stat)
 
     g = hal.get_value
 

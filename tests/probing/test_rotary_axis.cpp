@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/probing/rotary_axis.hpp"
 #include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/probing/sphere_probing.hpp"
@@ -332,4 +333,84 @@ TEST(RotaryAxisLine, AnyDirectionIsMeasuredAndAGivenFrameBringsItHome) {
   EXPECT_FALSE(s.located);
   EXPECT_NEAR(std::abs(s.line.direction.x()), 1.0, 1e-12);
   EXPECT_NEAR(s.line.tilt, std::numbers::pi / 2, 1e-9);
+}
+
+// rotary-axis --contacts from a controller's probe log (issue 31 item 3): the log holds the axis
+// values at each trip. Contacts simulated on a machine with C's location errors, written as the axis
+// values a controller would log (the linear axes that put the nominal tool point, rotary axes at
+// zero, on the recorded point: solved here from the nominal chain's affine map), read back by
+// contacts_from_log: the same points, approaches along the protocol's, the same centres.
+TEST(RotaryAxis, ContactsFromAProbeLogAreTheSimulatedOnes) {
+  Machine m = mtcal::testing::nominal_machine("wCAYXfZt");
+  m.set_parameter("EX0C", 0.012);
+  m.set_parameter("EA0C", 4e-5);
+  ProbingSimulation sim;
+  sim.axis = 'C';
+  sim.angles = steps(-180, 150, 30);
+  sim.sphere = Point3(150, -40, 80);
+  const auto probed = simulate_probing(m, sim);
+  const ErrorModel model(m);
+  const std::size_t n = m.axes.size(), kc = *m.axis_index('C');
+  std::vector<std::size_t> lin;
+  for (std::size_t a = 0; a < n; ++a)
+    if (m.axes[a].kind == AxisKind::Linear) lin.push_back(a);
+  const std::vector<double> zero(n, 0.0);
+  const Point3 p0 = model.nominal_pose(zero).t + m.workpiece.origin;
+  Eigen::Matrix3d A;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> q = zero;
+    q[lin[static_cast<std::size_t>(c)]] = 1.0;
+    A.col(c) = model.nominal_pose(q).t + m.workpiece.origin - p0;
+  }
+  std::vector<LoggedAxisValues> log;
+  std::vector<ProbeContact> expected;
+  int line = 0;
+  for (const auto& ix : probed)
+    for (const auto& c : ix.contacts) {
+      const Eigen::Vector3d x = A.fullPivLu().solve(c.point - p0);
+      std::vector<double> q(n, 0.0);
+      for (int k = 0; k < 3; ++k) q[lin[static_cast<std::size_t>(k)]] = x[k];
+      q[kc] = ix.angle;
+      log.push_back({q, ++line});
+      expected.push_back(c);
+    }
+  const ContactSet set = contacts_from_log(m, 'C', log, "probe.txt");
+  ASSERT_EQ(set.contacts.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_LT((set.contacts[i].contact.point - expected[i].point).norm(), 1e-9) << i;
+    EXPECT_GT(set.contacts[i].contact.approach.dot(expected[i].approach), 0.9999) << i;
+    EXPECT_EQ(set.contacts[i].line, static_cast<int>(i) + 1);
+  }
+  const IndexedCentres from_log = centres_from_contacts(set, sim.probing);
+  EXPECT_EQ(from_log.method, "five-point");  // the approaches found are the protocol's
+  ASSERT_EQ(from_log.centres.size(), probed.size());
+  for (std::size_t i = 0; i < probed.size(); ++i) {
+    const auto sc = sphere_centre(probed[i].contacts, sim.probing, "sim");
+    EXPECT_LT((from_log.centres[i].centre - sc.centre()).norm(), 1e-9);
+    EXPECT_NEAR(from_log.centres[i].angle, probed[i].angle, 1e-12);
+  }
+  // Bad logs: none, one without C, one without Y; an axis that is not rotary.
+  EXPECT_THROW(contacts_from_log(m, 'C', {}, "probe.txt"), InputError);
+  auto bad = log;
+  bad[3].q[kc] = std::nan("");
+  try {
+    contacts_from_log(m, 'C', bad, "probe.txt");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("probe.txt:4"), std::string::npos) << e.what();
+  }
+  bad = log;
+  bad[6].q[*m.axis_index('Y')] = std::nan("");
+  EXPECT_THROW(contacts_from_log(m, 'C', bad, "probe.txt"), InputError);
+  EXPECT_THROW(contacts_from_log(m, 'X', log, "probe.txt"), ModelError);
+  // A turns at line 9 (the RRTTT plan's logs turn A and C together: not a test of C alone).
+  bad = log;
+  bad[8].q[*m.axis_index('A')] = 0.5;
+  try {
+    contacts_from_log(m, 'C', bad, "probe.txt");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("probe.txt:9"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected A held at 0 deg"), std::string::npos) << e.what();
+  }
 }

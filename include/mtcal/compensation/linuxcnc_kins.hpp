@@ -65,6 +65,11 @@ struct LinuxcncKins {
   CompensationSummary summary;
 };
 
+// The chain the module evaluates (axes, factors, frames) at direction of motion 0, without the
+// checks, tables and solver of compensate_linuxcnc_kins: also what the simulated probe of
+// io/compensation/linuxcnc_probe.hpp evaluates as its "truth" (an axis without a travel gets 0, 0).
+LinuxcncKins linuxcnc_kins_model(const Machine& m, const std::string& module_name);
+
 // Builds what the module holds and checks it: throws InputError when the topology is not one
 // the module represents (why), when the inverse does not converge at a grid configuration (the
 // configuration), or when a corrected joint leaves its travel (joint, value, limit).

@@ -170,9 +170,12 @@ struct LoggedContact {
 // The measurements of a plan from the logged contacts of its program, in order: a ball's centre is
 // the sphere fitted to its touches (radius free), a facet's reading the contact. Throws InputError
 // located at the log's line for a count other than the touches', a contact at other rotary values
-// than its record's (1e-6 rad) or farther than approach + overtravel from the expected trip point.
+// than its record's (1e-6 rad) or farther than approach + overtravel from the expected trip point;
+// a short log names the first contact missing (its touch and record). log_source: the log's name
+// for messages when it holds no contact.
 ProbingPlan measurements_from_contacts(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
-                                       const std::vector<LoggedContact>& contacts);
+                                       const std::vector<LoggedContact>& contacts,
+                                       const std::string& log_source = "probe log");
 
 // ---- Measuring time ----
 

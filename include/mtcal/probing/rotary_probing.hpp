@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "mtcal/model/machine.hpp"
 #include "mtcal/probing/rotary_axis.hpp"
 #include "mtcal/probing/sphere_probing.hpp"
 
@@ -42,6 +43,26 @@ struct IndexedCentres {
 // same position, fitted on its own (locate_rotary_axis averages the centres). Throws InputError
 // naming the source and line where an indexation's contacts do not give a sphere.
 IndexedCentres centres_from_contacts(const ContactSet& contacts, const SphereProbing& probing);
+
+// One contact of a controller's probe log (LinuxCNC's PROBEOPEN log, the ISO #5061 CSV): the axis
+// values at the trip, chain order, internal units (mm, rad; NaN for an axis the log does not carry),
+// and its 1-based line.
+struct LoggedAxisValues {
+  std::vector<double> q;
+  int line = 0;
+};
+
+// A probe log as the contacts of a rotary-axis test on machine m turning `axis`: each contact's
+// angle is the logged value of that axis; its point what simulate_probing records, the nominal tool
+// point at the logged linear axes with the rotary axes at zero (machine coordinates: workpiece frame
+// plus the workpiece origin); its approach, which a log does not hold, the direction from the
+// contact to the centre of a free sphere fitted to its indexation's contacts (>= 4 not on one
+// plane; else -z): a touch moves towards the centre. Throws InputError (source, line) for a log
+// without contacts, without that axis's value, without X, Y or Z, or where another rotary axis
+// does not stay at its first line's value; ModelError when the axis is
+// not a rotary axis of m.
+ContactSet contacts_from_log(const Machine& m, char axis, const std::vector<LoggedAxisValues>& log,
+                             const std::string& source);
 
 // The most centres the triples estimator takes: its counters hold C(n, 3) (1.7e17 for 1e6) and
 // its sums take 6 kB per centre. Time is the bound in practice (C(n, 3) triples at about 9e6 per

@@ -69,7 +69,7 @@ double to_joint_units(const KinsAxis& a, double v) { return a.rotary ? v * 180.0
 
 }  // namespace
 
-std::string linuxcnc_kins_source(const LinuxcncKins& k) {
+std::string linuxcnc_kins_model_source(const LinuxcncKins& k, bool model_only) {
   const std::size_t n = k.axes.size();
   std::vector<int> linear, rotary, rotary_world;
   std::string rotary_letters;
@@ -89,24 +89,7 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
     for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
     return v.empty() ? std::string("0") : s;
   };
-  std::string s = fmt::format(
-      "/* LinuxCNC kinematics module {0}, written by mtcal compensate --format linuxcnc-kins.\n"
-      " * Machine: {1} (topology {2}); joints {3} (joint n is the n-th letter, mm and deg).\n"
-      " * kinematicsInverse returns the joints at which the machine's error model puts the ACTUAL tool point on\n"
-      " * the commanded one (error e = actual - nominal, ISO 230-1; the joints carry the correction -e), and\n"
-      " * turns the rotary axes so that the actual tool direction is the commanded one as far as they can\n"
-      " * (damped least squares); kinematicsForward is its exact inverse. World coordinates: the tool point in\n"
-      " * the workpiece frame and the rotary coordinates (tool-centre-point convention of LinuxCNC's trt kins).\n"
-      " * Real time: no allocation, no file access, at most {4} steps; a non-finite or unconverged result is an\n"
-      " * error (motion stops) and never a position. Coefficients are generated into this file: nothing is read\n"
-      " * at load time, so the module and the model it was checked against cannot drift apart.\n"
-      " * Build: halcompile --install {0}.c (Debian package linuxcnc-uspace-dev). docs/compensation-linuxcnc-kins.md\n"
-      " * Without LinuxCNC (-DMTCAL_KINS_STANDALONE): mtk_inverse() and mtk_forward() as plain C for tests.\n"
-      " */\n"
-      "#ifdef MTCAL_KINS_STANDALONE\n#include <math.h>\n#else\n"
-      "#include \"rtapi.h\"\n#include \"rtapi_app.h\"\n#include \"rtapi_math.h\"\n#include \"hal.h\"\n"
-      "#include \"kinematics.h\"\n#endif\n\n",
-      k.module_name, c_comment(k.machine_name), c_comment(k.topology), k.coordinates, k.solver.max_iterations);
+  std::string s = model_only ? "#define MTK_MODEL_ONLY /* the actual chain only: no solver, no nominal-chain data */\n" : "";
   s += fmt::format("#define MTK_N {}\n#define MTK_NR {}\n#define MTK_NOPS {}\n#define MTK_MAX_ITER {}\n", n, nr,
                    k.chain.size(), k.solver.max_iterations);
   s += fmt::format("#define MTK_TOL_POINT {} /* mm */\n#define MTK_TOL_ORIENT {}\n#define MTK_DAMPING2 {} /* rad^2 */\n",
@@ -134,15 +117,17 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
   s += fmt::format("static const int mtk_dir_axis[MTK_N] = {{{}}};\n", ints(dir_axis));
   s += fmt::format("static const double mtk_dir_sign[MTK_N] = {{{}}};\n", list(dir_sign));
   s += fmt::format("static const double mtk_zero[MTK_N] = {{{}}}; /* zero positions (mm, rad) */\n", list(zero));
-  s += fmt::format("static const double mtk_point[MTK_N][3] = {{{}}}; /* rotary axis lines */\n", points);
-  s += fmt::format("static const int mtk_linear[3] = {{{}}};\n", ints(linear));
-  s += fmt::format("static const int mtk_rot[MTK_NR + 1] = {{{}}};\n", ints(rotary));
-  s += fmt::format("static const int mtk_rot_world[MTK_NR + 1] = {{{}}}; /* index among the rotary letters {} */\n",
-                   ints(rotary_world), rotary_letters.empty() ? "(none)" : rotary_letters);
-  s += fmt::format("static const double mtk_w_origin[3] = {{{}}};\n",
-                   list({k.workpiece_origin.x(), k.workpiece_origin.y(), k.workpiece_origin.z()}));
-  s += fmt::format("static const double mtk_spindle[3] = {{{}}};\n\n",
-                   list({k.spindle_point.x(), k.spindle_point.y(), k.spindle_point.z()}));
+  if (!model_only) {  // the nominal chain and the solver's index lists
+    s += fmt::format("static const double mtk_point[MTK_N][3] = {{{}}}; /* rotary axis lines */\n", points);
+    s += fmt::format("static const int mtk_linear[3] = {{{}}};\n", ints(linear));
+    s += fmt::format("static const int mtk_rot[MTK_NR + 1] = {{{}}};\n", ints(rotary));
+    s += fmt::format("static const int mtk_rot_world[MTK_NR + 1] = {{{}}}; /* index among the rotary letters {} */\n",
+                     ints(rotary_world), rotary_letters.empty() ? "(none)" : rotary_letters);
+    s += fmt::format("static const double mtk_w_origin[3] = {{{}}};\n",
+                     list({k.workpiece_origin.x(), k.workpiece_origin.y(), k.workpiece_origin.z()}));
+    s += fmt::format("static const double mtk_spindle[3] = {{{}}};\n\n",
+                     list({k.spindle_point.x(), k.spindle_point.y(), k.spindle_point.z()}));
+  }
   // Motion errors at direction 0, internal units (mm, rad; argument mm or rad).
   s += "/* Motion errors (dir 0) per axis: EX EY EZ (mm) EA EB EC (rad) of the axis position (mm, rad).\n"
        "   kind 1 polynomial v[0..3]; 2 table x[n], v[n], held ends; 3 Fourier v[0] + ncos cos + n sin terms. */\n"
@@ -168,6 +153,32 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
   }
   s += "};\n";
   s += kCore;
+  return s;
+}
+
+std::string linuxcnc_kins_source(const LinuxcncKins& k) {
+  std::string rotary_letters;
+  for (const char c : k.coordinates)
+    if (c == 'A' || c == 'B' || c == 'C') rotary_letters += c;
+  std::string s = fmt::format(
+      "/* LinuxCNC kinematics module {0}, written by mtcal compensate --format linuxcnc-kins.\n"
+      " * Machine: {1} (topology {2}); joints {3} (joint n is the n-th letter, mm and deg).\n"
+      " * kinematicsInverse returns the joints at which the machine's error model puts the ACTUAL tool point on\n"
+      " * the commanded one (error e = actual - nominal, ISO 230-1; the joints carry the correction -e), and\n"
+      " * turns the rotary axes so that the actual tool direction is the commanded one as far as they can\n"
+      " * (damped least squares); kinematicsForward is its exact inverse. World coordinates: the tool point in\n"
+      " * the workpiece frame and the rotary coordinates (tool-centre-point convention of LinuxCNC's trt kins).\n"
+      " * Real time: no allocation, no file access, at most {4} steps; a non-finite or unconverged result is an\n"
+      " * error (motion stops) and never a position. Coefficients are generated into this file: nothing is read\n"
+      " * at load time, so the module and the model it was checked against cannot drift apart.\n"
+      " * Build: halcompile --install {0}.c (Debian package linuxcnc-uspace-dev). docs/compensation-linuxcnc-kins.md\n"
+      " * Without LinuxCNC (-DMTCAL_KINS_STANDALONE): mtk_inverse() and mtk_forward() as plain C for tests.\n"
+      " */\n"
+      "#ifdef MTCAL_KINS_STANDALONE\n#include <math.h>\n#else\n"
+      "#include \"rtapi.h\"\n#include \"rtapi_app.h\"\n#include \"rtapi_math.h\"\n#include \"hal.h\"\n"
+      "#include \"kinematics.h\"\n#endif\n\n",
+      k.module_name, c_comment(k.machine_name), c_comment(k.topology), k.coordinates, k.solver.max_iterations);
+  s += linuxcnc_kins_model_source(k, false);
   // LinuxCNC glue (kinematics.h of LinuxCNC 2.9; modelled on src/emc/kinematics/maxkins.c and trtfuncs.c).
   std::string world_in, world_out;
   for (std::size_t j = 0; j < rotary_letters.size(); ++j) {
@@ -288,9 +299,10 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
       {"linuxcnc-kins.hal",
        fmt::format("# Written by mtcal compensate --format linuxcnc-kins. [KINS]KINEMATICS loads {0} (loadrt in the\n"
                    "# main HAL file). Its tool length (mm from the spindle gauge point, default the machine file's\n"
-                   "# {1:g} mm) is a pin: set it, or connect it to motion.tooloffset.z when the tool table holds lengths\n"
-                   "# from the gauge point:\n"
-                   "#   net mtk-tool-length motion.tooloffset.z => {0}.tool-length\n"
+                   "# {1:g} mm) is a pin: set it per tool and run with G49 (no tool length offset). Do not connect it to\n"
+                   "# motion.tooloffset.z: with G43 active LinuxCNC already adds that offset to the world Z it passes to\n"
+                   "# the kinematics, and the length would count twice (the tip one length above the program;\n"
+                   "# docs/compensation-linuxcnc-kins.md, \"Tool length and G43\").\n"
                    "setp {0}.tool-length {1:.9f}\n"
                    "# Diagnostics: {0}.iterations, {0}.residual (mm), {0}.failures (refused inverses).\n",
                    k.module_name, k.tool_length)});

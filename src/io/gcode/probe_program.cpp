@@ -48,7 +48,13 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
   if (!lcnc) s += "%\n";
   s += fmt::format("(mtcal probing program, {} dialect: {} records, {} probing moves)\n", lcnc ? "LinuxCNC" : "ISO",
                    plan.records.size(), touches.size());
-  if (!o.header.empty()) s += "(" + o.header + ")\n";
+  if (!o.header.empty()) {
+    // A comment ends at the first ')' and LinuxCNC refuses a '(' inside one ("Nested comment found",
+    // met with the example machines' names): brackets instead, line ends as blanks.
+    std::string h = o.header;
+    for (char& c : h) c = c == '(' ? '[' : c == ')' ? ']' : (c == '\n' || c == '\r') ? ' ' : c;
+    s += "(" + h + ")\n";
+  }
   s += "(Coordinates: the machine's axis values of mtcal's model, mm and deg; the tool length is in the model.)\n";
   s += "(Run with the G54 work offsets zero and no tool length offset: G54 G49 below.)\n";
   s += fmt::format("(Cycle: ball diameter {:g} mm, tip diameter {:g} mm, approach {:g} mm, overtravel {:g} mm, "

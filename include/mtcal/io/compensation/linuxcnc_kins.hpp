@@ -16,6 +16,12 @@ namespace mtcal {
 // joints in LinuxCNC joint order, mm and deg; return 0 on success) for tests and benchmarks.
 std::string linuxcnc_kins_source(const LinuxcncKins& k);
 
+// The machine part of that source, shared with the simulated probe (io/compensation/linuxcnc_probe.hpp):
+// the #defines, the generated data (axes, motion functions, the actual chain) and the chain
+// evaluation mtk_actual(q, L, p, a). model_only: only what mtk_actual needs (MTK_MODEL_ONLY: no
+// solver, no nominal-chain data). Plain C99 with <math.h> or LinuxCNC's rtapi_math.h included before it.
+std::string linuxcnc_kins_model_source(const LinuxcncKins& k, bool model_only);
+
 // Every file of --format linuxcnc-kins: <module>.c, build.sh, linuxcnc-kins.ini, linuxcnc-kins.hal,
 // joint<N>-reversal.comp per joint with direction-dependent terms, README.txt.
 TargetOutput linuxcnc_kins_output(const LinuxcncKins& k);

@@ -14,7 +14,7 @@ struct ProbeProgramOptions {
   double probe_feed = 200.0;  // mm/min of the probing moves
   double feed = 2000.0;       // mm/min of the moves near the artefact (G1)
   std::string log = "mtcal-contacts.txt";  // LinuxCNC: the file PROBEOPEN writes
-  std::string header;  // a line for the header comment (machine, plan); no parentheses
+  std::string header;  // a line for the header comment (machine, plan); parentheses become brackets
 };
 
 // The program: a header that states the coordinates (the machine's axis values of mtcal's model,

@@ -21,7 +21,8 @@ enum class ProbeLogFormat {
 
 // The contacts in order, axis values in chain order (internal units: mm, rad; NaN for an axis of
 // the machine the log does not carry). Throws InputError with file and line for a line that is
-// not numbers, a wrong count of numbers, non-finite values.
+// not numbers, a wrong count of numbers, non-finite values. An empty log gives no contact (not an
+// error here: measurements_from_contacts names the first contact missing).
 std::vector<LoggedContact> parse_probe_log(const Machine& m, std::string_view text, const std::string& source,
                                            ProbeLogFormat format);
 std::vector<LoggedContact> read_probe_log(const Machine& m, const std::string& path, ProbeLogFormat format);
