@@ -72,7 +72,7 @@ ContactSet contacts_from_log(const Machine& m, char axis, const std::vector<Logg
             std::abs(q[a] - log.front().q[a]) > 1e-9)
           throw InputError({source, c.line, std::string(1, m.axes[a].letter)},
                            fmt::format("expected {} held at {:g} deg (line {}) while {} turns, found {:g} deg",
-                                       m.axes[a].letter, log.front().q[a] / kDeg, log.front().line, axis, q[a] / kDeg));
+                                       m.axes[a].letter, log.front().q[a] / kRadPerDeg, log.front().line, axis, q[a] / kRadPerDeg));
         q[a] = 0.0;
       } else if (!std::isfinite(q[a])) {
         throw InputError({source, c.line, std::string(1, m.axes[a].letter)},
@@ -80,7 +80,7 @@ ContactSet contacts_from_log(const Machine& m, char axis, const std::vector<Logg
       }
     }
     IndexedContact ic;
-    ic.angle_deg = c.q[*k] / kDeg;
+    ic.angle_deg = c.q[*k] / kRadPerDeg;
     ic.line = c.line;
     ic.contact.point = model.nominal_pose(q).t + m.workpiece.origin;
     set.contacts.push_back(ic);
