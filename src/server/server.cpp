@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -157,6 +158,12 @@ struct Server::Impl {
   std::map<std::string, PendingUpload> pending;
   std::string dummy_hash;  // verified against for unknown users: a failed login costs the same time
   bool tls = false;
+  // run() and stop() (Server::stop says why they need more than httplib's own).
+  enum class RunState { NotStarted, Starting, Returned };
+  std::mutex run_mutex;
+  std::condition_variable run_changed;
+  RunState run_state = RunState::NotStarted;
+  bool stop_requested = false, http_stopped = false;
 
   explicit Impl(ServerOptions o)
       : opt(std::move(o)),
@@ -175,7 +182,7 @@ struct Server::Impl {
     } else {
       http = std::make_unique<httplib::Server>();
     }
-    dummy_hash = hash_password("not a password of anyone", KdfCost::Interactive);
+    dummy_hash = hash_password("not a password of anyone", opt.kdf_cost);
     const int threads = std::max(1, opt.threads);
     http->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
     http->set_payload_max_length(opt.max_upload);
@@ -689,7 +696,7 @@ void Server::Impl::register_routes() {
   });
   add({"POST", "/admin/users", Role::Admin, false, false, ""}, [this](const Req& req, Res& res, const Context*) {
     auto store = pool.lease();
-    add_user(*store, required(req, "user"), required(req, "role"), required(req, "password"));
+    add_user(*store, required(req, "user"), required(req, "role"), required(req, "password"), opt.kdf_cost);
     res.status = 303;
     res.set_header("Location", "/admin/users");
   });
@@ -705,8 +712,39 @@ int Server::bind() {
   return port;
 }
 
-void Server::run() { impl_->http->listen_after_bind(); }
-void Server::stop() { impl_->http->stop(); }
+// cpp-httplib's stop() only closes the listening socket once listen_after_bind() has marked the
+// server running (httplib.h 0.11.4, Server::stop and Server::listen_internal): a stop() that
+// comes between run()'s start and that moment did nothing, and run() then served for ever (the
+// hang of server_security on a loaded machine: a test that sends no request stops the server
+// at once). Here a stop() before run() makes run() return at once, and a stop() during run()'s
+// start waits until httplib can be stopped.
+void Server::run() {
+  auto& i = *impl_;
+  {
+    std::lock_guard lock(i.run_mutex);
+    if (i.stop_requested) return;
+    i.run_state = Impl::RunState::Starting;
+  }
+  i.http->listen_after_bind();
+  std::lock_guard lock(i.run_mutex);
+  i.run_state = Impl::RunState::Returned;
+  i.run_changed.notify_all();
+}
+
+void Server::stop() {
+  auto& i = *impl_;
+  std::unique_lock lock(i.run_mutex);
+  i.stop_requested = true;
+  if (i.run_state != Impl::RunState::Starting) return;  // not started (run() will not serve) or over
+  // run() has begun: wait until httplib reports it running (or run() returned), then stop it.
+  while (i.run_state == Impl::RunState::Starting && !i.http->is_running())
+    i.run_changed.wait_for(lock, std::chrono::milliseconds(1));
+  // Once only: httplib asserts that its socket is open when it stops.
+  if (i.run_state == Impl::RunState::Starting && !i.http_stopped) {
+    i.http_stopped = true;
+    i.http->stop();
+  }
+}
 const std::vector<Route>& Server::routes() const { return impl_->routes; }
 
 }  // namespace mtcal::server

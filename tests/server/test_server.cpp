@@ -5,10 +5,15 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <unistd.h>
 
 #include <httplib.h>
 
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -120,6 +125,7 @@ class Serve : public ::testing::TestWithParam<std::string> {
     o.port = 0;
     o.max_upload = max_upload;
     o.threads = 4;
+    o.kdf_cost = KdfCost::Minimum;
     server_ = std::make_unique<Server>(o);
     port_ = server_->bind();
     thread_ = std::thread([this] { server_->run(); });
@@ -131,8 +137,11 @@ class Serve : public ::testing::TestWithParam<std::string> {
   }
 
   httplib::Client client() const {
+    // Every wait bounded: a server that does not answer fails the test, it does not hang it.
     httplib::Client c("127.0.0.1", port_);
-    c.set_read_timeout(30, 0);
+    c.set_connection_timeout(5, 0);
+    c.set_read_timeout(20, 0);
+    c.set_write_timeout(20, 0);
     return c;
   }
 
@@ -452,6 +461,9 @@ TEST_P(Serve, LoginThrottlingAndGarbageRequests) {
     a.sin_family = AF_INET;
     a.sin_port = htons(static_cast<uint16_t>(port_));
     a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const timeval limit{10, 0};  // no answer within 10 s fails the test instead of hanging it
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
+    ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &limit, sizeof limit);
     ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
     ASSERT_EQ(::send(fd, garbage.data(), garbage.size(), 0), static_cast<ssize_t>(garbage.size()));
     char buf[512] = {};
@@ -480,6 +492,40 @@ TEST(ServeStart, AnUnreachableStoreIsAClearErrorAtStart) {
   TempDir d;
   o.store = (d.path / "no-such-dir" / "x.db").string();
   EXPECT_THROW(Server{o}, StoreError);
+}
+
+// The hang of this test on a loaded machine: Server::stop() before httplib marked the server
+// running did nothing (httplib's stop() only acts on a running server), and the thread of run()
+// then served for ever. A server stopped at once after its thread starts, or before, must end.
+TEST(ServeStart, StopRightAfterStartEndsTheServer) {
+  TempDir d;
+  ServerOptions o;
+  o.store = "sqlite:" + (d.path / "stop.db").string();
+  o.port = 0;
+  o.threads = 1;
+  o.kdf_cost = KdfCost::Minimum;
+  std::atomic<int> finished{0};
+  std::thread watchdog([&] {  // fails loudly instead of hanging until ctest's TIMEOUT
+    for (int i = 0; i < 600 && finished.load() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (finished.load() == 0) {
+      std::fprintf(stderr, "a stopped server did not end within 60 s\n");
+      std::_Exit(1);
+    }
+  });
+  for (int i = 0; i < 50; ++i) {
+    Server s(o);
+    s.bind();
+    if (i % 2) {
+      std::thread t([&] { s.run(); });
+      s.stop();
+      t.join();
+    } else {
+      s.stop();  // before run(): run() returns at once
+      s.run();
+    }
+  }
+  finished = 1;
+  watchdog.join();
 }
 
 TEST(ServeStart, PasswordsAreMemoryHardHashesAndPoliciesHold) {

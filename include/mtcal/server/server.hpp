@@ -23,6 +23,10 @@ struct ServerOptions {
   int threads = 8;                                 // request threads (each with its own store connection)
   int login_attempts = 5;                          // failed logins per user or address before a lockout
   int lockout_seconds = 900;
+  // Cost of the password hashes the server makes (users added on the users page, and the hash a
+  // login of an unknown user is checked against, so that it costs what a known user's does).
+  // Minimum is for tests only.
+  KdfCost kdf_cost = KdfCost::Interactive;
 };
 
 // A route of the server: what the router registers and what the tests walk. pattern is the
@@ -48,7 +52,8 @@ class Server {
   // Binds host:port; returns the port (the free one chosen when port is 0). Throws Error when
   // the address cannot be bound.
   int bind();
-  // Serves until stop(); call bind() first. The program should ignore SIGPIPE (a client that
+  // Serves until stop() (from another thread; a stop() before run() makes run() return at once,
+  // so stop() may come at any time); call bind() first. The program should ignore SIGPIPE (a client that
   // closes its connection mid-response would otherwise end the process).
   void run();
   void stop();
