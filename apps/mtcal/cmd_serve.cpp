@@ -20,7 +20,8 @@ namespace mtcal::cli {
 namespace {
 
 struct ServeCliOptions {
-  std::string store, listen = "127.0.0.1:8080", tls_cert, tls_key, add_user, role = "viewer";
+  std::string store, listen = "127.0.0.1:8080", tls_cert, tls_key, add_user, role = "viewer", tolerance_file;
+  std::vector<std::string> tolerances;
   int interval_days = 365, session_hours = 12, threads = 8;
   double max_upload_mib = 32;
 };
@@ -62,6 +63,8 @@ int run_serve(const ServeCliOptions& o) {
   s.session_hours = o.session_hours;
   s.threads = o.threads;
   s.max_upload = static_cast<std::size_t>(o.max_upload_mib * 1024 * 1024);
+  s.tolerance_file = o.tolerance_file;
+  s.tolerances = o.tolerances;
   // SIGINT and SIGTERM end the server from a thread of their own (sigwait), not in a handler.
   sigset_t set;
   sigemptyset(&set);
@@ -106,6 +109,12 @@ std::vector<Command> add_serve_commands(CLI::App& app) {
   c->add_option("--interval-days", o->interval_days, "A machine is overdue this many days after its last calibration "
                                                      "of a kind (default 365)")
       ->check(CLI::PositiveNumber);
+  c->add_option("--tolerance-file", o->tolerance_file,
+                "Tolerances of the fleet's ranking (share of tolerance used, drift, date out of tolerance), as "
+                "history rank --tolerance-file: the acceptance YAML of docs/reports.md");
+  c->add_option("--tolerance", o->tolerances,
+                "QUANTITY=VALUE (|value| <= VALUE for a parameter, value <= VALUE for a figure) or QUANTITY=LO:HI, "
+                "in the quantity's unit, as history rank --tolerance; repeatable");
   c->add_option("--session-hours", o->session_hours, "A login lasts this long (default 12)")->check(CLI::PositiveNumber);
   c->add_option("--threads", o->threads, "Request threads (default 8)")->check(CLI::Range(1, 256));
   c->add_option("--max-upload", o->max_upload_mib, "Largest request in MiB (default 32)")->check(CLI::PositiveNumber);
@@ -113,6 +122,7 @@ std::vector<Command> add_serve_commands(CLI::App& app) {
       "Examples:\n"
       "  MTCAL_PASSWORD=... mtcal serve --store shop.db --add-user ann --role admin\n"
       "  mtcal serve --store shop.db                       # http://127.0.0.1:8080/\n"
+      "  mtcal serve --store shop.db --tolerance-file examples/acceptance/tolerances.yaml --interval-days 180\n"
       "  mtcal serve --store postgresql://mtcal@db/plant --listen 0.0.0.0:8443 --tls-cert c.pem --tls-key k.pem\n"
       "See docs/serve.md for roles, the JSON API, a systemd unit and backups.");
   return {{c, [o] { return run_serve(*o); }}};

@@ -1,9 +1,12 @@
 // The HTML pages of mtcal serve (escaped output everywhere: html_escape of report/).
 #include "pages.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "mtcal/evaluation/metadata.hpp"
+#include "mtcal/io/compensation/output.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/version.hpp"
 
@@ -48,7 +51,7 @@ std::string layout(const std::string& title, const PageUser& u, const std::strin
   if (!u.name.empty()) {
     p += " <a href=\"/fleet\">Fleet</a>";
     if (u.engineer) p += " <a href=\"/upload\">Upload</a>";
-    if (u.admin) p += " <a href=\"/admin/users\">Users</a>";
+    if (u.admin) p += " <a href=\"/admin/users\">Users</a> <a href=\"/admin/machines\">Intervals</a>";
     p += "<span class=\"who\">" + h(u.name) + " (" + h(u.role) +
          ")<form method=\"post\" action=\"/logout\" class=\"inline\">" + csrf_field(u) +
          "<button type=\"submit\" id=\"logout\">Log out</button></form></span>";
@@ -87,26 +90,53 @@ std::string login_page(const std::string& csrf, const std::string& error) {
 }
 
 std::string fleet_page(const PageUser& u, const Json& fleet) {
+  const bool ranked = fleet["ranked"].get<bool>();
   std::string b = fmt::format(
-      "<p>Store <code>{}</code>. A machine is overdue {} days after its last calibration of a kind.</p>"
+      "<p>Store <code>{}</code>. A machine is overdue {} days after its last calibration of a kind, unless it has an "
+      "interval of its own.{}</p>"
       "<p><label>Filter <input id=\"filter\" data-table=\"fleet\" placeholder=\"machine, kind, overdue\"></label></p>",
-      h(text_of(fleet["store"])), fleet["interval_days"].get<int>());
+      h(text_of(fleet["store"])), fleet["interval_days"].get<int>(),
+      ranked ? " Share of tolerance used, drift and the date out of tolerance are <code>mtcal history rank</code>'s "
+               "(the deciding quantity: the largest share used)."
+             : " No tolerances given (<code>mtcal serve --tolerance-file</code>): no ranking.");
+  for (const auto& n : fleet["rank_notes"]) b += "<p class=\"note\">" + h(text_of(n)) + "</p>";
   b += "<div class=\"wide\"><table id=\"fleet\" class=\"data sortable\"><thead><tr><th>Machine</th><th>Test</th>"
-       "<th>Last</th><th>Age (days)</th><th>Records</th><th>State</th></tr></thead><tbody>\n";
+       "<th>Last</th><th>Age (days)</th><th>Interval (days)</th><th>Records</th><th>State</th>";
+  if (ranked) b += "<th>Rank</th><th>Tolerance used (%)</th><th>Deciding quantity</th><th>Drift</th><th>Out of tolerance</th>";
+  b += "</tr></thead><tbody>\n";
   std::size_t machines = 0, overdue = 0;
   for (const auto& m : fleet["machines"]) {
     ++machines;
     if (m["overdue"].get<bool>()) ++overdue;
     const std::string name = m["machine"].get<std::string>();
+    std::string rank_cells;
+    if (ranked) {
+      const Json& r = m["rank"];
+      if (r.is_null()) {
+        rank_cells = "<td>-</td><td>-</td><td>no quantity with a tolerance</td><td>-</td><td>-</td>";
+      } else {
+        const Json& q = r["quantities"][0];
+        std::string drift = text_of(r["drift"]);
+        std::replace(drift.begin(), drift.end(), '_', ' ');
+        if (q["rate_per_year"].is_number())
+          drift = fmt::format("{:.3g} {}/year, {}", q["rate_per_year"].get<double>(), text_of(q["unit"]), drift);
+        rank_cells = fmt::format(
+            "<td class=\"num\">{}</td><td class=\"num\">{:.0f}</td><td>{} {} {}</td><td>{}</td><td>{}</td>",
+            r["rank"].get<long long>(), 100 * r["utilisation"].get<double>(), h(text_of(q["quantity"])),
+            h(text_of(q["latest"])), h(text_of(q["unit"])), h(drift),
+            r["outside"].get<bool>() ? std::string("outside now") : h(text_of(r["out_of_tolerance_on"])));
+      }
+    }
     for (const auto& c : m["calibrations"]) {
       const bool late = c["overdue"].get<bool>();
       b += fmt::format(
           "<tr class=\"{}\"><td><a href=\"/machine?name={}\">{}</a></td><td>{}</td><td><a href=\"/record?id={}\">{}</a></td>"
-          "<td class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td></tr>\n",
+          "<td class=\"num\">{}</td><td class=\"num\">{}{}</td><td class=\"num\">{}</td><td>{}</td>{}</tr>\n",
           late ? "overdue" : "", h(url_encode(name)), h(name), h(text_of(c["command"])),
           h(url_encode(text_of(c["record"]))), h(text_of(c["last"])),
-          c["age_days"].is_null() ? "-" : fmt::format("{:.0f}", c["age_days"].get<double>()), c["count"].get<long long>(),
-          late ? "overdue" : "ok");
+          c["age_days"].is_null() ? "-" : fmt::format("{:.0f}", c["age_days"].get<double>()),
+          m["interval_days"].get<int>(), m["interval_own"].get<bool>() ? "" : " (default)", c["count"].get<long long>(),
+          late ? "overdue" : "ok", rank_cells);
     }
   }
   b += "</tbody></table></div>\n";
@@ -158,6 +188,20 @@ std::string machine_page(const PageUser& u, const Json& m, const Json& trends) {
          "<option>repair</option><option>other</option></select></label><label>Note <input name=\"note\" "
          "id=\"event-note\"></label><button type=\"submit\" id=\"event-add\">Add event</button></form>\n";
     b += "<p><a href=\"/upload?machine=" + h(url_encode(name)) + "\">Upload a measurement of this machine</a></p>";
+    // write compensation: what `mtcal compensate -m MACHINE --params P --format F --out DIR` writes, as DIR.zip.
+    std::string formats;
+    for (const auto& t : compensation_targets())
+      formats += "<option value=\"" + h(t.name) + "\">" + h(t.name) + " - " + h(t.description) + "</option>";
+    b += "<h2>Write compensation</h2><p>The files <code>mtcal compensate -m MACHINE --params PARAMS --format F --out "
+         "DIR</code> writes, downloaded as a zip of DIR (docs/compensation.md).</p><form method=\"post\" "
+         "action=\"/machine/compensation\" enctype=\"multipart/form-data\" class=\"stack\" id=\"comp-form\">" +
+         csrf_field(u) +
+         "<label>Machine file (YAML) <input type=\"file\" name=\"machine_file\" id=\"comp-machine\" required></label>"
+         "<label>Parameter file (identify --out; optional) <input type=\"file\" name=\"params\" id=\"comp-params\">"
+         "</label><label>Controller <select name=\"format\" id=\"comp-format\">" +
+         formats +
+         "</select></label><label>Positions per table (optional) <input name=\"points\" id=\"comp-points\"></label>"
+         "<button type=\"submit\" id=\"comp-write\">Write compensation (zip)</button></form>\n";
   }
   return layout("Machine " + name, u, b, true);
 }
@@ -211,10 +255,24 @@ std::string diff_page(const PageUser& u, const Json& d) {
 
 std::string upload_page(const PageUser& u, const std::string& machine) {
   std::string b =
-      "<p>An ISO 230-2 positioning file (.dat, CSV in mm, Renishaw .rtl/.rta), evaluated as <code>mtcal history "
-      "import FILE --meta ...</code> does; nothing is recorded before you confirm.</p>"
+      "<p>An instrument file evaluated as its command does, with these fields as the record's metadata (the "
+      "<code>--meta</code> keys); nothing is recorded before you confirm. ISO 230-2 runs (.dat, CSV in mm, Renishaw "
+      ".rtl/.rta) as <code>mtcal history import FILE</code>; a ballbar trace as <code>mtcal ballbar TRACE --radius R "
+      "--plane P</code>; probe contacts as <code>mtcal rotary-axis --axis A --contacts FILE --sphere-diameter D "
+      "--stylus-diameter d</code>.</p>"
       "<form method=\"post\" action=\"/upload\" enctype=\"multipart/form-data\" class=\"stack\" id=\"upload-form\">" +
-      csrf_field(u) + "<label>File <input type=\"file\" name=\"file\" id=\"upload-file\" required></label>";
+      csrf_field(u) +
+      "<label>Kind <select name=\"kind\" id=\"upload-kind\"><option value=\"iso230-2\">ISO 230-2 positioning "
+      "(.dat, .csv, .rtl, .rta)</option><option value=\"ballbar\">Ballbar trace, ISO 230-4 (.csv)</option><option "
+      "value=\"rotary-axis\">Probe contacts on a sphere, rotary axis (.csv)</option></select></label>"
+      "<label>File <input type=\"file\" name=\"file\" id=\"upload-file\" required></label>"
+      "<fieldset><legend>Ballbar</legend><label>Radius, mm <input name=\"radius\" id=\"bb-radius\"></label>"
+      "<label>Plane <select name=\"plane\"><option>XY</option><option>YZ</option><option>ZX</option></select></label>"
+      "<label>Feed, mm/min (optional) <input name=\"feed\"></label></fieldset>"
+      "<fieldset><legend>Probe contacts</legend><label>Rotary axis <select name=\"rotary_axis\"><option>C</option>"
+      "<option>A</option><option>B</option></select></label><label>Sphere diameter, mm <input "
+      "name=\"sphere_diameter\"></label><label>Stylus diameter, mm <input name=\"stylus_diameter\" "
+      "value=\"0\"></label></fieldset>";
   for (const auto& f : metadata_fields()) {
     const std::string key(f.key);
     const std::string value = key == "machine" ? machine : "";
@@ -261,6 +319,31 @@ std::string users_page(const PageUser& u, const std::vector<UserAccount>& users)
   return layout("Users", u, b);
 }
 
+std::string machines_page(const PageUser& u, const std::vector<std::string>& machines,
+                          const std::vector<MachineInterval>& intervals, int default_days) {
+  std::string b = fmt::format(
+      "<p>A machine's calibrations are overdue this many days after the latest of each kind; without an interval of "
+      "its own, {} days (<code>mtcal serve --interval-days</code>).</p><div class=\"wide\"><table class=\"data\" "
+      "id=\"intervals\"><thead><tr><th>Machine</th><th>Interval (days)</th><th>Set by</th><th>Set at</th></tr></thead>"
+      "<tbody>",
+      default_days);
+  std::string options;
+  for (const auto& m : machines) {
+    const auto i = std::find_if(intervals.begin(), intervals.end(), [&](const MachineInterval& x) { return x.machine == m; });
+    b += "<tr><td>" + h(m) + "</td><td class=\"num\">" +
+         (i == intervals.end() ? fmt::format("{} (default)", default_days) : std::to_string(i->days)) + "</td><td>" +
+         (i == intervals.end() ? "" : h(i->set_by)) + "</td><td>" + (i == intervals.end() ? "" : h(i->set_at)) +
+         "</td></tr>";
+    options += "<option value=\"" + h(m) + "\">" + h(m) + "</option>";
+  }
+  b += "</tbody></table></div><h2>Set an interval</h2><form method=\"post\" action=\"/admin/machines\" "
+       "class=\"stack\" id=\"interval-form\">" +
+       csrf_field(u) + "<label>Machine <select name=\"machine\" id=\"interval-machine\">" + options +
+       "</select></label><label>Days (0: the default) <input name=\"days\" id=\"interval-days\" required></label>"
+       "<button type=\"submit\" id=\"interval-save\">Save</button></form>";
+  return layout("Calibration intervals", u, b);
+}
+
 const std::string& style_css() {
   static const std::string css = R"(*{box-sizing:border-box}
 body{font:15px/1.4 system-ui,sans-serif;margin:0;color:#1b1f24;background:#fafafa}
@@ -278,6 +361,8 @@ table.data th,table.data td{border-bottom:1px solid #ddd;padding:.3rem .5rem;tex
 table.data th{background:#eef2f6;cursor:pointer}
 td.num{text-align:right;font-variant-numeric:tabular-nums}
 tr.overdue td{background:#fdecea}
+.note{color:#6b4e00}
+fieldset{border:1px solid #ccd;display:flex;flex-direction:column;gap:.4rem}
 table.meta th{text-align:left;padding-right:1rem}
 table.meta td{overflow-wrap:anywhere}
 .error{color:#a40000;font-weight:bold}

@@ -32,6 +32,9 @@ std::string upload_page(const PageUser& u, const std::string& machine);
 std::string upload_preview_page(const PageUser& u, const CalibrationRecord& r, const Json& result,
                                 const std::string& token);
 std::string users_page(const PageUser& u, const std::vector<UserAccount>& users);
+// Calibration intervals: every machine of the store, its own interval or the default, a form.
+std::string machines_page(const PageUser& u, const std::vector<std::string>& machines,
+                          const std::vector<MachineInterval>& intervals, int default_days);
 
 // The pages' script (table sorting and filtering, plots from JSON data elements) and style.
 const std::string& app_js();

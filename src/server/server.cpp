@@ -6,28 +6,41 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
+#include <cmath>
 #include <chrono>
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
 
+#include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/history/analysis.hpp"
-#include "mtcal/io/instruments/iso230_files.hpp"
-#include "mtcal/io/json/evaluation_json.hpp"
-#include "mtcal/io/system/files.hpp"
-#include "mtcal/io/json/history_json.hpp"
+#include "mtcal/io/compensation/output.hpp"
 #include "mtcal/io/history/store.hpp"
+#include "mtcal/io/instruments/acceptance_files.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/instruments/probing_files.hpp"
+#include "mtcal/io/json/evaluation_json.hpp"
+#include "mtcal/io/json/history_json.hpp"
 #include "mtcal/io/json/json.hpp"
+#include "mtcal/io/json/probing_json.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/io/system/files.hpp"
 #include "mtcal/io/system/sha256.hpp"
+#include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/report/history.hpp"
 #include "mtcal/report/report.hpp"
+#include "mtcal/util/parse.hpp"
 #include "pages.hpp"
+#include "zip.hpp"
 
 // After Eigen (through the evaluation headers): httplib.h's system headers define macros that
 // break Eigen's declarations when they come first.
@@ -126,13 +139,110 @@ struct PendingUpload {
   std::chrono::steady_clock::time_point created;
 };
 
-// The extensions an upload may have: the ISO 230-2 forms read_positioning_file knows.
-bool allowed_upload_name(const std::string& name, std::string& ext) {
+// What an upload holds and the command that evaluates it (the record's command): ISO 230-2
+// positioning runs (`mtcal iso230-2`: .dat, CSV, Renishaw .rtl/.rta), a ballbar trace (`mtcal
+// ballbar`: CSV direction,angle_deg,radius_mm), probe contacts on a sphere at indexations of a
+// rotary axis (`mtcal rotary-axis --contacts`: CSV).
+struct UploadKind {
+  const char* name;  // the form's value and the record's command
+  const char* what;
+  std::vector<const char*> extensions;
+};
+const std::vector<UploadKind>& upload_kinds() {
+  static const std::vector<UploadKind> kKinds{
+      {"iso230-2", "an ISO 230-2 file (.dat, .csv, .txt, .rtl, .rta)", {".dat", ".csv", ".rtl", ".rta", ".txt"}},
+      {"ballbar", "a ballbar trace (.csv, .txt)", {".csv", ".txt"}},
+      {"rotary-axis", "probe contacts (.csv)", {".csv"}},
+  };
+  return kKinds;
+}
+
+// The extension of an upload's name when its kind accepts it.
+bool allowed_upload_name(const UploadKind& kind, const std::string& name, std::string& ext) {
   const auto dot = name.rfind('.');
   if (dot == std::string::npos) return false;
   ext = name.substr(dot);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".dat" || ext == ".csv" || ext == ".rtl" || ext == ".rta" || ext == ".txt";
+  return std::any_of(kind.extensions.begin(), kind.extensions.end(), [&](const char* e) { return ext == e; });
+}
+
+// A form field as a number: nullopt when empty; 400 naming the field when not a finite number
+// within [lo, hi].
+std::optional<double> number_field(const std::string& key, const std::string& text, double lo, double hi) {
+  if (text.empty()) return std::nullopt;
+  const auto v = parse_number(text);
+  if (!v || !std::isfinite(*v) || *v < lo || *v > hi)
+    throw HttpError{400, fmt::format("{}: expected a number from {:g} to {:g}, found '{}'", key, lo, hi, printable(text))};
+  return *v;
+}
+
+// A private temporary folder, removed with everything in it when this goes (the readers take paths).
+struct TempFolder {
+  fs::path path;
+  TempFolder() {
+    std::string tmpl = (fs::temp_directory_path() / "mtcal-serve-XXXXXX").string();
+    if (!::mkdtemp(tmpl.data())) throw Error("cannot create a temporary folder for an upload");
+    path = tmpl;
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  // Writes content under `name` (ours, never the client's) and returns its path. Not
+  // write_file_atomically: under the command, outputs are committed when it ends.
+  std::string put(const std::string& name, const std::string& content) const {
+    const std::string file = (path / name).string();
+    std::ofstream out(file, std::ios::binary);
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    if (!out.flush()) throw Error("cannot write an upload to a temporary file");
+    return file;
+  }
+};
+
+// A reader's InputError names our temporary path; the user knows the file by its name: 422.
+[[noreturn]] void rethrow_named(const InputError& e, const std::string& path, const std::string& name) {
+  std::string m = e.what();
+  for (auto at = m.find(path); at != std::string::npos; at = m.find(path, at + name.size()))
+    m.replace(at, path.size(), name);
+  throw HttpError{422, m};
+}
+
+// "Q=V" or "Q=LO:HI" as `mtcal history rank --tolerance` reads it (in the quantity's unit).
+struct ToleranceSpec {
+  std::string quantity;
+  std::optional<double> limit;
+  std::optional<ToleranceBand> range;
+  ToleranceBand band(bool figure) const {
+    if (range) return *range;
+    return figure ? ToleranceBand::at_most(*limit) : ToleranceBand::symmetric(*limit);
+  }
+};
+
+ToleranceSpec parse_tolerance(const std::string& s) {
+  const auto eq = s.find('=');
+  const SourceLocation where{"tolerance", 0, eq == std::string::npos ? "" : s.substr(0, eq)};
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(where, "expected QUANTITY=VALUE or QUANTITY=LO:HI, found '" + printable(s) + "'");
+  ToleranceSpec t;
+  t.quantity = s.substr(0, eq);
+  const std::string value = s.substr(eq + 1);
+  const auto number = [&](const std::string& text) {
+    const auto v = parse_number(text);
+    if (!v) throw InputError(where, "tolerance of " + printable(t.quantity) + ": expected a number, found '" + printable(text) + "'");
+    return *v;
+  };
+  if (const auto colon = value.find(':'); colon != std::string::npos) {
+    t.range = ToleranceBand{number(value.substr(0, colon)), number(value.substr(colon + 1))};
+    check_band(*t.range, t.quantity);
+  } else {
+    t.limit = number(value);
+    if (!(*t.limit > 0))
+      throw InputError(where, "tolerance of " + printable(t.quantity) + ": expected a permitted value > 0, found " +
+                                  printable(value));
+  }
+  return t;
 }
 
 // The name of an uploaded file as recorded: its last path component, printable, at most 100 characters.
@@ -158,6 +268,13 @@ struct Server::Impl {
   std::map<std::string, PendingUpload> pending;
   std::string dummy_hash;  // verified against for unknown users: a failed login costs the same time
   bool tls = false;
+  // The fleet's ranking: tolerances (ServerOptions) and the last ranking with the store state it
+  // was made for (the latest records and their counts): made again only when a record came.
+  std::optional<ToleranceFile> tolerance_file;
+  std::vector<ToleranceSpec> tolerance_specs;
+  std::mutex rank_mutex;
+  std::string rank_key;
+  std::shared_ptr<const Json> rank_cache;
   // run() and stop() (Server::stop says why they need more than httplib's own).
   enum class RunState { NotStarted, Starting, Returned };
   std::mutex run_mutex;
@@ -183,6 +300,14 @@ struct Server::Impl {
       http = std::make_unique<httplib::Server>();
     }
     dummy_hash = hash_password("not a password of anyone", opt.kdf_cost);
+    if (!opt.tolerance_file.empty()) tolerance_file = read_tolerance_file(opt.tolerance_file);
+    for (const auto& t : opt.tolerances) {
+      tolerance_specs.push_back(parse_tolerance(t));
+      for (std::size_t i = 0; i + 1 < tolerance_specs.size(); ++i)
+        if (tolerance_specs[i].quantity == tolerance_specs.back().quantity)
+          throw InputError({"tolerance", 0, tolerance_specs.back().quantity},
+                           "tolerance of " + printable(tolerance_specs.back().quantity) + " is given twice");
+    }
     const int threads = std::max(1, opt.threads);
     http->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
     http->set_payload_max_length(opt.max_upload);
@@ -329,16 +454,112 @@ struct Server::Impl {
             static_cast<int>(c->role) >= static_cast<int>(Role::Engineer), c->role == Role::Admin};
   }
 
-  // The fleet: per machine its latest calibration per command, overdue after interval_days.
+  // The fleet ranking as `mtcal history rank --json` gives it (the same series, bands and
+  // rank_fleet), by machine; null without tolerances. A series whose unit is not a length under a
+  // tolerance file's limit (µm) is left out and named in "notes". Made again only when the
+  // store's latest records changed (key).
+  std::shared_ptr<const Json> ranking(HistoryStore& store, const std::string& key) {
+    if (!tolerance_file && tolerance_specs.empty()) return nullptr;
+    std::lock_guard lock(rank_mutex);  // one ranking at a time; the others wait for it
+    if (rank_cache && rank_key == key) return rank_cache;
+    struct Wanted {
+      bool figure = false;
+      ToleranceBand band;
+      bool in_micrometres = false;
+    };
+    std::map<std::string, Wanted> wanted;
+    if (tolerance_file) {
+      // The axes the store's ISO 230-2 figures name, for the file's "any" (as history rank does).
+      std::vector<std::string> axes;
+      const auto any = tolerance_file->iso230_2.find("any");
+      if (any != tolerance_file->iso230_2.end() && !any->second.limits.empty())
+        for (const char* axis : {"X", "Y", "Z", "A", "B", "C", "U", "V", "W"})
+          if (!store.latest_figure(any->second.limits.front().first + "_" + axis).empty()) axes.emplace_back(axis);
+      for (const auto& [name, band] : history_figure_bands(*tolerance_file, axes)) wanted[name] = {true, band, true};
+    }
+    for (const auto& t : tolerance_specs) {
+      const bool parameter = !store.latest_parameter(t.quantity).empty();
+      if (!parameter && store.latest_figure(t.quantity).empty()) continue;  // not recorded yet
+      wanted[t.quantity] = {!parameter, t.band(!parameter), false};
+    }
+    std::vector<RankSeries> series;
+    Json notes = Json::array();
+    for (const auto& [name, w] : wanted) {
+      for (const auto& l : w.figure ? store.latest_figure(name) : store.latest_parameter(name)) {
+        auto samples = w.figure ? store.figure_series(l.machine, name) : store.parameter_series(l.machine, name);
+        if (samples.empty()) continue;
+        const std::string unit = samples.front().unit;
+        ToleranceBand band = w.band;
+        if (w.in_micrometres) {
+          const auto per = micrometres_per(unit);
+          if (!per) {
+            notes.push_back(fmt::format("{} of {}: the tolerance is a length in µm, the store keeps {} in '{}'", name,
+                                        l.machine, name, unit));
+            continue;
+          }
+          band = {band.lo / *per, band.hi / *per};
+        }
+        try {
+          const QuantityTrend q = trend_from_series(name, w.figure, samples, band);
+          series.push_back({l.machine, name, unit, q.samples, band});
+        } catch (const InputError& e) {
+          notes.push_back(e.what());
+        }
+      }
+    }
+    auto out = std::make_shared<Json>(Json{{"machines", Json::object()}, {"notes", notes}});
+    if (!series.empty()) {
+      RankOptions ro;
+      ro.threads = 1;  // a request thread: the other threads serve other requests
+      const Json all = to_json(rank_fleet(series, ro));
+      for (const auto& m : all["machines"]) {
+        Json entry = m;
+        // The drift state of the deciding quantity (the first), and the earliest date a line
+        // leaves its tolerance among the machine's quantities.
+        const Json& first = m["quantities"][0];
+        entry["drift"] = first["crossing"]["status"];
+        Json date = nullptr;
+        for (const auto& q : m["quantities"]) {
+          const Json& c = q["crossing"];
+          if (c["status"] == "predicted" && c["date"].is_string() &&
+              (date.is_null() || c["date"].get<std::string>() < date.get<std::string>()))
+            date = c["date"];
+        }
+        entry["out_of_tolerance_on"] = date;
+        (*out)["machines"][m["machine"].get<std::string>()] = entry;
+      }
+    }
+    rank_cache = out;
+    rank_key = key;
+    return out;
+  }
+
+  // The fleet: per machine its latest calibration per command, overdue after the machine's
+  // interval (an admin's, else interval_days), and its ranking (tolerances given).
   Json fleet_json(HistoryStore& store) {
     const auto latest = store.latest_calibrations();
+    std::map<std::string, int> intervals;
+    for (const auto& i : store.machine_intervals()) intervals[i.machine] = i.days;
+    std::string key;
+    for (const auto& l : latest) key += l.machine + '\x1f' + l.record_id + '\x1f' + std::to_string(l.count) + '\x1e';
+    const auto rank = ranking(store, sha256_hex(key));
     const auto now = std::chrono::system_clock::now();
     Json machines = Json::array();
     std::string current;
+    int interval = opt.interval_days;
     for (const auto& l : latest) {
       if (machines.empty() || l.machine != current) {
         current = l.machine;
-        machines.push_back({{"machine", l.machine}, {"calibrations", Json::array()}, {"overdue", false}});
+        const auto own = intervals.find(l.machine);
+        interval = own != intervals.end() ? own->second : opt.interval_days;
+        Json r = nullptr;
+        if (rank && (*rank)["machines"].contains(l.machine)) r = (*rank)["machines"][l.machine];
+        machines.push_back({{"machine", l.machine},
+                            {"interval_days", interval},
+                            {"interval_own", own != intervals.end()},
+                            {"calibrations", Json::array()},
+                            {"overdue", false},
+                            {"rank", r}});
       }
       auto& m = machines.back();
       bool overdue = false;
@@ -346,7 +567,7 @@ struct Server::Impl {
       try {
         const auto at = parse_history_time(l.measured_at, "record " + l.record_id);
         age_days = std::chrono::duration<double>(now - at).count() / 86400.0;
-        overdue = *age_days > opt.interval_days;
+        overdue = *age_days > interval;
       } catch (const InputError&) {
       }
       m["calibrations"].push_back({{"command", l.command},
@@ -357,7 +578,11 @@ struct Server::Impl {
                                    {"overdue", overdue}});
       if (overdue) m["overdue"] = true;
     }
-    return {{"store", store.describe()}, {"interval_days", opt.interval_days}, {"machines", machines}};
+    return {{"store", store.describe()},
+            {"interval_days", opt.interval_days},
+            {"ranked", rank != nullptr},
+            {"rank_notes", rank ? (*rank)["notes"] : Json::array()},
+            {"machines", machines}};
   }
 
   // What `history trend --json` gives for a machine: every parameter and figure, no tolerances.
@@ -427,16 +652,25 @@ struct Server::Impl {
     return j;
   }
 
-  // An uploaded ISO 230-2 file evaluated as `mtcal history import FILE --meta ...` does: read by
-  // read_positioning_file (format auto, unit mm), evaluate_positioning, the file's metadata under
-  // "metadata", the user's fields as the record's metadata. Nothing is stored here.
+  // An uploaded instrument file evaluated as its command does, with the form's metadata (the
+  // --meta keys) as the record's: ISO 230-2 runs as `mtcal history import FILE --meta ...`
+  // (read_positioning_file, format auto, unit mm; evaluate_positioning; the file's metadata
+  // under "metadata"), a ballbar trace as `mtcal ballbar TRACE --radius R --plane P [--feed F]
+  // --record` (evaluate_ballbar, diagnose_ballbar), probe contacts as `mtcal rotary-axis --axis A
+  // --contacts FILE --sphere-diameter D --stylus-diameter d --record` (method both). Nothing is
+  // stored here.
   PendingUpload evaluate_upload(const httplib::Request& req, const Context& ctx) {
+    const std::string kind_name = param(req, "kind", 40).empty() ? std::string("iso230-2") : param(req, "kind", 40);
+    const auto kind = std::find_if(upload_kinds().begin(), upload_kinds().end(),
+                                   [&](const UploadKind& k) { return kind_name == k.name; });
+    if (kind == upload_kinds().end())
+      throw HttpError{400, "kind: expected iso230-2, ballbar or rotary-axis, found '" + printable(kind_name) + "'"};
     if (!req.has_file("file")) throw HttpError{400, "expected an instrument file in the field 'file', found none"};
     const auto file = req.get_file_value("file");
     const std::string name = upload_display_name(file.filename);
     std::string ext;
-    if (!allowed_upload_name(name, ext))
-      throw HttpError{415, "expected an ISO 230-2 file (.dat, .csv, .txt, .rtl, .rta), found '" + printable(name) + "'"};
+    if (!allowed_upload_name(*kind, name, ext))
+      throw HttpError{415, std::string("expected ") + kind->what + ", found '" + printable(name) + "'"};
     if (file.content.empty()) throw HttpError{400, "the file '" + printable(name) + "' is empty"};
     std::map<std::string, std::string> meta;
     for (const auto& f : metadata_fields()) {
@@ -447,43 +681,93 @@ struct Server::Impl {
     if (!meta.count("machine")) throw HttpError{400, "the field machine is missing"};
     if (const auto d = meta.find("date"); d != meta.end() && !is_iso8601(d->second))
       throw HttpError{400, "date: expected an ISO 8601 date (2026-11-25), found '" + printable(d->second) + "'"};
-    // The reader takes a path: the content goes to a private folder under a name of our own.
-    std::string tmpl = (fs::temp_directory_path() / "mtcal-upload-XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw Error("cannot create a temporary folder for the upload");
-    const fs::path dir = tmpl;
-    struct Cleanup {
-      fs::path d;
-      ~Cleanup() {
-        std::error_code ec;
-        fs::remove_all(d, ec);
+    const TempFolder dir;
+    const std::string path = dir.put("upload" + ext, file.content);
+    const std::vector<InputHash> inputs{{name, sha256_hex(file.content)}};
+    Json shown;
+    CalibrationRecord rec;
+    try {
+      if (kind_name == "iso230-2") {
+        const PositioningRuns runs = read_positioning_file(path, "auto", "mm", "");
+        Json r = to_json(evaluate_positioning(runs));
+        Json m = Json::object();
+        for (const auto& [k, v] : runs.metadata) m[k] = v;
+        r["metadata"] = m;
+        rec = record_from_result("iso230-2", r.dump(), meta, inputs, name);
+        shown = r;
+        shown["warnings"] = runs.warnings;
+      } else if (kind_name == "ballbar") {
+        const auto radius = number_field("radius", param(req, "radius", 40), 1e-3, 1e5);
+        if (!radius) throw HttpError{400, "radius: expected the nominal radius of the test (the ballbar's length, mm)"};
+        const std::string plane = param(req, "plane", 8).empty() ? std::string("XY") : param(req, "plane", 8);
+        if (plane != "XY" && plane != "YZ" && plane != "ZX")
+          throw HttpError{400, "plane: expected XY, YZ or ZX, found '" + printable(plane) + "'"};
+        const double feed = number_field("feed", param(req, "feed", 40), 0, 1e6).value_or(0.0);
+        BallbarOptions bo;
+        bo.nominal_radius = *radius;
+        const BallbarTrace t = read_ballbar_csv(path);
+        const auto e = evaluate_ballbar(t, bo);
+        const TraceDiagnosis diagnosis = diagnose_ballbar(t, bo, plane);
+        if (feed > 0 && !meta.count("feed")) meta["feed"] = fmt::format("{:g} mm/min", feed);  // as the command does
+        const Json r = to_json(e, diagnosis, plane, *radius, feed);
+        rec = record_from_result("ballbar", r.dump(), meta, inputs, name);
+        shown = r;
+      } else {
+        // Not "axis": that is a metadata key (the axis an ISO 230-2 test measured).
+        const std::string axis = param(req, "rotary_axis", 4);
+        if (axis.size() != 1 || axis[0] < 'A' || axis[0] > 'C')
+          throw HttpError{400, "rotary_axis: expected A, B or C, found '" + printable(axis) + "'"};
+        const auto sphere = number_field("sphere_diameter", param(req, "sphere_diameter", 40), 1e-3, 1e4);
+        if (!sphere) throw HttpError{400, "sphere_diameter: expected the calibration sphere's diameter (mm)"};
+        const double stylus = number_field("stylus_diameter", param(req, "stylus_diameter", 40), 0, 1e3).value_or(0.0);
+        IndexedCentres centres = centres_from_contacts(read_contacts_csv(path, axis[0]), SphereProbing{*sphere, stylus, 0.01});
+        if (centres.centres.size() > opt.max_indexations)
+          throw HttpError{413, fmt::format("{} indexations are more than this server evaluates ({}); evaluate with mtcal "
+                                           "rotary-axis and record with mtcal history import",
+                                           centres.centres.size(), opt.max_indexations)};
+        const RotaryAxisResult r =
+            locate_rotary_axis(NominalRotaryAxis::by_letter(axis[0]), std::move(centres),
+                               RotaryAxisOptions{true, true, TriplesOptions{2.0, 40, 1}, 0.1});
+        if (!r.located)
+          throw HttpError{422, fmt::format("the centres turn about a line {:.1f} deg from the nominal direction of {}: no "
+                                           "location errors (wrong axis?)",
+                                           r.line.tilt * 180 / 3.14159265358979323846, axis)};
+        const Json j = to_json(r);
+        rec = record_from_result("rotary-axis", j.dump(), meta, inputs, name);
+        shown = j;
       }
-    } cleanup{dir};
-    const std::string path = (dir / ("upload" + ext)).string();
-    {
-      // Not write_file_atomically: under the command, outputs are committed when it ends.
-      std::ofstream out(path, std::ios::binary);
-      out.write(file.content.data(), static_cast<std::streamsize>(file.content.size()));
-      if (!out.flush()) throw Error("cannot write the upload to a temporary file");
+    } catch (const InputError& e) {
+      rethrow_named(e, path, name);
     }
-    PositioningRuns runs = [&] {
-      try {
-        return read_positioning_file(path, "auto", "mm", "");
-      } catch (const InputError& e) {
-        // The message names our temporary path; the user knows the file by its name.
-        std::string m = e.what();
-        for (auto at = m.find(path); at != std::string::npos; at = m.find(path, at + name.size()))
-          m.replace(at, path.size(), name);
-        throw HttpError{422, m};
-      }
-    }();
-    Json r = to_json(evaluate_positioning(runs));
-    Json m = Json::object();
-    for (const auto& [k, v] : runs.metadata) m[k] = v;
-    r["metadata"] = m;
-    CalibrationRecord rec = record_from_result("iso230-2", r.dump(), meta, {{name, sha256_hex(file.content)}}, name);
-    Json shown = r;
-    shown["warnings"] = runs.warnings;
     return {ctx.session.id_hash, std::move(rec), std::move(shown), std::chrono::steady_clock::now()};
+  }
+
+  // "write compensation": a machine file (and parameter files) turned into a compensation
+  // target's files as `mtcal compensate -m MACHINE --params P... --format F [--points N] --out DIR`
+  // does (the same target.run); returned as a zip of DIR's files under the folder DIR.
+  std::pair<std::string, TargetOutput> compensation(const httplib::Request& req) {
+    if (!req.has_file("machine_file")) throw HttpError{400, "expected a machine file in the field 'machine_file', found none"};
+    const auto mf = req.get_file_value("machine_file");
+    const std::string mname = upload_display_name(mf.filename);
+    const std::string format = required(req, "format");
+    if (std::none_of(compensation_targets().begin(), compensation_targets().end(),
+                     [&](const CompensationTarget& t) { return t.name == format; }))
+      throw HttpError{400, "format: expected one of the compensation targets, found '" + printable(format) + "'"};
+    CompensationOptions co;
+    co.threads = 1;
+    if (const auto points = number_field("points", param(req, "points", 20), 2, 10000))
+      co.points = static_cast<std::size_t>(*points);
+    try {
+      Machine m = parse_machine(mf.content, mname);
+      // Parameter files in the order given (each error given replaces the machine's, as --params).
+      const auto [from, to] = req.files.equal_range("params");
+      for (auto p = from; p != to; ++p)
+        if (!p->second.content.empty()) apply_parameters(m, p->second.content, upload_display_name(p->second.filename));
+      TargetOutput out = compensation_target(format).run(m, co);
+      return {m.name, std::move(out)};
+    } catch (const InputError& e) {
+      throw HttpError{422, e.what()};
+    }
   }
 
   std::string keep_pending(PendingUpload p) {
@@ -683,6 +967,58 @@ void Server::Impl::register_routes() {
     const std::string id = pool.lease()->add_event_by(e, c->session.user);
     send_json(res, {{"id", id}, {"machine", e.machine}, {"date", e.date}, {"kind", std::string(to_string(e.kind))},
                     {"note", e.note}});
+  });
+
+  // write compensation: the files of `mtcal compensate --format F --out DIR` as DIR.zip.
+  const auto send_zip = [this](const Req& req, Res& res) {
+    auto [machine, out] = compensation(req);
+    const std::string format = required(req, "format");
+    std::string folder;
+    for (const char c : machine + "-" + format)
+      folder += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ? c : '_';
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const auto& f : out.files) files.emplace_back(folder + "/" + f.name, f.text);
+    res.set_content(zip_archive(files), "application/zip");
+    res.set_header("Content-Disposition", "attachment; filename=\"" + folder + ".zip\"");
+  };
+  add({"POST", "/machine/compensation", Role::Engineer, false, false, ""},
+      [send_zip](const Req& req, Res& res, const Context*) { send_zip(req, res); });
+  // The API: the zip, or with summary=1 what `compensate --json` prints (the files' names, signs,
+  // residual before/after, what is not held).
+  add({"POST", "/api/compensation", Role::Engineer, false, true, ""}, [this, send_zip](const Req& req, Res& res, const Context*) {
+    if (param(req, "summary") != "1") return send_zip(req, res);
+    auto [machine, out] = compensation(req);
+    Json j = to_json(out);
+    j["machine"] = machine;
+    send_json(res, j);
+  });
+
+  // Calibration intervals per machine (the fleet's overdue column): admins set them.
+  add({"GET", "/admin/machines", Role::Admin, false, false, ""}, [this, html](const Req&, Res& res, const Context* c) {
+    auto store = pool.lease();
+    html(res, machines_page(page_user(c), store->machines(), store->machine_intervals(), opt.interval_days));
+  });
+  const auto set_interval = [this](const Req& req, const Context* c) {
+    const std::string machine = required(req, "machine");
+    const auto days = number_field("days", required(req, "days"), 0, 36500);
+    if (*days != std::floor(*days)) throw HttpError{400, "days: expected a whole number of days"};
+    pool.lease()->set_machine_interval(machine, static_cast<int>(*days), c->session.user);
+    return std::pair{machine, static_cast<int>(*days)};
+  };
+  add({"POST", "/admin/machines", Role::Admin, false, false, ""}, [set_interval](const Req& req, Res& res, const Context* c) {
+    set_interval(req, c);
+    res.status = 303;
+    res.set_header("Location", "/admin/machines");
+  });
+  add({"GET", "/api/intervals", Role::Viewer, false, true, ""}, [this](const Req&, Res& res, const Context*) {
+    Json j = Json::array();
+    for (const auto& i : pool.lease()->machine_intervals())
+      j.push_back({{"machine", i.machine}, {"days", i.days}, {"set_by", i.set_by}, {"set_at", i.set_at}});
+    send_json(res, {{"default_days", opt.interval_days}, {"intervals", j}});
+  });
+  add({"POST", "/api/intervals", Role::Admin, false, true, ""}, [this, set_interval](const Req& req, Res& res, const Context* c) {
+    const auto [machine, days] = set_interval(req, c);
+    send_json(res, {{"machine", machine}, {"days", days == 0 ? opt.interval_days : days}, {"own", days != 0}});
   });
 
   add({"GET", "/admin/users", Role::Admin, false, false, ""}, [this, html](const Req&, Res& res, const Context* c) {

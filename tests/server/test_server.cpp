@@ -16,11 +16,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <thread>
 
 #include <gtest/gtest.h>
+#include <libpq-fe.h>
+
+#include <nlohmann/json.hpp>
 
 #include "mtcal/io/history/store.hpp"
 #include "mtcal/server/server.hpp"
@@ -126,6 +130,7 @@ class Serve : public ::testing::TestWithParam<std::string> {
     o.max_upload = max_upload;
     o.threads = 4;
     o.kdf_cost = KdfCost::Minimum;
+    o.tolerances = tolerances_;
     server_ = std::make_unique<Server>(o);
     port_ = server_->bind();
     thread_ = std::thread([this] { server_->run(); });
@@ -188,6 +193,7 @@ class Serve : public ::testing::TestWithParam<std::string> {
   std::thread thread_;
   int port_ = 0;
   std::vector<std::string> ids_;
+  std::vector<std::string> tolerances_;
 };
 
 // A request to a route as the tests send it: its example query, form fields, the CSRF token.
@@ -475,6 +481,141 @@ TEST_P(Serve, LoginThrottlingAndGarbageRequests) {
   }
   auto c = client();
   EXPECT_EQ(c.Get("/login")->status, 200);
+}
+
+// The fleet's ranking by hand: A_X <= 10 um. M1: 4 um (2026-01-10), 5 um (2026-06-10): half the
+// tolerance used, drifting 1 um per 151 days, so the line reaches 10 um 5 x 151 = 755 days after
+// 2026-06-10, on 2028-07-04. The machine named <script>: 6 um once, 60 % used, no line. It ranks
+// first (the larger share).
+TEST_P(Serve, FleetRanksByTheShareOfToleranceUsed) {
+  stop();
+  tolerances_ = {"A_X=10"};
+  start(65536);
+  const Login l = login("vera");
+  auto c = client();
+  const auto r = c.Get("/api/fleet", l.headers());
+  ASSERT_EQ(r->status, 200) << r->body;
+  const auto fleet = nlohmann::json::parse(r->body);
+  ASSERT_TRUE(fleet["ranked"].get<bool>());
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& m : fleet["machines"]) by[m["machine"].get<std::string>()] = m["rank"];
+  ASSERT_EQ(by.size(), 2u);
+  const auto& m1 = by["M1"];
+  const auto& x = by[kXss];
+  EXPECT_EQ(m1["rank"], 2);
+  EXPECT_EQ(x["rank"], 1);
+  EXPECT_NEAR(m1["utilisation"].get<double>(), 0.5, 1e-12);
+  EXPECT_NEAR(x["utilisation"].get<double>(), 0.6, 1e-12);
+  EXPECT_EQ(m1["drift"], "predicted");
+  EXPECT_EQ(x["drift"], "no_fit");
+  const std::string date = m1["out_of_tolerance_on"].get<std::string>();
+  EXPECT_TRUE(date.rfind("2028-07-04", 0) == 0 || date.rfind("2028-07-03T23:59", 0) == 0) << date;
+  EXPECT_NEAR(m1["quantities"][0]["rate_per_year"].get<double>(), 365.2425 / 151, 0.01);
+  // The page shows the columns, escaped.
+  const auto page = c.Get("/fleet", l.headers());
+  EXPECT_NE(page->body.find("Tolerance used (%)"), std::string::npos);
+  EXPECT_NE(page->body.find("<td class=\"num\">50</td>"), std::string::npos);
+  EXPECT_EQ(page->body.find("<script>alert"), std::string::npos);
+  // A new record changes the ranking (it is not served stale).
+  store_->record_by(sample("M1", "2026-09-10", 9.0), "eng");
+  const auto again = nlohmann::json::parse(c.Get("/api/fleet", l.headers())->body);
+  for (const auto& m : again["machines"])
+    if (m["machine"] == "M1") {
+      EXPECT_NEAR(m["rank"]["utilisation"].get<double>(), 0.9, 1e-12);
+    }
+}
+
+// Intervals per machine: an admin sets one (an audit row names them), the fleet's overdue
+// follows it, 0 returns to the default; a viewer cannot set one (the route walk checks roles).
+TEST_P(Serve, CalibrationIntervalsPerMachine) {
+  const Login admin = login("ada");
+  auto c = client();
+  const httplib::Headers h{{"Cookie", "mtcal_session=" + admin.cookie}, {"X-CSRF-Token", admin.csrf}};
+  auto fleet_m1 = [&] {
+    const auto fleet = nlohmann::json::parse(c.Get("/api/fleet", h)->body);
+    for (const auto& m : fleet["machines"])
+      if (m["machine"] == "M1") return m;
+    return nlohmann::json();
+  };
+  // Default 365 days: M1's 2026-06-10 is overdue only from 2027-06-10 on; the server's own age decides.
+  auto m1 = fleet_m1();
+  EXPECT_EQ(m1["interval_days"], 365);
+  EXPECT_FALSE(m1["interval_own"].get<bool>());
+  auto r = c.Post("/api/intervals", h, httplib::Params{{"machine", "M1"}, {"days", "1"}});
+  ASSERT_EQ(r->status, 200) << r->body;
+  m1 = fleet_m1();
+  EXPECT_EQ(m1["interval_days"], 1);
+  EXPECT_TRUE(m1["overdue"].get<bool>());  // measured 2026-06-10, more than a day ago
+  const auto audit = store_->audit("M1");
+  ASSERT_EQ(audit.size(), 1u);
+  EXPECT_EQ(audit[0].user, "ada");
+  EXPECT_EQ(audit[0].action, "interval");
+  EXPECT_EQ(c.Post("/api/intervals", h, httplib::Params{{"machine", "M1"}, {"days", "-3"}})->status, 400);
+  EXPECT_EQ(c.Post("/api/intervals", h, httplib::Params{{"machine", "M1"}, {"days", "1.5"}})->status, 400);
+  ASSERT_EQ(c.Post("/api/intervals", h, httplib::Params{{"machine", "M1"}, {"days", "0"}})->status, 200);
+  EXPECT_EQ(fleet_m1()["interval_days"], 365);
+  EXPECT_TRUE(store_->machine_intervals().empty());
+  // The admin page lists the machines, escaped.
+  const auto page = c.Get("/admin/machines", admin.headers());
+  ASSERT_EQ(page->status, 200);
+  EXPECT_EQ(page->body.find("<script>alert"), std::string::npos);
+}
+
+// The store lost in the middle of a request: the test holds an exclusive lock on the records
+// table, the server's confirmed upload waits for it inside its write, and the server's database
+// connection is ended (pg_terminate_backend, as when PostgreSQL restarts). The answer is 503 with
+// the reason, nothing is recorded, and the next requests are served on a new connection.
+TEST_P(Serve, StoreLostMidRequestIs503AndRecordsNothing) {
+  if (GetParam() != "postgresql") GTEST_SKIP() << "a connection ended mid-request needs the PostgreSQL server";
+  const Login l = login("eng");
+  const std::string content = read_file(data_file());
+  ASSERT_FALSE(content.empty());
+  PGconn* db = PQconnectdb(conn_.c_str());
+  ASSERT_EQ(PQstatus(db), CONNECTION_OK) << PQerrorMessage(db);
+  auto run = [&](const std::string& sql) {
+    PGresult* r = PQexec(db, sql.c_str());
+    const bool ok = PQresultStatus(r) == PGRES_COMMAND_OK || PQresultStatus(r) == PGRES_TUPLES_OK;
+    std::string first = ok && PQntuples(r) > 0 ? PQgetvalue(r, 0, 0) : "";
+    if (!ok) ADD_FAILURE() << sql << ": " << PQerrorMessage(db);
+    PQclear(r);
+    return first;
+  };
+  run("SET statement_timeout = '20s'");
+  run("BEGIN");
+  run("LOCK TABLE records IN ACCESS EXCLUSIVE MODE");
+  const std::size_t before = 3;
+  int status = 0;
+  std::string body;
+  std::thread upload([&] {
+    auto c = client();
+    httplib::MultipartFormDataItems items{{"machine", "M5", "", ""}, {"confirm", "1", "", ""},
+                                          {"file", content, "b02_x_axis.dat", "text/plain"}};
+    const auto answer = c.Post("/api/upload", {{"Cookie", "mtcal_session=" + l.cookie}, {"X-CSRF-Token", l.csrf}}, items);
+    if (answer) {
+      status = answer->status;
+      body = answer->body;
+    }
+  });
+  std::string pid;
+  for (int i = 0; i < 200 && pid.empty(); ++i) {
+    pid = run("SELECT pid FROM pg_stat_activity WHERE datname = current_database() AND wait_event_type = 'Lock' AND "
+              "pid <> pg_backend_pid()");
+    if (pid.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_FALSE(pid.empty()) << "the server's write never waited for the lock";
+  if (!pid.empty()) run("SELECT pg_terminate_backend(" + pid + ")");
+  upload.join();
+  run("ROLLBACK");
+  PQfinish(db);
+  EXPECT_EQ(status, 503) << body;
+  EXPECT_NE(body.find("the history store is unavailable"), std::string::npos) << body;
+  EXPECT_EQ(record_count(), before);
+  // Served on: the broken connection was dropped, a write succeeds.
+  auto c = client();
+  EXPECT_EQ(c.Get("/api/fleet", l.headers())->status, 200);
+  const auto ok = c.Post("/api/events", {{"Cookie", "mtcal_session=" + l.cookie}, {"X-CSRF-Token", l.csrf}},
+                         httplib::Params{{"machine", "M1"}, {"date", "2026-07-01"}, {"kind", "repair"}});
+  EXPECT_EQ(ok->status, 200) << ok->body;
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Serve, ::testing::Values("sqlite", "postgresql"),

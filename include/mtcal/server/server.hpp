@@ -19,7 +19,7 @@ struct ServerOptions {
   std::string tls_cert, tls_key;   // PEM files: HTTPS when both are given
   std::size_t max_upload = std::size_t{32} << 20;  // largest request body (bytes); larger: 413
   int session_hours = 12;                          // a session ends this long after login
-  int interval_days = 365;                         // a machine is overdue this long after its last calibration
+  int interval_days = 365;  // a machine is overdue this long after its last calibration (unless an admin set its own)
   int threads = 8;                                 // request threads (each with its own store connection)
   int login_attempts = 5;                          // failed logins per user or address before a lockout
   int lockout_seconds = 900;
@@ -27,6 +27,15 @@ struct ServerOptions {
   // login of an unknown user is checked against, so that it costs what a known user's does).
   // Minimum is for tests only.
   KdfCost kdf_cost = KdfCost::Interactive;
+  // The fleet's ranking columns (share of tolerance used, drift, predicted date out of
+  // tolerance): tolerances as `mtcal history rank` takes them, a tolerance file (acceptance YAML,
+  // docs/reports.md) and QUANTITY=VALUE or QUANTITY=LO:HI in the quantity's unit. Neither: no
+  // ranking. Read and checked when the server starts (InputError).
+  std::string tolerance_file;
+  std::vector<std::string> tolerances;
+  // Largest number of indexations of an uploaded probing-contacts file (the all-triples
+  // estimator takes C(n, 3) triples: 300 take about 1 s).
+  std::size_t max_indexations = 300;
 };
 
 // A route of the server: what the router registers and what the tests walk. pattern is the

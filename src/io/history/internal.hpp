@@ -57,6 +57,8 @@ class SqlHistoryStore : public HistoryStore {
   std::string add_event_by(Event e, const std::string& user) override;
   std::vector<AuditEntry> audit(const std::string& object_id) override;
   std::vector<LatestCalibration> latest_calibrations() override;
+  void set_machine_interval(const std::string& machine, int days, const std::string& user) override;
+  std::vector<MachineInterval> machine_intervals() override;
   void put_user(const UserAccount& u) override;
   std::optional<UserAccount> find_user(const std::string& name) override;
   std::vector<UserAccount> users() override;

@@ -75,7 +75,7 @@ const std::vector<Migration>& migrations() {
         "FROM figures) AS t WHERE rn = 1"}},
       // mtcal serve (docs/serve.md): its users, their sessions and who wrote which record or event.
       // New tables only: a store of version 2 reads as before.
-      {"users, sessions, audit (the accounts of mtcal serve), latest_records",
+      {"users, sessions, audit (the accounts of mtcal serve), latest_records, machine_intervals",
        {"CREATE TABLE users (name {T} PRIMARY KEY, role {T} NOT NULL, password_hash TEXT NOT NULL, "
         "created_at {T} NOT NULL)",
         "CREATE TABLE sessions (id_hash {T} PRIMARY KEY, user_name {T} NOT NULL REFERENCES users (name) ON DELETE "
@@ -92,7 +92,10 @@ const std::vector<Migration>& migrations() {
         "machine_name, command, id, measured_at, recorded_at, n FROM (SELECT machine_name, command, id, measured_at, "
         "recorded_at, COUNT(*) OVER (PARTITION BY machine_name, command) AS n, ROW_NUMBER() OVER (PARTITION BY "
         "machine_name, command ORDER BY measured_at DESC, recorded_at DESC, id DESC) AS rn FROM records) AS t WHERE "
-        "rn = 1"}},
+        "rn = 1",
+        // A calibration interval per machine (the fleet's overdue column), set by an admin.
+        "CREATE TABLE machine_intervals (machine_name {T} PRIMARY KEY, days INTEGER NOT NULL, set_by {T} NOT NULL, "
+        "set_at {T} NOT NULL)"}},
   };
   return kMigrations;
 }
@@ -563,6 +566,37 @@ std::vector<LatestCalibration> SqlHistoryStore::latest_calibrations() {
       "SELECT machine_name, command, record_id, measured_at, n FROM latest_records ORDER BY machine_name, command");
   for (const auto& row : rows)
     out.push_back({text_of(row[0]), text_of(row[1]), text_of(row[2]), text_of(row[3]), std::stoll(text_of(row[4]))});
+  return out;
+}
+
+void SqlHistoryStore::set_machine_interval(const std::string& machine, int days, const std::string& user) {
+  if (machine.empty()) throw InputError({"interval", 0, "machine"}, "expected a machine name, found none");
+  if (days < 0)
+    throw InputError({"interval", 0, "days"}, "expected a number of days >= 0 (0: the default), found " +
+                                                  std::to_string(days));
+  const std::string now = now_utc();
+  begin_write();
+  try {
+    if (days == 0)
+      exec("DELETE FROM machine_intervals WHERE machine_name = $1", {machine});
+    else
+      exec("INSERT INTO machine_intervals (machine_name, days, set_by, set_at) VALUES ($1, $2, $3, $4) ON CONFLICT "
+           "(machine_name) DO UPDATE SET days = excluded.days, set_by = excluded.set_by, set_at = excluded.set_at",
+           {machine, static_cast<long long>(days), user, now});
+    exec("INSERT INTO audit (id, at, user_name, action, object_id, detail) VALUES ($1, $2, $3, $4, $5, $6)",
+         {new_id(), now, user, std::string("interval"), machine,
+          days == 0 ? std::string("default interval") : std::to_string(days) + " days"});
+    commit();
+  } catch (...) {
+    rollback();
+    throw;
+  }
+}
+
+std::vector<MachineInterval> SqlHistoryStore::machine_intervals() {
+  std::vector<MachineInterval> out;
+  for (const auto& row : query("SELECT machine_name, days, set_by, set_at FROM machine_intervals ORDER BY machine_name"))
+    out.push_back({text_of(row[0]), static_cast<int>(std::stoll(text_of(row[1]))), text_of(row[2]), text_of(row[3])});
   return out;
 }
 

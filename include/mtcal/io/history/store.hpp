@@ -44,6 +44,14 @@ struct SessionEntry {
 struct AuditEntry {
   std::string id, at, user, action, object_id, detail;
 };
+// A machine's calibration interval: `mtcal serve` shows its calibrations as overdue this many
+// days after the latest of a kind (an admin sets it; machines without one use the server's
+// default). set_by/set_at: who set it and when.
+struct MachineInterval {
+  std::string machine;
+  int days = 0;
+  std::string set_by, set_at;
+};
 // A machine's latest calibration by one command: the fleet's "last calibration per kind".
 struct LatestCalibration {
   std::string machine, command, record_id, measured_at;
@@ -92,6 +100,11 @@ class HistoryStore {
   virtual std::vector<AuditEntry> audit(const std::string& object_id = {}) = 0;
   // Per machine and command the latest record (measured_at, then recorded_at, id) and the count.
   virtual std::vector<LatestCalibration> latest_calibrations() = 0;
+  // Sets (days > 0) or removes (days == 0) a machine's calibration interval, with an audit row
+  // (action "interval") naming the user, in one transaction. InputError for an empty machine
+  // name or days < 0. machine_intervals: every set interval, by machine.
+  virtual void set_machine_interval(const std::string& machine, int days, const std::string& user) = 0;
+  virtual std::vector<MachineInterval> machine_intervals() = 0;
 
   // Accounts (names compared byte-wise). put_user inserts or replaces a user's role and hash.
   virtual void put_user(const UserAccount& u) = 0;
