@@ -16,6 +16,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -72,6 +73,8 @@ struct Session {
 
 Session login(int port, const std::string& user, const std::string& password) {
   httplib::Client c("127.0.0.1", port);
+  c.set_connection_timeout(10, 0);  // bounded: a server that stops answering ends the run with errors
+  c.set_read_timeout(120, 0);
   const auto page = c.Get("/login");
   std::string token;
   for (const auto& [k, v] : page->headers)
@@ -123,6 +126,12 @@ int main(int argc, char** argv) {
   o.store = conn;
   o.port = 0;
   o.threads = 8;
+  // The fleet's ranking columns on (history rank over every machine's A_X), as a plant would run
+  // it; MTCAL_LOAD_TOLERANCE= (empty) turns them off.
+  const char* tol = std::getenv("MTCAL_LOAD_TOLERANCE");
+  const std::string tolerance = tol ? tol : "A_X=30";
+  if (!tolerance.empty()) o.tolerances = {tolerance};
+  std::printf("fleet ranking: %s\n", tolerance.empty() ? "off" : ("--tolerance " + tolerance).c_str());
   server::Server srv(o);
   const int port = srv.bind();
   std::thread runner([&] { srv.run(); });
@@ -131,6 +140,8 @@ int main(int argc, char** argv) {
   const Session main_session = login(port, "load", "load-test-password");
   auto timed = [&](const std::string& path, int n, const Session* s) {
     httplib::Client c("127.0.0.1", port);
+    c.set_connection_timeout(10, 0);
+    c.set_read_timeout(120, 0);
     std::vector<double> ms;
     httplib::Headers h;
     if (s) h = {{"Cookie", "mtcal_session=" + s->cookie}};
@@ -161,6 +172,7 @@ int main(int argc, char** argv) {
     threads.emplace_back([&, t] {
       const Session s = login(port, "load", "load-test-password");
       httplib::Client c("127.0.0.1", port);
+      c.set_connection_timeout(10, 0);
       c.set_read_timeout(120, 0);
       const httplib::Headers h{{"Cookie", "mtcal_session=" + s.cookie}, {"X-CSRF-Token", s.csrf}};
       std::map<std::string, std::vector<double>> mine;

@@ -1,10 +1,10 @@
 // mtcal serve in headless Chromium (Debian's, driven by playwright-core from web/): log in,
 // upload the real ISO 230-2 file, confirm, see the machine on the fleet page, add an event, open
-// the timeline, log out; every page at 1280x800 and at a phone's 390x844 without horizontal
+// the timeline, write compensation (the zip download), log out; every page at 1280x800 and at a phone's 390x844 without horizontal
 // overflow and without JavaScript errors; screenshots into SHOTS.
-// Usage: node serve_browser.mjs BASE_URL USER PASSWORD DATA_FILE SHOTS
+// Usage: node serve_browser.mjs BASE_URL USER PASSWORD DATA_FILE SHOTS MACHINE_FILE
 // Exit 77 (ctest SKIPPED) when Chromium or playwright-core is missing.
-import { existsSync, mkdirSync, mkdtempSync } from 'node:fs';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
@@ -22,7 +22,7 @@ try {
   console.log(`SKIPPED: playwright-core is not installed (npm ci in web/): ${e.message}`);
   process.exit(77);
 }
-const [base, user, password, dataFile, shots] = process.argv.slice(2);
+const [base, user, password, dataFile, shots, machineFile] = process.argv.slice(2);
 mkdirSync(shots, { recursive: true });
 let passed = 0, failed = 0;
 const check = (cond, what) => { if (cond) passed++; else { failed++; console.log(`FAIL: ${what}`); } };
@@ -92,6 +92,15 @@ try {
   const events = await page.textContent('#events');
   check((events || '').includes('table <v2> loaded'), `the event is not listed: ${events}`);
   await fits('machine');
+  // write compensation: the form's download is a zip (local file header "PK\x03\x04") named after
+  // the machine and the controller, holding LinuxCNC's tables.
+  await page.setInputFiles('#comp-machine', machineFile);
+  await page.selectOption('#comp-format', 'linuxcnc');
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#comp-write')]);
+  const zip = readFileSync(await download.path());
+  check(zip.subarray(0, 4).toString('latin1') === 'PK\x03\x04', 'the compensation download is not a zip');
+  check(/-linuxcnc\.zip$/.test(download.suggestedFilename()), `download named ${download.suggestedFilename()}`);
+  check(zip.includes('.comp') || zip.includes('.ini') || zip.includes('.hal'), 'the zip names no LinuxCNC file');
 
   await page.click('#trend-link');
   await page.waitForSelector('.js-plotly-plot .main-svg');
