@@ -430,9 +430,10 @@ TEST(SqliteStore, MigrationFromVersion1FillsLatestValues) {
   }
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE latest_values; DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; "
-                             "DROP TABLE users; DELETE FROM schema_version WHERE version >= 2", nullptr, nullptr,
-                         nullptr),
+  ASSERT_EQ(sqlite3_exec(db,
+                         "DROP TABLE latest_values; DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; "
+                         "DROP TABLE users; DROP TABLE machine_intervals; DELETE FROM schema_version WHERE version >= 2",
+                         nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
   auto s = open_history_store(path);
@@ -446,7 +447,7 @@ TEST(SqliteStore, MigrationFromVersion1FillsLatestValues) {
 }
 
 // A store of schema version 2 (before mtcal serve's accounts) opens, gains the users, sessions
-// and audit tables, and its records read back unchanged.
+// and audit tables (and machine_intervals), and its records read back unchanged.
 TEST(SqliteStore, MigrationFromVersion2KeepsRecordsAndAddsAccounts) {
   TempDir d;
   const auto path = (d.path / "v2.db").string();
@@ -459,9 +460,9 @@ TEST(SqliteStore, MigrationFromVersion2KeepsRecordsAndAddsAccounts) {
   }
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; DROP TABLE users; DELETE FROM "
-                             "schema_version "
-                             "WHERE version = 3",
+  ASSERT_EQ(sqlite3_exec(db,
+                         "DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; DROP TABLE users; "
+                         "DROP TABLE machine_intervals; DELETE FROM schema_version WHERE version = 3",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -477,6 +478,18 @@ TEST(SqliteStore, MigrationFromVersion2KeepsRecordsAndAddsAccounts) {
   s->put_user({"ann", "admin", "$argon2id$x", ""});
   ASSERT_TRUE(s->find_user("ann"));
   EXPECT_EQ(s->find_user("ann")->role, "admin");
+  // Intervals per machine: set (with an audit row naming the user), replaced, removed.
+  EXPECT_TRUE(s->machine_intervals().empty());
+  s->set_machine_interval("M1", 180, "ann");
+  s->set_machine_interval("M1", 90, "ann");
+  ASSERT_EQ(s->machine_intervals().size(), 1u);
+  EXPECT_EQ(s->machine_intervals()[0].days, 90);
+  EXPECT_EQ(s->machine_intervals()[0].set_by, "ann");
+  EXPECT_EQ(s->audit("M1").size(), 2u);
+  EXPECT_THROW(s->set_machine_interval("M1", -1, "ann"), InputError);
+  EXPECT_THROW(s->set_machine_interval("", 10, "ann"), InputError);
+  s->set_machine_interval("M1", 0, "ann");
+  EXPECT_TRUE(s->machine_intervals().empty());
 }
 
 TEST(SqliteStore, UnopenableAndNotADatabase) {

@@ -102,6 +102,19 @@ try {
   check(/-linuxcnc\.zip$/.test(download.suggestedFilename()), `download named ${download.suggestedFilename()}`);
   check(zip.includes('.comp') || zip.includes('.ini') || zip.includes('.hal'), 'the zip names no LinuxCNC file');
 
+  // An admin sets the machine's calibration interval; the fleet shows it as the machine's own.
+  await page.goto(`${base}/admin/machines`);
+  await page.selectOption('#interval-machine', 'B02 <test stand>');
+  await page.fill('#interval-days', '90');
+  await Promise.all([page.waitForNavigation(), page.click('#interval-save')]);
+  const intervals = await page.textContent('#intervals');
+  check(/B02 <test stand>\s*90/.test(intervals || ''), `the interval is not listed: ${intervals}`);
+  await fits('intervals');
+  await page.goto(`${base}/fleet`);
+  check(/\b90\b/.test((await page.textContent('#fleet')) || ''), 'the fleet does not show the interval of 90 days');
+  await page.click('text=B02 <test stand>');
+  await page.waitForSelector('#trend-link');
+
   await page.click('#trend-link');
   await page.waitForSelector('.js-plotly-plot .main-svg');
   // The trend report is the HTML report of `history trend --report`, laid out for 1280x800 (as
