@@ -111,7 +111,8 @@ try {
   check(/B02 <test stand>\s*90/.test(intervals || ''), `the interval is not listed: ${intervals}`);
   await fits('intervals');
   await page.goto(`${base}/fleet`);
-  check(/\b90\b/.test((await page.textContent('#fleet')) || ''), 'the fleet does not show the interval of 90 days');
+  const cells = await page.$$eval('#fleet td', (tds) => tds.map((td) => td.textContent.trim()));
+  check(cells.includes('90'), `the fleet does not show the interval of 90 days: ${cells.join(' | ')}`);
   await page.click('text=B02 <test stand>');
   await page.waitForSelector('#trend-link');
 

@@ -34,7 +34,7 @@ start_server() {
 start_server
 base="http://127.0.0.1:$port"
 
-timeout 240 node "$(dirname "$0")/serve_browser.mjs" "$base" ada browser-test-pass "$DATA" "$SHOTS" "$MACHINE" >"$tmp/browser" 2>&1
+timeout 480 node "$(dirname "$0")/serve_browser.mjs" "$base" ada browser-test-pass "$DATA" "$SHOTS" "$MACHINE" >"$tmp/browser" 2>&1
 rc=$?
 cat "$tmp/browser"
 if [ $rc -eq 77 ]; then kill "$pid"; wait "$pid"; echo "SKIPPED: browser part"; exit 77; fi
