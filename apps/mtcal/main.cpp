@@ -39,6 +39,11 @@
 using namespace mtcal;
 using namespace mtcal::cli;
 
+namespace mtcal::cli {
+// The browser front end on a history store: serve (cmd_serve.cpp).
+std::vector<Command> add_serve_commands(CLI::App& app);
+}  // namespace mtcal::cli
+
 namespace {
 
 std::string fmt_num(double v) { return format_number(v); }
@@ -373,7 +378,7 @@ std::vector<Command> add_commands(CLI::App& app) {
   std::vector<Command> all{add_eval_command(app), add_errors_command(app), add_effects_command(app)};
   for (auto* add : {add_probing_commands, add_evaluation_commands, add_fit_motion_commands, add_compare_commands,
                     add_volumetric_commands, add_toolpath_commands, add_compensation_commands, add_prediction_commands,
-                    add_identification_commands, add_planning_commands, add_history_commands})
+                    add_identification_commands, add_planning_commands, add_history_commands, add_serve_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
   // history diff, trend, rank beside the store's list, show, import, export, event add.
   for (auto& c : add_history_analysis_commands(*history_app())) all.push_back(std::move(c));

@@ -221,8 +221,10 @@ json series_plot(const QuantityTrend& q, const std::vector<Event>& events, std::
 
 }  // namespace
 
-void write_trend_report(const std::string& path, const std::string& command, const MachineTrends& m,
-                        const std::vector<CalibrationRecord>& records, const std::string& store) {
+namespace {
+
+Report trend_report(const std::string& command, const MachineTrends& m, const std::vector<CalibrationRecord>& records,
+                    const std::string& store) {
   Report r("Calibration history: " + m.machine, command);
   r.set_metadata({});  // the calibrations' metadata is a table of its own below
   r.set_machine_label(m.serial.empty() ? m.machine : m.machine + " (serial " + m.serial + ")");
@@ -303,7 +305,20 @@ void write_trend_report(const std::string& path, const std::string& command, con
     rows.push_back(std::move(row));
   }
   r.add_table("Calibrations of the machine and their metadata", columns, rows);
-  r.write(path);
+  return r;
+}
+
+}  // namespace
+
+void write_trend_report(const std::string& path, const std::string& command, const MachineTrends& m,
+                        const std::vector<CalibrationRecord>& records, const std::string& store) {
+  trend_report(command, m, records, store).write(path);
+}
+
+std::string trend_report_html(const std::string& command, const MachineTrends& m,
+                              const std::vector<CalibrationRecord>& records, const std::string& store,
+                              const std::string& date) {
+  return trend_report(command, m, records, store).html(date);
 }
 
 }  // namespace mtcal

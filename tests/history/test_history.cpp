@@ -324,6 +324,62 @@ TEST_P(Store, ExportImportIsLossless) {
   EXPECT_EQ(other->list().size(), 30u);
 }
 
+// mtcal serve's accounts (schema 3): users, sessions that expire, writes with their author in
+// the audit; names full of SQL metacharacters are stored and found as text (bound parameters).
+TEST_P(Store, AccountsSessionsAndAudit) {
+  const std::string evil = "o'brien\"; DROP TABLE records; --";
+  store_->put_user({evil, "engineer", "hash1", ""});
+  store_->put_user({"ann", "admin", "hash2", ""});
+  store_->put_user({evil, "viewer", "hash3", ""});  // replaces role and hash
+  const auto u = store_->find_user(evil);
+  ASSERT_TRUE(u);
+  EXPECT_EQ(u->role, "viewer");
+  EXPECT_EQ(u->password_hash, "hash3");
+  EXPECT_FALSE(store_->find_user("o'brien"));
+  EXPECT_EQ(store_->users().size(), 2u);
+
+  store_->put_session({"h1", evil, "csrf1", "2026-01-01T00:00:00.000Z", "2026-01-02T00:00:00.000Z"});
+  EXPECT_TRUE(store_->find_session("h1", "2026-01-01T12:00:00.000Z"));
+  EXPECT_FALSE(store_->find_session("h1", "2026-01-02T00:00:00.000Z"));  // expired
+  EXPECT_FALSE(store_->find_session("h1' OR '1'='1", "2026-01-01T12:00:00.000Z"));
+  EXPECT_TRUE(store_->remove_session("h1"));
+  EXPECT_FALSE(store_->find_session("h1", "2026-01-01T12:00:00.000Z"));
+  store_->put_session({"h2", "ann", "c", "2026-01-01T00:00:00.000Z", "2026-01-02T00:00:00.000Z"});
+  EXPECT_EQ(store_->remove_expired_sessions("2026-01-03T00:00:00.000Z"), 1);
+
+  auto r = sample(evil, "2026-01-01", 1);
+  const std::string id = store_->record_by(r, evil);
+  EXPECT_EQ(store_->record_by(r, "ann"), id);  // a duplicate: no second audit row
+  const std::string ev = store_->add_event_by({"", evil, "2026-01-05", EventKind::Crash, "<script>x</script>"}, "ann");
+  const auto a = store_->audit();
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0].user, evil);
+  EXPECT_EQ(a[0].action, "record");
+  EXPECT_EQ(a[0].object_id, id);
+  EXPECT_EQ(a[1].user, "ann");
+  EXPECT_EQ(a[1].object_id, ev);
+  EXPECT_EQ(store_->audit(ev).size(), 1u);
+  EXPECT_EQ(store_->machines(), std::vector<std::string>{evil});
+  EXPECT_EQ(store_->events(evil).at(0).note, "<script>x</script>");
+
+  store_->record(sample(evil, "2026-03-01", 2));
+  store_->record(sample("M2", "2026-02-01", 3));
+  const auto latest = store_->latest_calibrations();
+  ASSERT_EQ(latest.size(), 2u);
+  EXPECT_EQ(latest[0].machine, "M2");
+  EXPECT_EQ(latest[1].machine, evil);
+  EXPECT_EQ(latest[1].count, 2);
+  EXPECT_EQ(latest[1].measured_at, "2026-03-01");
+  // Removing the latest record brings back the one before it, and the count.
+  ASSERT_TRUE(store_->remove(latest[1].record_id));
+  const auto after = store_->latest_calibrations();
+  ASSERT_EQ(after.size(), 2u);
+  EXPECT_EQ(after[1].record_id, id);
+  EXPECT_EQ(after[1].count, 1);
+  ASSERT_TRUE(store_->remove(id));
+  EXPECT_EQ(store_->latest_calibrations().size(), 1u);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, Store, ::testing::Values("sqlite", "postgresql"),
                          [](const auto& p) { return p.param == "sqlite" ? "SQLite" : "PostgreSQL"; });
 
@@ -344,9 +400,9 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     return out;
   };
   EXPECT_EQ(text("PRAGMA journal_mode"), "wal");
-  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2");
+  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2,3");
   EXPECT_EQ(text("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'parameters_fleet'"), "1");
-  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (3, '2030-01-01T00:00:00Z', 'future')", nullptr,
+  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (4, '2030-01-01T00:00:00Z', 'future')", nullptr,
                          nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -354,7 +410,7 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     open_history_store("sqlite:" + path);
     ADD_FAILURE() << "a store of a newer schema was opened";
   } catch (const StoreError& e) {
-    EXPECT_NE(std::string(e.what()).find("schema version 3, newer than this program's 2"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("schema version 4, newer than this program's 3"), std::string::npos)
         << e.what();
   }
 }
@@ -374,18 +430,66 @@ TEST(SqliteStore, MigrationFromVersion1FillsLatestValues) {
   }
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE latest_values; DELETE FROM schema_version WHERE version = 2", nullptr, nullptr,
-                         nullptr),
+  ASSERT_EQ(sqlite3_exec(db,
+                         "DROP TABLE latest_values; DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; "
+                         "DROP TABLE users; DROP TABLE machine_intervals; DELETE FROM schema_version WHERE version >= 2",
+                         nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
   auto s = open_history_store(path);
-  EXPECT_EQ(s->schema_version(), 2);
+  EXPECT_EQ(s->schema_version(), kHistorySchemaVersion);
   const auto after = s->latest_parameter("EXX");
   ASSERT_EQ(after.size(), 2u);
   EXPECT_EQ(after[0].sample.value, 3.0);
   EXPECT_EQ(after[0].sample.record_id, before[0].sample.record_id);
   EXPECT_EQ(after[1].sample.value, 2.0);
   EXPECT_EQ(s->latest_figure("VA")[0].sample.value, 13.0);
+}
+
+// A store of schema version 2 (before mtcal serve's accounts) opens, gains the users, sessions
+// and audit tables (and machine_intervals), and its records read back unchanged.
+TEST(SqliteStore, MigrationFromVersion2KeepsRecordsAndAddsAccounts) {
+  TempDir d;
+  const auto path = (d.path / "v2.db").string();
+  std::vector<CalibrationRecord> before;
+  {
+    auto s = open_history_store(path);
+    s->record(sample("M1", "2026-01-01", 1, 1));
+    s->record(sample("M2", "2026-02-01", 2, 3));
+    before = s->list();
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db,
+                         "DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; DROP TABLE users; "
+                         "DROP TABLE machine_intervals; DELETE FROM schema_version WHERE version = 3",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  auto s = open_history_store(path);
+  EXPECT_EQ(s->schema_version(), 3);
+  EXPECT_EQ(s->list(), before);
+  EXPECT_TRUE(s->users().empty());
+  const auto latest = s->latest_calibrations();  // filled from the records by the migration
+  ASSERT_EQ(latest.size(), 2u);
+  EXPECT_EQ(latest[0].machine, "M1");
+  EXPECT_EQ(latest[0].record_id, before[0].id);
+  EXPECT_EQ(latest[0].count, 1);
+  s->put_user({"ann", "admin", "$argon2id$x", ""});
+  ASSERT_TRUE(s->find_user("ann"));
+  EXPECT_EQ(s->find_user("ann")->role, "admin");
+  // Intervals per machine: set (with an audit row naming the user), replaced, removed.
+  EXPECT_TRUE(s->machine_intervals().empty());
+  s->set_machine_interval("M1", 180, "ann");
+  s->set_machine_interval("M1", 90, "ann");
+  ASSERT_EQ(s->machine_intervals().size(), 1u);
+  EXPECT_EQ(s->machine_intervals()[0].days, 90);
+  EXPECT_EQ(s->machine_intervals()[0].set_by, "ann");
+  EXPECT_EQ(s->audit("M1").size(), 2u);
+  EXPECT_THROW(s->set_machine_interval("M1", -1, "ann"), InputError);
+  EXPECT_THROW(s->set_machine_interval("", 10, "ann"), InputError);
+  s->set_machine_interval("M1", 0, "ann");
+  EXPECT_TRUE(s->machine_intervals().empty());
 }
 
 TEST(SqliteStore, UnopenableAndNotADatabase) {

@@ -17,5 +17,9 @@ namespace mtcal {
 // store's description, shown in the summary block.
 void write_trend_report(const std::string& path, const std::string& command, const MachineTrends& m,
                         const std::vector<CalibrationRecord>& records, const std::string& store);
+// The same page as text, dated `date` (mtcal serve shows it live; no file, no static copies).
+std::string trend_report_html(const std::string& command, const MachineTrends& m,
+                              const std::vector<CalibrationRecord>& records, const std::string& store,
+                              const std::string& date);
 
 }  // namespace mtcal

@@ -53,6 +53,19 @@ class SqlHistoryStore : public HistoryStore {
   std::string add_event(Event e) override;
   std::vector<Event> events(const std::string& machine) override;
   int schema_version() override;
+  std::string record_by(CalibrationRecord r, const std::string& user) override;
+  std::string add_event_by(Event e, const std::string& user) override;
+  std::vector<AuditEntry> audit(const std::string& object_id) override;
+  std::vector<LatestCalibration> latest_calibrations() override;
+  void set_machine_interval(const std::string& machine, int days, const std::string& user) override;
+  std::vector<MachineInterval> machine_intervals() override;
+  void put_user(const UserAccount& u) override;
+  std::optional<UserAccount> find_user(const std::string& name) override;
+  std::vector<UserAccount> users() override;
+  void put_session(const SessionEntry& s) override;
+  std::optional<SessionEntry> find_session(const std::string& id_hash, const std::string& now) override;
+  bool remove_session(const std::string& id_hash) override;
+  long long remove_expired_sessions(const std::string& now) override;
   std::vector<std::string> record_all(std::vector<CalibrationRecord> records, std::vector<Event> events,
                                       std::vector<std::size_t>* skipped) override;
 
@@ -80,6 +93,9 @@ class SqlHistoryStore : public HistoryStore {
   std::vector<LatestValue> latest(const char* kind, const std::string& name);
   void insert_rows(const std::string& head, std::size_t columns, const std::vector<SqlParam>& values,
                    const std::string& tail = {});
+  // record_all, with an audit row per inserted record and event when author is given.
+  std::vector<std::string> write_all(std::vector<CalibrationRecord> records, std::vector<Event> events,
+                                     std::vector<std::size_t>* skipped, const std::string* author);
   std::vector<CalibrationRecord> load_records(const std::string& where, const std::vector<SqlParam>& params);
 };
 

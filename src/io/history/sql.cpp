@@ -73,6 +73,29 @@ const std::vector<Migration>& migrations() {
         "FROM (SELECT name, machine_name, record_id, measured_at, recorded_at, value, uncertainty, unit, ROW_NUMBER() "
         "OVER (PARTITION BY name, machine_name ORDER BY measured_at DESC, recorded_at DESC, record_id DESC) AS rn "
         "FROM figures) AS t WHERE rn = 1"}},
+      // mtcal serve (docs/serve.md): its users, their sessions and who wrote which record or event.
+      // New tables only: a store of version 2 reads as before.
+      {"users, sessions, audit (the accounts of mtcal serve), latest_records, machine_intervals",
+       {"CREATE TABLE users (name {T} PRIMARY KEY, role {T} NOT NULL, password_hash TEXT NOT NULL, "
+        "created_at {T} NOT NULL)",
+        "CREATE TABLE sessions (id_hash {T} PRIMARY KEY, user_name {T} NOT NULL REFERENCES users (name) ON DELETE "
+        "CASCADE, csrf_token {T} NOT NULL, created_at {T} NOT NULL, expires_at {T} NOT NULL)",
+        "CREATE INDEX sessions_expiry ON sessions (expires_at)",
+        "CREATE TABLE audit (id {T} PRIMARY KEY, at {T} NOT NULL, user_name {T} NOT NULL, action {T} NOT NULL, "
+        "object_id {T} NOT NULL, detail TEXT NOT NULL)",
+        "CREATE INDEX audit_object ON audit (object_id)",
+        // The fleet page's "latest calibration per machine and command" was a window query over
+        // every record (3 s for 120,000 on a loaded 2-core machine): kept by every write instead.
+        "CREATE TABLE latest_records (machine_name {T} NOT NULL, command {T} NOT NULL, record_id {T} NOT NULL, "
+        "measured_at {T} NOT NULL, recorded_at {T} NOT NULL, n INTEGER NOT NULL, PRIMARY KEY (machine_name, command))",
+        "INSERT INTO latest_records (machine_name, command, record_id, measured_at, recorded_at, n) SELECT "
+        "machine_name, command, id, measured_at, recorded_at, n FROM (SELECT machine_name, command, id, measured_at, "
+        "recorded_at, COUNT(*) OVER (PARTITION BY machine_name, command) AS n, ROW_NUMBER() OVER (PARTITION BY "
+        "machine_name, command ORDER BY measured_at DESC, recorded_at DESC, id DESC) AS rn FROM records) AS t WHERE "
+        "rn = 1",
+        // A calibration interval per machine (the fleet's overdue column), set by an admin.
+        "CREATE TABLE machine_intervals (machine_name {T} PRIMARY KEY, days INTEGER NOT NULL, set_by {T} NOT NULL, "
+        "set_at {T} NOT NULL)"}},
   };
   return kMigrations;
 }
@@ -335,6 +358,11 @@ void SqlHistoryStore::insert_rows(const std::string& head, std::size_t columns, 
 
 std::vector<std::string> SqlHistoryStore::record_all(std::vector<CalibrationRecord> records, std::vector<Event> evs,
                                                      std::vector<std::size_t>* skipped) {
+  return write_all(std::move(records), std::move(evs), skipped, nullptr);
+}
+
+std::vector<std::string> SqlHistoryStore::write_all(std::vector<CalibrationRecord> records, std::vector<Event> evs,
+                                                    std::vector<std::size_t>* skipped, const std::string* author) {
   const std::string now = now_utc();
   for (auto& r : records) {
     check_record(r);
@@ -387,6 +415,7 @@ std::vector<std::string> SqlHistoryStore::record_all(std::vector<CalibrationReco
       }
     }
     std::vector<SqlParam> params, figs;
+    std::vector<bool> fresh(records.size(), false);  // inserted now (an import may repeat a stored id)
     for (std::size_t i = 0; i < records.size(); ++i) {
       const auto& r = records[i];
       if (!inserted.erase(r.id)) {  // skipped: a duplicate (or the second of two equal ones here)
@@ -398,6 +427,7 @@ std::vector<std::string> SqlHistoryStore::record_all(std::vector<CalibrationReco
         continue;
       }
       ids[i] = r.id;
+      fresh[i] = true;
       long long pos = 0;
       for (const auto& p : r.parameters)
         for (SqlParam v : {SqlParam(r.id), SqlParam(pos++), SqlParam(r.machine_name), SqlParam(r.measured_at),
@@ -450,18 +480,197 @@ std::vector<std::string> SqlHistoryStore::record_all(std::vector<CalibrationReco
         "(excluded.measured_at = latest_values.measured_at AND (excluded.recorded_at > "
         "latest_values.recorded_at OR (excluded.recorded_at = latest_values.recorded_at AND excluded.record_id "
         "> latest_values.record_id)))");
+    // Each machine's latest record per command and the count: one row per key of this batch.
+    std::map<std::pair<std::string, std::string>, std::pair<const CalibrationRecord*, long long>> per_kind;
+    for (std::size_t i = 0; i < records.size(); ++i) {
+      if (!fresh[i]) continue;  // skipped
+      const auto& r = records[i];
+      auto& slot = per_kind[{r.machine_name, r.command}];
+      if (!slot.first || std::tie(r.measured_at, r.recorded_at, r.id) >
+                             std::tie(slot.first->measured_at, slot.first->recorded_at, slot.first->id))
+        slot.first = &r;
+      ++slot.second;
+    }
+    std::vector<SqlParam> kind_rows;
+    for (const auto& [key, v] : per_kind)
+      for (SqlParam x : {SqlParam(key.first), SqlParam(key.second), SqlParam(v.first->id),
+                         SqlParam(v.first->measured_at), SqlParam(v.first->recorded_at), SqlParam(v.second)})
+        kind_rows.push_back(std::move(x));
+    constexpr const char* kNewer =
+        "(excluded.measured_at > latest_records.measured_at OR (excluded.measured_at = latest_records.measured_at AND "
+        "(excluded.recorded_at > latest_records.recorded_at OR (excluded.recorded_at = latest_records.recorded_at AND "
+        "excluded.record_id > latest_records.record_id))))";
+    insert_rows("INSERT INTO latest_records (machine_name, command, record_id, measured_at, recorded_at, n)", 6,
+                kind_rows,
+                fmt::format(" ON CONFLICT (machine_name, command) DO UPDATE SET n = latest_records.n + excluded.n, "
+                            "record_id = CASE WHEN {0} THEN excluded.record_id ELSE latest_records.record_id END, "
+                            "measured_at = CASE WHEN {0} THEN excluded.measured_at ELSE latest_records.measured_at END, "
+                            "recorded_at = CASE WHEN {0} THEN excluded.recorded_at ELSE latest_records.recorded_at END",
+                            kNewer));
     std::vector<SqlParam> ev;
     for (const auto& e : evs)
       for (SqlParam v : {SqlParam(e.id), SqlParam(e.machine), SqlParam(e.date),
                          SqlParam(std::string(to_string(e.kind))), SqlParam(e.note)})
         ev.push_back(std::move(v));
     insert_rows("INSERT INTO events (id, machine, date, kind, note)", 5, ev, " ON CONFLICT DO NOTHING");
+    if (author) {
+      std::vector<SqlParam> rows;
+      auto audit_row = [&](const char* action, const std::string& id, std::string detail) {
+        for (SqlParam v : {SqlParam(new_id()), SqlParam(now), SqlParam(*author), SqlParam(std::string(action)),
+                           SqlParam(id), SqlParam(std::move(detail))})
+          rows.push_back(std::move(v));
+      };
+      for (std::size_t i = 0; i < records.size(); ++i)
+        if (fresh[i]) audit_row("record", ids[i], records[i].command + " " + records[i].machine_name);
+      for (const auto& e : evs) audit_row("event", e.id, std::string(to_string(e.kind)) + " " + e.machine);
+      insert_rows("INSERT INTO audit (id, at, user_name, action, object_id, detail)", 6, rows);
+    }
     commit();
   } catch (...) {
     rollback();
     throw;
   }
   return ids;
+}
+
+std::string SqlHistoryStore::record_by(CalibrationRecord r, const std::string& user) {
+  std::vector<CalibrationRecord> one;
+  one.push_back(std::move(r));
+  return write_all(std::move(one), {}, nullptr, &user).front();
+}
+
+std::string SqlHistoryStore::add_event_by(Event e, const std::string& user) {
+  check_event(e);
+  if (e.id.empty()) e.id = new_id();
+  const std::string id = e.id;
+  write_all({}, {std::move(e)}, nullptr, &user);
+  return id;
+}
+
+std::vector<AuditEntry> SqlHistoryStore::audit(const std::string& object_id) {
+  std::vector<AuditEntry> out;
+  const auto rows = object_id.empty()
+                        ? query("SELECT id, at, user_name, action, object_id, detail FROM audit ORDER BY at, id")
+                        : query("SELECT id, at, user_name, action, object_id, detail FROM audit WHERE object_id = $1 "
+                                "ORDER BY at, id",
+                                {object_id});
+  for (const auto& row : rows)
+    out.push_back({text_of(row[0]), text_of(row[1]), text_of(row[2]), text_of(row[3]), text_of(row[4]),
+                   text_of(row[5])});
+  return out;
+}
+
+std::vector<LatestCalibration> SqlHistoryStore::latest_calibrations() {
+  std::vector<LatestCalibration> out;
+  const auto rows = query(
+      "SELECT machine_name, command, record_id, measured_at, n FROM latest_records ORDER BY machine_name, command");
+  for (const auto& row : rows)
+    out.push_back({text_of(row[0]), text_of(row[1]), text_of(row[2]), text_of(row[3]), std::stoll(text_of(row[4]))});
+  return out;
+}
+
+void SqlHistoryStore::set_machine_interval(const std::string& machine, int days, const std::string& user) {
+  if (machine.empty()) throw InputError({"interval", 0, "machine"}, "expected a machine name, found none");
+  if (days < 0)
+    throw InputError({"interval", 0, "days"}, "expected a number of days >= 0 (0: the default), found " +
+                                                  std::to_string(days));
+  const std::string now = now_utc();
+  begin_write();
+  try {
+    if (days == 0)
+      exec("DELETE FROM machine_intervals WHERE machine_name = $1", {machine});
+    else
+      exec("INSERT INTO machine_intervals (machine_name, days, set_by, set_at) VALUES ($1, $2, $3, $4) ON CONFLICT "
+           "(machine_name) DO UPDATE SET days = excluded.days, set_by = excluded.set_by, set_at = excluded.set_at",
+           {machine, static_cast<long long>(days), user, now});
+    exec("INSERT INTO audit (id, at, user_name, action, object_id, detail) VALUES ($1, $2, $3, $4, $5, $6)",
+         {new_id(), now, user, std::string("interval"), machine,
+          days == 0 ? std::string("default interval") : std::to_string(days) + " days"});
+    commit();
+  } catch (...) {
+    rollback();
+    throw;
+  }
+}
+
+std::vector<MachineInterval> SqlHistoryStore::machine_intervals() {
+  std::vector<MachineInterval> out;
+  for (const auto& row : query("SELECT machine_name, days, set_by, set_at FROM machine_intervals ORDER BY machine_name"))
+    out.push_back({text_of(row[0]), static_cast<int>(std::stoll(text_of(row[1]))), text_of(row[2]), text_of(row[3])});
+  return out;
+}
+
+void SqlHistoryStore::put_user(const UserAccount& u) {
+  if (u.name.empty()) throw InputError({"user", 0, "name"}, "expected a user name, found none");
+  begin_write();
+  try {
+    exec("INSERT INTO users (name, role, password_hash, created_at) VALUES ($1, $2, $3, $4) ON CONFLICT (name) DO "
+         "UPDATE SET role = excluded.role, password_hash = excluded.password_hash",
+         {u.name, u.role, u.password_hash, u.created_at.empty() ? now_utc() : u.created_at});
+    commit();
+  } catch (...) {
+    rollback();
+    throw;
+  }
+}
+
+std::optional<UserAccount> SqlHistoryStore::find_user(const std::string& name) {
+  const auto rows = query("SELECT name, role, password_hash, created_at FROM users WHERE name = $1", {name});
+  if (rows.empty()) return std::nullopt;
+  return UserAccount{text_of(rows[0][0]), text_of(rows[0][1]), text_of(rows[0][2]), text_of(rows[0][3])};
+}
+
+std::vector<UserAccount> SqlHistoryStore::users() {
+  std::vector<UserAccount> out;
+  for (const auto& row : query("SELECT name, role, password_hash, created_at FROM users ORDER BY name"))
+    out.push_back({text_of(row[0]), text_of(row[1]), text_of(row[2]), text_of(row[3])});
+  return out;
+}
+
+void SqlHistoryStore::put_session(const SessionEntry& s) {
+  begin_write();
+  try {
+    exec("INSERT INTO sessions (id_hash, user_name, csrf_token, created_at, expires_at) VALUES ($1, $2, $3, $4, $5)",
+         {s.id_hash, s.user, s.csrf_token, s.created_at.empty() ? now_utc() : s.created_at, s.expires_at});
+    commit();
+  } catch (...) {
+    rollback();
+    throw;
+  }
+}
+
+std::optional<SessionEntry> SqlHistoryStore::find_session(const std::string& id_hash, const std::string& now) {
+  const auto rows = query(
+      "SELECT id_hash, user_name, csrf_token, created_at, expires_at FROM sessions WHERE id_hash = $1 AND expires_at > "
+      "$2",
+      {id_hash, now});
+  if (rows.empty()) return std::nullopt;
+  return SessionEntry{text_of(rows[0][0]), text_of(rows[0][1]), text_of(rows[0][2]), text_of(rows[0][3]),
+                      text_of(rows[0][4])};
+}
+
+bool SqlHistoryStore::remove_session(const std::string& id_hash) {
+  begin_write();
+  try {
+    const long long n = exec("DELETE FROM sessions WHERE id_hash = $1", {id_hash});
+    commit();
+    return n > 0;
+  } catch (...) {
+    rollback();
+    throw;
+  }
+}
+
+long long SqlHistoryStore::remove_expired_sessions(const std::string& now) {
+  begin_write();
+  try {
+    const long long n = exec("DELETE FROM sessions WHERE expires_at <= $1", {now});
+    commit();
+    return n;
+  } catch (...) {
+    rollback();
+    throw;
+  }
 }
 
 std::string SqlHistoryStore::record(CalibrationRecord r) {
@@ -473,7 +682,7 @@ std::string SqlHistoryStore::record(CalibrationRecord r) {
 bool SqlHistoryStore::remove(const std::string& id) {
   begin_write();
   try {
-    const auto machine = query("SELECT machine_name FROM records WHERE id = $1", {id});
+    const auto machine = query("SELECT machine_name, command FROM records WHERE id = $1", {id});
     exec("DELETE FROM parameters WHERE record_id = $1", {id});
     exec("DELETE FROM figures WHERE record_id = $1", {id});
     const long long n = exec("DELETE FROM records WHERE id = $1", {id});
@@ -489,6 +698,16 @@ bool SqlHistoryStore::remove(const std::string& id) {
                  "latest_values WHERE kind = $3 AND machine_name = $4)) AS t WHERE rn = 1",
                  kind == "parameter" ? "parameters" : "figures"),
              {kind, text_of(machine.at(0)[0]), kind, text_of(machine.at(0)[0])});
+    if (n > 0) {
+      // The machine's latest record of this command and the count, from the records left.
+      const std::string m = text_of(machine.at(0)[0]), c = text_of(machine.at(0)[1]);
+      exec("DELETE FROM latest_records WHERE machine_name = $1 AND command = $2", {m, c});
+      exec("INSERT INTO latest_records (machine_name, command, record_id, measured_at, recorded_at, n) SELECT "
+           "machine_name, command, id, measured_at, recorded_at, (SELECT COUNT(*) FROM records WHERE machine_name = $1 "
+           "AND command = $2) FROM records WHERE machine_name = $3 AND command = $4 ORDER BY measured_at DESC, "
+           "recorded_at DESC, id DESC LIMIT 1",
+           {m, c, m, c});
+    }
     commit();
     return n > 0;
   } catch (...) {

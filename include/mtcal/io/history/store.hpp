@@ -29,6 +29,35 @@ struct ImportSummary {
   std::vector<std::string> skipped;     // "line N: duplicate of record ID (content hash H)"
 };
 
+// Accounts of `mtcal serve` (schema version 3; docs/serve.md). A user's role is "viewer",
+// "engineer" or "admin"; password_hash is what the server's KDF wrote (never the password).
+struct UserAccount {
+  std::string name, role, password_hash, created_at;
+};
+// A login session: the SHA-256 of its cookie value (the value itself is never stored), its CSRF
+// token and when it expires (ISO 8601 UTC, compared as text).
+struct SessionEntry {
+  std::string id_hash, user, csrf_token, created_at, expires_at;
+};
+// Who wrote what: one row per record or event written through the server (action "record",
+// "event"), in the same transaction as the write.
+struct AuditEntry {
+  std::string id, at, user, action, object_id, detail;
+};
+// A machine's calibration interval: `mtcal serve` shows its calibrations as overdue this many
+// days after the latest of a kind (an admin sets it; machines without one use the server's
+// default). set_by/set_at: who set it and when.
+struct MachineInterval {
+  std::string machine;
+  int days = 0;
+  std::string set_by, set_at;
+};
+// A machine's latest calibration by one command: the fleet's "last calibration per kind".
+struct LatestCalibration {
+  std::string machine, command, record_id, measured_at;
+  long long count = 0;  // records of this machine and command
+};
+
 // A history store. Every write is one transaction: it happens completely or not at all.
 // Concurrent writers (processes or threads, each with its own store object) lose nothing.
 // One object is not meant to be shared between threads.
@@ -63,6 +92,31 @@ class HistoryStore {
   virtual std::string add_event(Event e) = 0;
   virtual std::vector<Event> events(const std::string& machine = {}) = 0;
 
+  // Writes that name their author: the record / event and its audit row in one transaction.
+  // A duplicate record (same content hash) returns the stored id and adds no audit row.
+  virtual std::string record_by(CalibrationRecord r, const std::string& user) = 0;
+  virtual std::string add_event_by(Event e, const std::string& user) = 0;
+  // The audit rows in time order; object_id non-empty: those of one record or event.
+  virtual std::vector<AuditEntry> audit(const std::string& object_id = {}) = 0;
+  // Per machine and command the latest record (measured_at, then recorded_at, id) and the count.
+  virtual std::vector<LatestCalibration> latest_calibrations() = 0;
+  // Sets (days > 0) or removes (days == 0) a machine's calibration interval, with an audit row
+  // (action "interval") naming the user, in one transaction. InputError for an empty machine
+  // name or days < 0. machine_intervals: every set interval, by machine.
+  virtual void set_machine_interval(const std::string& machine, int days, const std::string& user) = 0;
+  virtual std::vector<MachineInterval> machine_intervals() = 0;
+
+  // Accounts (names compared byte-wise). put_user inserts or replaces a user's role and hash.
+  virtual void put_user(const UserAccount& u) = 0;
+  virtual std::optional<UserAccount> find_user(const std::string& name) = 0;
+  virtual std::vector<UserAccount> users() = 0;
+  // Sessions: find_session returns one that has not expired at `now` (ISO 8601 UTC text);
+  // remove_session ends one; remove_expired_sessions the ones expired at `now`.
+  virtual void put_session(const SessionEntry& s) = 0;
+  virtual std::optional<SessionEntry> find_session(const std::string& id_hash, const std::string& now) = 0;
+  virtual bool remove_session(const std::string& id_hash) = 0;
+  virtual long long remove_expired_sessions(const std::string& now) = 0;
+
   // The schema version of the open store (kHistorySchemaVersion after opening).
   virtual int schema_version() = 0;
   // "sqlite:/path/to/file" or "postgresql://host:port/db" (without a password).
@@ -76,7 +130,7 @@ class HistoryStore {
 };
 
 // The schema this program writes (docs/history.md lists the versions and their migrations).
-inline constexpr int kHistorySchemaVersion = 2;
+inline constexpr int kHistorySchemaVersion = 3;
 
 // Opens (creating it when absent, migrating it to kHistorySchemaVersion) the store named by
 // connection: "postgresql://..." or "postgres://..." (libpq URI; also "postgresql:" followed by

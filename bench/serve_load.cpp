@@ -1,0 +1,227 @@
+// A bounded load test of mtcal serve on loopback (issue 32): a SQLite store of MACHINES x MONTHS
+// records (default 1,000 x 120 = 120,000, as bench_history), the server in this process, then
+//  1. the fleet page alone, one client, sequential: p50/p99, against the login page (no store
+//     access) in the same run as the baseline;
+//  2. CLIENTS concurrent clients (each logged in with its own session) sending REQUESTS requests
+//     in all, mixed: fleet page, machine page, machine JSON, uploads of the real ISO 230-2 file
+//     (recorded); p50/p99 per kind, errors, and the check that nothing was lost (records of the
+//     upload machine after = before + uploads answered 200).
+// Stops by itself. Run: mtcal_serve_load [MACHINES MONTHS CLIENTS REQUESTS] (ISO 230-2 file from
+// $MTCAL_SHARED_DATA/iso230-2/b02_x_axis.dat, default ../shared/data relative to the source tree).
+#include <httplib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "mtcal/io/history/store.hpp"
+#include "mtcal/io/system/sha256.hpp"
+#include "mtcal/server/server.hpp"
+
+namespace {
+
+using namespace mtcal;
+using Clock = std::chrono::steady_clock;
+
+CalibrationRecord result(int machine, int month) {
+  CalibrationRecord r;
+  r.machine_name = fmt::format("M{:04}", machine);
+  r.machine_serial = fmt::format("SN{:06}", machine);
+  r.command = month % 2 ? "iso230-2" : "ballbar";
+  r.measured_at = fmt::format("{:04}-{:02}-15", 2016 + month / 12, month % 12 + 1);
+  r.metadata = {{"operator", "A. Smith"}, {"date", r.measured_at}};
+  r.inputs = {{"x.dat", sha256_hex(fmt::format("{}-{}", machine, month))}};
+  const double drift = 0.01 * month + 0.001 * machine;
+  r.parameters = {{"EXX", 1 + drift, 0.2, "um"}, {"EC0Y", 1e-5 * drift, 1e-6, "rad"}};
+  r.figures = {{"A_X", 14 + drift, "um", std::nullopt}, {"E_X", 11 + drift, "um", std::nullopt}};
+  r.result_json = fmt::format(R"({{"A":{},"E":{}}})", 0.014, 0.011);
+  return r;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(i, v.size() - 1)];
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Session {
+  std::string cookie, csrf;
+};
+
+Session login(int port, const std::string& user, const std::string& password) {
+  httplib::Client c("127.0.0.1", port);
+  c.set_connection_timeout(10, 0);  // bounded: a server that stops answering ends the run with errors
+  c.set_read_timeout(120, 0);
+  const auto page = c.Get("/login");
+  std::string token;
+  for (const auto& [k, v] : page->headers)
+    if (k == "Set-Cookie" && v.rfind("mtcal_login=", 0) == 0) token = v.substr(12, 64);
+  const auto r = c.Post("/login", {{"Cookie", "mtcal_login=" + token}},
+                        httplib::Params{{"csrf", token}, {"user", user}, {"password", password}});
+  Session s;
+  for (const auto& [k, v] : r->headers)
+    if (k == "Set-Cookie" && v.rfind("mtcal_session=", 0) == 0) s.cookie = v.substr(14, 64);
+  const auto fleet = c.Get("/api/machine?name=M0000", {{"Cookie", "mtcal_session=" + s.cookie}});
+  std::smatch m;
+  const auto page2 = c.Get("/upload", {{"Cookie", "mtcal_session=" + s.cookie}});
+  if (std::regex_search(page2->body, m, std::regex("name=\"csrf\" value=\"([0-9a-f]{64})\""))) s.csrf = m[1];
+  (void)fleet;
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a closed connection must not end the run
+  const int machines = argc > 1 ? std::atoi(argv[1]) : 1000;
+  const int months = argc > 2 ? std::atoi(argv[2]) : 120;
+  const int clients = argc > 3 ? std::atoi(argv[3]) : 50;
+  const int requests = argc > 4 ? std::atoi(argv[4]) : 10000;
+  const char* shared = std::getenv("MTCAL_SHARED_DATA");
+  const std::string data = read_file(std::string(shared ? shared : MTCAL_SHARED_DATA_DIR) + "/iso230-2/b02_x_axis.dat");
+  if (data.empty()) {
+    std::fprintf(stderr, "no ISO 230-2 file: set MTCAL_SHARED_DATA\n");
+    return 1;
+  }
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("mtcal-serve-load-{}", ::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string conn = "sqlite:" + (dir / "load.db").string();
+  {
+    auto store = open_history_store(conn);
+    const auto t0 = Clock::now();
+    std::vector<CalibrationRecord> batch;
+    for (int m = 0; m < machines; ++m) {
+      for (int k = 0; k < months; ++k) batch.push_back(result(m, k));
+      if (batch.size() >= 12'000) store->record_all(std::move(batch)), batch.clear();
+    }
+    if (!batch.empty()) store->record_all(std::move(batch));
+    server::add_user(*store, "load", "engineer", "load-test-password", server::KdfCost::Minimum);
+    std::printf("store: %d machines x %d records filled in %.1f s\n", machines, months,
+                std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  server::ServerOptions o;
+  o.store = conn;
+  o.port = 0;
+  o.threads = 8;
+  // The fleet's ranking columns on (history rank over every machine's A_X), as a plant would run
+  // it; MTCAL_LOAD_TOLERANCE= (empty) turns them off.
+  const char* tol = std::getenv("MTCAL_LOAD_TOLERANCE");
+  const std::string tolerance = tol ? tol : "A_X=30";
+  if (!tolerance.empty()) o.tolerances = {tolerance};
+  std::printf("fleet ranking: %s\n", tolerance.empty() ? "off" : ("--tolerance " + tolerance).c_str());
+  server::Server srv(o);
+  const int port = srv.bind();
+  std::thread runner([&] { srv.run(); });
+
+  // 1. The fleet page alone, against the login page.
+  const Session main_session = login(port, "load", "load-test-password");
+  auto timed = [&](const std::string& path, int n, const Session* s) {
+    httplib::Client c("127.0.0.1", port);
+    c.set_connection_timeout(10, 0);
+    c.set_read_timeout(120, 0);
+    std::vector<double> ms;
+    httplib::Headers h;
+    if (s) h = {{"Cookie", "mtcal_session=" + s->cookie}};
+    for (int i = 0; i < n; ++i) {
+      const auto t = Clock::now();
+      const auto r = c.Get(path, h);
+      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t).count());
+      if (!r || r->status != 200) std::printf("  %s: status %d\n", path.c_str(), r ? r->status : -1);
+    }
+    return ms;
+  };
+  const auto login_ms = timed("/login", 200, nullptr);
+  const auto fleet_ms = timed("/fleet", 50, &main_session);
+  std::printf("login page (baseline): p50 %.2f ms, p99 %.2f ms\n", percentile(login_ms, 0.5), percentile(login_ms, 0.99));
+  std::printf("fleet page (%d machines): p50 %.1f ms, p99 %.1f ms (%.0fx the login page's p50)\n", machines,
+              percentile(fleet_ms, 0.5), percentile(fleet_ms, 0.99),
+              percentile(fleet_ms, 0.5) / std::max(1e-9, percentile(login_ms, 0.5)));
+
+  // 2. Mixed load.
+  auto store = open_history_store(conn);
+  const std::size_t before = store->list({"LOAD-UP", "", "", ""}).size();
+  std::atomic<int> next{0}, uploads_ok{0}, errors{0};
+  std::mutex mutex;
+  std::map<std::string, std::vector<double>> lat;
+  const auto t0 = Clock::now();
+  std::vector<std::thread> threads;
+  for (int t = 0; t < clients; ++t)
+    threads.emplace_back([&, t] {
+      const Session s = login(port, "load", "load-test-password");
+      httplib::Client c("127.0.0.1", port);
+      c.set_connection_timeout(10, 0);
+      c.set_read_timeout(120, 0);
+      const httplib::Headers h{{"Cookie", "mtcal_session=" + s.cookie}, {"X-CSRF-Token", s.csrf}};
+      std::map<std::string, std::vector<double>> mine;
+      for (int i; (i = next++) < requests;) {
+        const int kind = i % 20;
+        const std::string machine = fmt::format("M{:04}", (i * 7919) % machines);
+        const auto start = Clock::now();
+        std::string name;
+        auto r = [&] {
+          if (kind == 0) {
+            name = "fleet";
+            return c.Get("/fleet", h);
+          }
+          if (kind < 10) {
+            name = "machine page";
+            return c.Get("/machine?name=" + machine, h);
+          }
+          if (kind < 19) {
+            name = "machine JSON";
+            return c.Get("/api/machine?name=" + machine, h);
+          }
+          name = "upload";
+          httplib::MultipartFormDataItems items{{"machine", "LOAD-UP", "", ""},
+                                                {"operator", fmt::format("client {} request {}", t, i), "", ""},
+                                                {"confirm", "1", "", ""},
+                                                {"file", data, "b02_x_axis.dat", "text/plain"}};
+          auto res = c.Post("/api/upload", h, items);
+          if (res && res->status == 200) ++uploads_ok;
+          return res;
+        }();
+        mine[name].push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+        if (!r || r->status != 200) ++errors;
+      }
+      std::lock_guard lock(mutex);
+      for (auto& [k, v] : mine) lat[k].insert(lat[k].end(), v.begin(), v.end());
+    });
+  for (auto& th : threads) th.join();
+  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::printf("mixed load: %d clients, %d requests in %.1f s (%.0f requests/s), %d errors\n", clients, requests, wall,
+              requests / wall, errors.load());
+  for (const auto& [k, v] : lat)
+    std::printf("  %-13s n=%5zu p50 %8.1f ms  p99 %8.1f ms\n", k.c_str(), v.size(), percentile(v, 0.5),
+                percentile(v, 0.99));
+  const std::size_t after = store->list({"LOAD-UP", "", "", ""}).size();
+  std::printf("records of LOAD-UP: before %zu, after %zu, uploads answered 200: %d -> %s\n", before, after,
+              uploads_ok.load(), after == before + static_cast<std::size_t>(uploads_ok.load()) ? "nothing lost" : "LOST");
+  srv.stop();
+  runner.join();
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+  return errors.load() == 0 && after == before + static_cast<std::size_t>(uploads_ok.load()) ? 0 : 1;
+}

@@ -1,0 +1,43 @@
+// The HTML pages of mtcal serve: server-rendered, every value escaped, no inline script.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mtcal/history/record.hpp"
+#include "mtcal/io/history/store.hpp"
+#include "mtcal/io/json/json.hpp"
+
+namespace mtcal::server {
+
+// Who looks at a page (empty name: nobody logged in) and the session's CSRF token for its forms.
+struct PageUser {
+  std::string name, role, csrf;
+  bool engineer = false, admin = false;
+};
+
+// Percent-encoding of a query parameter's value (RFC 3986 unreserved characters kept).
+std::string url_encode(const std::string& s);
+
+std::string error_page(int status, const std::string& message);
+std::string login_page(const std::string& csrf, const std::string& error);
+// fleet: what /api/fleet returns.
+std::string fleet_page(const PageUser& u, const Json& fleet);
+// machine: what /api/machine returns; trends: what /api/machine/trend returns.
+std::string machine_page(const PageUser& u, const Json& machine, const Json& trends);
+std::string record_page(const PageUser& u, const CalibrationRecord& r, const std::vector<AuditEntry>& audit);
+// diff: what /api/diff returns (history diff --json).
+std::string diff_page(const PageUser& u, const Json& diff);
+std::string upload_page(const PageUser& u, const std::string& machine);
+std::string upload_preview_page(const PageUser& u, const CalibrationRecord& r, const Json& result,
+                                const std::string& token);
+std::string users_page(const PageUser& u, const std::vector<UserAccount>& users);
+// Calibration intervals: every machine of the store, its own interval or the default, a form.
+std::string machines_page(const PageUser& u, const std::vector<std::string>& machines,
+                          const std::vector<MachineInterval>& intervals, int default_days);
+
+// The pages' script (table sorting and filtering, plots from JSON data elements) and style.
+const std::string& app_js();
+const std::string& style_css();
+
+}  // namespace mtcal::server

@@ -1,0 +1,1121 @@
+// mtcal serve: routes, sessions, CSRF, roles and the handlers of the pages and the JSON API.
+#include "mtcal/server/server.hpp"
+
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <chrono>
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "mtcal/evaluation/ballbar.hpp"
+#include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/evaluation/tolerance.hpp"
+#include "mtcal/history/analysis.hpp"
+#include "mtcal/io/compensation/output.hpp"
+#include "mtcal/io/history/store.hpp"
+#include "mtcal/io/instruments/acceptance_files.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/instruments/probing_files.hpp"
+#include "mtcal/io/json/evaluation_json.hpp"
+#include "mtcal/io/json/history_json.hpp"
+#include "mtcal/io/json/json.hpp"
+#include "mtcal/io/json/probing_json.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/io/system/sha256.hpp"
+#include "mtcal/probing/rotary_probing.hpp"
+#include "mtcal/report/history.hpp"
+#include "mtcal/report/report.hpp"
+#include "mtcal/util/parse.hpp"
+#include "pages.hpp"
+#include "zip.hpp"
+
+// After Eigen (through the evaluation headers): httplib.h's system headers define macros that
+// break Eigen's declarations when they come first.
+#include <httplib.h>
+
+namespace mtcal::server {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kSessionCookie = "mtcal_session";
+constexpr const char* kLoginCookie = "mtcal_login";  // double-submit CSRF token of the login form
+
+std::string now_utc_text(std::chrono::system_clock::time_point t = std::chrono::system_clock::now()) {
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count() % 1000;
+  const std::time_t tt = std::chrono::system_clock::to_time_t(t);
+  std::tm tm{};
+  gmtime_r(&tt, &tm);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                     tm.tm_hour, tm.tm_min, tm.tm_sec, ms);
+}
+
+// The value of one cookie of a request's Cookie header ("a=b; c=d"); empty when absent.
+std::string cookie_value(const httplib::Request& req, const std::string& name) {
+  const std::string header = req.get_header_value("Cookie");
+  std::size_t at = 0;
+  while (at < header.size()) {
+    std::size_t end = header.find(';', at);
+    if (end == std::string::npos) end = header.size();
+    std::string part = header.substr(at, end - at);
+    const auto first = part.find_first_not_of(' ');
+    part = first == std::string::npos ? "" : part.substr(first);
+    if (part.size() > name.size() && part.compare(0, name.size(), name) == 0 && part[name.size()] == '=')
+      return part.substr(name.size() + 1);
+    at = end + 1;
+  }
+  return {};
+}
+
+// An error that becomes an HTTP status with one line of text (or {"error": ...} for the API).
+struct HttpError {
+  int status;
+  std::string message;
+};
+
+// Store connections, one per request thread at a time: a HistoryStore is not shared between
+// threads. A connection whose request failed with StoreError is dropped (a PostgreSQL server
+// that restarted is reconnected on the next request).
+class StorePool {
+ public:
+  explicit StorePool(std::string conn) : conn_(std::move(conn)) { idle_.push_back(open_history_store(conn_)); }
+  class Lease {
+   public:
+    Lease(StorePool& p, std::unique_ptr<HistoryStore> s) : pool_(p), store_(std::move(s)) {}
+    ~Lease() {
+      if (store_ && !std::uncaught_exceptions()) pool_.give_back(std::move(store_));
+    }
+    Lease(const Lease&) = delete;
+    Lease& operator=(const Lease&) = delete;
+    HistoryStore* operator->() { return store_.get(); }
+    HistoryStore& operator*() { return *store_; }
+
+   private:
+    StorePool& pool_;
+    std::unique_ptr<HistoryStore> store_;
+  };
+  Lease lease() {
+    {
+      std::lock_guard lock(mutex_);
+      if (!idle_.empty()) {
+        auto s = std::move(idle_.back());
+        idle_.pop_back();
+        return Lease(*this, std::move(s));
+      }
+    }
+    return Lease(*this, open_history_store(conn_));
+  }
+  const std::string& connection() const { return conn_; }
+
+ private:
+  void give_back(std::unique_ptr<HistoryStore> s) {
+    std::lock_guard lock(mutex_);
+    if (idle_.size() < 64) idle_.push_back(std::move(s));
+  }
+  std::string conn_;
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<HistoryStore>> idle_;
+};
+
+// An evaluated upload waiting for its confirmation (bound to the session that uploaded it).
+struct PendingUpload {
+  std::string session_hash;
+  CalibrationRecord record;
+  Json result;
+  std::chrono::steady_clock::time_point created;
+};
+
+// What an upload holds and the command that evaluates it (the record's command): ISO 230-2
+// positioning runs (`mtcal iso230-2`: .dat, CSV, Renishaw .rtl/.rta), a ballbar trace (`mtcal
+// ballbar`: CSV direction,angle_deg,radius_mm), probe contacts on a sphere at indexations of a
+// rotary axis (`mtcal rotary-axis --contacts`: CSV).
+struct UploadKind {
+  const char* name;  // the form's value and the record's command
+  const char* what;
+  std::vector<const char*> extensions;
+};
+const std::vector<UploadKind>& upload_kinds() {
+  static const std::vector<UploadKind> kKinds{
+      {"iso230-2", "an ISO 230-2 file (.dat, .csv, .txt, .rtl, .rta)", {".dat", ".csv", ".rtl", ".rta", ".txt"}},
+      {"ballbar", "a ballbar trace (.csv, .txt)", {".csv", ".txt"}},
+      {"rotary-axis", "probe contacts (.csv)", {".csv"}},
+  };
+  return kKinds;
+}
+
+// The extension of an upload's name when its kind accepts it.
+bool allowed_upload_name(const UploadKind& kind, const std::string& name, std::string& ext) {
+  const auto dot = name.rfind('.');
+  if (dot == std::string::npos) return false;
+  ext = name.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return std::any_of(kind.extensions.begin(), kind.extensions.end(), [&](const char* e) { return ext == e; });
+}
+
+// A form field as a number: nullopt when empty; 400 naming the field when not a finite number
+// within [lo, hi].
+std::optional<double> number_field(const std::string& key, const std::string& text, double lo, double hi) {
+  if (text.empty()) return std::nullopt;
+  const auto v = parse_number(text);
+  if (!v || !std::isfinite(*v) || *v < lo || *v > hi)
+    throw HttpError{400, fmt::format("{}: expected a number from {:g} to {:g}, found '{}'", key, lo, hi, printable(text))};
+  return *v;
+}
+
+// A private temporary folder, removed with everything in it when this goes (the readers take paths).
+struct TempFolder {
+  fs::path path;
+  TempFolder() {
+    std::string tmpl = (fs::temp_directory_path() / "mtcal-serve-XXXXXX").string();
+    if (!::mkdtemp(tmpl.data())) throw Error("cannot create a temporary folder for an upload");
+    path = tmpl;
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  // Writes content under `name` (ours, never the client's) and returns its path. Not
+  // write_file_atomically: under the command, outputs are committed when it ends.
+  std::string put(const std::string& name, const std::string& content) const {
+    const std::string file = (path / name).string();
+    std::ofstream out(file, std::ios::binary);
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    if (!out.flush()) throw Error("cannot write an upload to a temporary file");
+    return file;
+  }
+};
+
+// A reader's InputError names our temporary path; the user knows the file by its name: 422.
+[[noreturn]] void rethrow_named(const InputError& e, const std::string& path, const std::string& name) {
+  std::string m = e.what();
+  for (auto at = m.find(path); at != std::string::npos; at = m.find(path, at + name.size()))
+    m.replace(at, path.size(), name);
+  throw HttpError{422, m};
+}
+
+// "Q=V" or "Q=LO:HI" as `mtcal history rank --tolerance` reads it (in the quantity's unit).
+struct ToleranceSpec {
+  std::string quantity;
+  std::optional<double> limit;
+  std::optional<ToleranceBand> range;
+  ToleranceBand band(bool figure) const {
+    if (range) return *range;
+    return figure ? ToleranceBand::at_most(*limit) : ToleranceBand::symmetric(*limit);
+  }
+};
+
+ToleranceSpec parse_tolerance(const std::string& s) {
+  const auto eq = s.find('=');
+  const SourceLocation where{"tolerance", 0, eq == std::string::npos ? "" : s.substr(0, eq)};
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(where, "expected QUANTITY=VALUE or QUANTITY=LO:HI, found '" + printable(s) + "'");
+  ToleranceSpec t;
+  t.quantity = s.substr(0, eq);
+  const std::string value = s.substr(eq + 1);
+  const auto number = [&](const std::string& text) {
+    const auto v = parse_number(text);
+    if (!v) throw InputError(where, "tolerance of " + printable(t.quantity) + ": expected a number, found '" + printable(text) + "'");
+    return *v;
+  };
+  if (const auto colon = value.find(':'); colon != std::string::npos) {
+    t.range = ToleranceBand{number(value.substr(0, colon)), number(value.substr(colon + 1))};
+    check_band(*t.range, t.quantity);
+  } else {
+    t.limit = number(value);
+    if (!(*t.limit > 0))
+      throw InputError(where, "tolerance of " + printable(t.quantity) + ": expected a permitted value > 0, found " +
+                                  printable(value));
+  }
+  return t;
+}
+
+// The name of an uploaded file as recorded: its last path component, printable, at most 100 characters.
+std::string upload_display_name(const std::string& filename) {
+  std::string base = filename;
+  if (const auto slash = base.find_last_of("/\\"); slash != std::string::npos) base = base.substr(slash + 1);
+  std::string out;
+  for (const char c : base)
+    if (static_cast<unsigned char>(c) >= 0x20 && c != 0x7f) out += c;
+  if (out.size() > 100) out.resize(100);
+  return out.empty() ? "upload" : out;
+}
+
+}  // namespace
+
+struct Server::Impl {
+  ServerOptions opt;
+  StorePool pool;
+  std::unique_ptr<httplib::Server> http;
+  std::vector<Route> routes;
+  LoginThrottle throttle;
+  std::mutex pending_mutex;
+  std::map<std::string, PendingUpload> pending;
+  std::string dummy_hash;  // verified against for unknown users: a failed login costs the same time
+  bool tls = false;
+  // The fleet's ranking: tolerances (ServerOptions) and the last ranking with the store state it
+  // was made for (the latest records and their counts): made again only when a record came.
+  std::optional<ToleranceFile> tolerance_file;
+  std::vector<ToleranceSpec> tolerance_specs;
+  // Per machine and quantity its series with band (or why it is left out) and the machine's
+  // latest records it was read for: a new record re-reads the series of its machine only.
+  struct CachedSeries {
+    std::string machine_state;
+    std::optional<RankSeries> series;
+    std::string note;
+  };
+  std::mutex rank_mutex;
+  std::string rank_key, rank_wanted_key;
+  std::shared_ptr<const Json> rank_cache;
+  std::map<std::pair<std::string, std::string>, CachedSeries> series_cache;
+  // run() and stop() (Server::stop says why they need more than httplib's own).
+  enum class RunState { NotStarted, Starting, Returned };
+  std::mutex run_mutex;
+  std::condition_variable run_changed;
+  RunState run_state = RunState::NotStarted;
+  bool stop_requested = false, http_stopped = false;
+
+  explicit Impl(ServerOptions o)
+      : opt(std::move(o)),
+        pool(opt.store),
+        throttle(opt.login_attempts, std::chrono::seconds(900), std::chrono::seconds(opt.lockout_seconds)) {
+    tls = !opt.tls_cert.empty() || !opt.tls_key.empty();
+    if (tls) {
+      if (opt.tls_cert.empty() || opt.tls_key.empty())
+        throw InputError({"TLS", 0, ""}, "expected both a certificate and a key file, found only one");
+      read_text_file(opt.tls_cert, "TLS certificate");  // a clear message for a missing file
+      read_text_file(opt.tls_key, "TLS key");
+      auto s = std::make_unique<httplib::SSLServer>(opt.tls_cert.c_str(), opt.tls_key.c_str());
+      if (!s->is_valid())
+        throw InputError({opt.tls_cert, 0, ""}, "cannot use the TLS certificate and key (not PEM, or not a pair)");
+      http = std::move(s);
+    } else {
+      http = std::make_unique<httplib::Server>();
+    }
+    dummy_hash = hash_password("not a password of anyone", opt.kdf_cost);
+    if (!opt.tolerance_file.empty()) tolerance_file = read_tolerance_file(opt.tolerance_file);
+    for (const auto& t : opt.tolerances) {
+      tolerance_specs.push_back(parse_tolerance(t));
+      for (std::size_t i = 0; i + 1 < tolerance_specs.size(); ++i)
+        if (tolerance_specs[i].quantity == tolerance_specs.back().quantity)
+          throw InputError({"tolerance", 0, tolerance_specs.back().quantity},
+                           "tolerance of " + printable(tolerance_specs.back().quantity) + " is given twice");
+    }
+    const int threads = std::max(1, opt.threads);
+    http->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+    http->set_payload_max_length(opt.max_upload);
+    http->set_read_timeout(30, 0);
+    http->set_write_timeout(30, 0);
+    http->set_keep_alive_max_count(1000);
+    http->set_default_headers({{"X-Content-Type-Options", "nosniff"},
+                               {"X-Frame-Options", "DENY"},
+                               {"Referrer-Policy", "no-referrer"},
+                               {"Cache-Control", "no-store"}});
+    http->set_exception_handler([this](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+      on_exception(req, res, ep);
+    });
+    http->set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
+      if (!res.body.empty()) return;
+      const bool api = req.path.rfind("/api/", 0) == 0;
+      std::string msg = res.status == 404   ? "no such page: " + printable(req.path)
+                        : res.status == 413 ? fmt::format("the request is larger than {} bytes", opt.max_upload)
+                                            : fmt::format("the request was refused ({})", res.status);
+      send_error(res, api, res.status, msg);
+    });
+    // One policy for every response: scripts and styles from this server only (the trend
+    // report, which inlines its scripts, sets its own).
+    http->set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
+      if (!res.has_header("Content-Security-Policy"))
+        res.set_header("Content-Security-Policy",
+                       "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' "
+                       "data:; frame-ancestors 'none'; form-action 'self'");
+    });
+    register_routes();
+    // The fleet's ranking made once here (about a second for 1,000 machines on a loaded 2-core
+    // machine), so that no request pays for it; afterwards a new record re-reads its machine only.
+    if (tolerance_file || !tolerance_specs.empty()) {
+      auto store = pool.lease();
+      ranking(*store, store->latest_calibrations());
+    }
+  }
+
+  // ---- responses -------------------------------------------------------------------------
+
+  void send_error(httplib::Response& res, bool api, int status, const std::string& message) {
+    res.status = status;
+    if (api)
+      res.set_content(Json{{"error", message}}.dump() + "\n", "application/json");
+    else
+      res.set_content(error_page(status, message), "text/html; charset=utf-8");
+  }
+
+  void on_exception(const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+    const bool api = req.path.rfind("/api/", 0) == 0;
+    try {
+      std::rethrow_exception(ep);
+    } catch (const HttpError& e) {
+      send_error(res, api, e.status, e.message);
+    } catch (const StoreError& e) {
+      send_error(res, api, 503, std::string("the history store is unavailable: ") + e.what());
+    } catch (const LimitError& e) {
+      send_error(res, api, 413, e.what());
+    } catch (const InputError& e) {
+      send_error(res, api, 400, e.what());
+    } catch (const std::exception& e) {
+      send_error(res, api, 500, std::string("internal error: ") + e.what());
+    } catch (...) {
+      send_error(res, api, 500, "internal error");
+    }
+  }
+
+  std::string cookie_attributes(int max_age) const {
+    return fmt::format("; Path=/; HttpOnly; SameSite=Strict; Max-Age={}{}", max_age, tls ? "; Secure" : "");
+  }
+
+  // ---- sessions ----------------------------------------------------------------------------
+
+  struct Context {
+    SessionEntry session;
+    Role role = Role::Viewer;
+  };
+
+  std::optional<Context> session_of(const httplib::Request& req) {
+    const std::string id = cookie_value(req, kSessionCookie);
+    if (id.size() != 64 || id.find_first_not_of("0123456789abcdef") != std::string::npos) return std::nullopt;
+    auto store = pool.lease();
+    auto s = store->find_session(sha256_hex(id), now_utc_text());
+    if (!s) return std::nullopt;
+    const auto user = store->find_user(s->user);
+    if (!user) return std::nullopt;
+    const auto role = parse_role(user->role);
+    if (!role) return std::nullopt;
+    return Context{*s, *role};
+  }
+
+  // Registers a route: the one list both the router and the tests use.
+  using Handler = std::function<void(const httplib::Request&, httplib::Response&, const Context*)>;
+  void add(Route r, Handler h) {
+    routes.push_back(r);
+    auto wrapped = [this, r, h](const httplib::Request& req, httplib::Response& res) {
+      if (r.is_public) return h(req, res, nullptr);
+      const auto ctx = session_of(req);
+      if (!ctx) {
+        if (r.api || r.method != "GET") return send_error(res, r.api, 401, "log in first");
+        res.status = 303;
+        res.set_header("Location", "/login");
+        return;
+      }
+      if (static_cast<int>(ctx->role) < static_cast<int>(r.min_role))
+        return send_error(res, r.api, 403,
+                          fmt::format("this needs the role {} (you are {})", to_string(r.min_role), to_string(ctx->role)));
+      if (r.method == "POST") {
+        // The token of the session: a form field, or the X-CSRF-Token header of an API call.
+        std::string token = req.get_header_value("X-CSRF-Token");
+        if (token.empty() && req.has_param("csrf")) token = req.get_param_value("csrf");
+        if (token.empty() && req.has_file("csrf")) token = req.get_file_value("csrf").content;
+        if (!tokens_equal(token, ctx->session.csrf_token))
+          return send_error(res, r.api, 403, "the form's CSRF token is missing or wrong: reload the page");
+      }
+      h(req, res, &*ctx);
+    };
+    const std::string pattern = r.path;
+    if (r.method == "GET")
+      http->Get(pattern, wrapped);
+    else
+      http->Post(pattern, wrapped);
+  }
+
+  // ---- helpers -----------------------------------------------------------------------------
+
+  static std::string param(const httplib::Request& req, const std::string& key, std::size_t max = 1000) {
+    std::string v;
+    if (req.has_param(key))
+      v = req.get_param_value(key);
+    else if (req.has_file(key))
+      v = req.get_file_value(key).content;
+    if (v.size() > max) throw HttpError{400, fmt::format("the field {} is longer than {} characters", key, max)};
+    return v;
+  }
+
+  static std::string required(const httplib::Request& req, const std::string& key) {
+    std::string v = param(req, key);
+    if (v.empty()) throw HttpError{400, "the field " + key + " is missing"};
+    return v;
+  }
+
+  static void send_json(httplib::Response& res, const Json& j) {
+    res.set_content(j.dump(2) + "\n", "application/json");
+  }
+
+  PageUser page_user(const Context* c) const {
+    if (!c) return {};
+    return {c->session.user, std::string(to_string(c->role)), c->session.csrf_token,
+            static_cast<int>(c->role) >= static_cast<int>(Role::Engineer), c->role == Role::Admin};
+  }
+
+  // The fleet ranking as `mtcal history rank --json` gives it (the same series, bands and
+  // rank_fleet), by machine; null without tolerances. A series whose unit is not a length under a
+  // tolerance file's limit (µm) is left out and named in "notes". Made again only when the
+  // store's latest records changed, and then the series of the machines whose latest records
+  // changed are read again (a fleet of 1,000 machines: 1,000 series queries otherwise, about a
+  // second, after every upload).
+  std::shared_ptr<const Json> ranking(HistoryStore& store, const std::vector<LatestCalibration>& latest) {
+    if (!tolerance_file && tolerance_specs.empty()) return nullptr;
+    std::map<std::string, std::string> state;  // machine -> its latest records and their counts
+    for (const auto& l : latest) state[l.machine] += l.command + '\x1f' + l.record_id + '\x1f' + std::to_string(l.count) + '\x1e';
+    std::string states;
+    for (const auto& [m, st] : state) states += m + '\x1d' + st;
+    const std::string key = sha256_hex(states);
+    std::lock_guard lock(rank_mutex);  // one ranking at a time; the others wait for it
+    if (rank_cache && rank_key == key) return rank_cache;
+    struct Wanted {
+      bool figure = false;
+      ToleranceBand band;
+      bool in_micrometres = false;
+    };
+    std::map<std::string, Wanted> wanted;
+    if (tolerance_file) {
+      // The axes the store's ISO 230-2 figures name, for the file's "any" (as history rank does).
+      std::vector<std::string> axes;
+      const auto any = tolerance_file->iso230_2.find("any");
+      if (any != tolerance_file->iso230_2.end() && !any->second.limits.empty())
+        for (const char* axis : {"X", "Y", "Z", "A", "B", "C", "U", "V", "W"})
+          if (!store.latest_figure(any->second.limits.front().first + "_" + axis).empty()) axes.emplace_back(axis);
+      for (const auto& [name, band] : history_figure_bands(*tolerance_file, axes)) wanted[name] = {true, band, true};
+    }
+    for (const auto& t : tolerance_specs) {
+      const bool parameter = !store.latest_parameter(t.quantity).empty();
+      if (!parameter && store.latest_figure(t.quantity).empty()) continue;  // not recorded yet
+      wanted[t.quantity] = {!parameter, t.band(!parameter), false};
+    }
+    // Other quantities or bands (a quantity recorded for the first time): nothing cached holds.
+    std::string wanted_key;
+    for (const auto& [name, w] : wanted)
+      wanted_key += fmt::format("{}\x1f{}\x1f{}\x1f{}\x1e", name, w.figure, w.band.lo, w.band.hi);
+    if (wanted_key != rank_wanted_key) series_cache.clear();
+    rank_wanted_key = wanted_key;
+    std::map<std::pair<std::string, std::string>, CachedSeries> fresh;
+    std::vector<RankSeries> series;
+    Json notes = Json::array();
+    for (const auto& [name, w] : wanted) {
+      for (const auto& l : w.figure ? store.latest_figure(name) : store.latest_parameter(name)) {
+        const std::pair<std::string, std::string> at{l.machine, name};
+        CachedSeries c;
+        if (auto hit = series_cache.find(at); hit != series_cache.end() && hit->second.machine_state == state[l.machine]) {
+          c = std::move(hit->second);
+        } else {
+          c.machine_state = state[l.machine];
+          auto samples = w.figure ? store.figure_series(l.machine, name) : store.parameter_series(l.machine, name);
+          if (samples.empty()) continue;
+          const std::string unit = samples.front().unit;
+          ToleranceBand band = w.band;
+          const auto per = w.in_micrometres ? micrometres_per(unit) : std::optional<double>(1.0);
+          if (!per) {
+            c.note = fmt::format("{} of {}: the tolerance is a length in µm, the store keeps {} in '{}'", name, l.machine,
+                                 name, unit);
+          } else {
+            band = {band.lo / *per, band.hi / *per};
+            try {
+              QuantityTrend q = trend_from_series(name, w.figure, samples, band);  // unit checks, time order
+              c.series = RankSeries{l.machine, name, unit, std::move(q.samples), band};
+            } catch (const InputError& e) {
+              c.note = e.what();
+            }
+          }
+        }
+        if (c.series) series.push_back(*c.series);
+        if (!c.note.empty()) notes.push_back(c.note);
+        fresh.emplace(at, std::move(c));
+      }
+    }
+    series_cache = std::move(fresh);
+    auto out = std::make_shared<Json>(Json{{"machines", Json::object()}, {"notes", notes}});
+    if (!series.empty()) {
+      RankOptions ro;
+      ro.threads = 1;  // a request thread: the other threads serve other requests
+      const Json all = to_json(rank_fleet(series, ro));
+      for (const auto& m : all["machines"]) {
+        Json entry = m;
+        // The drift state of the deciding quantity (the first), and the earliest date a line
+        // leaves its tolerance among the machine's quantities.
+        const Json& first = m["quantities"][0];
+        entry["drift"] = first["crossing"]["status"];
+        Json date = nullptr;
+        for (const auto& q : m["quantities"]) {
+          const Json& c = q["crossing"];
+          if (c["status"] == "predicted" && c["date"].is_string() &&
+              (date.is_null() || c["date"].get<std::string>() < date.get<std::string>()))
+            date = c["date"];
+        }
+        entry["out_of_tolerance_on"] = date;
+        (*out)["machines"][m["machine"].get<std::string>()] = entry;
+      }
+    }
+    rank_cache = out;
+    rank_key = key;
+    return out;
+  }
+
+  // The fleet: per machine its latest calibration per command, overdue after the machine's
+  // interval (an admin's, else interval_days), and its ranking (tolerances given).
+  Json fleet_json(HistoryStore& store) {
+    const auto latest = store.latest_calibrations();
+    std::map<std::string, int> intervals;
+    for (const auto& i : store.machine_intervals()) intervals[i.machine] = i.days;
+    const auto rank = ranking(store, latest);
+    const auto now = std::chrono::system_clock::now();
+    Json machines = Json::array();
+    std::string current;
+    int interval = opt.interval_days;
+    for (const auto& l : latest) {
+      if (machines.empty() || l.machine != current) {
+        current = l.machine;
+        const auto own = intervals.find(l.machine);
+        interval = own != intervals.end() ? own->second : opt.interval_days;
+        Json r = nullptr;
+        if (rank && (*rank)["machines"].contains(l.machine)) r = (*rank)["machines"][l.machine];
+        machines.push_back({{"machine", l.machine},
+                            {"interval_days", interval},
+                            {"interval_own", own != intervals.end()},
+                            {"calibrations", Json::array()},
+                            {"overdue", false},
+                            {"rank", r}});
+      }
+      auto& m = machines.back();
+      bool overdue = false;
+      std::optional<double> age_days;
+      try {
+        const auto at = parse_history_time(l.measured_at, "record " + l.record_id);
+        age_days = std::chrono::duration<double>(now - at).count() / 86400.0;
+        overdue = *age_days > interval;
+      } catch (const InputError&) {
+      }
+      m["calibrations"].push_back({{"command", l.command},
+                                   {"last", l.measured_at},
+                                   {"record", l.record_id},
+                                   {"count", l.count},
+                                   {"age_days", number_or_null(age_days)},
+                                   {"overdue", overdue}});
+      if (overdue) m["overdue"] = true;
+    }
+    return {{"store", store.describe()},
+            {"interval_days", opt.interval_days},
+            {"ranked", rank != nullptr},
+            {"rank_notes", rank ? (*rank)["notes"] : Json::array()},
+            {"machines", machines}};
+  }
+
+  // What `history trend --json` gives for a machine: every parameter and figure, no tolerances.
+  std::pair<MachineTrends, std::vector<CalibrationRecord>> trends(HistoryStore& store, const std::string& machine) {
+    RecordFilter f;
+    f.machine = machine;
+    auto records = store.list(f);
+    if (records.empty()) throw HttpError{404, "no records of machine '" + printable(machine) + "'"};
+    MachineTrends m;
+    m.machine = machine;
+    m.serial = records.back().machine_serial;
+    std::set<std::string> params, figs;
+    for (const auto& r : records) {
+      for (const auto& p : r.parameters)
+        if (params.insert(p.name).second)
+          m.series.push_back(trend_from_series(p.name, false, store.parameter_series(machine, p.name)));
+      for (const auto& x : r.figures)
+        if (figs.insert(x.name).second)
+          m.series.push_back(trend_from_series(x.name, true, store.figure_series(machine, x.name)));
+    }
+    m.events = store.events(machine);
+    return {std::move(m), std::move(records)};
+  }
+
+  Json machine_json(HistoryStore& store, const std::string& machine) {
+    RecordFilter f;
+    f.machine = machine;
+    return machine_json(store, machine, store.list(f));
+  }
+  Json machine_json(HistoryStore& store, const std::string& machine, const std::vector<CalibrationRecord>& records) {
+    if (records.empty()) throw HttpError{404, "no records of machine '" + printable(machine) + "'"};
+    Json recs = Json::array();
+    for (const auto& r : records) {
+      Json figs = Json::object();
+      for (const auto& x : r.figures) figs[x.name] = {{"value", x.value}, {"unit", x.unit}};
+      std::string by;
+      for (const auto& a : store.audit(r.id)) by = a.user;
+      recs.push_back({{"id", r.id},
+                      {"command", r.command},
+                      {"measured_at", r.measured_at},
+                      {"recorded_at", r.recorded_at},
+                      {"recorded_by", by},
+                      {"figures", figs},
+                      {"parameters", r.parameters.size()}});
+    }
+    Json evs = Json::array();
+    for (const auto& e : store.events(machine)) {
+      std::string by;
+      for (const auto& a : store.audit(e.id)) by = a.user;
+      evs.push_back(
+          {{"id", e.id}, {"date", e.date}, {"kind", std::string(to_string(e.kind))}, {"note", e.note}, {"added_by", by}});
+    }
+    return {{"machine", machine}, {"serial", records.back().machine_serial}, {"records", recs}, {"events", evs}};
+  }
+
+  // history diff --json of two records.
+  Json diff_json(HistoryStore& store, const std::string& a_id, const std::string& b_id) {
+    auto get = [&](const std::string& id) {
+      auto r = store.get(id);
+      if (!r) throw HttpError{404, "no record '" + printable(id) + "' in the store"};
+      return *r;
+    };
+    const CalibrationRecord a = get(a_id), b = get(b_id);
+    Json j = to_json(diff_records(a, b));
+    j["machines"] = {a.machine_name, b.machine_name};
+    j["measured_at"] = {a.measured_at, b.measured_at};
+    return j;
+  }
+
+  // An uploaded instrument file evaluated as its command does, with the form's metadata (the
+  // --meta keys) as the record's: ISO 230-2 runs as `mtcal history import FILE --meta ...`
+  // (read_positioning_file, format auto, unit mm; evaluate_positioning; the file's metadata
+  // under "metadata"), a ballbar trace as `mtcal ballbar TRACE --radius R --plane P [--feed F]
+  // --record` (evaluate_ballbar, diagnose_ballbar), probe contacts as `mtcal rotary-axis --axis A
+  // --contacts FILE --sphere-diameter D --stylus-diameter d --record` (method both). Nothing is
+  // stored here.
+  PendingUpload evaluate_upload(const httplib::Request& req, const Context& ctx) {
+    const std::string kind_name = param(req, "kind", 40).empty() ? std::string("iso230-2") : param(req, "kind", 40);
+    const auto kind = std::find_if(upload_kinds().begin(), upload_kinds().end(),
+                                   [&](const UploadKind& k) { return kind_name == k.name; });
+    if (kind == upload_kinds().end())
+      throw HttpError{400, "kind: expected iso230-2, ballbar or rotary-axis, found '" + printable(kind_name) + "'"};
+    if (!req.has_file("file")) throw HttpError{400, "expected an instrument file in the field 'file', found none"};
+    const auto file = req.get_file_value("file");
+    const std::string name = upload_display_name(file.filename);
+    std::string ext;
+    if (!allowed_upload_name(*kind, name, ext))
+      throw HttpError{415, std::string("expected ") + kind->what + ", found '" + printable(name) + "'"};
+    if (file.content.empty()) throw HttpError{400, "the file '" + printable(name) + "' is empty"};
+    std::map<std::string, std::string> meta;
+    for (const auto& f : metadata_fields()) {
+      const std::string key(f.key);
+      const std::string v = param(req, key, 500);
+      if (!v.empty()) meta[key] = v;
+    }
+    if (!meta.count("machine")) throw HttpError{400, "the field machine is missing"};
+    if (const auto d = meta.find("date"); d != meta.end() && !is_iso8601(d->second))
+      throw HttpError{400, "date: expected an ISO 8601 date (2026-11-25), found '" + printable(d->second) + "'"};
+    const TempFolder dir;
+    const std::string path = dir.put("upload" + ext, file.content);
+    const std::vector<InputHash> inputs{{name, sha256_hex(file.content)}};
+    Json shown;
+    CalibrationRecord rec;
+    try {
+      if (kind_name == "iso230-2") {
+        const PositioningRuns runs = read_positioning_file(path, "auto", "mm", "");
+        Json r = to_json(evaluate_positioning(runs));
+        Json m = Json::object();
+        for (const auto& [k, v] : runs.metadata) m[k] = v;
+        r["metadata"] = m;
+        rec = record_from_result("iso230-2", r.dump(), meta, inputs, name);
+        shown = r;
+        shown["warnings"] = runs.warnings;
+      } else if (kind_name == "ballbar") {
+        const auto radius = number_field("radius", param(req, "radius", 40), 1e-3, 1e5);
+        if (!radius) throw HttpError{400, "radius: expected the nominal radius of the test (the ballbar's length, mm)"};
+        const std::string plane = param(req, "plane", 8).empty() ? std::string("XY") : param(req, "plane", 8);
+        if (plane != "XY" && plane != "YZ" && plane != "ZX")
+          throw HttpError{400, "plane: expected XY, YZ or ZX, found '" + printable(plane) + "'"};
+        const double feed = number_field("feed", param(req, "feed", 40), 0, 1e6).value_or(0.0);
+        BallbarOptions bo;
+        bo.nominal_radius = *radius;
+        const BallbarTrace t = read_ballbar_csv(path);
+        const auto e = evaluate_ballbar(t, bo);
+        const TraceDiagnosis diagnosis = diagnose_ballbar(t, bo, plane);
+        if (feed > 0 && !meta.count("feed")) meta["feed"] = fmt::format("{:g} mm/min", feed);  // as the command does
+        const Json r = to_json(e, diagnosis, plane, *radius, feed);
+        rec = record_from_result("ballbar", r.dump(), meta, inputs, name);
+        shown = r;
+      } else {
+        // Not "axis": that is a metadata key (the axis an ISO 230-2 test measured).
+        const std::string axis = param(req, "rotary_axis", 4);
+        if (axis.size() != 1 || axis[0] < 'A' || axis[0] > 'C')
+          throw HttpError{400, "rotary_axis: expected A, B or C, found '" + printable(axis) + "'"};
+        const auto sphere = number_field("sphere_diameter", param(req, "sphere_diameter", 40), 1e-3, 1e4);
+        if (!sphere) throw HttpError{400, "sphere_diameter: expected the calibration sphere's diameter (mm)"};
+        const double stylus = number_field("stylus_diameter", param(req, "stylus_diameter", 40), 0, 1e3).value_or(0.0);
+        IndexedCentres centres = centres_from_contacts(read_contacts_csv(path, axis[0]), SphereProbing{*sphere, stylus, 0.01});
+        if (centres.centres.size() > opt.max_indexations)
+          throw HttpError{413, fmt::format("{} indexations are more than this server evaluates ({}); evaluate with mtcal "
+                                           "rotary-axis and record with mtcal history import",
+                                           centres.centres.size(), opt.max_indexations)};
+        const RotaryAxisResult r =
+            locate_rotary_axis(NominalRotaryAxis::by_letter(axis[0]), std::move(centres),
+                               RotaryAxisOptions{true, true, TriplesOptions{2.0, 40, 1}, 0.1});
+        if (!r.located)
+          throw HttpError{422, fmt::format("the centres turn about a line {:.1f} deg from the nominal direction of {}: no "
+                                           "location errors (wrong axis?)",
+                                           r.line.tilt * 180 / 3.14159265358979323846, axis)};
+        const Json j = to_json(r);
+        rec = record_from_result("rotary-axis", j.dump(), meta, inputs, name);
+        shown = j;
+      }
+    } catch (const InputError& e) {
+      rethrow_named(e, path, name);
+    }
+    return {ctx.session.id_hash, std::move(rec), std::move(shown), std::chrono::steady_clock::now()};
+  }
+
+  // "write compensation": a machine file (and parameter files) turned into a compensation
+  // target's files as `mtcal compensate -m MACHINE --params P... --format F [--points N] --out DIR`
+  // does (the same target.run); returned as a zip of DIR's files under the folder DIR.
+  std::pair<std::string, TargetOutput> compensation(const httplib::Request& req) {
+    if (!req.has_file("machine_file")) throw HttpError{400, "expected a machine file in the field 'machine_file', found none"};
+    const auto mf = req.get_file_value("machine_file");
+    const std::string mname = upload_display_name(mf.filename);
+    const std::string format = required(req, "format");
+    if (std::none_of(compensation_targets().begin(), compensation_targets().end(),
+                     [&](const CompensationTarget& t) { return t.name == format; }))
+      throw HttpError{400, "format: expected one of the compensation targets, found '" + printable(format) + "'"};
+    CompensationOptions co;
+    co.threads = 1;
+    if (const auto points = number_field("points", param(req, "points", 20), 2, 10000))
+      co.points = static_cast<std::size_t>(*points);
+    try {
+      Machine m = parse_machine(mf.content, mname);
+      // Parameter files in the order given (each error given replaces the machine's, as --params).
+      const auto [from, to] = req.files.equal_range("params");
+      for (auto p = from; p != to; ++p)
+        if (!p->second.content.empty()) apply_parameters(m, p->second.content, upload_display_name(p->second.filename));
+      TargetOutput out = compensation_target(format).run(m, co);
+      return {m.name, std::move(out)};
+    } catch (const InputError& e) {
+      throw HttpError{422, e.what()};
+    }
+  }
+
+  std::string keep_pending(PendingUpload p) {
+    std::lock_guard lock(pending_mutex);
+    const auto now = std::chrono::steady_clock::now();
+    std::erase_if(pending, [&](const auto& kv) { return now - kv.second.created > std::chrono::hours(1); });
+    if (pending.size() >= 1000) throw HttpError{503, "too many uploads wait for confirmation; try again later"};
+    std::string token = random_token();
+    pending.emplace(token, std::move(p));
+    return token;
+  }
+
+  PendingUpload take_pending(const std::string& token, const Context& ctx) {
+    std::lock_guard lock(pending_mutex);
+    const auto it = pending.find(token);
+    if (it == pending.end() || it->second.session_hash != ctx.session.id_hash)
+      throw HttpError{404, "no upload waits for confirmation under this token (expired, or confirmed already)"};
+    PendingUpload p = std::move(it->second);
+    pending.erase(it);
+    return p;
+  }
+
+  Event event_from(const httplib::Request& req) {
+    Event e;
+    e.machine = required(req, "machine");
+    e.date = required(req, "date");
+    const auto kind = parse_event_kind(required(req, "kind"));
+    if (!kind) throw HttpError{400, "kind: expected compensation-loaded, crash, repair or other"};
+    e.kind = *kind;
+    e.note = param(req, "note", 2000);
+    if (!is_iso8601(e.date))
+      throw HttpError{400, "date: expected an ISO 8601 date (2026-11-25), found '" + printable(e.date) + "'"};
+    return e;
+  }
+
+  // ---- routes ------------------------------------------------------------------------------
+
+  void register_routes();
+};
+
+void Server::Impl::register_routes() {
+  using Req = httplib::Request;
+  using Res = httplib::Response;
+  const auto html = [](Res& res, const std::string& body) { res.set_content(body, "text/html; charset=utf-8"); };
+
+  // Static assets: the reports' Plotly and the pages' script and style (no user data).
+  add({"GET", "/static/plotly.min.js", Role::Viewer, true, false, ""}, [](const Req&, Res& res, const Context*) {
+    const auto js = plotly_js();
+    res.set_content(js.data(), js.size(), "application/javascript");
+    res.set_header("Cache-Control", "public, max-age=86400");
+  });
+  add({"GET", "/static/app.js", Role::Viewer, true, false, ""}, [](const Req&, Res& res, const Context*) {
+    res.set_content(app_js(), "application/javascript");
+  });
+  add({"GET", "/static/style.css", Role::Viewer, true, false, ""}, [](const Req&, Res& res, const Context*) {
+    res.set_content(style_css(), "text/css");
+  });
+
+  add({"GET", "/login", Role::Viewer, true, false, ""}, [this, html](const Req& req, Res& res, const Context*) {
+    std::string token = cookie_value(req, kLoginCookie);
+    if (token.size() != 64) {
+      token = random_token();
+      res.set_header("Set-Cookie", std::string(kLoginCookie) + "=" + token + cookie_attributes(3600));
+    }
+    html(res, login_page(token, ""));
+  });
+  add({"POST", "/login", Role::Viewer, true, false, ""}, [this, html](const Req& req, Res& res, const Context*) {
+    const std::string cookie_token = cookie_value(req, kLoginCookie);
+    if (!tokens_equal(param(req, "csrf"), cookie_token))
+      return send_error(res, false, 403, "the login form's CSRF token is missing or wrong: reload the login page");
+    const std::string user = param(req, "user", 64), password = param(req, "password", 1024);
+    const std::string addr = "addr:" + req.remote_addr;
+    const long long wait = std::max(throttle.wait_seconds("user:" + user), throttle.wait_seconds(addr));
+    if (wait > 0) {
+      res.set_header("Retry-After", std::to_string(wait));
+      return send_error(res, false, 429, fmt::format("too many failed logins: try again in {} s", wait));
+    }
+    auto store = pool.lease();
+    const auto account = store->find_user(user);
+    const bool ok = verify_password(password, account ? account->password_hash : dummy_hash) && account;
+    if (!ok) {
+      throttle.failure("user:" + user);
+      throttle.failure(addr);
+      res.status = 401;
+      return html(res, login_page(cookie_token, "wrong user name or password"));
+    }
+    throttle.success("user:" + user);
+    // A new session id at every login (no fixation: any id the browser had is not reused).
+    const std::string old = cookie_value(req, kSessionCookie);
+    if (old.size() == 64) store->remove_session(sha256_hex(old));
+    store->remove_expired_sessions(now_utc_text());
+    const std::string id = random_token();
+    const auto now = std::chrono::system_clock::now();
+    store->put_session({sha256_hex(id), user, random_token(), now_utc_text(now),
+                        now_utc_text(now + std::chrono::hours(opt.session_hours))});
+    res.status = 303;
+    res.set_header("Location", "/fleet");
+    res.set_header("Set-Cookie", std::string(kSessionCookie) + "=" + id + cookie_attributes(opt.session_hours * 3600));
+  });
+  add({"POST", "/logout", Role::Viewer, false, false, ""}, [this](const Req&, Res& res, const Context* c) {
+    pool.lease()->remove_session(c->session.id_hash);
+    res.status = 303;
+    res.set_header("Location", "/login");
+    res.set_header("Set-Cookie", std::string(kSessionCookie) + "=" + cookie_attributes(0));
+  });
+
+  add({"GET", "/", Role::Viewer, false, false, ""}, [](const Req&, Res& res, const Context*) {
+    res.status = 303;
+    res.set_header("Location", "/fleet");
+  });
+  add({"GET", "/fleet", Role::Viewer, false, false, ""}, [this, html](const Req&, Res& res, const Context* c) {
+    auto store = pool.lease();
+    html(res, fleet_page(page_user(c), fleet_json(*store)));
+  });
+  add({"GET", "/api/fleet", Role::Viewer, false, true, ""}, [this](const Req&, Res& res, const Context*) {
+    auto store = pool.lease();
+    send_json(res, fleet_json(*store));
+  });
+  add({"GET", "/machine", Role::Viewer, false, false, "name=M1"}, [this, html](const Req& req, Res& res, const Context* c) {
+    auto store = pool.lease();
+    const std::string name = required(req, "name");
+    const auto [m, records] = trends(*store, name);
+    html(res, machine_page(page_user(c), machine_json(*store, name, records), to_json(m)));
+  });
+  add({"GET", "/api/machine", Role::Viewer, false, true, "name=M1"}, [this](const Req& req, Res& res, const Context*) {
+    auto store = pool.lease();
+    send_json(res, machine_json(*store, required(req, "name")));
+  });
+  add({"GET", "/machine/trend", Role::Viewer, false, false, "name=M1"}, [this](const Req& req, Res& res, const Context*) {
+    auto store = pool.lease();
+    const auto [m, records] = trends(*store, required(req, "name"));
+    // The report inlines Plotly and its data in <script> elements: this page alone allows inline scripts.
+    res.set_header("Content-Security-Policy",
+                   "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data: blob:");
+    res.set_content(trend_report_html("mtcal serve", m, records, store->describe(), now_utc_text()),
+                    "text/html; charset=utf-8");
+  });
+  add({"GET", "/api/machine/trend", Role::Viewer, false, true, "name=M1"},
+      [this](const Req& req, Res& res, const Context*) {
+        auto store = pool.lease();
+        send_json(res, to_json(trends(*store, required(req, "name")).first));
+      });
+  add({"GET", "/record", Role::Viewer, false, false, "id=0"}, [this, html](const Req& req, Res& res, const Context* c) {
+    auto store = pool.lease();
+    const auto r = store->get(required(req, "id"));
+    if (!r) throw HttpError{404, "no record '" + printable(req.get_param_value("id")) + "' in the store"};
+    html(res, record_page(page_user(c), *r, store->audit(r->id)));
+  });
+  add({"GET", "/api/record", Role::Viewer, false, true, "id=0"}, [this](const Req& req, Res& res, const Context*) {
+    auto store = pool.lease();
+    const auto r = store->get(required(req, "id"));
+    if (!r) throw HttpError{404, "no record '" + printable(req.get_param_value("id")) + "' in the store"};
+    res.set_content(record_to_json_line(*r) + "\n", "application/json");
+  });
+  add({"GET", "/diff", Role::Viewer, false, false, "a=0&b=1"}, [this, html](const Req& req, Res& res, const Context* c) {
+    auto store = pool.lease();
+    html(res, diff_page(page_user(c), diff_json(*store, required(req, "a"), required(req, "b"))));
+  });
+  add({"GET", "/api/diff", Role::Viewer, false, true, "a=0&b=1"}, [this](const Req& req, Res& res, const Context*) {
+    auto store = pool.lease();
+    send_json(res, diff_json(*store, required(req, "a"), required(req, "b")));
+  });
+
+  add({"GET", "/upload", Role::Engineer, false, false, ""}, [this, html](const Req& req, Res& res, const Context* c) {
+    html(res, upload_page(page_user(c), param(req, "machine", 200)));
+  });
+  add({"POST", "/upload", Role::Engineer, false, false, ""}, [this, html](const Req& req, Res& res, const Context* c) {
+    PendingUpload p = evaluate_upload(req, *c);
+    const Json result = p.result;
+    const CalibrationRecord rec = p.record;
+    const std::string token = keep_pending(std::move(p));
+    html(res, upload_preview_page(page_user(c), rec, result, token));
+  });
+  add({"POST", "/upload/confirm", Role::Engineer, false, false, ""},
+      [this](const Req& req, Res& res, const Context* c) {
+        PendingUpload p = take_pending(required(req, "token"), *c);
+        const std::string machine = p.record.machine_name;
+        pool.lease()->record_by(std::move(p.record), c->session.user);
+        res.status = 303;
+        res.set_header("Location", "/machine?name=" + url_encode(machine));
+      });
+  add({"POST", "/api/upload", Role::Engineer, false, true, ""}, [this](const Req& req, Res& res, const Context* c) {
+    PendingUpload p = evaluate_upload(req, *c);
+    Json j = p.result;
+    if (param(req, "confirm") == "1") j["record"] = pool.lease()->record_by(std::move(p.record), c->session.user);
+    send_json(res, j);
+  });
+  add({"POST", "/events", Role::Engineer, false, false, ""}, [this](const Req& req, Res& res, const Context* c) {
+    Event e = event_from(req);
+    const std::string machine = e.machine;
+    pool.lease()->add_event_by(std::move(e), c->session.user);
+    res.status = 303;
+    res.set_header("Location", "/machine?name=" + url_encode(machine));
+  });
+  add({"POST", "/api/events", Role::Engineer, false, true, ""}, [this](const Req& req, Res& res, const Context* c) {
+    Event e = event_from(req);
+    const std::string id = pool.lease()->add_event_by(e, c->session.user);
+    send_json(res, {{"id", id}, {"machine", e.machine}, {"date", e.date}, {"kind", std::string(to_string(e.kind))},
+                    {"note", e.note}});
+  });
+
+  // write compensation: the files of `mtcal compensate --format F --out DIR` as DIR.zip.
+  const auto send_zip = [this](const Req& req, Res& res) {
+    auto [machine, out] = compensation(req);
+    const std::string format = required(req, "format");
+    std::string folder;
+    for (const char c : machine + "-" + format)
+      folder += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ? c : '_';
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const auto& f : out.files) files.emplace_back(folder + "/" + f.name, f.text);
+    res.set_content(zip_archive(files), "application/zip");
+    res.set_header("Content-Disposition", "attachment; filename=\"" + folder + ".zip\"");
+  };
+  add({"POST", "/machine/compensation", Role::Engineer, false, false, ""},
+      [send_zip](const Req& req, Res& res, const Context*) { send_zip(req, res); });
+  // The API: the zip, or with summary=1 what `compensate --json` prints (the files' names, signs,
+  // residual before/after, what is not held).
+  add({"POST", "/api/compensation", Role::Engineer, false, true, ""}, [this, send_zip](const Req& req, Res& res, const Context*) {
+    if (param(req, "summary") != "1") return send_zip(req, res);
+    auto [machine, out] = compensation(req);
+    Json j = to_json(out);
+    j["machine"] = machine;
+    send_json(res, j);
+  });
+
+  // Calibration intervals per machine (the fleet's overdue column): admins set them.
+  add({"GET", "/admin/machines", Role::Admin, false, false, ""}, [this, html](const Req&, Res& res, const Context* c) {
+    auto store = pool.lease();
+    html(res, machines_page(page_user(c), store->machines(), store->machine_intervals(), opt.interval_days));
+  });
+  const auto set_interval = [this](const Req& req, const Context* c) {
+    const std::string machine = required(req, "machine");
+    const auto days = number_field("days", required(req, "days"), 0, 36500);
+    if (*days != std::floor(*days)) throw HttpError{400, "days: expected a whole number of days"};
+    pool.lease()->set_machine_interval(machine, static_cast<int>(*days), c->session.user);
+    return std::pair{machine, static_cast<int>(*days)};
+  };
+  add({"POST", "/admin/machines", Role::Admin, false, false, ""}, [set_interval](const Req& req, Res& res, const Context* c) {
+    set_interval(req, c);
+    res.status = 303;
+    res.set_header("Location", "/admin/machines");
+  });
+  add({"GET", "/api/intervals", Role::Viewer, false, true, ""}, [this](const Req&, Res& res, const Context*) {
+    Json j = Json::array();
+    for (const auto& i : pool.lease()->machine_intervals())
+      j.push_back({{"machine", i.machine}, {"days", i.days}, {"set_by", i.set_by}, {"set_at", i.set_at}});
+    send_json(res, {{"default_days", opt.interval_days}, {"intervals", j}});
+  });
+  add({"POST", "/api/intervals", Role::Admin, false, true, ""}, [this, set_interval](const Req& req, Res& res, const Context* c) {
+    const auto [machine, days] = set_interval(req, c);
+    send_json(res, {{"machine", machine}, {"days", days == 0 ? opt.interval_days : days}, {"own", days != 0}});
+  });
+
+  add({"GET", "/admin/users", Role::Admin, false, false, ""}, [this, html](const Req&, Res& res, const Context* c) {
+    html(res, users_page(page_user(c), pool.lease()->users()));
+  });
+  add({"GET", "/api/users", Role::Admin, false, true, ""}, [this](const Req&, Res& res, const Context*) {
+    Json j = Json::array();
+    for (const auto& u : pool.lease()->users())
+      j.push_back({{"name", u.name}, {"role", u.role}, {"created_at", u.created_at}});
+    send_json(res, {{"users", j}});
+  });
+  add({"POST", "/admin/users", Role::Admin, false, false, ""}, [this](const Req& req, Res& res, const Context*) {
+    auto store = pool.lease();
+    add_user(*store, required(req, "user"), required(req, "role"), required(req, "password"), opt.kdf_cost);
+    res.status = 303;
+    res.set_header("Location", "/admin/users");
+  });
+}
+
+Server::Server(ServerOptions o) : impl_(std::make_unique<Impl>(std::move(o))) {}
+Server::~Server() = default;
+
+int Server::bind() {
+  const auto& o = impl_->opt;
+  const int port = o.port == 0 ? impl_->http->bind_to_any_port(o.host) : (impl_->http->bind_to_port(o.host, o.port) ? o.port : -1);
+  if (port < 0) throw Error(fmt::format("cannot listen on {}:{} (in use, or not an address of this host)", o.host, o.port));
+  return port;
+}
+
+// cpp-httplib's stop() only closes the listening socket once listen_after_bind() has marked the
+// server running (httplib.h 0.11.4, Server::stop and Server::listen_internal): a stop() that
+// comes between run()'s start and that moment did nothing, and run() then served for ever (the
+// hang of server_security on a loaded machine: a test that sends no request stops the server
+// at once). Here a stop() before run() makes run() return at once, and a stop() during run()'s
+// start waits until httplib can be stopped.
+void Server::run() {
+  auto& i = *impl_;
+  {
+    std::lock_guard lock(i.run_mutex);
+    if (i.stop_requested) return;
+    i.run_state = Impl::RunState::Starting;
+  }
+  i.http->listen_after_bind();
+  std::lock_guard lock(i.run_mutex);
+  i.run_state = Impl::RunState::Returned;
+  i.run_changed.notify_all();
+}
+
+void Server::stop() {
+  auto& i = *impl_;
+  std::unique_lock lock(i.run_mutex);
+  i.stop_requested = true;
+  if (i.run_state != Impl::RunState::Starting) return;  // not started (run() will not serve) or over
+  // run() has begun: wait until httplib reports it running (or run() returned), then stop it.
+  while (i.run_state == Impl::RunState::Starting && !i.http->is_running())
+    i.run_changed.wait_for(lock, std::chrono::milliseconds(1));
+  // Once only: httplib asserts that its socket is open when it stops.
+  if (i.run_state == Impl::RunState::Starting && !i.http_stopped) {
+    i.http_stopped = true;
+    i.http->stop();
+  }
+}
+const std::vector<Route>& Server::routes() const { return impl_->routes; }
+
+}  // namespace mtcal::server

@@ -1,0 +1,163 @@
+#!/usr/bin/env bash
+# mtcal serve against the commands it stands for, on the real command and a SQLite store, with
+# curl as the client (every call bounded by --max-time): uploads of a ballbar trace and of probe
+# contacts are recorded as `mtcal ballbar --record` and `mtcal rotary-axis --record` record them
+# (the same content hash); "write compensation" is a zip of exactly the files `mtcal compensate
+# --out` writes; the fleet's ranking is `mtcal history rank`'s; intervals per machine; then the
+# faults: a server killed with uploads in flight leaves whole records only, and starts again.
+# Needs MTCAL, ROOT (the source tree), DATA (an ISO 230-2 .dat of ../shared/data).
+set -u
+source "$(dirname "$0")/../testing/cli_lib.sh"
+EX="$ROOT/examples"
+store=sqlite:$tmp/shop.db
+cli=sqlite:$tmp/cli.db
+tol="$EX/acceptance/tolerances.yaml"
+curl() { command curl --silent --show-error --max-time 60 "$@"; }
+
+MTCAL_PASSWORD='cli-test-password' "$MTCAL" serve --store "$store" --add-user ada --role admin >/dev/null 2>"$tmp/err" \
+  && ok || bad "--add-user: $(cat "$tmp/err")"
+# Two ISO 230-2 calibrations of B02 (the same runs, two dates) and one of B03, for the ranking.
+for m in "B02 2025-10-20" "B02 2026-04-20" "B03 2026-02-01"; do
+  set -- $m
+  "$MTCAL" history import "$DATA" --store "$store" --meta "machine=$1" --meta "date=$2" --meta axis=X >/dev/null \
+    2>"$tmp/err" || bad "history import: $(cat "$tmp/err")"
+done
+
+pid=
+start_server() {
+  "$MTCAL" serve --store "$store" --listen 127.0.0.1:0 --tolerance-file "$tol" --interval-days 200 2>"$tmp/serve.log" &
+  pid=$!
+  port=
+  for _ in $(seq 1 150); do
+    port=$(sed -n 's|.*://127.0.0.1:\([0-9]*\)/.*|\1|p' "$tmp/serve.log")
+    [ -n "$port" ] && break
+    sleep 0.1
+  done
+  [ -n "$port" ] || { bad "the server did not start: $(cat "$tmp/serve.log")"; kill "$pid"; summary_and_exit; exit 1; }
+  base="http://127.0.0.1:$port"
+}
+stop_server() { kill "$pid" 2>/dev/null; wait "$pid" 2>/dev/null; }
+start_server
+
+# Log in as a browser does: the login form's token (cookie + field), then the session's token.
+jar=$tmp/jar
+login_token=$(curl -c "$jar" -b "$jar" "$base/login" | sed -n 's/.*name="csrf" value="\([0-9a-f]*\)".*/\1/p')
+curl -c "$jar" -b "$jar" -o /dev/null -d "csrf=$login_token" -d user=ada -d password=cli-test-password "$base/login"
+csrf=$(curl -c "$jar" -b "$jar" "$base/fleet" | sed -n 's/.*name="csrf" value="\([0-9a-f]*\)".*/\1/p' | head -1)
+[ ${#csrf} = 64 ] && ok || bad "login: no session token"
+api() { curl -b "$jar" -H "X-CSRF-Token: $csrf" "$@"; }
+hash_of() { "$MTCAL" history list --store "$1" --machine "$2" --json | python3 -c 'import json,sys; print([r["content_hash"] for r in json.load(sys.stdin)["records"]])'; }
+
+# A ballbar trace, evaluated as `mtcal ballbar` evaluates and records it.
+api -o "$tmp/bb.json" -w '%{http_code}' -F kind=ballbar -F radius=100 -F plane=XY -F machine=BB1 -F date=2026-01-05 \
+  -F operator=cli -F confirm=1 -F "file=@$EX/instruments/xy-ballbar.csv" "$base/api/upload" >"$tmp/code"
+[ "$(cat "$tmp/code")" = 200 ] && ok || bad "ballbar upload: $(cat "$tmp/code") $(cat "$tmp/bb.json")"
+"$MTCAL" ballbar "$EX/instruments/xy-ballbar.csv" --radius 100 --plane XY --meta machine=BB1 --meta date=2026-01-05 \
+  --meta operator=cli --record "$cli" >/dev/null 2>"$tmp/err" || bad "ballbar --record: $(cat "$tmp/err")"
+[ "$(hash_of "$store" BB1)" = "$(hash_of "$cli" BB1)" ] && ok \
+  || bad "the server's ballbar record differs from the command's: $(hash_of "$store" BB1) vs $(hash_of "$cli" BB1)"
+
+# Probe contacts on the RRTTT example's C table (probe-sim), evaluated as `mtcal rotary-axis`.
+"$MTCAL" probe-sim -m "$EX/machines/rrttt-table-table.yaml" --axis C --angles 0:350:36 --sphere 150,-40,80 \
+  --out "$tmp/contacts.csv" >/dev/null || bad "probe-sim"
+api -o "$tmp/ra.json" -w '%{http_code}' -F kind=rotary-axis -F rotary_axis=C -F sphere_diameter=30 -F stylus_diameter=6 \
+  -F machine=RT1 -F date=2026-01-06 -F confirm=1 -F "file=@$tmp/contacts.csv" "$base/api/upload" >"$tmp/code"
+[ "$(cat "$tmp/code")" = 200 ] && ok || bad "contacts upload: $(cat "$tmp/code") $(cat "$tmp/ra.json")"
+"$MTCAL" rotary-axis --axis C --contacts "$tmp/contacts.csv" --sphere-diameter 30 --stylus-diameter 6 \
+  --meta machine=RT1 --meta date=2026-01-06 --record "$cli" >/dev/null 2>"$tmp/err" || bad "rotary-axis --record: $(cat "$tmp/err")"
+[ "$(hash_of "$store" RT1)" = "$(hash_of "$cli" RT1)" ] && ok \
+  || bad "the server's rotary-axis record differs from the command's: $(hash_of "$store" RT1) vs $(hash_of "$cli" RT1)"
+# A trace without --radius, contacts with a wrong kind: 400/415, nothing recorded.
+code=$(api -o /dev/null -w '%{http_code}' -F kind=ballbar -F machine=BB2 -F confirm=1 -F "file=@$EX/instruments/xy-ballbar.csv" "$base/api/upload")
+[ "$code" = 400 ] && ok || bad "ballbar without radius: $code"
+code=$(api -o /dev/null -w '%{http_code}' -F kind=rotary-axis -F rotary_axis=C -F sphere_diameter=30 -F machine=RT2 -F confirm=1 -F "file=@$DATA" "$base/api/upload")
+[ "$code" = 415 ] && ok || bad "a .dat as contacts: $code"
+
+# write compensation: the zip holds what `mtcal compensate --out DIR` writes, byte for byte.
+api -o "$tmp/comp.zip" -w '%{http_code}' -F "machine_file=@$EX/machines/vmc-3axis.yaml" -F format=linuxcnc \
+  "$base/api/compensation" >"$tmp/code"
+[ "$(cat "$tmp/code")" = 200 ] && ok || bad "compensation: $(cat "$tmp/code")"
+"$MTCAL" compensate -m "$EX/machines/vmc-3axis.yaml" --format linuxcnc --out "$tmp/comp-cli" >/dev/null 2>"$tmp/err" \
+  || bad "compensate: $(cat "$tmp/err")"
+python3 - "$tmp/comp.zip" "$tmp/comp-cli" <<'PY' && ok || bad "the zip differs from compensate --out"
+import os, sys, zipfile
+z = zipfile.ZipFile(sys.argv[1])
+assert z.testzip() is None
+names = sorted(n for n in z.namelist() if not n.endswith('/'))
+cli = sorted(os.listdir(sys.argv[2]))
+folder = {n.split('/')[0] for n in names}
+assert len(folder) == 1, folder
+assert [n.split('/', 1)[1] for n in names] == cli, (names, cli)
+for n in names:
+    assert z.read(n) == open(os.path.join(sys.argv[2], n.split('/', 1)[1]), 'rb').read(), n
+PY
+code=$(api -o /dev/null -w '%{http_code}' -F "machine_file=@$DATA" -F format=linuxcnc "$base/api/compensation")
+[ "$code" = 422 ] && ok || bad "compensation of a file that is no machine: $code"
+code=$(api -o /dev/null -w '%{http_code}' -F "machine_file=@$EX/machines/vmc-3axis.yaml" -F format=nonesuch "$base/api/compensation")
+[ "$code" = 400 ] && ok || bad "compensation for an unknown controller: $code"
+
+# The fleet's ranking is history rank's (same tolerance file).
+api "$base/api/fleet" >"$tmp/fleet.json"
+"$MTCAL" history rank --store "$store" --tolerance-file "$tol" --json >"$tmp/rank.json" 2>"$tmp/err" || bad "history rank: $(cat "$tmp/err")"
+python3 - "$tmp/fleet.json" "$tmp/rank.json" <<'PY' && ok || bad "the fleet's ranking differs from history rank's"
+import json, sys
+fleet = json.load(open(sys.argv[1])); rank = json.load(open(sys.argv[2]))
+assert fleet["ranked"], fleet
+by = {m["machine"]: m["rank"] for m in fleet["machines"] if m["rank"] is not None}
+assert len(rank["machines"]) >= 2, rank
+assert sorted(by) == sorted(m["machine"] for m in rank["machines"]), (sorted(by), rank["machines"])
+for m in rank["machines"]:
+    f = by[m["machine"]]
+    for k in ("rank", "utilisation", "years_to_limit", "outside", "quantities"):
+        assert f[k] == m[k], (m["machine"], k, f[k], m[k])
+PY
+# B02: the same runs twice, no drift; the page shows the columns.
+curl -b "$jar" "$base/fleet" >"$tmp/fleet.html"
+grep -q 'Tolerance used (%)' "$tmp/fleet.html" && grep -q 'Out of tolerance' "$tmp/fleet.html" && ok || bad "fleet page lacks the rank columns"
+
+# Intervals: B03 (2026-02-01) with 30 days is overdue; with the default 200 days B02's 2026-04-20 is
+# overdue only from 2026-11-06 on, so the check compares with the age the server reports.
+code=$(api -o /dev/null -w '%{http_code}' -d machine=B03 -d days=30 "$base/api/intervals")
+[ "$code" = 200 ] && ok || bad "set interval: $code"
+api "$base/api/fleet" >"$tmp/fleet.json"
+python3 - "$tmp/fleet.json" <<'PY' && ok || bad "intervals in the fleet: $(cat "$tmp/fleet.json" | head -c 600)"
+import json, sys
+f = {m["machine"]: m for m in json.load(open(sys.argv[1]))["machines"]}
+b3, b2 = f["B03"], f["B02"]
+assert b3["interval_days"] == 30 and b3["interval_own"] and b3["overdue"] == (b3["calibrations"][0]["age_days"] > 30)
+assert b2["interval_days"] == 200 and not b2["interval_own"]
+assert b2["overdue"] == (b2["calibrations"][0]["age_days"] > 200)
+PY
+"$MTCAL" history list --store "$store" --json >/dev/null  # the store is readable while served
+
+# Killed with uploads in flight: four confirmed uploads sent at once, SIGKILL while they run.
+# Every record in the store afterwards is whole (its figures are there), the store passes
+# SQLite's integrity check, and the server starts again on it.
+before=$("$MTCAL" history list --store "$store" --json | python3 -c 'import json,sys; print(len(json.load(sys.stdin)["records"]))')
+for i in 1 2 3 4; do
+  api -o /dev/null -F machine=K$i -F "date=2026-0$i-01" -F confirm=1 -F "file=@$DATA" "$base/api/upload" 2>/dev/null &
+done
+sleep 0.3
+kill -9 "$pid"
+wait "$pid" 2>/dev/null
+wait 2>/dev/null
+"$MTCAL" history list --store "$store" --json >"$tmp/after.json" 2>"$tmp/err" || bad "history list after the kill: $(cat "$tmp/err")"
+python3 - "$tmp/after.json" "$before" "${store#sqlite:}" <<'PY' && ok || bad "a killed server left a half record"
+import json, sqlite3, sys
+recs = json.load(open(sys.argv[1]))["records"]
+before = int(sys.argv[2])
+assert before <= len(recs) <= before + 4, (before, len(recs))
+for r in recs:
+    if r["machine"].startswith("K"):
+        assert r["command"] == "iso230-2" and len(r["figures"]) >= 5, r
+db = sqlite3.connect(sys.argv[3])
+assert db.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+# Every figure row belongs to a record, every K record has its latest_records row.
+assert db.execute("SELECT COUNT(*) FROM figures WHERE record_id NOT IN (SELECT id FROM records)").fetchone()[0] == 0
+PY
+start_server
+code=$(curl -o /dev/null -w '%{http_code}' "$base/login")
+[ "$code" = 200 ] && ok || bad "the server does not start again on the same store ($code)"
+stop_server
+grep -q "server stopped" "$tmp/serve.log" && ok || bad "SIGTERM did not stop the server cleanly: $(cat "$tmp/serve.log")"
+summary_and_exit
