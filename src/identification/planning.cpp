@@ -15,6 +15,7 @@
 #include <Eigen/LU>
 #include <fmt/format.h>
 
+#include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/fitting/fit.hpp"
 #include "mtcal/fitting/least_squares.hpp"
 #include "mtcal/kinematics/error_model.hpp"
@@ -227,6 +228,96 @@ PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const Ide
 
 // ---------------------------------------------------------------------------------------------
 
+std::vector<std::vector<double>> travel_grid(const Machine& m, std::size_t per_axis) {
+  if (per_axis < 2)
+    throw InputError({"workspace", 0, ""}, fmt::format("expected at least 2 values per axis, found {}", per_axis));
+  std::vector<std::vector<double>> g;
+  const auto n = static_cast<double>(per_axis);
+  for (const auto& axis : m.axes) {
+    const auto& t = axis.travel;
+    std::vector<double> v;
+    const bool rotary = axis.kind == AxisKind::Rotary;
+    if (rotary && (!t || t->max - t->min >= 2 * std::numbers::pi - 1e-12)) {
+      for (std::size_t i = 0; i < per_axis; ++i)  // one turn, the end left out (it is the start)
+        v.push_back(-std::numbers::pi + 2 * std::numbers::pi * static_cast<double>(i) / n);
+    } else if (!t) {
+      throw InputError({m.source, 0, std::string(1, axis.letter)},
+                       "a workspace over the travels needs the travel of every linear axis; axis has none");
+    } else {
+      for (std::size_t i = 0; i < per_axis; ++i)
+        v.push_back(t->min + (t->max - t->min) * static_cast<double>(i) / (n - 1));
+    }
+    g.push_back(std::move(v));
+  }
+  return g;
+}
+
+VaSensitivity va_sensitivity(const Machine& m, const std::vector<std::vector<double>>& workspace,
+                             const IdentificationOptions& o, const VaOptions& vo) {
+  const auto params = detail::parameter_indices(m, o.estimate, o.estimate_source);
+  const ErrorModel model(m);
+  const ErrorMap map = grid_error_map(model, workspace);
+  const VolumetricAccuracy va = volumetric_accuracy(map.error);
+  VaSensitivity out;
+  out.va = va.va.value;
+  if (!(out.va > 1e-12))
+    throw InputError({"workspace", 0, ""},
+                     fmt::format("the machine's VA over the workspace ({} configurations) is {:g} mm: its uncertainty "
+                                 "is linearised about the machine's errors, which must not all vanish there (give "
+                                 "the expected errors, e.g. a prior identification's parameters)",
+                                 map.size(), out.va));
+  // The pairs within the tolerance of the maximum: a point can be in one only if its distance from
+  // the centroid plus the map's radius about it reaches VA - tolerance (triangle inequality).
+  const double floor = out.va - std::max(0.0, vo.tie_tolerance);
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& e : map.error) centre += e;
+  centre /= static_cast<double>(map.size());
+  double radius = 0.0;
+  for (const Vec3& e : map.error) radius = std::max(radius, (e - centre).norm());
+  std::vector<std::size_t> far;
+  for (std::size_t i = 0; i < map.size(); ++i)
+    if ((map.error[i] - centre).norm() + radius >= floor) far.push_back(i);
+  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs{{out.va, va.va.i, va.va.j}};
+  for (std::size_t a = 0; a < far.size(); ++a)
+    for (std::size_t b = a + 1; b < far.size(); ++b) {
+      const std::size_t i = far[a], j = far[b];
+      if ((i == va.va.i && j == va.va.j) || (i == va.va.j && j == va.va.i)) continue;
+      const double l = (map.error[j] - map.error[i]).norm();
+      if (l >= floor) pairs.emplace_back(l, i, j);
+    }
+  std::sort(pairs.begin() + 1, pairs.end(), [](const auto& x, const auto& y) { return std::get<0>(x) > std::get<0>(y); });
+  if (pairs.size() > std::max<std::size_t>(1, vo.max_pairs)) pairs.resize(std::max<std::size_t>(1, vo.max_pairs));
+  const auto ci = map.configuration(va.va.i), cj = map.configuration(va.va.j);
+  out.from.assign(ci.begin(), ci.end());
+  out.to.assign(cj.begin(), cj.end());
+  const auto all = m.parameters();
+  for (std::size_t k : params) out.parameters.push_back(all[k].name);
+  out.gradients.resize(static_cast<Eigen::Index>(params.size()), static_cast<Eigen::Index>(pairs.size()));
+  for (std::size_t n = 0; n < pairs.size(); ++n) {
+    const auto [l, i, j] = pairs[n];
+    const Vec3 d = (map.error[j] - map.error[i]).normalized();
+    const Eigen::Matrix<double, 6, Eigen::Dynamic> Ji = model.jacobian(map.configuration(i)),
+                                                   Jj = model.jacobian(map.configuration(j));
+    for (std::size_t k = 0; k < params.size(); ++k) {
+      const auto c = static_cast<Eigen::Index>(params[k]);
+      out.gradients(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(n)) =
+          d.dot(Jj.block<3, 1>(0, c) - Ji.block<3, 1>(0, c));
+    }
+    out.pair_lengths.push_back(l);
+  }
+  out.gradient = out.gradients.col(0);
+  return out;
+}
+
+double va_uncertainty(const VaSensitivity& s, const Eigen::MatrixXd& covariance) {
+  if (covariance.rows() != s.gradients.rows() || covariance.cols() != s.gradients.rows())
+    throw Error(fmt::format("va_uncertainty: a covariance of {} x {} for {} parameters", covariance.rows(),
+                            covariance.cols(), s.gradients.rows()));
+  return std::sqrt(std::max(0.0, (s.gradients.transpose() * covariance * s.gradients).diagonal().maxCoeff()));
+}
+
+// ---------------------------------------------------------------------------------------------
+
 namespace {
 
 // Scaled variance above which an unknown counts as undetermined: with the 1e-10 ridge an
@@ -238,12 +329,16 @@ constexpr double kRidge = 1e-10, kUndetermined = 1e4;
 // ridge), its inverse and the parameters' block of it.
 class Design {
  public:
+  // g: the VA's gradients in scaled units, a column per near-critical pair (empty: none);
+  // va_weight: 1 / its target^2 in MaxU (0: none).
   Design(Eigen::MatrixXd rows, std::vector<std::size_t> first, Eigen::MatrixXd fixed, std::size_t params,
-         Eigen::VectorXd weight, int threads)
+         Eigen::VectorXd weight, Eigen::MatrixXd g, double va_weight, int threads)
       : rows_(std::move(rows)),
         first_(std::move(first)),
         p_(static_cast<Eigen::Index>(params)),
         w_(std::move(weight)),
+        g_(g.size() == 0 ? Eigen::MatrixXd::Zero(p_, 1) : std::move(g)),
+        va_weight_(va_weight),
         threads_(threads) {
     base_ = fixed.transpose() * fixed;
     base_.diagonal().array() += kRidge;
@@ -286,7 +381,9 @@ class Design {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(cov_.topLeftCorner(p_, p_), Eigen::EigenvaluesOnly);
     return es.eigenvalues().maxCoeff() < kUndetermined;
   }
-  double value(DesignCriterion c) const { return criterion(c, cov_.topLeftCorner(p_, p_).diagonal(), logdet_); }
+  double value(DesignCriterion c) const {
+    return criterion(c, cov_.topLeftCorner(p_, p_).diagonal(), logdet_, va_vars_.maxCoeff());
+  }
   // The criterion after adding (sign +1) or removing (sign -1) each candidate, for those with
   // want[j]; infinity elsewhere. One product with the inverse for all candidates (Sherman-Morrison-
   // Woodbury: C' = C - s U (I + s J U)^-1 U^T with U = C J^T).
@@ -309,6 +406,10 @@ class Design {
         const auto Up = Uj.topRows(p_);
         const Eigen::VectorXd dd = ((Up * Sinv).array() * Up.array()).rowwise().sum();
         const Eigen::VectorXd diag = cov_.topLeftCorner(p_, p_).diagonal() - sign * dd;
+        // g^T C' g by the same update, per pair: g^T C g - s a^T S^-1 a, a = Up^T g.
+        const Eigen::MatrixXd ag = Up.transpose() * g_;
+        const double va_var =
+            (va_vars_ - sign * ((Sinv * ag).array() * ag.array()).colwise().sum().transpose().matrix()).maxCoeff();
         double logdet = 0.0;
         if (c == DesignCriterion::D) {
           const Eigen::MatrixXd K =
@@ -317,7 +418,7 @@ class Design {
           if (!(det > 0)) continue;
           logdet = logdet_ + std::log(det);
         }
-        out[j] = criterion(c, diag, logdet);
+        out[j] = criterion(c, diag, logdet, va_var);
       }
     });
     return out;
@@ -327,11 +428,13 @@ class Design {
   Eigen::Block<const Eigen::MatrixXd> block(std::size_t j) const {
     return rows_.middleRows(static_cast<Eigen::Index>(first_[j]), static_cast<Eigen::Index>(first_[j + 1] - first_[j]));
   }
-  double criterion(DesignCriterion c, const Eigen::VectorXd& diag, double logdet) const {
+  double criterion(DesignCriterion c, const Eigen::VectorXd& diag, double logdet, double va_var) const {
     if (c == DesignCriterion::D) return logdet;
     if ((diag.array() > kUndetermined).any() || !(diag.array() > 0).all()) return kInf;
+    if (c == DesignCriterion::Va) return std::sqrt(std::max(0.0, va_var));
     const Eigen::ArrayXd rel = diag.array() * w_.array();
-    return c == DesignCriterion::A ? rel.sum() : std::sqrt(rel.maxCoeff());
+    if (c == DesignCriterion::A) return rel.sum();
+    return std::sqrt(std::max(rel.maxCoeff(), va_var * va_weight_));
   }
   void refresh() {
     const Eigen::LLT<Eigen::MatrixXd> llt(M_);
@@ -340,14 +443,18 @@ class Design {
     const Eigen::LLT<Eigen::MatrixXd> lp(cpp);
     cpp_inv_ = lp.solve(Eigen::MatrixXd::Identity(p_, p_));
     logdet_ = 2.0 * lp.matrixLLT().diagonal().array().log().sum();
+    va_vars_ = (g_.transpose() * cpp * g_).diagonal();
   }
 
   Eigen::MatrixXd rows_;
   std::vector<std::size_t> first_;
   Eigen::Index p_;
   Eigen::VectorXd w_;
+  Eigen::MatrixXd g_;
+  double va_weight_ = 0.0;
   int threads_;
   Eigen::MatrixXd base_, M_, cov_, cpp_inv_;
+  Eigen::VectorXd va_vars_;
   double logdet_ = 0.0;
   std::vector<bool> chosen_;
   std::vector<std::size_t> selection_;
@@ -393,7 +500,7 @@ std::size_t exchange(Design& d, DesignCriterion c, int max_passes, std::size_t& 
 }
 
 const char* criterion_name(DesignCriterion c) {
-  return c == DesignCriterion::D ? "D" : c == DesignCriterion::A ? "A" : "max-u";
+  return c == DesignCriterion::D ? "D" : c == DesignCriterion::A ? "A" : c == DesignCriterion::Va ? "VA" : "max-u";
 }
 
 }  // namespace
@@ -407,8 +514,12 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   if (o.poses > count)
     throw InputError({o.poses_source, 0, std::to_string(o.poses)},
                      fmt::format("expected at most the {} candidate poses, found {}", count, o.poses));
-  if (o.poses == 0 && o.target_u.empty())
+  if (o.poses == 0 && o.target_u.empty() && o.target_va_u == 0)
     throw InputError({o.poses_source, 0, ""}, "expected a budget: a number of poses or target uncertainties");
+  if (o.target_va_u != 0 && (!(o.target_va_u > 0) || !std::isfinite(o.target_va_u)))
+    throw InputError({o.target_va_source, 0, ""}, fmt::format("expected an uncertainty > 0, found {:g}", o.target_va_u));
+  if ((o.target_va_u > 0 || o.criterion == DesignCriterion::Va) && o.va_gradients.size() == 0)
+    throw InputError({o.target_va_source, 0, ""}, "a target or criterion on the VA needs the VA's gradient");
 
   PlanDesign out;
   out.criterion = criterion_name(o.criterion);
@@ -416,6 +527,13 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   const auto params = detail::parameter_indices(m, o.model.estimate, o.model.estimate_source);
   const std::size_t p = params.size();
   const auto all_params = m.parameters();
+  const bool va = o.va_gradients.size() > 0;
+  if (va && o.va_gradients.rows() != static_cast<Eigen::Index>(p))
+    throw Error(fmt::format("design_plan: VA gradients of {} for {} parameters", o.va_gradients.rows(), p));
+  auto va_u_of = [&](const Eigen::MatrixXd& C) {
+    return std::sqrt(std::max(0.0, (o.va_gradients.transpose() * C * o.va_gradients).diagonal().maxCoeff()));
+  };
+  if (va) out.va_u_best = va_u_of(out.all_candidates.covariance);
 
   // Targets, by parameter.
   std::vector<double> target(p, 0.0);
@@ -440,6 +558,11 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
     if (!unmet.empty())
       throw InputError({o.target_source, 0, ""},
                        fmt::format("the target cannot be met even with all {} candidate poses ({})", count, unmet));
+    if (o.target_va_u > 0 && out.va_u_best > o.target_va_u * (1 + 1e-9))
+      throw InputError({o.target_va_source, 0, ""},
+                       fmt::format("the target cannot be met even with all {} candidate poses (the VA's standard "
+                                   "uncertainty: target {:.4g} um, best reachable {:.4g} um)",
+                                   count, o.target_va_u * 1e3, out.va_u_best * 1e3));
   }
 
   // Jacobian rows of every candidate (and the fixed scale-bar rows), unit-norm columns.
@@ -461,13 +584,19 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   // Weights of the relative variances: by target where targets are given (the others count only
   // as having to be determined), else by the best reachable uncertainty.
   Eigen::VectorXd w(static_cast<Eigen::Index>(p));
-  const bool targets = std::any_of(target.begin(), target.end(), [](double t) { return t > 0; });
+  // A budget on the VA alone: the parameters need only be determined (weight 0).
+  const bool targets = std::any_of(target.begin(), target.end(), [](double t) { return t > 0; }) ||
+                       (o.poses == 0 && o.target_va_u > 0);
   for (std::size_t k = 0; k < p; ++k) {
     const double ref = targets ? target[k] : out.all_candidates.parameters[k].u;
     const double s = 1.0 / norm[static_cast<Eigen::Index>(k)];  // scaled unit -> parameter unit
     w[static_cast<Eigen::Index>(k)] = ref > 0 ? (s / ref) * (s / ref) : 0.0;
   }
-  Design d(rows, first, fixed, p, w, o.threads);
+  // The VA's gradient in the scaled parameters (theta_scaled = theta * norm).
+  Eigen::MatrixXd g;
+  if (va) g = norm.head(static_cast<Eigen::Index>(p)).cwiseInverse().asDiagonal() * o.va_gradients;
+  const double va_weight = o.target_va_u > 0 ? 1.0 / (o.target_va_u * o.target_va_u) : 0.0;
+  Design d(rows, first, fixed, p, w, g, va_weight, o.threads);
 
   // Backward elimination from every candidate, then exchange. (A forward build-up is myopic
   // here: a scale bar fixes the scale only once both its balls are probed, so no single pose
@@ -534,6 +663,10 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
     out.all_candidates.parameters[k].target = target[k];
     if (target[k] > 0 && out.prediction.parameters[k].u > target[k] * (1 + 1e-6)) out.target_met = false;
   }
+  if (va) {
+    out.va_u = va_u_of(out.prediction.covariance);
+    if (o.target_va_u > 0 && out.va_u > o.target_va_u * (1 + 1e-6)) out.target_met = false;
+  }
   out.criterion_value = d.value(o.poses > 0 ? o.criterion : DesignCriterion::MaxU);
   return out;
 }
@@ -541,10 +674,12 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
 // ---------------------------------------------------------------------------------------------
 
 PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, const ProbingPlan& plan,
-                                const IdentificationOptions& o, std::size_t runs, std::uint64_t seed, int threads) {
+                                const IdentificationOptions& o, std::size_t runs, std::uint64_t seed, int threads,
+                                const std::vector<std::vector<double>>& workspace) {
   const auto params = detail::parameter_indices(prior, o.estimate, o.estimate_source);
   const std::size_t p = params.size();
   std::vector<std::vector<double>> values(runs);
+  std::vector<double> vas(runs, 0.0);
   std::vector<char> ok(runs, 0);
   parallel_for(runs, threads, [&](std::size_t k, std::size_t) {
     SimulationOptions so;
@@ -562,6 +697,8 @@ PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, cons
       const IdentificationResult r = identify(prior, sim.measurements, o);
       if (!r.converged || r.parameters.size() != p) return;
       for (const auto& e : r.parameters) values[k].push_back(e.value);
+      if (!workspace.empty())  // one thread each: the runs are already spread over the threads
+        vas[k] = volumetric_accuracy(grid_error_map(ErrorModel(r.machine), workspace, {1}).error).va.value;
       ok[k] = 1;
     } catch (const Error&) {
     }
@@ -585,6 +722,15 @@ PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, cons
     if (ok[k])
       for (std::size_t i = 0; i < p; ++i) out.stdev[i] += std::pow(values[k][i] - out.mean[i], 2);
   for (auto& v : out.stdev) v = std::sqrt(v / static_cast<double>(n - 1));
+  if (!workspace.empty()) {
+    out.va = true;
+    for (std::size_t k = 0; k < runs; ++k)
+      if (ok[k]) out.va_mean += vas[k];
+    out.va_mean /= static_cast<double>(n);
+    for (std::size_t k = 0; k < runs; ++k)
+      if (ok[k]) out.va_stdev += std::pow(vas[k] - out.va_mean, 2);
+    out.va_stdev = std::sqrt(out.va_stdev / static_cast<double>(n - 1));
+  }
   return out;
 }
 
