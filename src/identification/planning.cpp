@@ -188,6 +188,72 @@ CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeF
 
 // ---------------------------------------------------------------------------------------------
 
+std::vector<ProbeFeature> region_balls(const BallRegion& r, const std::vector<ProbeFeature>& taken) {
+  for (const auto& [name, v] : {std::pair{"x_min", r.x_min}, std::pair{"x_max", r.x_max}, std::pair{"y_min", r.y_min},
+                                std::pair{"y_max", r.y_max}, std::pair{"z", r.z}})
+    if (!std::isfinite(v)) throw InputError({"ball region", 0, name}, fmt::format("expected a finite value, found {:g}", v));
+  if (!(r.spacing > 0) || !std::isfinite(r.spacing))
+    throw InputError({"ball region", 0, "spacing"}, fmt::format("expected a spacing > 0 mm, found {:g}", r.spacing));
+  if (r.x_min > r.x_max || r.y_min > r.y_max)
+    throw InputError({"ball region", 0, ""}, fmt::format("expected min <= max, found x {:g} to {:g}, y {:g} to {:g}",
+                                                         r.x_min, r.x_max, r.y_min, r.y_max));
+  const double nx = std::floor((r.x_max - r.x_min) / r.spacing + 1e-9) + 1,
+               ny = std::floor((r.y_max - r.y_min) / r.spacing + 1e-9) + 1;
+  if (nx * ny > 10000)
+    throw InputError({"ball region", 0, "spacing"},
+                     fmt::format("expected at most 10,000 positions, found {:g} x {:g}: a larger spacing", nx, ny));
+  std::vector<ProbeFeature> out;
+  for (long j = 0; j < static_cast<long>(ny); ++j)
+    for (long i = 0; i < static_cast<long>(nx); ++i) {
+      ProbeFeature f;
+      f.id = r.id_prefix + std::to_string(out.size() + 1);
+      if (std::any_of(taken.begin(), taken.end(), [&](const ProbeFeature& t) { return t.id == f.id; }))
+        throw InputError({"ball region", 0, f.id},
+                         fmt::format("the region's ball id '{}' is already a feature of the artefact", f.id));
+      f.kind = ProbeFeature::Kind::Ball;
+      f.position = Vec3(r.x_min + static_cast<double>(i) * r.spacing, r.y_min + static_cast<double>(j) * r.spacing, r.z);
+      out.push_back(f);
+    }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+ParameterChoice choose_parameters(const Machine& m, const ProbingPlan& candidates, const SubsetOptions& so,
+                                  const IdentificationOptions& model) {
+  const SubsetAnalysis a = full_rank_subsets(m, candidates, so, model);
+  ParameterChoice out;
+  out.examined = a.examined;
+  out.full_rank = a.full_rank;
+  if (a.subsets.empty()) {
+    IdentificationOptions all = model;
+    all.estimate = so.always;
+    all.estimate.insert(all.estimate.end(), so.candidates.begin(), so.candidates.end());
+    all.estimate_source = so.candidates_source;
+    const Identifiability id = identifiability(m, candidates, all);
+    std::string why;
+    for (const auto& d : id.null_directions) why += (why.empty() ? "" : "; ") + d;
+    throw InputError({so.choose_source, 0, std::to_string(so.choose)},
+                     fmt::format("none of the {} subsets of {} among the {} candidates is identifiable at all {} "
+                                 "candidate poses{}{}",
+                                 a.examined, so.choose, a.candidates.size(), candidates.records.size(),
+                                 id.unidentifiable.empty() ? "" : fmt::format(" ({} {} not identifiable whatever the poses: {})",
+                                                                              fmt::join(id.unidentifiable, ", "),
+                                                                              id.unidentifiable.size() == 1 ? "is" : "are", why),
+                                 so.always.empty() ? "" : fmt::format(", with {}", fmt::join(so.always, ","))));
+  }
+  const ParameterSubset& best = a.subsets.front();
+  out.condition = best.condition;
+  out.estimate = so.always;
+  for (std::size_t i : best.members) {
+    out.chosen.push_back(a.candidates[i]);
+    out.estimate.push_back(a.candidates[i]);
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
 PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const IdentificationOptions& o) {
   const Machine nominal = nominal_of(m);
   const ProbingPlan targets = plan_targets(nominal, plan);
@@ -522,7 +588,8 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
     throw InputError({o.target_va_source, 0, ""}, "a target or criterion on the VA needs the VA's gradient");
 
   PlanDesign out;
-  out.criterion = criterion_name(o.criterion);
+  // A budget of targets is met with max-u whatever --criterion says (it applies to a number of poses).
+  out.criterion = criterion_name(o.poses > 0 ? o.criterion : DesignCriterion::MaxU);
   out.all_candidates = predict_plan(m, candidates, o.model);  // throws when not identifiable at all
   const auto params = detail::parameter_indices(m, o.model.estimate, o.model.estimate_source);
   const std::size_t p = params.size();

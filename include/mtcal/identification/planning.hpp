@@ -47,6 +47,18 @@ struct CandidateSet {
   // Per constraint, in the order applied: name and the number of candidates it removed.
   std::vector<std::pair<std::string, std::size_t>> removed;
 };
+// Where balls may go: a rectangle of the table (workpiece frame, mm) sampled every `spacing` from
+// its min corner (both ends included when the side is a multiple of it), ball centres at height z.
+struct BallRegion {
+  double x_min = 0.0, x_max = 0.0, y_min = 0.0, y_max = 0.0, z = 0.0;
+  double spacing = 100.0;
+  std::string id_prefix = "R";  // ids R1, R2 ... (x fastest)
+};
+// The candidate balls of a region (ids not among `taken`, which are the given features' ids).
+// Throws InputError for a region whose min exceeds its max, a spacing that is not > 0, more than
+// 10,000 positions, or an id already taken.
+std::vector<ProbeFeature> region_balls(const BallRegion& region, const std::vector<ProbeFeature>& taken = {});
+
 // Every feature of `features` at every grid indexation (facets: each pre-move pattern of the linear
 // axes other than the probing one), then the constraints: "travel" (a linear target outside its
 // axis' travel), "stem" (a ball approached beyond max_tilt_deg), "facet side" (the probe behind a
@@ -56,6 +68,21 @@ CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeF
                                       const CandidateGrid& grid, const ProbeReach& reach);
 // The constraint (name as above) that rejects record r of a plan (with nominal targets), or "".
 std::string reach_violation(const Machine& m, const ProbingPlan& plan, const ProbingRecord& r, const ProbeReach& reach);
+
+// ---- The parameters to identify, chosen ----
+
+struct ParameterChoice {
+  std::vector<std::string> chosen;    // the best subset's members (resolved names: EXX -> EXX.0, EXX.1 ...)
+  std::vector<std::string> estimate;  // options.always, then chosen: what the design estimates
+  double condition = 0.0;             // of the scaled Jacobian at every candidate
+  std::uint64_t examined = 0, full_rank = 0;
+};
+// The rank-safe subset search (full_rank_subsets, Viprey 2015 section 4) on every candidate
+// configuration at once - what the instrument can identify whatever the poses - and its best
+// conditioned subset. Throws InputError when no subset of options.choose has full rank, naming
+// the null-space combinations of the always-parameters and all candidates (identifiability).
+ParameterChoice choose_parameters(const Machine& m, const ProbingPlan& candidates, const SubsetOptions& options,
+                                  const IdentificationOptions& model);
 
 // ---- Predicted uncertainty ----
 
