@@ -157,7 +157,12 @@ int run_plan(const PlanOptions& o) {
   std::vector<ProbeFeature> features = artefact.features;
   std::size_t region_positions = 0;
   if (!o.ball_region.empty()) {
-    const auto balls = region_balls(parse_region(o.ball_region, o.ball_spacing), features);
+    std::vector<ProbeFeature> balls;
+    try {
+      balls = region_balls(parse_region(o.ball_region, o.ball_spacing), features);
+    } catch (const InputError& e) {
+      rethrow_for_options(e, {{"ball region", "--ball-region"}});
+    }
     region_positions = balls.size();
     features.insert(features.end(), balls.begin(), balls.end());
   }
@@ -195,12 +200,13 @@ int run_plan(const PlanOptions& o) {
   std::optional<VaSensitivity> va;
   double target_va_u = 0.0;
   if (va_wanted) {
-    workspace = o.workspace.empty() ? travel_grid(m, 5) : checked_grid(m, o.workspace, false, 1'000'000);
-    if (!o.target_va_u.empty()) target_va_u = parse_in_unit(o.target_va_u, "mm", {"--target-va-u", 0, ""});
+    const std::string option = o.workspace.empty() ? "--target-va-u" : "--workspace";
     try {
+      workspace = o.workspace.empty() ? travel_grid(m, 5) : checked_grid(m, o.workspace, false, 1'000'000);
+      if (!o.target_va_u.empty()) target_va_u = parse_in_unit(o.target_va_u, "mm", {"--target-va-u", 0, ""});
       va = va_sensitivity(m, workspace, io);
     } catch (const InputError& e) {
-      throw InputError({o.workspace.empty() ? "--target-va-u" : "--workspace", 0, ""}, e.what());
+      rethrow_for_options(e, {{"--grid", "--workspace"}, {"workspace", option}});
     }
   }
 

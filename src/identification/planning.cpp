@@ -476,6 +476,7 @@ class Design {
         const Eigen::MatrixXd ag = Up.transpose() * g_;
         const double va_var =
             (va_vars_ - sign * ((Sinv * ag).array() * ag.array()).colwise().sum().transpose().matrix()).maxCoeff();
+        if ((va_weight_ > 0 || c == DesignCriterion::Va) && !(va_var > 0)) continue;  // lost to cancellation (see exchange)
         double logdet = 0.0;
         if (c == DesignCriterion::D) {
           const Eigen::MatrixXd K =
@@ -552,8 +553,19 @@ std::size_t exchange(Design& d, DesignCriterion c, int max_passes, std::size_t& 
       for (std::size_t j = 0; j < d.count(); ++j) want[j] = !d.chosen(j);
       const auto v = d.trial(c, +1, want);
       const std::size_t j = best(v);
+      // The trial values come from rank-one updates of a covariance that can hold undetermined
+      // directions (variance 1 / ridge) after the removal: their cancellation can be gross, so
+      // a swap is kept only when the refreshed (re-factorised) criterion confirms it.
+      bool swapped = false;
       if (j < v.size() && j != i && better(v[j], before)) {
         d.add(j);
+        if (better(d.value(c), before)) {
+          swapped = true;
+        } else {
+          d.remove(j);
+        }
+      }
+      if (swapped) {
         ++swaps;
         improved = true;
       } else {
@@ -678,6 +690,10 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
     const std::size_t j = best(v);
     if (j == v.size() || !(v[j] <= limit)) return false;
     d.remove(j);
+    if (!(d.value(c) <= limit * (1 + 1e-9))) {  // the update misjudged it (see exchange): undone
+      d.add(j);
+      return false;
+    }
     return true;
   };
   if (o.poses > 0) {

@@ -2,7 +2,9 @@
 // inverse and against simulate -> identify, the designs' budgets, time by hand, bad inputs.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <Eigen/Cholesky>
@@ -262,6 +264,101 @@ TEST(Planning, VaGradientAgainstNumericDifferences) {
   clean.clear_errors();
   const std::string msg = error_message([&] { va_sensitivity(clean, workspace, o); });
   EXPECT_NE(msg.find("must not all vanish"), std::string::npos) << msg;
+}
+
+TEST(Planning, ParametersChosenByTheSubsetSearch) {
+  // The subset search at every candidate pose against identifiability run on each subset (an
+  // independent path: the SVD of the scaled Jacobian, not the incremental Cholesky).
+  const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/rrttt-table-table.yaml");
+  const ProbingPlan viprey = read_probing_csv(m, kPlans + "rrttt-viprey-sphere.csv");
+  const CandidateSet c = candidate_configurations(m, viprey.features, rotary_grid(m, 30 * std::numbers::pi / 180), {});
+  SubsetOptions so;
+  so.candidates = {"EA0C", "EB0C", "EY0A", "EZ0A", "EB0A", "EC0A", "EXw", "EC0C"};
+  so.always = {"EX0C", "EY0C"};
+  so.choose = 5;
+  const ParameterChoice choice = choose_parameters(m, c.plan, so, IdentificationOptions{});
+  EXPECT_EQ(choice.examined, 56u);  // C(8, 5)
+  std::size_t full = 0;
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<std::string> best_names;
+  for (unsigned mask = 0; mask < 256; ++mask) {
+    if (std::popcount(mask) != 5) continue;
+    IdentificationOptions o;
+    o.estimate = so.always;
+    for (std::size_t i = 0; i < 8; ++i)
+      if (mask & (1u << i)) o.estimate.push_back(so.candidates[i]);
+    const Identifiability id = identifiability(m, c.plan, o);
+    if (!id.unidentifiable.empty()) continue;
+    ++full;
+    if (id.condition < best) best = id.condition, best_names = o.estimate;
+  }
+  EXPECT_EQ(choice.full_rank, full);
+  EXPECT_GT(full, 0u);
+  EXPECT_EQ(choice.estimate, best_names);
+  EXPECT_EQ(choice.chosen.size(), 5u);
+  EXPECT_EQ(std::vector<std::string>(choice.estimate.begin(), choice.estimate.begin() + 2), so.always);
+  // None identifiable: the null-space combination is named.
+  so.candidates = {"EXw", "EYw"};
+  so.choose = 1;
+  const std::string msg = error_message([&] { choose_parameters(m, c.plan, so, IdentificationOptions{}); });
+  EXPECT_NE(msg.find("none of the 2 subsets of 1"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("EXw = 1 ball S x"), std::string::npos) << msg;
+}
+
+TEST(Planning, BallRegionCandidates) {
+  // Positions by hand: x and y from -100 to 100 every 100 mm -> 3 x 3, x fastest.
+  BallRegion r;
+  r.x_min = r.y_min = -100;
+  r.x_max = r.y_max = 100;
+  r.z = 30;
+  r.spacing = 100;
+  const auto balls = region_balls(r);
+  ASSERT_EQ(balls.size(), 9u);
+  EXPECT_EQ(balls[0].id, "R1");
+  EXPECT_EQ(balls[5].id, "R6");
+  EXPECT_EQ(balls[5].position, Vec3(100, 0, 30));
+  EXPECT_EQ(balls[5].kind, ProbeFeature::Kind::Ball);
+  // A side that is not a multiple of the spacing: its end is left out.
+  r.x_max = 150;
+  EXPECT_EQ(region_balls(r).size(), 9u);
+  r.x_max = 100;
+  // Reach: one candidate per position and indexation; what the constraints keep passes them.
+  const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/rrttt-table-table.yaml");
+  const CandidateGrid g = rotary_grid(m, 30 * std::numbers::pi / 180);
+  std::size_t indexations = 1;
+  for (const auto& v : g.rotary) indexations *= v.size();
+  ProbeReach reach;
+  reach.holder_radius = 40;  // a wide holder: the table rule removes the tilted poses of these low balls
+  const CandidateSet c = candidate_configurations(m, balls, g, reach);
+  EXPECT_EQ(c.considered, 9 * indexations);
+  std::size_t removed = 0;
+  for (const auto& [name, n] : c.removed) removed += n;
+  EXPECT_EQ(c.plan.records.size() + removed, c.considered);
+  EXPECT_GT(c.removed[3].second, 0u) << "table";
+  for (const auto& rec : c.plan.records) EXPECT_EQ(reach_violation(m, c.plan, rec, reach), "");
+  // A design over them: every pose on a region ball, the parameters predicted.
+  DesignOptions d;
+  d.model.estimate = {"EX0C", "EY0C", "EA0C", "EB0C", "EY0A", "EZ0A", "EB0A", "EC0A"};
+  d.poses = 16;
+  const PlanDesign design = design_plan(m, c.plan, d);
+  EXPECT_EQ(design.plan.records.size(), 16u);
+  for (const auto& e : design.prediction.parameters) EXPECT_TRUE(std::isfinite(e.u) && e.u > 0) << e.name;
+  const ProbingPlan again = parse_probing_csv(m, probing_csv(m, design.plan), "designed");
+  EXPECT_EQ(again.records.size(), 16u);
+  EXPECT_EQ(again.features[again.records[0].feature].id.front(), 'R');
+  // Bad regions.
+  r.spacing = 0;
+  EXPECT_NE(error_message([&] { region_balls(r); }).find("spacing > 0"), std::string::npos);
+  r.spacing = 100;
+  r.x_min = 200;
+  EXPECT_NE(error_message([&] { region_balls(r); }).find("min <= max"), std::string::npos);
+  r.x_min = -100;
+  r.spacing = 0.5;
+  EXPECT_NE(error_message([&] { region_balls(r); }).find("at most 10,000"), std::string::npos);
+  r.spacing = 100;
+  ProbeFeature taken;
+  taken.id = "R2";
+  EXPECT_NE(error_message([&] { region_balls(r, {taken}); }).find("'R2' is already"), std::string::npos);
 }
 
 TEST(Planning, FewestPosesForAVaTarget) {
