@@ -30,7 +30,7 @@ struct PlanOptions {
   std::vector<std::string> estimate, scale_bars, target_u, candidates;
   std::size_t choose = 0;
   std::string target_va_u, workspace, ball_region;
-  double ball_spacing = 100.0;
+  double ball_spacing = 100.0, va_tie_um = 0.0;
   std::string artefact, against, out, criterion = "d";
   std::size_t poses = 0, monte_carlo = 0;
   std::uint64_t seed = 1;
@@ -204,7 +204,13 @@ int run_plan(const PlanOptions& o) {
     try {
       workspace = o.workspace.empty() ? travel_grid(m, 5) : checked_grid(m, o.workspace, false, 1'000'000);
       if (!o.target_va_u.empty()) target_va_u = parse_in_unit(o.target_va_u, "mm", {"--target-va-u", 0, ""});
-      va = va_sensitivity(m, workspace, io);
+      VaOptions vo;
+      if (o.va_tie_um > 0)
+        vo.tie_tolerance = o.va_tie_um * 1e-3;
+      else if (target_va_u > 0)
+        vo.tie_tolerance = 6 * target_va_u;  // a pair can overtake the critical one by 3 u of each
+      vo.max_pairs = 256;
+      va = va_sensitivity(m, workspace, io, vo);
     } catch (const InputError& e) {
       rethrow_for_options(e, {{"--grid", "--workspace"}, {"workspace", option}});
     }
@@ -319,11 +325,11 @@ int run_plan(const PlanOptions& o) {
                    report.monte_carlo ? &*report.monte_carlo : nullptr);
   if (va) {
     std::cout << fmt::format("VA over {} ({} configurations): {:.3f} um; its predicted u {:.4g} um (best reachable "
-                             "{:.4g} um{}{}; {} pair{} within {:g} um of the critical one)\n",
+                             "{:.4g} um{}{}; {} pair{} within {:.4g} um of the critical one)\n",
                              report.workspace, va_points(workspace), va->va * 1e3, design.va_u * 1e3,
                              design.va_u_best * 1e3, target_va_u > 0 ? fmt::format(", target {:.4g} um", target_va_u * 1e3) : "",
                              report.against_va_u ? fmt::format(", against {:.4g} um", *report.against_va_u * 1e3) : "",
-                             va->pair_lengths.size(), va->pair_lengths.size() == 1 ? "" : "s", VaOptions{}.tie_tolerance * 1e3);
+                             va->pair_lengths.size(), va->pair_lengths.size() == 1 ? "" : "s", va->tie_tolerance * 1e3);
     if (report.monte_carlo && report.monte_carlo->va)
       std::cout << fmt::format("VA Monte Carlo: mean {:.3f} um, spread {:.4g} um, ratio {:.3f}\n",
                                report.monte_carlo->va_mean * 1e3, report.monte_carlo->va_stdev * 1e3,
@@ -410,6 +416,10 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
   c->add_option("--workspace", o->workspace,
                 "Grid of the VA (as identify --workspace), e.g. \"X=-300:300:5,Y=-250:250:5,Z=-300:300:5\"; default: "
                 "5 values an axis over the travels");
+  c->add_option("--va-tie-um", o->va_tie_um,
+                "Pairs within this of the VA count as critical too (the largest u among them is the VA's), um; "
+                "default: 6 x --target-va-u, or 1 um")
+      ->check(CLI::NonNegativeNumber & kFinite);
   c->add_option("--criterion", o->criterion,
                 "d (D-optimal), a (A-optimal), max-u (largest relative u) or va (smallest u of the VA); with --poses")
       ->check(CLI::IsMember({"d", "a", "max-u", "va"}))

@@ -352,7 +352,11 @@ VaSensitivity va_sensitivity(const Machine& m, const std::vector<std::vector<dou
       if (l >= floor) pairs.emplace_back(l, i, j);
     }
   std::sort(pairs.begin() + 1, pairs.end(), [](const auto& x, const auto& y) { return std::get<0>(x) > std::get<0>(y); });
-  if (pairs.size() > std::max<std::size_t>(1, vo.max_pairs)) pairs.resize(std::max<std::size_t>(1, vo.max_pairs));
+  out.tie_tolerance = std::max(0.0, vo.tie_tolerance);
+  if (pairs.size() > std::max<std::size_t>(1, vo.max_pairs)) {
+    pairs.resize(std::max<std::size_t>(1, vo.max_pairs));
+    out.pairs_capped = true;
+  }
   const auto ci = map.configuration(va.va.i), cj = map.configuration(va.va.j);
   out.from.assign(ci.begin(), ci.end());
   out.to.assign(cj.begin(), cj.end());
@@ -577,6 +581,21 @@ std::size_t exchange(Design& d, DesignCriterion c, int max_passes, std::size_t& 
   return swaps;
 }
 
+// The options with only the scale bars whose two balls the plan probes (identify refuses a bar
+// with a ball never probed; such a bar adds nothing to the plan's information).
+IdentificationOptions with_probed_scale_bars(IdentificationOptions o, const ProbingPlan& plan) {
+  std::erase_if(o.scale_bars, [&](const ScaleBar& sb) {
+    for (const auto& id : {sb.ball_a, sb.ball_b}) {
+      const auto f = plan.feature_index(id);
+      if (!f || std::none_of(plan.records.begin(), plan.records.end(),
+                             [&](const ProbingRecord& r) { return r.feature == *f; }))
+        return true;
+    }
+    return false;
+  });
+  return o;
+}
+
 const char* criterion_name(DesignCriterion c) {
   return c == DesignCriterion::D ? "D" : c == DesignCriterion::A ? "A" : c == DesignCriterion::Va ? "VA" : "max-u";
 }
@@ -730,17 +749,7 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   out.plan.source = "the designed plan";
   for (std::size_t j : out.selected) out.plan.records.push_back(candidates.records[j]);
   // Scale bars whose balls are not both probed add nothing: left out of the prediction.
-  IdentificationOptions model = o.model;
-  std::erase_if(model.scale_bars, [&](const ScaleBar& sb) {
-    for (const auto& id : {sb.ball_a, sb.ball_b}) {
-      const auto f = out.plan.feature_index(id);
-      if (!f || std::none_of(out.plan.records.begin(), out.plan.records.end(),
-                             [&](const ProbingRecord& r) { return r.feature == *f; }))
-        return true;
-    }
-    return false;
-  });
-  out.prediction = predict_plan(m, out.plan, model);
+  out.prediction = predict_plan(m, out.plan, with_probed_scale_bars(o.model, out.plan));
   for (std::size_t k = 0; k < p; ++k) {
     out.prediction.parameters[k].target = target[k];
     out.all_candidates.parameters[k].target = target[k];
@@ -757,8 +766,9 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
 // ---------------------------------------------------------------------------------------------
 
 PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, const ProbingPlan& plan,
-                                const IdentificationOptions& o, std::size_t runs, std::uint64_t seed, int threads,
+                                const IdentificationOptions& given, std::size_t runs, std::uint64_t seed, int threads,
                                 const std::vector<std::vector<double>>& workspace) {
+  const IdentificationOptions o = with_probed_scale_bars(given, plan);  // as design_plan predicts it
   const auto params = detail::parameter_indices(prior, o.estimate, o.estimate_source);
   const std::size_t p = params.size();
   std::vector<std::vector<double>> values(runs);

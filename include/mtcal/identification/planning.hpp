@@ -133,6 +133,8 @@ struct VaSensitivity {
   // Per pair within the tolerance (the critical one first): its length (mm) and gradient (a column).
   std::vector<double> pair_lengths;
   Eigen::MatrixXd gradients;
+  double tie_tolerance = 0.0;  // mm, as used
+  bool pairs_capped = false;   // more pairs were within it than max_pairs
 };
 VaSensitivity va_sensitivity(const Machine& m, const std::vector<std::vector<double>>& workspace,
                              const IdentificationOptions& options, const VaOptions& va_options = {});
@@ -210,7 +212,8 @@ struct PlanMonteCarlo {
 };
 // runs x (simulate_probing of `truth` with noise options.sigma_ball (balls) and the plan, seeds
 // seed, seed+1, ...; then identify from `prior`): the spread of the estimates, to set beside
-// predict_plan. Scale bars of options are imposed in the simulation. Independent of threads.
+// predict_plan. Scale bars of options whose two balls the plan probes are imposed in the simulation
+// and used in the identification (the others left out, as design_plan predicts). Independent of threads.
 // With a workspace (non-empty), also the spread of the identified machines' VA over it (to set
 // beside va_uncertainty).
 PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, const ProbingPlan& plan,
