@@ -4,6 +4,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -26,7 +27,10 @@ namespace {
 
 struct PlanOptions {
   ModelOptions model;
-  std::vector<std::string> estimate, scale_bars, target_u;
+  std::vector<std::string> estimate, scale_bars, target_u, candidates;
+  std::size_t choose = 0;
+  std::string target_va_u, workspace, ball_region;
+  double ball_spacing = 100.0, va_tie_um = 0.0;
   std::string artefact, against, out, criterion = "d";
   std::size_t poses = 0, monte_carlo = 0;
   std::uint64_t seed = 1;
@@ -76,6 +80,50 @@ std::vector<std::pair<std::string, double>> parse_targets(const Machine& m, cons
   return out;
 }
 
+// "XMIN:XMAX,YMIN:YMAX,Z" (mm, workpiece frame): the rectangle where balls may go.
+BallRegion parse_region(const std::string& spec, double spacing) {
+  const SourceLocation where{"--ball-region", 0, spec};
+  auto fail = [&] {
+    return InputError(where, "expected XMIN:XMAX,YMIN:YMAX,Z (mm, workpiece frame), found '" + printable(spec) + "'");
+  };
+  std::vector<std::string> parts;
+  for (std::size_t a = 0;;) {
+    const std::size_t b = spec.find(',', a);
+    parts.push_back(spec.substr(a, b == std::string::npos ? std::string::npos : b - a));
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  if (parts.size() != 3) throw fail();
+  auto number = [&](const std::string& t) {
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(t, &used);
+      if (used != t.size() || !std::isfinite(v)) throw fail();
+      return v;
+    } catch (const std::logic_error&) {
+      throw fail();
+    }
+  };
+  auto range = [&](const std::string& t, double& lo, double& hi) {
+    const auto c = t.find(':');
+    if (c == std::string::npos) throw fail();
+    lo = number(t.substr(0, c));
+    hi = number(t.substr(c + 1));
+  };
+  BallRegion r;
+  range(parts[0], r.x_min, r.x_max);
+  range(parts[1], r.y_min, r.y_max);
+  r.z = number(parts[2]);
+  r.spacing = spacing;
+  return r;
+}
+
+std::size_t va_points(const std::vector<std::vector<double>>& grid) {
+  std::size_t n = 1;
+  for (const auto& v : grid) n *= v.size();
+  return n;
+}
+
 void print_prediction(const PlanPrediction& p, const PlanPrediction* against, const PlanMonteCarlo* mc) {
   std::cout << fmt::format("{:<10} {:>12} {:<7}{}{}\n", "parameter", "u", "unit", against ? "  u (against)" : "",
                            mc ? "  u (Monte Carlo)  ratio" : "");
@@ -94,19 +142,70 @@ int run_plan(const PlanOptions& o) {
   inputs.push_back(o.against);
   check_outputs(inputs, {o.out});
   const Machine m = load(o.model);
-  if (o.artefact.empty() && o.against.empty())
-    throw InputError({"--artefact", 0, ""}, "expected the artefact's balls and facets: --artefact PLAN.csv or --against PLAN.csv");
+  if (o.artefact.empty() && o.against.empty() && o.ball_region.empty())
+    throw InputError({"--artefact", 0, ""},
+                     "expected the artefact's balls and facets: --artefact PLAN.csv, --against PLAN.csv or --ball-region");
+  if (o.estimate.empty() && o.candidates.empty())
+    throw InputError({"--estimate", 0, ""}, "expected the parameters to identify: --estimate, or --candidates with --choose");
+  if (!o.candidates.empty() && o.choose == 0) throw InputError({"--candidates", 0, ""}, "--candidates needs --choose K");
   std::optional<ProbingPlan> against;
   if (!o.against.empty()) against = read_probing_csv(m, o.against);
-  const ProbingPlan artefact = o.artefact.empty() ? *against : read_probing_csv(m, o.artefact);
+  ProbingPlan artefact;
+  if (!o.artefact.empty())
+    artefact = read_probing_csv(m, o.artefact);
+  else if (against)
+    artefact = *against;
+  std::vector<ProbeFeature> features = artefact.features;
+  std::size_t region_positions = 0;
+  if (!o.ball_region.empty()) {
+    std::vector<ProbeFeature> balls;
+    try {
+      balls = region_balls(parse_region(o.ball_region, o.ball_spacing), features);
+    } catch (const InputError& e) {
+      rethrow_for_options(e, {{"ball region", "--ball-region"}});
+    }
+    region_positions = balls.size();
+    features.insert(features.end(), balls.begin(), balls.end());
+  }
 
   PlanStudyOptions so;
   so.model.estimate = o.estimate;
   so.model.estimate_source = "--estimate";
   for (const auto& s : o.scale_bars) so.model.scale_bars.push_back(parse_scale_bar(s, "--scale-bar"));
   so.model.sigma_ball = so.model.sigma_facet = so.model.sigma_scale_bar = o.sigma_um * 1e-3;
+  // --candidates: the best conditioned full-rank subset at every candidate pose (identifiability --choose).
+  if (!o.candidates.empty()) {
+    SubsetOptions c;
+    c.candidates = o.candidates;
+    c.always = o.estimate;
+    c.choose = o.choose;
+    c.threads = o.threads;
+    c.keep = 1;
+    c.candidates_source = "--candidates";
+    c.always_source = "--estimate";
+    c.choose_source = "--choose";
+    c.max_subsets = 10'000'000;  // about a minute on 2 cores (identifiability --choose: 1.5e5 a second a thread)
+    so.choose = c;
+  }
+  // The predicted VA over the workspace, with its gradient (when asked for).
+  so.va = !o.target_va_u.empty() || !o.workspace.empty() || o.criterion == "va";
+  const std::string va_option = o.workspace.empty() ? "--target-va-u" : "--workspace";
+  if (so.va) {
+    try {
+      so.workspace = o.workspace.empty() ? travel_grid(m, 5) : checked_grid(m, o.workspace, false, 1'000'000);
+      if (!o.target_va_u.empty()) so.target_va_u = parse_in_unit(o.target_va_u, "mm", {"--target-va-u", 0, ""});
+    } catch (const InputError& e) {
+      rethrow_for_options(e, {{"--grid", "--workspace"}, {"workspace", va_option}});
+    }
+    if (o.va_tie_um > 0)
+      so.va_options.tie_tolerance = o.va_tie_um * 1e-3;
+    else if (so.target_va_u > 0)
+      so.va_options.tie_tolerance = 6 * so.target_va_u;  // a pair can overtake the critical one by 3 u of each
+    so.va_options.max_pairs = 256;
+  }
   so.criterion = o.criterion == "a"       ? DesignCriterion::A
                  : o.criterion == "max-u" ? DesignCriterion::MaxU
+                 : o.criterion == "va"    ? DesignCriterion::Va
                                           : DesignCriterion::D;
   so.poses = o.poses;
   so.target_u = parse_targets(m, o.target_u);
@@ -118,14 +217,24 @@ int run_plan(const PlanOptions& o) {
   so.threads = o.threads;
   so.poses_source = "--poses";
   so.target_source = "--target-u";
+  so.target_va_source = "--target-va-u";
   so.against_source = "--against " + o.against;
-  if (so.poses == 0 && so.target_u.empty() && !against)
-    throw InputError({"--poses", 0, ""}, "expected a budget: --poses N, --target-u PARAM=U or --against PLAN.csv");
+  if (so.poses == 0 && so.target_u.empty() && so.target_va_u == 0 && !against)
+    throw InputError({"--poses", 0, ""},
+                     "expected a budget: --poses N, --target-u PARAM=U, --target-va-u U or --against PLAN.csv");
   for (const auto* path : {&o.out, &o.gcode})
     if (!path->empty()) AtomicFile check(*path);
   Progress progress("plan: poses", 0);
   if (progress.active()) so.progress = [&](const char*, std::size_t n) { progress.update(n, n); };
-  const PlanStudy study = plan_study(m, artefact, against, so);
+  ProbingPlan candidates_of = artefact;
+  candidates_of.features = features;  // the artefact's features and the region's balls
+  std::optional<PlanStudy> studied;
+  try {
+    studied = plan_study(m, candidates_of, against, so);
+  } catch (const InputError& e) {
+    rethrow_for_options(e, {{"workspace", va_option}});
+  }
+  const PlanStudy& study = *studied;
   const CandidateSet& cands = study.candidates;
   const PlanDesign& design = study.design;
   const std::optional<PlanPrediction>& against_pred = study.against;
@@ -138,6 +247,24 @@ int run_plan(const PlanOptions& o) {
   report.against_time = against_time;
   report.against_path = o.against;
   report.monte_carlo = study.monte_carlo;
+  if (study.choice) report.choice = &*study.choice;
+  if (study.va) {
+    report.va = &*study.va;
+    report.workspace = o.workspace.empty() ? "the travels, 5 values an axis" : o.workspace;
+    report.target_va_u = so.target_va_u;
+    if (against_pred) report.against_va_u = va_uncertainty(*study.va, against_pred->covariance);
+  }
+  if (region_positions > 0) {
+    report.region.positions = region_positions;
+    std::set<std::size_t> reachable, used;
+    const std::size_t first = artefact.features.size();
+    for (const auto& r : cands.plan.records)
+      if (r.feature >= first) reachable.insert(r.feature);
+    for (const auto& r : design.plan.records)
+      if (r.feature >= first) used.insert(r.feature);
+    report.region.reachable = reachable.size();
+    report.region.used = used.size();
+  }
   if (!o.out.empty()) {
     report.out = o.out;
     write_probing_csv(o.out, m, design.plan,
@@ -160,9 +287,19 @@ int run_plan(const PlanOptions& o) {
   }
   if ((o.json_out || recording()) && emit_json(to_json(report), o.json_out)) return 0;
 
+  const std::optional<ParameterChoice>& choice = study.choice;
+  const std::optional<VaSensitivity>& va = study.va;
+  if (choice)
+    std::cout << fmt::format("parameters: {} chosen of --candidates ({} of {} subsets of {} full rank at every "
+                             "candidate; condition {:.4g}): {}\n",
+                             fmt::join(choice->chosen, ","), choice->full_rank, choice->examined, o.choose,
+                             choice->condition, fmt::join(choice->estimate, ","));
   std::cout << fmt::format("candidates: {} considered, {} kept;", cands.considered, cands.plan.records.size());
   for (const auto& [name, n] : cands.removed) std::cout << fmt::format(" {} removed by {}", n, name) << ";";
   std::cout << "\n";
+  if (region_positions > 0)
+    std::cout << fmt::format("ball region: {} positions, {} with a candidate left, {} used by the design\n",
+                             report.region.positions, report.region.reachable, report.region.used);
   std::cout << fmt::format("designed plan: {} poses at {} indexations (criterion {}, {} after elimination, {} exchanges in {} passes){}\n",
                            design.plan.records.size(), report.time.indexations, design.criterion, design.greedy_poses,
                            design.exchanges, design.passes, design.target_met ? "" : "; TARGET NOT MET");
@@ -176,6 +313,18 @@ int run_plan(const PlanOptions& o) {
                                  static_cast<double>(against_pred->poses));
   print_prediction(design.prediction, against_pred ? &*against_pred : nullptr,
                    report.monte_carlo ? &*report.monte_carlo : nullptr);
+  if (va) {
+    std::cout << fmt::format("VA over {} ({} configurations): {:.3f} um; its predicted u {:.4g} um (best reachable "
+                             "{:.4g} um{}{}; {} pair{} within {:.4g} um of the critical one)\n",
+                             report.workspace, va_points(so.workspace), va->va * 1e3, design.va_u * 1e3,
+                             design.va_u_best * 1e3, so.target_va_u > 0 ? fmt::format(", target {:.4g} um", so.target_va_u * 1e3) : "",
+                             report.against_va_u ? fmt::format(", against {:.4g} um", *report.against_va_u * 1e3) : "",
+                             va->pair_lengths.size(), va->pair_lengths.size() == 1 ? "" : "s", va->tie_tolerance * 1e3);
+    if (report.monte_carlo && report.monte_carlo->va)
+      std::cout << fmt::format("VA Monte Carlo: mean {:.3f} um, spread {:.4g} um, ratio {:.3f}\n",
+                               report.monte_carlo->va_mean * 1e3, report.monte_carlo->va_stdev * 1e3,
+                               report.monte_carlo->va_stdev / design.va_u);
+  }
   if (report.monte_carlo)
     std::cout << fmt::format("Monte Carlo: {} runs of simulate -> identify ({} failed), seed {}\n", report.monte_carlo->runs,
                              report.monte_carlo->failed, o.seed);
@@ -225,9 +374,17 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
                                "Design a probing plan: the fewest poses (indexations x balls and facets) that identify "
                                "the requested parameters to a budget; predicted uncertainties, measuring time");
   add_model_options(c, o->model);
-  c->add_option("--estimate", o->estimate, "Parameters or errors to identify (as mtcal identify --estimate)")
+  c->add_option("--estimate", o->estimate,
+                "Parameters or errors to identify (as mtcal identify --estimate); with --candidates, those in every subset")
+      ->delimiter(',');
+  auto* choose = c->add_option("--choose", o->choose,
+                               "With --candidates: how many of them to identify (the best conditioned full-rank subset)")
+                     ->check(CLI::Range(1, 64));
+  c->add_option("--candidates", o->candidates,
+                "Candidate parameters: the subset of --choose of them that is full rank at every candidate pose and "
+                "best conditioned is identified (as identifiability --choose), beside --estimate")
       ->delimiter(',')
-      ->required();
+      ->needs(choose);
   c->add_option("--scale-bar", o->scale_bars, "Calibrated distance between two balls: BALL:BALL:LENGTH (mm)");
   c->add_option("--sigma-um", o->sigma_um, "Standard deviation of a reading (ball centre coordinate, facet touch), um")
       ->transform(length_in(1e-3, "LENGTH"))
@@ -242,8 +399,26 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
                 "mm, rad, mm/mm); the fewest poses that reach every target")
       ->delimiter(',')
       ->excludes(poses);
-  c->add_option("--criterion", o->criterion, "d (D-optimal), a (A-optimal) or max-u (largest relative u); with --poses")
-      ->check(CLI::IsMember({"d", "a", "max-u"}))
+  c->add_option("--target-va-u", o->target_va_u,
+                "Budget: the standard uncertainty of the predicted VA over --workspace (2um; bare: mm); the fewest "
+                "poses that reach it (and --target-u, when given)")
+      ->excludes(poses);
+  c->add_option("--workspace", o->workspace,
+                "Grid of the VA (as identify --workspace), e.g. \"X=-300:300:5,Y=-250:250:5,Z=-300:300:5\"; default: "
+                "5 values an axis over the travels");
+  c->add_option("--va-tie-um", o->va_tie_um,
+                "Pairs within this of the VA count as critical too (the largest u among them is the VA's), um; "
+                "default: 6 x --target-va-u, or 1 um")
+      ->check(CLI::NonNegativeNumber & kFinite);
+  c->add_option("--criterion", o->criterion,
+                "d (D-optimal), a (A-optimal), max-u (largest relative u) or va (smallest u of the VA); with --poses")
+      ->check(CLI::IsMember({"d", "a", "max-u", "va"}))
+      ->capture_default_str();
+  c->add_option("--ball-region", o->ball_region,
+                "Where balls may go besides the artefact's: XMIN:XMAX,YMIN:YMAX,Z (mm, workpiece frame; Z the centres' "
+                "height), candidate positions every --ball-spacing");
+  c->add_option("--ball-spacing", o->ball_spacing, "Spacing of the --ball-region positions, mm")
+      ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
   c->add_option("--rotary-step-deg", o->rotary_step_deg, "Candidate grid step of every rotary axis over its travel, deg")
       ->check(CLI::Range(0.01, 360.0))
@@ -305,7 +480,13 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       "  mtcal plan -m examples/machines/hu40t-wCBXfYZt.yaml --estimate EC0Y,EB0Z,EA0Z,EX0C,EY0C \\\n"
       "      --scale-bar 1:2:304.8 --against examples/plans/hu40t-samba-tango.csv --out plan.csv\n"
       "  mtcal plan -m examples/machines/rrttt-table-table.yaml --artefact examples/plans/rrttt-viprey-sphere.csv \\\n"
-      "      --estimate EY0C,EZ0A --poses 12 --criterion d --json\n");
+      "      --estimate EY0C,EZ0A --poses 12 --criterion d --json\n"
+      "  mtcal plan -m examples/machines/hu40t-wCBXfYZt.yaml --estimate EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C,EXX.1,EYY.1,EZZ.1 \\\n"
+      "      --scale-bar 1:2:304.8 --artefact examples/plans/hu40t-samba-tango.csv --rotary-step-deg 45 --target-va-u 3um\n"
+      "  mtcal plan -m examples/machines/rrttt-table-table.yaml --artefact examples/plans/rrttt-viprey-sphere.csv \\\n"
+      "      --estimate EX0C,EY0C --candidates EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --choose 4 --poses 20\n"
+      "  mtcal plan -m examples/machines/rrttt-table-table.yaml --ball-region -100:100,-100:100,50 --ball-spacing 100 \\\n"
+      "      --estimate EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --poses 20 --rotary-step-deg 30\n");
   std::vector<Command> out{{c, [o] { return run_plan(*o); }}};
   auto l = std::make_shared<ProbeLogOptions>();
   auto* lc = app.add_subcommand("probe-log",

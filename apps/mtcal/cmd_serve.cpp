@@ -99,25 +99,31 @@ std::vector<Command> add_serve_commands(CLI::App& app) {
                                "API on a history store, with accounts (viewer, engineer, admin)");
   c->add_option("--store", o->store, "The history store: a SQLite file, sqlite:PATH or postgresql://user@host/db "
                                      "(default $MTCAL_HISTORY)");
-  c->add_option("--listen", o->listen, "HOST:PORT to listen on (default 127.0.0.1:8080; port 0: any free port)");
-  c->add_option("--tls-cert", o->tls_cert, "PEM certificate: serve HTTPS (with --tls-key)");
-  c->add_option("--tls-key", o->tls_key, "PEM private key of --tls-cert");
-  c->add_option("--add-user", o->add_user,
+  auto* listen = c->add_option("--listen", o->listen, "HOST:PORT to listen on (default 127.0.0.1:8080; port 0: any free port)");
+  auto* tls_cert = c->add_option("--tls-cert", o->tls_cert, "PEM certificate: serve HTTPS (with --tls-key)");
+  auto* tls_key = c->add_option("--tls-key", o->tls_key, "PEM private key of --tls-cert");
+  auto* add_user = c->add_option("--add-user", o->add_user,
                 "Create or change a user and exit (password from $MTCAL_PASSWORD or one line of stdin)");
   c->add_option("--role", o->role, "Role of --add-user: viewer, engineer or admin (default viewer)")
       ->check(CLI::IsMember({"viewer", "engineer", "admin"}));
-  c->add_option("--interval-days", o->interval_days, "A machine is overdue this many days after its last calibration "
+  auto* interval = c->add_option("--interval-days", o->interval_days, "A machine is overdue this many days after its last calibration "
                                                      "of a kind (default 365)")
       ->check(CLI::PositiveNumber);
-  c->add_option("--tolerance-file", o->tolerance_file,
+  auto* tolerance_file = c->add_option("--tolerance-file", o->tolerance_file,
                 "Tolerances of the fleet's ranking (share of tolerance used, drift, date out of tolerance), as "
                 "history rank --tolerance-file: the acceptance YAML of docs/reports.md");
-  c->add_option("--tolerance", o->tolerances,
+  auto* tolerance = c->add_option("--tolerance", o->tolerances,
                 "QUANTITY=VALUE (|value| <= VALUE for a parameter, value <= VALUE for a figure) or QUANTITY=LO:HI, "
                 "in the quantity's unit, as history rank --tolerance; repeatable");
-  c->add_option("--session-hours", o->session_hours, "A login lasts this long (default 12)")->check(CLI::PositiveNumber);
-  c->add_option("--threads", o->threads, "Request threads (default 8)")->check(CLI::Range(1, 256));
-  c->add_option("--max-upload", o->max_upload_mib, "Largest request in MiB (default 32)")->check(CLI::PositiveNumber);
+  auto* session = c->add_option("--session-hours", o->session_hours, "A login lasts this long (default 12)")
+                      ->check(CLI::PositiveNumber);
+  auto* threads = c->add_option("--threads", o->threads, "Request threads (default 8)")->check(CLI::Range(1, 256));
+  auto* max_upload =
+      c->add_option("--max-upload", o->max_upload_mib, "Largest request in MiB (default 32)")->check(CLI::PositiveNumber);
+  // --add-user saves a user and exits: the serving options would be silently ignored with it, so
+  // they are refused (naming both) instead.
+  for (auto* serving : {listen, tls_cert, tls_key, interval, tolerance_file, tolerance, session, threads, max_upload})
+    add_user->excludes(serving);
   c->footer(
       "Examples:\n"
       "  MTCAL_PASSWORD=... mtcal serve --store shop.db --add-user ann --role admin\n"

@@ -50,6 +50,8 @@ PARITY = {
 # Work of a command that has no Python face, each with its reason; every one is listed in
 # docs/python.md ("Not in Python").
 EXCEPTIONS = {
+    "serve": "a server (mtcal serve) is a program, not a function: Python reads and writes the same store with HistoryStore",
+    "linuxcnc-probe": "the simulated probe for LinuxCNC (a HAL component's source) is not bound yet",
     "compensate --gcode": "the corrected G-code program (compensate --gcode) is not bound yet",
 }
 

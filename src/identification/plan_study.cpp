@@ -7,24 +7,35 @@ namespace mtcal {
 PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::optional<ProbingPlan>& against,
                      const PlanStudyOptions& o) {
   PlanStudy s;
+  s.model = o.model;
   s.candidates = candidate_configurations(m, artefact.features, rotary_grid(m, o.rotary_step), o.reach);
+  if (o.choose) {
+    s.choice = choose_parameters(m, s.candidates.plan, *o.choose, s.model);
+    s.model.estimate = s.choice->estimate;
+    s.model.estimate_source = o.choose->candidates_source;
+  }
+  if (o.va) s.va = va_sensitivity(m, o.workspace, s.model, o.va_options);
   if (against) {
-    s.against = predict_plan(m, *against, o.model);
+    s.against = predict_plan(m, *against, s.model);
     s.against_time = estimate_time(m, *against, o.timing);
   }
   DesignOptions d;
-  d.model = o.model;
+  d.model = s.model;
   d.criterion = o.criterion;
   d.poses = o.poses;
   d.poses_source = o.poses_source;
   d.target_source = o.target_source;
   d.target_u = o.target_u;
+  d.target_va_u = o.target_va_u;
+  d.target_va_source = o.target_va_source;
+  if (s.va) d.va_gradients = s.va->gradients;
   d.threads = o.threads;
   d.progress = o.progress;
-  if (d.poses == 0 && d.target_u.empty()) {
+  if (d.poses == 0 && d.target_u.empty() && d.target_va_u == 0) {
     if (!s.against)
       throw InputError({o.poses_source, 0, ""},
-                       "expected a budget: a number of poses, target uncertainties or a plan to do better than");
+                       "expected a budget: a number of poses, target uncertainties, a target VA uncertainty or a plan "
+                       "to do better than");
     for (const auto& e : s.against->parameters) d.target_u.emplace_back(e.name, e.u);
     d.target_source = o.against_source;
   }
@@ -33,7 +44,8 @@ PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::o
   if (o.monte_carlo > 0) {
     Machine prior = m;
     for (const auto& e : s.design.prediction.parameters) prior.set_parameter(e.name, 0.0);
-    s.monte_carlo = plan_monte_carlo(m, prior, s.design.plan, o.model, o.monte_carlo, o.seed, o.threads);
+    s.monte_carlo = plan_monte_carlo(m, prior, s.design.plan, s.model, o.monte_carlo, o.seed, o.threads,
+                                     o.va ? o.workspace : std::vector<std::vector<double>>{});
   }
   return s;
 }

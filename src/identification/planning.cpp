@@ -15,6 +15,7 @@
 #include <Eigen/LU>
 #include <fmt/format.h>
 
+#include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/fitting/fit.hpp"
 #include "mtcal/fitting/least_squares.hpp"
 #include "mtcal/kinematics/error_model.hpp"
@@ -187,6 +188,72 @@ CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeF
 
 // ---------------------------------------------------------------------------------------------
 
+std::vector<ProbeFeature> region_balls(const BallRegion& r, const std::vector<ProbeFeature>& taken) {
+  for (const auto& [name, v] : {std::pair{"x_min", r.x_min}, std::pair{"x_max", r.x_max}, std::pair{"y_min", r.y_min},
+                                std::pair{"y_max", r.y_max}, std::pair{"z", r.z}})
+    if (!std::isfinite(v)) throw InputError({"ball region", 0, name}, fmt::format("expected a finite value, found {:g}", v));
+  if (!(r.spacing > 0) || !std::isfinite(r.spacing))
+    throw InputError({"ball region", 0, "spacing"}, fmt::format("expected a spacing > 0 mm, found {:g}", r.spacing));
+  if (r.x_min > r.x_max || r.y_min > r.y_max)
+    throw InputError({"ball region", 0, ""}, fmt::format("expected min <= max, found x {:g} to {:g}, y {:g} to {:g}",
+                                                         r.x_min, r.x_max, r.y_min, r.y_max));
+  const double nx = std::floor((r.x_max - r.x_min) / r.spacing + 1e-9) + 1,
+               ny = std::floor((r.y_max - r.y_min) / r.spacing + 1e-9) + 1;
+  if (nx * ny > 10000)
+    throw InputError({"ball region", 0, "spacing"},
+                     fmt::format("expected at most 10,000 positions, found {:g} x {:g}: a larger spacing", nx, ny));
+  std::vector<ProbeFeature> out;
+  for (long j = 0; j < static_cast<long>(ny); ++j)
+    for (long i = 0; i < static_cast<long>(nx); ++i) {
+      ProbeFeature f;
+      f.id = r.id_prefix + std::to_string(out.size() + 1);
+      if (std::any_of(taken.begin(), taken.end(), [&](const ProbeFeature& t) { return t.id == f.id; }))
+        throw InputError({"ball region", 0, f.id},
+                         fmt::format("the region's ball id '{}' is already a feature of the artefact", f.id));
+      f.kind = ProbeFeature::Kind::Ball;
+      f.position = Vec3(r.x_min + static_cast<double>(i) * r.spacing, r.y_min + static_cast<double>(j) * r.spacing, r.z);
+      out.push_back(f);
+    }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+ParameterChoice choose_parameters(const Machine& m, const ProbingPlan& candidates, const SubsetOptions& so,
+                                  const IdentificationOptions& model) {
+  const SubsetAnalysis a = full_rank_subsets(m, candidates, so, model);
+  ParameterChoice out;
+  out.examined = a.examined;
+  out.full_rank = a.full_rank;
+  if (a.subsets.empty()) {
+    IdentificationOptions all = model;
+    all.estimate = so.always;
+    all.estimate.insert(all.estimate.end(), so.candidates.begin(), so.candidates.end());
+    all.estimate_source = so.candidates_source;
+    const Identifiability id = identifiability(m, candidates, all);
+    std::string why;
+    for (const auto& d : id.null_directions) why += (why.empty() ? "" : "; ") + d;
+    throw InputError({so.choose_source, 0, std::to_string(so.choose)},
+                     fmt::format("none of the {} subsets of {} among the {} candidates is identifiable at all {} "
+                                 "candidate poses{}{}",
+                                 a.examined, so.choose, a.candidates.size(), candidates.records.size(),
+                                 id.unidentifiable.empty() ? "" : fmt::format(" ({} {} not identifiable whatever the poses: {})",
+                                                                              fmt::join(id.unidentifiable, ", "),
+                                                                              id.unidentifiable.size() == 1 ? "is" : "are", why),
+                                 so.always.empty() ? "" : fmt::format(", with {}", fmt::join(so.always, ","))));
+  }
+  const ParameterSubset& best = a.subsets.front();
+  out.condition = best.condition;
+  out.estimate = so.always;
+  for (std::size_t i : best.members) {
+    out.chosen.push_back(a.candidates[i]);
+    out.estimate.push_back(a.candidates[i]);
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
 PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const IdentificationOptions& o) {
   const Machine nominal = nominal_of(m);
   const ProbingPlan targets = plan_targets(nominal, plan);
@@ -227,6 +294,100 @@ PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const Ide
 
 // ---------------------------------------------------------------------------------------------
 
+std::vector<std::vector<double>> travel_grid(const Machine& m, std::size_t per_axis) {
+  if (per_axis < 2)
+    throw InputError({"workspace", 0, ""}, fmt::format("expected at least 2 values per axis, found {}", per_axis));
+  std::vector<std::vector<double>> g;
+  const auto n = static_cast<double>(per_axis);
+  for (const auto& axis : m.axes) {
+    const auto& t = axis.travel;
+    std::vector<double> v;
+    const bool rotary = axis.kind == AxisKind::Rotary;
+    if (rotary && (!t || t->max - t->min >= 2 * std::numbers::pi - 1e-12)) {
+      for (std::size_t i = 0; i < per_axis; ++i)  // one turn, the end left out (it is the start)
+        v.push_back(-std::numbers::pi + 2 * std::numbers::pi * static_cast<double>(i) / n);
+    } else if (!t) {
+      throw InputError({m.source, 0, std::string(1, axis.letter)},
+                       "a workspace over the travels needs the travel of every linear axis; axis has none");
+    } else {
+      for (std::size_t i = 0; i < per_axis; ++i)
+        v.push_back(t->min + (t->max - t->min) * static_cast<double>(i) / (n - 1));
+    }
+    g.push_back(std::move(v));
+  }
+  return g;
+}
+
+VaSensitivity va_sensitivity(const Machine& m, const std::vector<std::vector<double>>& workspace,
+                             const IdentificationOptions& o, const VaOptions& vo) {
+  const auto params = detail::parameter_indices(m, o.estimate, o.estimate_source);
+  const ErrorModel model(m);
+  const ErrorMap map = grid_error_map(model, workspace);
+  const VolumetricAccuracy va = volumetric_accuracy(map.error);
+  VaSensitivity out;
+  out.va = va.va.value;
+  if (!(out.va > 1e-12))
+    throw InputError({"workspace", 0, ""},
+                     fmt::format("the machine's VA over the workspace ({} configurations) is {:g} mm: its uncertainty "
+                                 "is linearised about the machine's errors, which must not all vanish there (give "
+                                 "the expected errors, e.g. a prior identification's parameters)",
+                                 map.size(), out.va));
+  // The pairs within the tolerance of the maximum: a point can be in one only if its distance from
+  // the centroid plus the map's radius about it reaches VA - tolerance (triangle inequality).
+  const double floor = out.va - std::max(0.0, vo.tie_tolerance);
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& e : map.error) centre += e;
+  centre /= static_cast<double>(map.size());
+  double radius = 0.0;
+  for (const Vec3& e : map.error) radius = std::max(radius, (e - centre).norm());
+  std::vector<std::size_t> far;
+  for (std::size_t i = 0; i < map.size(); ++i)
+    if ((map.error[i] - centre).norm() + radius >= floor) far.push_back(i);
+  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs{{out.va, va.va.i, va.va.j}};
+  for (std::size_t a = 0; a < far.size(); ++a)
+    for (std::size_t b = a + 1; b < far.size(); ++b) {
+      const std::size_t i = far[a], j = far[b];
+      if ((i == va.va.i && j == va.va.j) || (i == va.va.j && j == va.va.i)) continue;
+      const double l = (map.error[j] - map.error[i]).norm();
+      if (l >= floor) pairs.emplace_back(l, i, j);
+    }
+  std::sort(pairs.begin() + 1, pairs.end(), [](const auto& x, const auto& y) { return std::get<0>(x) > std::get<0>(y); });
+  out.tie_tolerance = std::max(0.0, vo.tie_tolerance);
+  if (pairs.size() > std::max<std::size_t>(1, vo.max_pairs)) {
+    pairs.resize(std::max<std::size_t>(1, vo.max_pairs));
+    out.pairs_capped = true;
+  }
+  const auto ci = map.configuration(va.va.i), cj = map.configuration(va.va.j);
+  out.from.assign(ci.begin(), ci.end());
+  out.to.assign(cj.begin(), cj.end());
+  const auto all = m.parameters();
+  for (std::size_t k : params) out.parameters.push_back(all[k].name);
+  out.gradients.resize(static_cast<Eigen::Index>(params.size()), static_cast<Eigen::Index>(pairs.size()));
+  for (std::size_t n = 0; n < pairs.size(); ++n) {
+    const auto [l, i, j] = pairs[n];
+    const Vec3 d = (map.error[j] - map.error[i]).normalized();
+    const Eigen::Matrix<double, 6, Eigen::Dynamic> Ji = model.jacobian(map.configuration(i)),
+                                                   Jj = model.jacobian(map.configuration(j));
+    for (std::size_t k = 0; k < params.size(); ++k) {
+      const auto c = static_cast<Eigen::Index>(params[k]);
+      out.gradients(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(n)) =
+          d.dot(Jj.block<3, 1>(0, c) - Ji.block<3, 1>(0, c));
+    }
+    out.pair_lengths.push_back(l);
+  }
+  out.gradient = out.gradients.col(0);
+  return out;
+}
+
+double va_uncertainty(const VaSensitivity& s, const Eigen::MatrixXd& covariance) {
+  if (covariance.rows() != s.gradients.rows() || covariance.cols() != s.gradients.rows())
+    throw Error(fmt::format("va_uncertainty: a covariance of {} x {} for {} parameters", covariance.rows(),
+                            covariance.cols(), s.gradients.rows()));
+  return std::sqrt(std::max(0.0, (s.gradients.transpose() * covariance * s.gradients).diagonal().maxCoeff()));
+}
+
+// ---------------------------------------------------------------------------------------------
+
 namespace {
 
 // Scaled variance above which an unknown counts as undetermined: with the 1e-10 ridge an
@@ -238,12 +399,16 @@ constexpr double kRidge = 1e-10, kUndetermined = 1e4;
 // ridge), its inverse and the parameters' block of it.
 class Design {
  public:
+  // g: the VA's gradients in scaled units, a column per near-critical pair (empty: none);
+  // va_weight: 1 / its target^2 in MaxU (0: none).
   Design(Eigen::MatrixXd rows, std::vector<std::size_t> first, Eigen::MatrixXd fixed, std::size_t params,
-         Eigen::VectorXd weight, int threads)
+         Eigen::VectorXd weight, Eigen::MatrixXd g, double va_weight, int threads)
       : rows_(std::move(rows)),
         first_(std::move(first)),
         p_(static_cast<Eigen::Index>(params)),
         w_(std::move(weight)),
+        g_(g.size() == 0 ? Eigen::MatrixXd::Zero(p_, 1) : std::move(g)),
+        va_weight_(va_weight),
         threads_(threads) {
     base_ = fixed.transpose() * fixed;
     base_.diagonal().array() += kRidge;
@@ -286,7 +451,9 @@ class Design {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(cov_.topLeftCorner(p_, p_), Eigen::EigenvaluesOnly);
     return es.eigenvalues().maxCoeff() < kUndetermined;
   }
-  double value(DesignCriterion c) const { return criterion(c, cov_.topLeftCorner(p_, p_).diagonal(), logdet_); }
+  double value(DesignCriterion c) const {
+    return criterion(c, cov_.topLeftCorner(p_, p_).diagonal(), logdet_, va_vars_.maxCoeff());
+  }
   // The criterion after adding (sign +1) or removing (sign -1) each candidate, for those with
   // want[j]; infinity elsewhere. One product with the inverse for all candidates (Sherman-Morrison-
   // Woodbury: C' = C - s U (I + s J U)^-1 U^T with U = C J^T).
@@ -309,6 +476,11 @@ class Design {
         const auto Up = Uj.topRows(p_);
         const Eigen::VectorXd dd = ((Up * Sinv).array() * Up.array()).rowwise().sum();
         const Eigen::VectorXd diag = cov_.topLeftCorner(p_, p_).diagonal() - sign * dd;
+        // g^T C' g by the same update, per pair: g^T C g - s a^T S^-1 a, a = Up^T g.
+        const Eigen::MatrixXd ag = Up.transpose() * g_;
+        const double va_var =
+            (va_vars_ - sign * ((Sinv * ag).array() * ag.array()).colwise().sum().transpose().matrix()).maxCoeff();
+        if ((va_weight_ > 0 || c == DesignCriterion::Va) && !(va_var > 0)) continue;  // lost to cancellation (see exchange)
         double logdet = 0.0;
         if (c == DesignCriterion::D) {
           const Eigen::MatrixXd K =
@@ -317,7 +489,7 @@ class Design {
           if (!(det > 0)) continue;
           logdet = logdet_ + std::log(det);
         }
-        out[j] = criterion(c, diag, logdet);
+        out[j] = criterion(c, diag, logdet, va_var);
       }
     });
     return out;
@@ -327,11 +499,13 @@ class Design {
   Eigen::Block<const Eigen::MatrixXd> block(std::size_t j) const {
     return rows_.middleRows(static_cast<Eigen::Index>(first_[j]), static_cast<Eigen::Index>(first_[j + 1] - first_[j]));
   }
-  double criterion(DesignCriterion c, const Eigen::VectorXd& diag, double logdet) const {
+  double criterion(DesignCriterion c, const Eigen::VectorXd& diag, double logdet, double va_var) const {
     if (c == DesignCriterion::D) return logdet;
     if ((diag.array() > kUndetermined).any() || !(diag.array() > 0).all()) return kInf;
+    if (c == DesignCriterion::Va) return std::sqrt(std::max(0.0, va_var));
     const Eigen::ArrayXd rel = diag.array() * w_.array();
-    return c == DesignCriterion::A ? rel.sum() : std::sqrt(rel.maxCoeff());
+    if (c == DesignCriterion::A) return rel.sum();
+    return std::sqrt(std::max(rel.maxCoeff(), va_var * va_weight_));
   }
   void refresh() {
     const Eigen::LLT<Eigen::MatrixXd> llt(M_);
@@ -340,14 +514,18 @@ class Design {
     const Eigen::LLT<Eigen::MatrixXd> lp(cpp);
     cpp_inv_ = lp.solve(Eigen::MatrixXd::Identity(p_, p_));
     logdet_ = 2.0 * lp.matrixLLT().diagonal().array().log().sum();
+    va_vars_ = (g_.transpose() * cpp * g_).diagonal();
   }
 
   Eigen::MatrixXd rows_;
   std::vector<std::size_t> first_;
   Eigen::Index p_;
   Eigen::VectorXd w_;
+  Eigen::MatrixXd g_;
+  double va_weight_ = 0.0;
   int threads_;
   Eigen::MatrixXd base_, M_, cov_, cpp_inv_;
+  Eigen::VectorXd va_vars_;
   double logdet_ = 0.0;
   std::vector<bool> chosen_;
   std::vector<std::size_t> selection_;
@@ -379,8 +557,19 @@ std::size_t exchange(Design& d, DesignCriterion c, int max_passes, std::size_t& 
       for (std::size_t j = 0; j < d.count(); ++j) want[j] = !d.chosen(j);
       const auto v = d.trial(c, +1, want);
       const std::size_t j = best(v);
+      // The trial values come from rank-one updates of a covariance that can hold undetermined
+      // directions (variance 1 / ridge) after the removal: their cancellation can be gross, so
+      // a swap is kept only when the refreshed (re-factorised) criterion confirms it.
+      bool swapped = false;
       if (j < v.size() && j != i && better(v[j], before)) {
         d.add(j);
+        if (better(d.value(c), before)) {
+          swapped = true;
+        } else {
+          d.remove(j);
+        }
+      }
+      if (swapped) {
         ++swaps;
         improved = true;
       } else {
@@ -392,8 +581,23 @@ std::size_t exchange(Design& d, DesignCriterion c, int max_passes, std::size_t& 
   return swaps;
 }
 
+// The options with only the scale bars whose two balls the plan probes (identify refuses a bar
+// with a ball never probed; such a bar adds nothing to the plan's information).
+IdentificationOptions with_probed_scale_bars(IdentificationOptions o, const ProbingPlan& plan) {
+  std::erase_if(o.scale_bars, [&](const ScaleBar& sb) {
+    for (const auto& id : {sb.ball_a, sb.ball_b}) {
+      const auto f = plan.feature_index(id);
+      if (!f || std::none_of(plan.records.begin(), plan.records.end(),
+                             [&](const ProbingRecord& r) { return r.feature == *f; }))
+        return true;
+    }
+    return false;
+  });
+  return o;
+}
+
 const char* criterion_name(DesignCriterion c) {
-  return c == DesignCriterion::D ? "D" : c == DesignCriterion::A ? "A" : "max-u";
+  return c == DesignCriterion::D ? "D" : c == DesignCriterion::A ? "A" : c == DesignCriterion::Va ? "VA" : "max-u";
 }
 
 }  // namespace
@@ -407,15 +611,27 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   if (o.poses > count)
     throw InputError({o.poses_source, 0, std::to_string(o.poses)},
                      fmt::format("expected at most the {} candidate poses, found {}", count, o.poses));
-  if (o.poses == 0 && o.target_u.empty())
+  if (o.poses == 0 && o.target_u.empty() && o.target_va_u == 0)
     throw InputError({o.poses_source, 0, ""}, "expected a budget: a number of poses or target uncertainties");
+  if (o.target_va_u != 0 && (!(o.target_va_u > 0) || !std::isfinite(o.target_va_u)))
+    throw InputError({o.target_va_source, 0, ""}, fmt::format("expected an uncertainty > 0, found {:g}", o.target_va_u));
+  if ((o.target_va_u > 0 || o.criterion == DesignCriterion::Va) && o.va_gradients.size() == 0)
+    throw InputError({o.target_va_source, 0, ""}, "a target or criterion on the VA needs the VA's gradient");
 
   PlanDesign out;
-  out.criterion = criterion_name(o.criterion);
+  // A budget of targets is met with max-u whatever --criterion says (it applies to a number of poses).
+  out.criterion = criterion_name(o.poses > 0 ? o.criterion : DesignCriterion::MaxU);
   out.all_candidates = predict_plan(m, candidates, o.model);  // throws when not identifiable at all
   const auto params = detail::parameter_indices(m, o.model.estimate, o.model.estimate_source);
   const std::size_t p = params.size();
   const auto all_params = m.parameters();
+  const bool va = o.va_gradients.size() > 0;
+  if (va && o.va_gradients.rows() != static_cast<Eigen::Index>(p))
+    throw Error(fmt::format("design_plan: VA gradients of {} for {} parameters", o.va_gradients.rows(), p));
+  auto va_u_of = [&](const Eigen::MatrixXd& C) {
+    return std::sqrt(std::max(0.0, (o.va_gradients.transpose() * C * o.va_gradients).diagonal().maxCoeff()));
+  };
+  if (va) out.va_u_best = va_u_of(out.all_candidates.covariance);
 
   // Targets, by parameter.
   std::vector<double> target(p, 0.0);
@@ -440,6 +656,11 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
     if (!unmet.empty())
       throw InputError({o.target_source, 0, ""},
                        fmt::format("the target cannot be met even with all {} candidate poses ({})", count, unmet));
+    if (o.target_va_u > 0 && out.va_u_best > o.target_va_u * (1 + 1e-9))
+      throw InputError({o.target_va_source, 0, ""},
+                       fmt::format("the target cannot be met even with all {} candidate poses (the VA's standard "
+                                   "uncertainty: target {:.4g} um, best reachable {:.4g} um)",
+                                   count, o.target_va_u * 1e3, out.va_u_best * 1e3));
   }
 
   // Jacobian rows of every candidate (and the fixed scale-bar rows), unit-norm columns.
@@ -461,13 +682,19 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   // Weights of the relative variances: by target where targets are given (the others count only
   // as having to be determined), else by the best reachable uncertainty.
   Eigen::VectorXd w(static_cast<Eigen::Index>(p));
-  const bool targets = std::any_of(target.begin(), target.end(), [](double t) { return t > 0; });
+  // A budget on the VA alone: the parameters need only be determined (weight 0).
+  const bool targets = std::any_of(target.begin(), target.end(), [](double t) { return t > 0; }) ||
+                       (o.poses == 0 && o.target_va_u > 0);
   for (std::size_t k = 0; k < p; ++k) {
     const double ref = targets ? target[k] : out.all_candidates.parameters[k].u;
     const double s = 1.0 / norm[static_cast<Eigen::Index>(k)];  // scaled unit -> parameter unit
     w[static_cast<Eigen::Index>(k)] = ref > 0 ? (s / ref) * (s / ref) : 0.0;
   }
-  Design d(rows, first, fixed, p, w, o.threads);
+  // The VA's gradient in the scaled parameters (theta_scaled = theta * norm).
+  Eigen::MatrixXd g;
+  if (va) g = norm.head(static_cast<Eigen::Index>(p)).cwiseInverse().asDiagonal() * o.va_gradients;
+  const double va_weight = o.target_va_u > 0 ? 1.0 / (o.target_va_u * o.target_va_u) : 0.0;
+  Design d(rows, first, fixed, p, w, g, va_weight, o.threads);
 
   // Backward elimination from every candidate, then exchange. (A forward build-up is myopic
   // here: a scale bar fixes the scale only once both its balls are probed, so no single pose
@@ -482,6 +709,10 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
     const std::size_t j = best(v);
     if (j == v.size() || !(v[j] <= limit)) return false;
     d.remove(j);
+    if (!(d.value(c) <= limit * (1 + 1e-9))) {  // the update misjudged it (see exchange): undone
+      d.add(j);
+      return false;
+    }
     return true;
   };
   if (o.poses > 0) {
@@ -518,21 +749,15 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   out.plan.source = "the designed plan";
   for (std::size_t j : out.selected) out.plan.records.push_back(candidates.records[j]);
   // Scale bars whose balls are not both probed add nothing: left out of the prediction.
-  IdentificationOptions model = o.model;
-  std::erase_if(model.scale_bars, [&](const ScaleBar& sb) {
-    for (const auto& id : {sb.ball_a, sb.ball_b}) {
-      const auto f = out.plan.feature_index(id);
-      if (!f || std::none_of(out.plan.records.begin(), out.plan.records.end(),
-                             [&](const ProbingRecord& r) { return r.feature == *f; }))
-        return true;
-    }
-    return false;
-  });
-  out.prediction = predict_plan(m, out.plan, model);
+  out.prediction = predict_plan(m, out.plan, with_probed_scale_bars(o.model, out.plan));
   for (std::size_t k = 0; k < p; ++k) {
     out.prediction.parameters[k].target = target[k];
     out.all_candidates.parameters[k].target = target[k];
     if (target[k] > 0 && out.prediction.parameters[k].u > target[k] * (1 + 1e-6)) out.target_met = false;
+  }
+  if (va) {
+    out.va_u = va_u_of(out.prediction.covariance);
+    if (o.target_va_u > 0 && out.va_u > o.target_va_u * (1 + 1e-6)) out.target_met = false;
   }
   out.criterion_value = d.value(o.poses > 0 ? o.criterion : DesignCriterion::MaxU);
   return out;
@@ -541,10 +766,13 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
 // ---------------------------------------------------------------------------------------------
 
 PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, const ProbingPlan& plan,
-                                const IdentificationOptions& o, std::size_t runs, std::uint64_t seed, int threads) {
+                                const IdentificationOptions& given, std::size_t runs, std::uint64_t seed, int threads,
+                                const std::vector<std::vector<double>>& workspace) {
+  const IdentificationOptions o = with_probed_scale_bars(given, plan);  // as design_plan predicts it
   const auto params = detail::parameter_indices(prior, o.estimate, o.estimate_source);
   const std::size_t p = params.size();
   std::vector<std::vector<double>> values(runs);
+  std::vector<double> vas(runs, 0.0);
   std::vector<char> ok(runs, 0);
   parallel_for(runs, threads, [&](std::size_t k, std::size_t) {
     SimulationOptions so;
@@ -562,6 +790,8 @@ PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, cons
       const IdentificationResult r = identify(prior, sim.measurements, o);
       if (!r.converged || r.parameters.size() != p) return;
       for (const auto& e : r.parameters) values[k].push_back(e.value);
+      if (!workspace.empty())  // one thread each: the runs are already spread over the threads
+        vas[k] = volumetric_accuracy(grid_error_map(ErrorModel(r.machine), workspace, {1}).error).va.value;
       ok[k] = 1;
     } catch (const Error&) {
     }
@@ -585,6 +815,15 @@ PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, cons
     if (ok[k])
       for (std::size_t i = 0; i < p; ++i) out.stdev[i] += std::pow(values[k][i] - out.mean[i], 2);
   for (auto& v : out.stdev) v = std::sqrt(v / static_cast<double>(n - 1));
+  if (!workspace.empty()) {
+    out.va = true;
+    for (std::size_t k = 0; k < runs; ++k)
+      if (ok[k]) out.va_mean += vas[k];
+    out.va_mean /= static_cast<double>(n);
+    for (std::size_t k = 0; k < runs; ++k)
+      if (ok[k]) out.va_stdev += std::pow(vas[k] - out.va_mean, 2);
+    out.va_stdev = std::sqrt(out.va_stdev / static_cast<double>(n - 1));
+  }
   return out;
 }
 

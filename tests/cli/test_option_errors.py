@@ -77,9 +77,15 @@ for _line in open(f"{fix}/probe.ngc"):
 with open(f"{fix}/probe-log.txt", "w") as f:
     f.write("\n".join(_log) + "\n")
 
+# serve --add-user reads the new user's password from here.
+os.environ["MTCAL_PASSWORD"] = "a-long-enough-test-password"
+
 # A valid invocation of each command, writing its outputs into the working folder (relative
 # names). Several for a command whose options belong to different modes.
 BASES = {
+    # serve's base saves a user and exits (a server would not); its serving options are refused
+    # with --add-user, which names them.
+    "serve": [["--store", "s.db", "--add-user", "ann", "--role", "admin"]],
     "eval": [["-m", M3, "--grid", "X=-100:100:3,Y=-50:50:3", "--out", "o.csv", "--report", "o.html",
               "--meta", "machine=m1"],
              ["-m", M3, "--at", "X=100,Y=50,Z=-20"],

@@ -55,6 +55,65 @@ expect_error "no candidate" "no candidate configuration is left" -- "$MTCAL" pla
 expect_error "no budget" "expected a budget" -- "$MTCAL" plan -m "$H" --estimate "$EST" --artefact "$P"
 expect_error "bad target" "unknown parameter 'EQQ'" -- "$MTCAL" plan -m "$H" --estimate "$EST" --artefact "$P" --target-u EQQ=1um
 
+# --target-va-u: the standard uncertainty of the VA over the workspace as the budget (45 deg grid:
+# about a second). The reported u is sqrt(g^T C g) of the designed plan; met; the VA positive.
+EST10=EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C,EXX.1,EYY.1,EZZ.1
+expect_exit 0 "plan --target-va-u" -- "$MTCAL" plan -m "$H" --estimate "$EST10" --scale-bar 1:2:304.8 --artefact "$P" \
+  --rotary-step-deg 45 --target-va-u 3um --out "$tmp/va-plan.csv" --json
+python3 - "$tmp/out" <<'PY' && ok || bad "plan --target-va-u: va {value, u <= target, u_best, workspace, pairs}, target met"
+import json, sys
+d = json.load(open(sys.argv[1]))
+v = d["va"]
+assert d["target_met"] and d["criterion"] == "max-u", d["criterion"]
+assert v["target"] == 0.003 and v["u"] <= 0.003 * (1 + 1e-6) and v["u_best"] <= v["u"], v
+assert v["value"] > 0.05 and v["pairs"] >= 1 and v["workspace"].startswith("the travels"), v
+assert d["poses"] < d["candidates"]["kept"]
+PY
+[ -s "$tmp/va-plan.csv" ] && ok || bad "the VA-budget plan is written"
+expect_error "unreachable VA target" "best reachable" -- "$MTCAL" plan -m "$H" --estimate "$EST10" --scale-bar 1:2:304.8 \
+  --artefact "$P" --rotary-step-deg 45 --target-va-u 0.01um --out "$tmp/no6.csv"
+[ ! -e "$tmp/no6.csv" ] && ok || bad "nothing written for an unreachable VA target"
+expect_error "VA target with --poses" "excludes" -- "$MTCAL" plan -m "$H" --estimate "$EST10" --artefact "$P" --poses 10 --target-va-u 3um
+expect_error "bad VA target" "--target-va-u" -- "$MTCAL" plan -m "$H" --estimate "$EST10" --artefact "$P" --target-va-u 3parsecs
+expect_error "bad workspace" "--workspace" -- "$MTCAL" plan -m "$H" --estimate "$EST10" --artefact "$P" --target-va-u 3um --workspace Q=1:2:3
+# A machine without errors has a VA of 0: nothing to linearise about.
+sed '/^errors:/,$d' "$H" >"$tmp/clean.yaml"
+expect_error "VA of an error-free machine" "must not all vanish" -- "$MTCAL" plan -m "$tmp/clean.yaml" --estimate EX0C,EY0C \
+  --artefact "$P" --rotary-step-deg 45 --target-va-u 3um
+
+# --candidates --choose: the parameters chosen by the subset search, stated.
+V="$EXAMPLES/machines/rrttt-table-table.yaml"
+VP="$EXAMPLES/plans/rrttt-viprey-sphere.csv"
+expect_exit 0 "plan --candidates" -- "$MTCAL" plan -m "$V" --artefact "$VP" --estimate EX0C,EY0C \
+  --candidates EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A,EXw,EC0C --choose 5 --poses 20 --rotary-step-deg 30 --json
+python3 - "$tmp/out" <<'PY' && ok || bad "plan --candidates: parameters_chosen and the estimate predicted"
+import json, sys
+d = json.load(open(sys.argv[1]))
+c = d["parameters_chosen"]
+assert len(c["chosen"]) == 5 and c["estimate"][:2] == ["EX0C", "EY0C"] and c["examined"] == 56 and c["full_rank"] >= 1, c
+assert "EXw" not in c["chosen"]
+assert list(d["predicted"]["parameters"]) == c["estimate"], d["predicted"]["parameters"]
+PY
+expect_error "no identifiable subset" "EXw = 1 ball S x" -- "$MTCAL" plan -m "$V" --artefact "$VP" --estimate EX0C \
+  --candidates EXw,EYw --choose 1 --poses 10 --rotary-step-deg 30
+expect_error "--candidates without --choose" "--choose" -- "$MTCAL" plan -m "$V" --artefact "$VP" --candidates EXw --poses 10
+expect_error "nothing to identify" "expected the parameters to identify" -- "$MTCAL" plan -m "$V" --artefact "$VP" --poses 10
+
+# --ball-region: candidate balls on a grid of the table, counted; the plan goes through simulate.
+expect_exit 0 "plan --ball-region" -- "$MTCAL" plan -m "$V" --ball-region -100:100,-100:100,50 --ball-spacing 100 \
+  --estimate EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --poses 16 --rotary-step-deg 30 --out "$tmp/region.csv" --json
+python3 - "$tmp/out" <<'PY' && ok || bad "plan --ball-region: ball_region {positions 9, reachable, used}"
+import json, sys
+d = json.load(open(sys.argv[1]))
+r = d["ball_region"]
+assert r["positions"] == 9 and 1 <= r["used"] <= r["reachable"] <= 9, r
+assert d["poses"] == 16
+PY
+expect_exit 0 "simulate the region plan" -- "$MTCAL" simulate -m "$V" --plan "$tmp/region.csv" --noise-um 1 --out "$tmp/region-meas.csv"
+expect_error "bad region" "expected XMIN:XMAX,YMIN:YMAX,Z" -- "$MTCAL" plan -m "$V" --ball-region -100:100,50 \
+  --estimate EX0C --poses 4
+expect_error "empty region" "min <= max" -- "$MTCAL" plan -m "$V" --ball-region 100:-100,-100:100,50 --estimate EX0C --poses 4
+
 # probe-log: a log with a bad line, located; nothing written.
 printf '1 2 3 0 0 0 0 0 0\nx 2 3 0 0 0 0 0 0\n' >"$tmp/bad.txt"
 expect_error "bad log line" "bad.txt:2" -- "$MTCAL" probe-log -m "$H" --plan "$tmp/plan.csv" --log "$tmp/bad.txt" --out "$tmp/no4.csv"

@@ -2,11 +2,14 @@
 // inverse and against simulate -> identify, the designs' budgets, time by hand, bad inputs.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <Eigen/Cholesky>
 
+#include "mtcal/evaluation/volumetric.hpp"
 #include "mtcal/identification/planning.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
@@ -196,10 +199,213 @@ TEST(Planning, PredictionAgreesWithSimulateIdentify) {
   const ProbingPlan plan = read_probing_csv(truth, kPlans + "hu40t-samba-tango.csv");
   const IdentificationOptions o = options(kLocation);
   const PlanPrediction pred = predict_plan(prior, plan, o);
-  const PlanMonteCarlo mc = plan_monte_carlo(truth, prior, plan, o, 300, 11);
+  // The same runs give the identified machines' VA over a workspace (3 values an axis over the
+  // travels), to set beside its first-order uncertainty sqrt(g^T C g).
+  const auto workspace = travel_grid(truth, 3);
+  const PlanMonteCarlo mc = plan_monte_carlo(truth, prior, plan, o, 300, 11, 0, workspace);
   EXPECT_EQ(mc.failed, 0u);
   for (std::size_t k = 0; k < kLocation.size(); ++k)
     EXPECT_NEAR(mc.stdev[k] / pred.parameters[k].u, 1.0, 0.15) << kLocation[k];
+  const VaSensitivity s = va_sensitivity(truth, workspace, o);
+  const double u_va = va_uncertainty(s, pred.covariance);
+  ASSERT_TRUE(mc.va);
+  EXPECT_GT(u_va, 1e-5);  // a few um: not a vanishing check
+  EXPECT_NEAR(mc.va_stdev / u_va, 1.0, 0.15) << mc.va_stdev << " mm against " << u_va << " mm";
+  // The mean: the VA of the estimated machine is the largest of near-tied pair lengths (three
+  // within 0.5 um here), each unbiased: its mean is at or above the machine's VA, by less than u.
+  EXPECT_GT(mc.va_mean, s.va - 3 * u_va / std::sqrt(300.0));
+  EXPECT_LT(mc.va_mean, s.va + u_va);
+}
+
+TEST(Planning, VaGradientAgainstNumericDifferences) {
+  // dVA/dtheta (the critical pair's d^T (J_j - J_i)) against central differences of the whole VA
+  // recomputed over the workspace: also proves the critical pair is the one that stays critical.
+  const Machine m = hu40t();
+  const auto workspace = travel_grid(m, 3);
+  ASSERT_EQ(workspace.size(), m.axes.size());
+  // The grid by hand: X travel [-300, 300] -> -300, 0, 300; C a full turn -> -180, -60, 60 deg.
+  const auto x = *m.axis_index('X'), c = *m.axis_index('C');
+  EXPECT_EQ(workspace[x], (std::vector<double>{-300, 0, 300}));
+  EXPECT_NEAR(workspace[c][1], -std::numbers::pi / 3, 1e-15);
+  const IdentificationOptions o = options(kLocation);
+  const VaSensitivity s = va_sensitivity(m, workspace, o);
+  ASSERT_EQ(s.gradient.size(), static_cast<Eigen::Index>(kLocation.size()));
+  auto va_of = [&](const Machine& mm) {
+    return volumetric_accuracy(grid_error_map(ErrorModel(mm), workspace).error).va.value;
+  };
+  EXPECT_NEAR(va_of(m), s.va, 1e-15);
+  // The near-critical pairs (within 1 um of the VA) against a comparison of every pair.
+  const ErrorMap map = grid_error_map(ErrorModel(m), workspace);
+  std::vector<double> near;
+  for (std::size_t i = 0; i < map.size(); ++i)
+    for (std::size_t j = i + 1; j < map.size(); ++j)
+      if (const double l = (map.error[j] - map.error[i]).norm(); l >= s.va - 1e-3) near.push_back(l);
+  std::sort(near.rbegin(), near.rend());
+  ASSERT_EQ(s.pair_lengths.size(), near.size());
+  EXPECT_GT(near.size(), 1u);  // ties: why the uncertainty takes the largest over them
+  for (std::size_t k = 0; k < near.size(); ++k) EXPECT_NEAR(s.pair_lengths[k], near[k], 1e-15);
+  EXPECT_EQ(s.gradients.cols(), static_cast<Eigen::Index>(near.size()));
+  double largest = 0.0;
+  for (std::size_t k = 0; k < kLocation.size(); ++k) {
+    // 1e-9 (pm, nrad, nm/m): the VA changes by less than the gap to the next pair (0.05 um here).
+    const double h = 1e-9;
+    Machine a = m, b = m;
+    const double v = m.parameter(*m.parameter_index(kLocation[k]));
+    a.set_parameter(kLocation[k], v + h);
+    b.set_parameter(kLocation[k], v - h);
+    const double numeric = (va_of(a) - va_of(b)) / (2 * h);
+    EXPECT_NEAR(s.gradient[static_cast<Eigen::Index>(k)], numeric, 2e-4 + 2e-6 * std::abs(numeric))
+        << kLocation[k];
+    largest = std::max(largest, std::abs(numeric));
+  }
+  EXPECT_GT(largest, 1.0);  // the scale and tilt terms move the VA by hundreds of mm per unit
+  // A machine without errors: no gradient, a clear error.
+  Machine clean = m;
+  clean.clear_errors();
+  const std::string msg = error_message([&] { va_sensitivity(clean, workspace, o); });
+  EXPECT_NE(msg.find("must not all vanish"), std::string::npos) << msg;
+}
+
+TEST(Planning, ParametersChosenByTheSubsetSearch) {
+  // The subset search at every candidate pose against identifiability run on each subset (an
+  // independent path: the SVD of the scaled Jacobian, not the incremental Cholesky).
+  const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/rrttt-table-table.yaml");
+  const ProbingPlan viprey = read_probing_csv(m, kPlans + "rrttt-viprey-sphere.csv");
+  const CandidateSet c = candidate_configurations(m, viprey.features, rotary_grid(m, 30 * std::numbers::pi / 180), {});
+  SubsetOptions so;
+  so.candidates = {"EA0C", "EB0C", "EY0A", "EZ0A", "EB0A", "EC0A", "EXw", "EC0C"};
+  so.always = {"EX0C", "EY0C"};
+  so.choose = 5;
+  const ParameterChoice choice = choose_parameters(m, c.plan, so, IdentificationOptions{});
+  EXPECT_EQ(choice.examined, 56u);  // C(8, 5)
+  std::size_t full = 0;
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<std::string> best_names;
+  for (unsigned mask = 0; mask < 256; ++mask) {
+    if (std::popcount(mask) != 5) continue;
+    IdentificationOptions o;
+    o.estimate = so.always;
+    for (std::size_t i = 0; i < 8; ++i)
+      if (mask & (1u << i)) o.estimate.push_back(so.candidates[i]);
+    const Identifiability id = identifiability(m, c.plan, o);
+    if (!id.unidentifiable.empty()) continue;
+    ++full;
+    if (id.condition < best) best = id.condition, best_names = o.estimate;
+  }
+  EXPECT_EQ(choice.full_rank, full);
+  EXPECT_GT(full, 0u);
+  EXPECT_EQ(choice.estimate, best_names);
+  EXPECT_EQ(choice.chosen.size(), 5u);
+  EXPECT_EQ(std::vector<std::string>(choice.estimate.begin(), choice.estimate.begin() + 2), so.always);
+  // None identifiable: the null-space combination is named.
+  so.candidates = {"EXw", "EYw"};
+  so.choose = 1;
+  const std::string msg = error_message([&] { choose_parameters(m, c.plan, so, IdentificationOptions{}); });
+  EXPECT_NE(msg.find("none of the 2 subsets of 1"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("EXw = 1 ball S x"), std::string::npos) << msg;
+}
+
+TEST(Planning, BallRegionCandidates) {
+  // Positions by hand: x and y from -100 to 100 every 100 mm -> 3 x 3, x fastest.
+  BallRegion r;
+  r.x_min = r.y_min = -100;
+  r.x_max = r.y_max = 100;
+  r.z = 30;
+  r.spacing = 100;
+  const auto balls = region_balls(r);
+  ASSERT_EQ(balls.size(), 9u);
+  EXPECT_EQ(balls[0].id, "R1");
+  EXPECT_EQ(balls[5].id, "R6");
+  EXPECT_EQ(balls[5].position, Vec3(100, 0, 30));
+  EXPECT_EQ(balls[5].kind, ProbeFeature::Kind::Ball);
+  // A side that is not a multiple of the spacing: its end is left out.
+  r.x_max = 150;
+  EXPECT_EQ(region_balls(r).size(), 9u);
+  r.x_max = 100;
+  // Reach: one candidate per position and indexation; what the constraints keep passes them.
+  const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/rrttt-table-table.yaml");
+  const CandidateGrid g = rotary_grid(m, 30 * std::numbers::pi / 180);
+  std::size_t indexations = 1;
+  for (const auto& v : g.rotary) indexations *= v.size();
+  ProbeReach reach;
+  reach.holder_radius = 40;  // a wide holder: the table rule removes the tilted poses of these low balls
+  const CandidateSet c = candidate_configurations(m, balls, g, reach);
+  EXPECT_EQ(c.considered, 9 * indexations);
+  std::size_t removed = 0;
+  for (const auto& [name, n] : c.removed) removed += n;
+  EXPECT_EQ(c.plan.records.size() + removed, c.considered);
+  EXPECT_GT(c.removed[3].second, 0u) << "table";
+  for (const auto& rec : c.plan.records) EXPECT_EQ(reach_violation(m, c.plan, rec, reach), "");
+  // A design over them: every pose on a region ball, the parameters predicted.
+  DesignOptions d;
+  d.model.estimate = {"EX0C", "EY0C", "EA0C", "EB0C", "EY0A", "EZ0A", "EB0A", "EC0A"};
+  d.poses = 16;
+  const PlanDesign design = design_plan(m, c.plan, d);
+  EXPECT_EQ(design.plan.records.size(), 16u);
+  for (const auto& e : design.prediction.parameters) EXPECT_TRUE(std::isfinite(e.u) && e.u > 0) << e.name;
+  const ProbingPlan again = parse_probing_csv(m, probing_csv(m, design.plan), "designed");
+  EXPECT_EQ(again.records.size(), 16u);
+  EXPECT_EQ(again.features[again.records[0].feature].id.front(), 'R');
+  // Bad regions.
+  r.spacing = 0;
+  EXPECT_NE(error_message([&] { region_balls(r); }).find("spacing > 0"), std::string::npos);
+  r.spacing = 100;
+  r.x_min = 200;
+  EXPECT_NE(error_message([&] { region_balls(r); }).find("min <= max"), std::string::npos);
+  r.x_min = -100;
+  r.spacing = 0.5;
+  EXPECT_NE(error_message([&] { region_balls(r); }).find("at most 10,000"), std::string::npos);
+  r.spacing = 100;
+  ProbeFeature taken;
+  taken.id = "R2";
+  EXPECT_NE(error_message([&] { region_balls(r, {taken}); }).find("'R2' is already"), std::string::npos);
+}
+
+TEST(Planning, FewestPosesForAVaTarget) {
+  const Machine m = hu40t();
+  const ProbingPlan paper = read_probing_csv(m, kPlans + "hu40t-samba-tango.csv");
+  const CandidateSet c = candidate_configurations(m, paper.features, rotary_grid(m, 45 * std::numbers::pi / 180), {});
+  DesignOptions d;
+  d.model = options(kLocation);
+  const VaSensitivity s = va_sensitivity(m, travel_grid(m, 3), d.model);
+  d.va_gradients = s.gradients;
+  // Below the best reachable: the error names it.
+  d.target_va_u = 1e-9;
+  std::string msg = error_message([&] { design_plan(m, c.plan, d); });
+  EXPECT_NE(msg.find("best reachable"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("VA"), std::string::npos) << msg;
+  // Twice the best reachable: met, with fewer poses than every candidate, and the reported u
+  // is sqrt(g^T C g) of the design's own prediction.
+  const PlanPrediction all = predict_plan(m, c.plan, d.model);
+  const double best = va_uncertainty(s, all.covariance);
+  d.target_va_u = 2 * best;
+  const PlanDesign design = design_plan(m, c.plan, d);
+  EXPECT_TRUE(design.target_met);
+  EXPECT_NEAR(design.va_u_best, best, 1e-9 * best);
+  EXPECT_LE(design.va_u, 2 * best * (1 + 1e-6));
+  EXPECT_NEAR(design.va_u, va_uncertainty(s, design.prediction.covariance), 1e-12);
+  EXPECT_LT(design.plan.records.size(), c.plan.records.size() / 2);
+  // One pose fewer (the last removed) would miss the target: the count is tight for the removal.
+  ProbingPlan fewer = design.plan;
+  bool any_meets = false;
+  for (std::size_t i = 0; i < design.plan.records.size(); ++i) {
+    fewer.records = design.plan.records;
+    fewer.records.erase(fewer.records.begin() + static_cast<std::ptrdiff_t>(i));
+    try {
+      any_meets = any_meets || va_uncertainty(s, predict_plan(m, fewer, d.model).covariance) <= 2 * best * (1 - 1e-6);
+    } catch (const InputError&) {
+    }
+  }
+  EXPECT_FALSE(any_meets);
+  // The c-optimal criterion with a number of poses: no larger a VA uncertainty than D's design.
+  d.target_va_u = 0;
+  d.poses = 30;
+  d.criterion = DesignCriterion::Va;
+  const PlanDesign cva = design_plan(m, c.plan, d);
+  d.criterion = DesignCriterion::D;
+  const PlanDesign cd = design_plan(m, c.plan, d);
+  EXPECT_EQ(cva.criterion, "VA");
+  EXPECT_LE(cva.va_u, cd.va_u * (1 + 1e-9));
 }
 
 TEST(Planning, DesignOfAGivenSize) {

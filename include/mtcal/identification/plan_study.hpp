@@ -20,6 +20,16 @@ struct PlanStudyOptions {
   double rotary_step = 0.2617993877991494;                 // candidate grid step of the rotary axes, rad (15 deg)
   ProbeReach reach;
   TimingOptions timing;
+  // Choose the estimated parameters among choose->candidates (choose_parameters at every candidate
+  // pose), model.estimate being kept in every subset.
+  std::optional<SubsetOptions> choose;
+  // The predicted VA over workspace (configurations, internal units) and its uncertainty: with
+  // va, the VA's gradient (va_sensitivity) enters the design; target_va_u > 0 is a budget on it.
+  bool va = false;
+  std::vector<std::vector<double>> workspace;
+  VaOptions va_options;
+  double target_va_u = 0.0;
+  std::string target_va_source = "target VA uncertainty";
   std::size_t monte_carlo = 0;  // runs of simulate -> identify on the designed plan
   std::uint64_t seed = 1;
   int threads = 0;
@@ -30,6 +40,9 @@ struct PlanStudyOptions {
 
 // Everything the design gives (io/json/planning_json.hpp's PlanReport shows it).
 struct PlanStudy {
+  IdentificationOptions model;  // the options' model, with the chosen parameters when choose was given
+  std::optional<ParameterChoice> choice;
+  std::optional<VaSensitivity> va;
   CandidateSet candidates;
   PlanDesign design;
   TimeEstimate time;
@@ -41,7 +54,8 @@ struct PlanStudy {
 // The candidates of artefact's features over the rotary grid within reach, the plan designed to
 // the budget (options.poses, options.target_u, or else the predicted uncertainties of `against`,
 // a given plan), its measuring time, against's prediction and time, and with monte_carlo > 0 the
-// Monte Carlo check (the machine as truth, the estimated parameters zero in the prior). Throws
+// Monte Carlo check (the machine as truth, the estimated parameters zero in the prior; with va, the
+// spread of the identified machines' VA too). Throws
 // InputError located at options.poses_source without any budget.
 PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::optional<ProbingPlan>& against,
                      const PlanStudyOptions& options);

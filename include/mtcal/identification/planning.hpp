@@ -47,6 +47,18 @@ struct CandidateSet {
   // Per constraint, in the order applied: name and the number of candidates it removed.
   std::vector<std::pair<std::string, std::size_t>> removed;
 };
+// Where balls may go: a rectangle of the table (workpiece frame, mm) sampled every `spacing` from
+// its min corner (both ends included when the side is a multiple of it), ball centres at height z.
+struct BallRegion {
+  double x_min = 0.0, x_max = 0.0, y_min = 0.0, y_max = 0.0, z = 0.0;
+  double spacing = 100.0;
+  std::string id_prefix = "R";  // ids R1, R2 ... (x fastest)
+};
+// The candidate balls of a region (ids not among `taken`, which are the given features' ids).
+// Throws InputError for a region whose min exceeds its max, a spacing that is not > 0, more than
+// 10,000 positions, or an id already taken.
+std::vector<ProbeFeature> region_balls(const BallRegion& region, const std::vector<ProbeFeature>& taken = {});
+
 // Every feature of `features` at every grid indexation (facets: each pre-move pattern of the linear
 // axes other than the probing one), then the constraints: "travel" (a linear target outside its
 // axis' travel), "stem" (a ball approached beyond max_tilt_deg), "facet side" (the probe behind a
@@ -56,6 +68,21 @@ CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeF
                                       const CandidateGrid& grid, const ProbeReach& reach);
 // The constraint (name as above) that rejects record r of a plan (with nominal targets), or "".
 std::string reach_violation(const Machine& m, const ProbingPlan& plan, const ProbingRecord& r, const ProbeReach& reach);
+
+// ---- The parameters to identify, chosen ----
+
+struct ParameterChoice {
+  std::vector<std::string> chosen;    // the best subset's members (resolved names: EXX -> EXX.0, EXX.1 ...)
+  std::vector<std::string> estimate;  // options.always, then chosen: what the design estimates
+  double condition = 0.0;             // of the scaled Jacobian at every candidate
+  std::uint64_t examined = 0, full_rank = 0;
+};
+// The rank-safe subset search (full_rank_subsets, Viprey 2015 section 4) on every candidate
+// configuration at once - what the instrument can identify whatever the poses - and its best
+// conditioned subset. Throws InputError when no subset of options.choose has full rank, naming
+// the null-space combinations of the always-parameters and all candidates (identifiability).
+ParameterChoice choose_parameters(const Machine& m, const ProbingPlan& candidates, const SubsetOptions& options,
+                                  const IdentificationOptions& model);
 
 // ---- Predicted uncertainty ----
 
@@ -76,12 +103,53 @@ struct PlanPrediction {
 // combination (as identifiability does) when a requested parameter is not identifiable.
 PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const IdentificationOptions& options);
 
+// ---- The predicted VA and its uncertainty ----
+
+// A workspace grid over the travels: per_axis values evenly from each axis' travel min to max; a
+// rotary axis of a full turn or more, or without a travel, per_axis values over one turn
+// ([-180, 180) deg). Per axis values, chain order, internal units (as parse_grid gives them).
+// Throws InputError for per_axis < 2.
+std::vector<std::vector<double>> travel_grid(const Machine& m, std::size_t per_axis);
+
+// Fletcher's VA (evaluation/volumetric.hpp: the largest |e_j - e_i| over the workspace's
+// configurations, translational, no directions of motion) of the machine m, and its gradient
+// with respect to the parameters of options.estimate at m's values. The VA is a maximum over
+// pairs; where one pair (i, j) attains it, it is differentiable and its gradient is that pair's
+// (Danskin's theorem): dVA/dtheta = d^T (de_j/dtheta - de_i/dtheta), d the unit vector of
+// e_j - e_i, de/dtheta ErrorModel::jacobian (analytic). Pairs within tie_tolerance of the
+// maximum can become the critical one under the estimates' errors (the VA has a kink where two
+// tie): their gradients are kept too (at most max_pairs, longest first), and the uncertainty is
+// the largest over them. Throws InputError for a VA of zero (no gradient: the errors of m must
+// not all vanish on the workspace).
+struct VaOptions {
+  double tie_tolerance = 1e-3;  // mm
+  std::size_t max_pairs = 32;
+};
+struct VaSensitivity {
+  double va = 0.0;                      // mm
+  std::vector<double> from, to;         // the critical pair's configurations (internal units)
+  std::vector<std::string> parameters;  // the estimated parameters, in the gradients' order
+  Eigen::VectorXd gradient;             // of the critical pair: mm per internal unit of each parameter
+  // Per pair within the tolerance (the critical one first): its length (mm) and gradient (a column).
+  std::vector<double> pair_lengths;
+  Eigen::MatrixXd gradients;
+  double tie_tolerance = 0.0;  // mm, as used
+  bool pairs_capped = false;   // more pairs were within it than max_pairs
+};
+VaSensitivity va_sensitivity(const Machine& m, const std::vector<std::vector<double>>& workspace,
+                             const IdentificationOptions& options, const VaOptions& va_options = {});
+// The VA's standard uncertainty to first order: sqrt(g^T C g) (JCGM 100:2008, GUM eq. 13), C the
+// parameters' covariance (PlanPrediction::covariance, internal units), the largest over the
+// pairs of s.gradients; mm.
+double va_uncertainty(const VaSensitivity& s, const Eigen::MatrixXd& covariance);
+
 // ---- Optimal design ----
 
 enum class DesignCriterion {
   D,     // maximise det of the parameters' information (Ds: the artefact's unknowns are nuisance)
   A,     // minimise the sum of the parameters' relative variances
-  MaxU,  // minimise the largest relative standard uncertainty (u / target)
+  MaxU,  // minimise the largest relative standard uncertainty (u / target; the VA's too, with its target)
+  Va,    // minimise the variance of the predicted VA, g^T C g (c-optimality); needs va_gradients
 };
 
 struct DesignOptions {
@@ -92,6 +160,13 @@ struct DesignOptions {
   // Per requested parameter name: the standard uncertainty to reach (internal units).
   std::vector<std::pair<std::string, double>> target_u;
   std::string target_source = "target uncertainty";  // location of messages about the targets
+  // The predicted VA's gradients with respect to the estimated parameters (VaSensitivity::gradients,
+  // a column per near-critical pair; empty: none) and a target on its standard uncertainty, the
+  // largest sqrt(g^T C g) over the columns (mm; 0: none). With poses == 0 the fewest poses meet
+  // it together with target_u.
+  Eigen::MatrixXd va_gradients;
+  double target_va_u = 0.0;
+  std::string target_va_source = "target VA uncertainty";
   std::string poses_source = "poses";
   int max_passes = 30;  // Fedorov exchange passes (each tries every selected pose)
   int threads = 0;
@@ -109,6 +184,9 @@ struct PlanDesign {
   std::size_t greedy_poses = 0;        // poses after the first backward elimination
   std::size_t exchanges = 0, passes = 0;
   bool target_met = true;
+  // With va_gradients: the predicted VA's standard uncertainty of the design and with every
+  // candidate (mm).
+  double va_u = 0.0, va_u_best = 0.0;
 };
 // Exchange design over the candidates (Fedorov 1972, Theory of Optimal Experiments ch. 3;
 // Atkinson, Donev & Tobias 2007, Optimum Experimental Designs, ch. 12; Cook & Nachtsheim 1980):
@@ -129,13 +207,18 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates, const De
 struct PlanMonteCarlo {
   std::size_t runs = 0, failed = 0;  // failed: the solver did not converge, or threw
   std::vector<double> stdev, mean;   // per estimated parameter (order of predict_plan's parameters)
+  bool va = false;                   // a workspace was given: the identified machines' VA over it
+  double va_mean = 0.0, va_stdev = 0.0;  // mm
 };
 // runs x (simulate_probing of `truth` with noise options.sigma_ball (balls) and the plan, seeds
 // seed, seed+1, ...; then identify from `prior`): the spread of the estimates, to set beside
-// predict_plan. Scale bars of options are imposed in the simulation. Independent of threads.
+// predict_plan. Scale bars of options whose two balls the plan probes are imposed in the simulation
+// and used in the identification (the others left out, as design_plan predicts). Independent of threads.
+// With a workspace (non-empty), also the spread of the identified machines' VA over it (to set
+// beside va_uncertainty).
 PlanMonteCarlo plan_monte_carlo(const Machine& truth, const Machine& prior, const ProbingPlan& plan,
                                 const IdentificationOptions& options, std::size_t runs, std::uint64_t seed,
-                                int threads = 0);
+                                int threads = 0, const std::vector<std::vector<double>>& workspace = {});
 
 // ---- The probing program's touches, and the contacts back as measurements ----
 

@@ -32,7 +32,9 @@ Json to_json(const PlanMonteCarlo& mc, const PlanPrediction& predicted) {
     params[predicted.parameters[i].name] = {{"u_monte_carlo", mc.stdev[i]},
                                             {"ratio", number_or_null(u > 0 ? mc.stdev[i] / u : NAN)}};
   }
-  return {{"runs", mc.runs}, {"failed", mc.failed}, {"parameters", params}};
+  Json j = {{"runs", mc.runs}, {"failed", mc.failed}, {"parameters", params}};
+  if (mc.va) j["va"] = {{"mean", mc.va_mean}, {"u_monte_carlo", mc.va_stdev}};
+  return j;
 }
 
 Json to_json(const PlanReport& r) {
@@ -58,7 +60,24 @@ Json to_json(const PlanReport& r) {
                              : 0.0;
     j["against"] = a;
   }
-  if (r.monte_carlo) j["monte_carlo"] = to_json(*r.monte_carlo, d.prediction);
+  if (r.monte_carlo) {
+    j["monte_carlo"] = to_json(*r.monte_carlo, d.prediction);
+    if (r.monte_carlo->va && d.va_u > 0) j["monte_carlo"]["va"]["ratio"] = r.monte_carlo->va_stdev / d.va_u;
+  }
+  if (r.choice)
+    j["parameters_chosen"] = {{"chosen", r.choice->chosen},       {"estimate", r.choice->estimate},
+                              {"condition", number_or_null(r.choice->condition)},
+                              {"full_rank", r.choice->full_rank}, {"examined", r.choice->examined}};
+  if (r.va) {
+    Json v = {{"value", r.va->va}, {"u", d.va_u}, {"u_best", d.va_u_best}};
+    if (r.target_va_u > 0) v["target"] = r.target_va_u;
+    if (r.against_va_u) v["u_against"] = *r.against_va_u;
+    v["workspace"] = r.workspace;
+    v["pairs"] = r.va->pair_lengths.size();
+    j["va"] = v;
+  }
+  if (r.region.positions > 0)
+    j["ball_region"] = {{"positions", r.region.positions}, {"reachable", r.region.reachable}, {"used", r.region.used}};
   if (!r.out.empty()) j["out"] = r.out;
   if (!r.gcode.empty()) j["gcode"] = r.gcode;
   return j;

@@ -17,7 +17,10 @@ Json to_json(const PlanMonteCarlo& mc, const PlanPrediction& predicted);
 // What mtcal plan reports, keys in this order: criterion, criterion_value, candidates {considered,
 // kept, removed {constraint: count}}, poses, greedy_poses, exchanges, passes, target_met,
 // predicted (to_json(PlanPrediction)), best_reachable, time, [against {plan, poses, predicted,
-// time, fewer_poses_percent}], [monte_carlo], out, gcode.
+// time, fewer_poses_percent}], [monte_carlo], out, gcode; [parameters_chosen {chosen, estimate,
+// condition, full_rank, examined}], [va {value, u, u_best, [target], [u_against], workspace,
+// pairs} (mm)], [ball_region {positions, reachable, used}]; monte_carlo has [va {mean,
+// u_monte_carlo, ratio}].
 struct PlanReport {
   const CandidateSet* candidates = nullptr;
   const PlanDesign* design = nullptr;
@@ -27,6 +30,14 @@ struct PlanReport {
   std::string against_path;
   std::optional<PlanMonteCarlo> monte_carlo;
   std::string out, gcode;
+  const ParameterChoice* choice = nullptr;  // --candidates
+  const VaSensitivity* va = nullptr;        // the predicted VA over the workspace
+  std::string workspace;
+  double target_va_u = 0.0;
+  std::optional<double> against_va_u;
+  struct Region {
+    std::size_t positions = 0, reachable = 0, used = 0;
+  } region;  // --ball-region (positions 0: none)
 };
 Json to_json(const PlanReport& r);
 
