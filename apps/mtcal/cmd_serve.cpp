@@ -103,7 +103,9 @@ std::vector<Command> add_serve_commands(CLI::App& app) {
   auto* tls_cert = c->add_option("--tls-cert", o->tls_cert, "PEM certificate: serve HTTPS (with --tls-key)");
   auto* tls_key = c->add_option("--tls-key", o->tls_key, "PEM private key of --tls-cert");
   auto* add_user = c->add_option("--add-user", o->add_user,
-                "Create or change a user and exit (password from $MTCAL_PASSWORD or one line of stdin)");
+                "Create or change a user and exit (password from $MTCAL_PASSWORD or one line of stdin)")
+      // An empty name would otherwise mean "no --add-user" and start serving.
+      ->check([](const std::string& name) { return name.empty() ? std::string("expected a user name, found ''") : std::string(); });
   c->add_option("--role", o->role, "Role of --add-user: viewer, engineer or admin (default viewer)")
       ->check(CLI::IsMember({"viewer", "engineer", "admin"}));
   auto* interval = c->add_option("--interval-days", o->interval_days, "A machine is overdue this many days after its last calibration "

@@ -141,8 +141,9 @@ BASES = {
 # Options whose every value is valid text (none so far): a bad value cannot fail.
 # plan --log-name is a file name on the controller's machine (written into the program's PROBEOPEN
 # comment, never opened by mtcal): any path text is valid there; only an empty name, parentheses
-# and line breaks are refused.
-FREE_TEXT = {"--log-name"}
+# and line breaks are refused. serve --add-user is a user name (an e-mail address, say): '/' and '@'
+# are valid in it; the server refuses an empty or unprintable one.
+FREE_TEXT = {"--log-name", "--add-user"}
 
 
 def help_text(*cmd):
