@@ -9,6 +9,16 @@
 
 namespace mtcal {
 
+std::string linuxcnc_c_number(double v) { return fmt::format("{:.17g}", v); }
+
+std::string linuxcnc_c_comment(const std::string& s) {
+  std::string out = s;
+  for (std::size_t p; (p = out.find("*/")) != std::string::npos;) out.replace(p, 2, "* /");
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+  return out;
+}
+
 namespace {
 
 // The machine-independent C (chain evaluation, inverse, forward).
@@ -16,20 +26,10 @@ constexpr const char* kCore =
 #include "linuxcnc_kins_core.inc"
     ;
 
-std::string num(double v) { return fmt::format("{:.17g}", v); }
-
 std::string list(const std::vector<double>& v) {
   std::string s;
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + linuxcnc_c_number(v[i]);
   return s;
-}
-
-std::string c_comment(const std::string& s) {
-  std::string out = s;
-  for (std::size_t p; (p = out.find("*/")) != std::string::npos;) out.replace(p, 2, "* /");
-  for (char& c : out)
-    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
-  return out;
 }
 
 // Data of one motion function: {kind, n, ncos, x, v} (see struct mtk_fn).
@@ -93,10 +93,10 @@ std::string linuxcnc_kins_model_source(const LinuxcncKins& k, bool model_only) {
   s += fmt::format("#define MTK_N {}\n#define MTK_NR {}\n#define MTK_NOPS {}\n#define MTK_MAX_ITER {}\n", n, nr,
                    k.chain.size(), k.solver.max_iterations);
   s += fmt::format("#define MTK_TOL_POINT {} /* mm */\n#define MTK_TOL_ORIENT {}\n#define MTK_DAMPING2 {} /* rad^2 */\n",
-                   num(k.solver.point_tolerance), num(k.solver.orientation_tolerance),
-                   num(k.solver.orientation_damping * k.solver.orientation_damping));
+                   linuxcnc_c_number(k.solver.point_tolerance), linuxcnc_c_number(k.solver.orientation_tolerance),
+                   linuxcnc_c_number(k.solver.orientation_damping * k.solver.orientation_damping));
   s += fmt::format("#define MTK_TOOL_AXIS {}\n#define MTK_TOOL_LENGTH {} /* mm, the machine file's */\n\n", k.tool_axis,
-                   num(k.tool_length));
+                   linuxcnc_c_number(k.tool_length));
   std::vector<int> joint, is_rotary, dir_axis;
   std::vector<double> dir_sign, zero;
   std::string points;
@@ -177,7 +177,7 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       "#ifdef MTCAL_KINS_STANDALONE\n#include <math.h>\n#else\n"
       "#include \"rtapi.h\"\n#include \"rtapi_app.h\"\n#include \"rtapi_math.h\"\n#include \"hal.h\"\n"
       "#include \"kinematics.h\"\n#endif\n\n",
-      k.module_name, c_comment(k.machine_name), c_comment(k.topology), k.coordinates, k.solver.max_iterations);
+      k.module_name, linuxcnc_c_comment(k.machine_name), linuxcnc_c_comment(k.topology), k.coordinates, k.solver.max_iterations);
   s += linuxcnc_kins_model_source(k, false);
   // LinuxCNC glue (kinematics.h of LinuxCNC 2.9; modelled on src/emc/kinematics/maxkins.c and trtfuncs.c).
   std::string world_in, world_out;
@@ -278,7 +278,7 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
       "# COMP_FILE type 1 tables below (corrections -e added to the motor command).\n"
       "# Pre-check: {} configurations of the commanded travel, at most {} steps, tool point residual up to {:.3g} mm.\n"
       "# Largest correction per joint (the margin the joint limits need beyond the commanded travel):\n",
-      c_comment(k.machine_name), k.module_name, k.checked, k.max_iterations, k.max_point_residual);
+      linuxcnc_c_comment(k.machine_name), k.module_name, k.checked, k.max_iterations, k.max_point_residual);
   for (std::size_t j = 0; j < k.coordinates.size(); ++j) {
     const auto& a = *std::find_if(k.axes.begin(), k.axes.end(), [&](const KinsAxis& x) { return x.joint == static_cast<int>(j); });
     ini += fmt::format("#   joint {} ({}): {:.6f} {}\n", j, a.letter, k.largest_correction[j], unit_name(a));
@@ -322,7 +322,7 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
                    "  joint*-reversal.comp  direction-dependent terms, COMP_FILE type 1 (corrections)\n\n"
                    "What it holds, what it does not, and how to check it on the machine:\n"
                    "docs/compensation-linuxcnc-kins.md in mtcal.\n",
-                   c_comment(k.machine_name), k.module_name, k.module_name)});
+                   linuxcnc_c_comment(k.machine_name), k.module_name, k.module_name)});
   return out;
 }
 

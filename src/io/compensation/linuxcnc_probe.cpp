@@ -11,16 +11,6 @@ namespace mtcal {
 
 namespace {
 
-std::string num(double v) { return fmt::format("{:.17g}", v); }
-
-std::string c_comment(const std::string& s) {
-  std::string out = s;
-  for (std::size_t p; (p = out.find("*/")) != std::string::npos;) out.replace(p, 2, "* /");
-  for (char& c : out)
-    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
-  return out;
-}
-
 void check(const LinuxcncProbeOptions& o) {
   const std::string where = "simulated probe";
   if (o.spheres.empty() || o.spheres.size() > kLinuxcncProbeMaxSpheres)
@@ -62,13 +52,13 @@ std::string linuxcnc_probe_source(const LinuxcncKins& truth, const LinuxcncProbe
       " */\n"
       "#ifdef MTCAL_PROBE_STANDALONE\n#include <math.h>\n#else\n"
       "#include \"rtapi.h\"\n#include \"rtapi_app.h\"\n#include \"rtapi_math.h\"\n#include \"hal.h\"\n#endif\n\n",
-      name, c_comment(truth.machine_name), c_comment(truth.topology), truth.coordinates, o.spheres.size());
+      name, linuxcnc_c_comment(truth.machine_name), linuxcnc_c_comment(truth.topology), truth.coordinates, o.spheres.size());
   s += linuxcnc_kins_model_source(truth, true);
   std::string centres, radii;
   for (const auto& sp : o.spheres) {
-    centres += fmt::format("{}{{{}, {}, {}}}", centres.empty() ? "" : ", ", num(sp.centre.x()), num(sp.centre.y()),
-                           num(sp.centre.z()));
-    radii += fmt::format("{}{}", radii.empty() ? "" : ", ", num((sp.diameter + o.stylus_diameter) / 2));
+    centres += fmt::format("{}{{{}, {}, {}}}", centres.empty() ? "" : ", ", linuxcnc_c_number(sp.centre.x()), linuxcnc_c_number(sp.centre.y()),
+                           linuxcnc_c_number(sp.centre.z()));
+    radii += fmt::format("{}{}", radii.empty() ? "" : ", ", linuxcnc_c_number((sp.diameter + o.stylus_diameter) / 2));
   }
   s += fmt::format(
       "\n/* ---- The probe ---- */\n"
@@ -105,7 +95,7 @@ std::string linuxcnc_probe_source(const LinuxcncKins& truth, const LinuxcncProbe
       "    *gap = best;\n"
       "    return 0;\n"
       "}}\n",
-      o.spheres.size(), centres, radii, num(o.stylus_diameter));
+      o.spheres.size(), centres, radii, linuxcnc_c_number(o.stylus_diameter));
   std::string pins, reads;
   for (std::size_t j = 0; j < truth.coordinates.size(); ++j)
     pins += fmt::format("    r += hal_pin_float_newf(HAL_IN, &(mtp_hal->joint[{0}]), mtp_comp_id, \"{1}.joint-{0}\");\n", j,
@@ -205,7 +195,7 @@ std::vector<TargetFile> linuxcnc_probe_files(const LinuxcncKins& truth, const Li
                    "# The joints: add {0}.joint-N to the signal that feeds joint.N.motor-pos-fb (the physical\n"
                    "# joint position; in a sim configuration the loop-back of joint.N.motor-pos-cmd):\n"
                    "{3}",
-                   o.component_name, c_comment(truth.machine_name), truth.tool_length, joints)});
+                   o.component_name, linuxcnc_c_comment(truth.machine_name), truth.tool_length, joints)});
   files.push_back(
       {"README.txt",
        fmt::format("Simulated touch probe for LinuxCNC, written by mtcal linuxcnc-probe.\n"
@@ -214,7 +204,7 @@ std::vector<TargetFile> linuxcnc_probe_files(const LinuxcncKins& truth, const Li
                    "  build.sh              halcompile --install (needs Debian's linuxcnc-uspace-dev)\n"
                    "  linuxcnc-probe.hal    loadrt, addf, the probe net; the joint nets to complete\n\n"
                    "docs/planning.md in mtcal: the LinuxCNC run, the trip's quantisation by the servo period.\n",
-                   c_comment(truth.machine_name), o.component_name)});
+                   linuxcnc_c_comment(truth.machine_name), o.component_name)});
   return files;
 }
 

@@ -22,6 +22,12 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k);
 // solver, no nominal-chain data). Plain C99 with <math.h> or LinuxCNC's rtapi_math.h included before it.
 std::string linuxcnc_kins_model_source(const LinuxcncKins& k, bool model_only);
 
+// Text for the generated C (the module's and the simulated probe's): a double written to read back
+// bit for bit ("%.17g"), and a name made safe inside a /* */ comment ("*/" broken, control and
+// non-ASCII characters as '?').
+std::string linuxcnc_c_number(double v);
+std::string linuxcnc_c_comment(const std::string& s);
+
 // Every file of --format linuxcnc-kins: <module>.c, build.sh, linuxcnc-kins.ini, linuxcnc-kins.hal,
 // joint<N>-reversal.comp per joint with direction-dependent terms, README.txt.
 TargetOutput linuxcnc_kins_output(const LinuxcncKins& k);
