@@ -24,6 +24,7 @@
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/history/analysis.hpp"
 #include "mtcal/io/compensation/output.hpp"
+#include "mtcal/io/history/queries.hpp"
 #include "mtcal/io/history/store.hpp"
 #include "mtcal/io/instruments/acceptance_files.hpp"
 #include "mtcal/io/instruments/iso230_files.hpp"
@@ -209,42 +210,6 @@ struct TempFolder {
   throw HttpError{422, m};
 }
 
-// "Q=V" or "Q=LO:HI" as `mtcal history rank --tolerance` reads it (in the quantity's unit).
-struct ToleranceSpec {
-  std::string quantity;
-  std::optional<double> limit;
-  std::optional<ToleranceBand> range;
-  ToleranceBand band(bool figure) const {
-    if (range) return *range;
-    return figure ? ToleranceBand::at_most(*limit) : ToleranceBand::symmetric(*limit);
-  }
-};
-
-ToleranceSpec parse_tolerance(const std::string& s) {
-  const auto eq = s.find('=');
-  const SourceLocation where{"tolerance", 0, eq == std::string::npos ? "" : s.substr(0, eq)};
-  if (eq == std::string::npos || eq == 0)
-    throw InputError(where, "expected QUANTITY=VALUE or QUANTITY=LO:HI, found '" + printable(s) + "'");
-  ToleranceSpec t;
-  t.quantity = s.substr(0, eq);
-  const std::string value = s.substr(eq + 1);
-  const auto number = [&](const std::string& text) {
-    const auto v = parse_number(text);
-    if (!v) throw InputError(where, "tolerance of " + printable(t.quantity) + ": expected a number, found '" + printable(text) + "'");
-    return *v;
-  };
-  if (const auto colon = value.find(':'); colon != std::string::npos) {
-    t.range = ToleranceBand{number(value.substr(0, colon)), number(value.substr(colon + 1))};
-    check_band(*t.range, t.quantity);
-  } else {
-    t.limit = number(value);
-    if (!(*t.limit > 0))
-      throw InputError(where, "tolerance of " + printable(t.quantity) + ": expected a permitted value > 0, found " +
-                                  printable(value));
-  }
-  return t;
-}
-
 // The name of an uploaded file as recorded: its last path component, printable, at most 100 characters.
 std::string upload_display_name(const std::string& filename) {
   std::string base = filename;
@@ -271,7 +236,7 @@ struct Server::Impl {
   // The fleet's ranking: tolerances (ServerOptions) and the last ranking with the store state it
   // was made for (the latest records and their counts): made again only when a record came.
   std::optional<ToleranceFile> tolerance_file;
-  std::vector<ToleranceSpec> tolerance_specs;
+  std::vector<HistoryTolerance> tolerance_specs;
   // Per machine and quantity its series with band (or why it is left out) and the machine's
   // latest records it was read for: a new record re-reads the series of its machine only.
   struct CachedSeries {
@@ -309,13 +274,8 @@ struct Server::Impl {
     }
     dummy_hash = hash_password("not a password of anyone", opt.kdf_cost);
     if (!opt.tolerance_file.empty()) tolerance_file = read_tolerance_file(opt.tolerance_file);
-    for (const auto& t : opt.tolerances) {
-      tolerance_specs.push_back(parse_tolerance(t));
-      for (std::size_t i = 0; i + 1 < tolerance_specs.size(); ++i)
-        if (tolerance_specs[i].quantity == tolerance_specs.back().quantity)
-          throw InputError({"tolerance", 0, tolerance_specs.back().quantity},
-                           "tolerance of " + printable(tolerance_specs.back().quantity) + " is given twice");
-    }
+    // "Q=V" or "Q=LO:HI" as `mtcal history rank --tolerance` reads them.
+    tolerance_specs = parse_history_tolerances(opt.tolerances, "tolerance");
     const int threads = std::max(1, opt.threads);
     http->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
     http->set_payload_max_length(opt.max_upload);
