@@ -17,29 +17,16 @@
 #include "mtcal/io/history/config.hpp"
 #include "mtcal/io/history/store.hpp"
 #include "pg_server.hpp"
+#include "temp_dir.hpp"
 
 using namespace mtcal;
 namespace fs = std::filesystem;
 
 namespace {
 
-// One PostgreSQL server for the whole run (initdb + start take about a second), stopped at exit.
-mtcal::testing::PgServer& pg() {
-  static mtcal::testing::PgServer server;
-  return server;
-}
+mtcal::testing::PgServer& pg() { return mtcal::testing::shared_pg_server(); }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    char templ[] = "/tmp/mtcal-history-XXXXXX";
-    path = ::mkdtemp(templ);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
+using mtcal::testing::TempDir;
 
 std::atomic<int> g_db{0};
 

@@ -29,6 +29,7 @@
 #include "mtcal/io/history/store.hpp"
 #include "mtcal/server/server.hpp"
 #include "pg_server.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace mtcal;
@@ -36,22 +37,9 @@ using namespace mtcal::server;
 
 namespace {
 
-mtcal::testing::PgServer& pg() {
-  static mtcal::testing::PgServer server;
-  return server;
-}
+mtcal::testing::PgServer& pg() { return mtcal::testing::shared_pg_server(); }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    char templ[] = "/tmp/mtcal-serve-XXXXXX";
-    path = ::mkdtemp(templ);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
+using mtcal::testing::TempDir;
 
 int g_db = 0;
 const std::string kPassword = "correct horse battery";

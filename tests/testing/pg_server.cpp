@@ -128,4 +128,9 @@ std::string PgServer::create_database(const std::string& name) {
   return conninfo(name);
 }
 
+PgServer& shared_pg_server() {
+  static PgServer server;
+  return server;
+}
+
 }  // namespace mtcal::testing

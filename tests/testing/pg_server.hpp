@@ -30,6 +30,9 @@ class PgServer {
   std::string run_as(const std::string& command) const;
 };
 
+// One server for the whole test program (initdb + start take about a second), stopped at exit.
+PgServer& shared_pg_server();
+
 // Whether Debian's PostgreSQL server binaries are installed (a bin folder with initdb).
 std::string find_pg_bin();
 
