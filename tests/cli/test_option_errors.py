@@ -240,19 +240,9 @@ def check(cmd, name, value, must_fail, argv, other_options):
         passed += 1
 
 
-def run_command(cmd, options, prefix=()):
-    if cmd not in BASES:
-        failed.append(f"{cmd}: no base invocation in tests/cli/test_option_errors.py (add one)")
-        return
-    bases = BASES[cmd]
-    # The base invocations must work, or every case would fail for the wrong reason.
-    for b in bases:
-        r = subprocess.run([MTCAL, *prefix, cmd, *b], cwd=work, capture_output=True, text=True, timeout=300)
-        if r.returncode != 0:
-            failed.append(f"{cmd}: the base invocation fails: {r.stderr.strip()[:300]}")
-            return
-    others = [n for n, _ in options if n.startswith("--")]
-    positionals = [n for n, _ in options if not n.startswith("--")]
+def cases_of(cmd, options, bases):
+    """Every (name, value, must_fail, argv) case of one command, without running any."""
+    out = []
     for name, kind in options:
         if name.startswith("--"):
             base, at = bases[0], None
@@ -270,20 +260,57 @@ def run_command(cmd, options, prefix=()):
                     argv[at:at + 2] = [f"{name}={value}"]
                 else:
                     argv.append(f"{name}={value}")
-                check(cmd, name, value, must_fail, [*prefix, cmd, *argv], others)
+                out.append((name, value, must_fail, [cmd, *argv]))
         else:
             # Positional: the n-th non-option word of the base invocation.
+            positionals = [n for n, _ in options if not n.startswith("--")]
             index = positionals.index(name)
             base = bases[0]
             words = [i for i, a in enumerate(base) if not a.startswith("-") and (i == 0 or not base[i - 1].startswith("-")
                                                                                or base[i - 1] in flags.get(cmd, ()))]
             if index >= len(words):
                 continue
-            kinds = bad_values(kind, None)
-            for value, must_fail in kinds:
+            for value, must_fail in bad_values(kind, None):
                 argv = list(base)
                 argv[words[index]] = value
-                check(cmd, name, value, must_fail, [cmd, *argv], others)
+                out.append((name, value, must_fail, [cmd, *argv]))
+    return out
+
+
+# MTCAL_TEST_SHARD=K/N (ctest runs option_errors_cli_1of4 ... in parallel): this run checks every
+# N-th case from the K-th on, over all commands in one fixed order, so the N shards together check
+# every case exactly once. Without it, one run checks all.
+_shard = os.environ.get("MTCAL_TEST_SHARD", "1/1")
+SHARD_K, SHARD_N = (int(x) for x in _shard.split("/"))
+assert 1 <= SHARD_K <= SHARD_N, f"MTCAL_TEST_SHARD={_shard}: expected K/N with 1 <= K <= N"
+case_counter = 0
+
+
+def mine():
+    """Whether the next case (in the fixed order) belongs to this shard."""
+    global case_counter
+    case_counter += 1
+    return (case_counter - 1) % SHARD_N == SHARD_K - 1
+
+
+def run_command(cmd, options, prefix=()):
+    if cmd not in BASES:
+        if SHARD_K == 1:
+            failed.append(f"{cmd}: no base invocation in tests/cli/test_option_errors.py (add one)")
+        return
+    bases = BASES[cmd]
+    cases = [c for c in cases_of(cmd, options, bases) if mine()]
+    if not cases:
+        return
+    # The base invocations must work, or every case would fail for the wrong reason.
+    for b in bases:
+        r = subprocess.run([MTCAL, *prefix, cmd, *b], cwd=work, capture_output=True, text=True, timeout=300)
+        if r.returncode != 0:
+            failed.append(f"{cmd}: the base invocation fails: {r.stderr.strip()[:300]}")
+            return
+    others = [n for n, _ in options if n.startswith("--")]
+    for name, value, must_fail, argv in cases:
+        check(cmd, name, value, must_fail, [*prefix, *argv], others)
 
 
 short_names, flags = {}, {}
@@ -301,11 +328,13 @@ for cmd in cmds:
 # The global options (limits, --max-input-size), given before the command's name.
 for name, kind in global_options:
     for value, must_fail in bad_values(kind, None):
-        check("mtcal", name, value, must_fail, [f"{name}={value}", "errors", "-m", M3], [n for n, _ in global_options])
+        if mine():
+            check("mtcal", name, value, must_fail, [f"{name}={value}", "errors", "-m", M3],
+                  [n for n, _ in global_options])
 
 for f in failed:
     print("FAIL:", f)
-print(f"{passed} passed, {len(failed)} failed")
+print(f"{passed} passed, {len(failed)} failed (shard {SHARD_K} of {SHARD_N}: {case_counter} cases in all)")
 shutil.rmtree(fix, ignore_errors=True)
 shutil.rmtree(work, ignore_errors=True)
 sys.exit(1 if failed else 0)

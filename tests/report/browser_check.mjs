@@ -29,6 +29,10 @@ try {
 }
 
 const [outDir, ...specs] = process.argv.slice(2);
+// Loading a report with its 4 MB of inlined Plotly took over 30 s on the shared 2-core machine
+// with three browsers and the option sweep beside it (ctest -j2): the limits are for a hung page,
+// not a measurement.
+const LOAD_MS = 120000;
 mkdirSync(outDir, { recursive: true });
 // A fresh, empty profile (playwright passes it as --user-data-dir).
 const context = await playwright.chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), 'mtcal-chromium-')), {
@@ -86,10 +90,10 @@ for (const spec of specs) {
   page.on('dialog', async (d) => { problems.push(`dialog opened: ${d.message()}`); await d.dismiss(); });
   // blob: URLs are objects of the page itself (Plotly.toImage draws the SVG through one).
   page.on('request', (r) => { if (!/^(file|data|blob):/.test(r.url())) problems.push(`external request: ${r.url()}`); });
-  await page.goto('file://' + file, { waitUntil: 'load' });
+  await page.goto('file://' + file, { waitUntil: 'load', timeout: LOAD_MS });
   // Every plot div must hold a rendered Plotly graph with at least one trace with data.
   await page.waitForFunction((n) => document.querySelectorAll('.plot .main-svg').length >= n || n === 0, expected,
-                             { timeout: 30000 }).catch(() => problems.push('plots did not render in 30 s'));
+                             { timeout: LOAD_MS }).catch(() => problems.push(`plots did not render in ${LOAD_MS / 1000} s`));
   const plots = await page.evaluate(() => Array.from(document.querySelectorAll('.plot')).map((el) => ({
     id: el.id,
     traces: (el.data || []).length,
@@ -172,7 +176,7 @@ for (const spec of specs) {
     const page = await context.newPage();
     const cdp = await context.newCDPSession(page);
     await cdp.send('Emulation.setScriptExecutionDisabled', { value: true });
-    await page.goto('file://' + file, { waitUntil: 'load' });
+    await page.goto('file://' + file, { waitUntil: 'load', timeout: LOAD_MS });
     const st = await page.evaluate(() => {
       const note = document.querySelector('div.noscript');
       return {

@@ -3,6 +3,9 @@
 # line, escapes hostile names, and renders in headless Chromium without JavaScript errors
 # (browser_check.mjs; screenshots into $SHOTS). Needs MTCAL, EXAMPLES, WEB, SHOTS, HISTORY_FIXTURE.
 # Exit 77 (SKIPPED) when the browser part cannot run; prints "N passed, N failed".
+# With REPORTS_OUT=DIR it only writes and checks the reports, and leaves them with the browser's
+# list (DIR/specs) for tests/report/browser_shard.sh, which ctest runs in shards beside other tests
+# (reports_make, then reports_in_browser_KofN).
 set -u
 source "$(dirname "$0")/../testing/cli_lib.sh"
 M5="$EXAMPLES/hu40t-wCBXfYZt.yaml"
@@ -109,14 +112,22 @@ fi
 grep -qF '&lt;/script&gt;&lt;script&gt;alert(1)' "$tmp/hostile.html" && ok || bad "hostile machine name not shown escaped"
 
 # In a real browser: no JavaScript error, no dialog (the hostile one), every plot rendered.
+specs=("$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1"
+    "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/iso230-2-acceptance.html:1" "$tmp/iso230-2-laser.html:1" "$tmp/iso230-2-b02.html:1" "$tmp/ballbar.html:2" "$tmp/eval-hu40t.html:2" "$tmp/compare.html:1" "$tmp/hostile.html:2"
+    "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2"
+    "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1"
+    "$tmp/history-trend.html:2")
 node_rc=0
-if command -v node >/dev/null; then
-  (cd "$WEB" && MTCAL_WEB="$WEB" node "$(dirname "$0")/browser_check.mjs" "$SHOTS" \
-    "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
-    "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/iso230-2-acceptance.html:1" "$tmp/iso230-2-laser.html:1" "$tmp/iso230-2-b02.html:1" "$tmp/ballbar.html:2" "$tmp/eval-hu40t.html:2" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
-    "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2" \
-    "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1" \
-    "$tmp/history-trend.html:2") >"$tmp/browser" 2>&1
+if [ -n "${REPORTS_OUT:-}" ]; then
+  # The browser part runs later, in shards: hand over the reports and their plot counts.
+  rm -rf "$REPORTS_OUT" && mkdir -p "$REPORTS_OUT" || bad "cannot make $REPORTS_OUT"
+  : >"$REPORTS_OUT/specs"
+  for spec in "${specs[@]}"; do
+    cp "${spec%:*}" "$REPORTS_OUT/" && echo "$REPORTS_OUT/$(basename "${spec%:*}"):${spec##*:}" >>"$REPORTS_OUT/specs" \
+      || bad "cannot copy ${spec%:*}"
+  done
+elif command -v node >/dev/null; then
+  (cd "$WEB" && MTCAL_WEB="$WEB" node "$(dirname "$0")/browser_check.mjs" "$SHOTS" "${specs[@]}") >"$tmp/browser" 2>&1
   node_rc=$?
   cat "$tmp/browser"
 else
