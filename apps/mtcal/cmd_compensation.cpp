@@ -17,6 +17,7 @@
 #include "gcode_input.hpp"
 #include "mtcal/compensation/compensation.hpp"
 #include "mtcal/io/compensation/output.hpp"
+#include "mtcal/io/compensation/output_json.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/text/joints.hpp"
 #include "mtcal/model/joints.hpp"

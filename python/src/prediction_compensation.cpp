@@ -6,6 +6,7 @@
 #include "mtcal/compensation/compensation.hpp"
 #include "mtcal/compensation/tables.hpp"
 #include "mtcal/io/compensation/output.hpp"
+#include "mtcal/io/compensation/output_json.hpp"
 #include "mtcal/io/text/csv.hpp"
 #include "mtcal/io/gcode/reader.hpp"
 #include "mtcal/io/json/prediction_json.hpp"

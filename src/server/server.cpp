@@ -24,6 +24,7 @@
 #include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/history/analysis.hpp"
 #include "mtcal/io/compensation/output.hpp"
+#include "mtcal/io/compensation/output_json.hpp"
 #include "mtcal/io/history/queries.hpp"
 #include "mtcal/io/history/store.hpp"
 #include "mtcal/io/instruments/acceptance_files.hpp"

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "mtcal/io/compensation/output.hpp"
+#include "mtcal/io/compensation/output_json.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {

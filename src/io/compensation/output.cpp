@@ -106,29 +106,4 @@ void write_target_output(const std::string& dir, const TargetOutput& output) {
   tmp.keep = true;
 }
 
-Json to_json(const TargetOutput& output) {
-  const CompensationSummary& s = output.summary;
-  Json j;
-  j["target"] = s.target;
-  j["quantity"] = to_string(s.quantity);
-  j["sign_source"] = s.sign_source;
-  Json files = Json::array();
-  for (const auto& f : output.files) files.push_back(f.name);
-  j["files"] = files;
-  Json left = Json::array();
-  for (const auto& n : s.not_compensated)
-    left.push_back({{"what", n.what}, {"max_error", n.max_error}, {"unit", n.unit}});
-  j["not_compensated"] = left;
-  j["warnings"] = s.warnings;
-  const ResidualSummary& r = s.residual;
-  j["residual"] = {{"configurations", r.configurations},
-                   {"max_before_mm", r.max_before},
-                   {"max_after_mm", r.max_after},
-                   {"max_norm_before_mm", r.max_norm_before},
-                   {"max_norm_after_mm", r.max_norm_after},
-                   {"va_before_mm", r.va_before},
-                   {"va_after_mm", r.va_after}};
-  return j;
-}
-
 }  // namespace mtcal

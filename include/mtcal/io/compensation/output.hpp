@@ -1,5 +1,5 @@
-// Compensation output as files: what every target writes into its output directory, all or nothing, and its JSON
-// summary.
+// Compensation output as files: what every target writes into its output directory, all or nothing
+// (its JSON summary: io/compensation/output_json.hpp).
 #pragma once
 
 #include <functional>
@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "mtcal/compensation/compensation.hpp"
-#include "mtcal/io/json/json.hpp"
 #include "mtcal/model/machine.hpp"
 
 namespace mtcal {
@@ -40,10 +39,5 @@ const CompensationTarget& compensation_target(const std::string& name);
 // written into a temporary sibling directory that is renamed to `dir` at the end, so `dir`
 // holds every file or none. Throws Error naming the path that failed.
 void write_target_output(const std::string& dir, const TargetOutput& output);
-
-// {"target", "quantity", "sign_source", "files": [...], "not_compensated": [{what, max_error,
-// unit}], "warnings": [...], "residual": {configurations, max_before_mm: [x,y,z], max_after_mm,
-// max_norm_before_mm, max_norm_after_mm, va_before_mm, va_after_mm}}
-Json to_json(const TargetOutput& output);
 
 }  // namespace mtcal
