@@ -101,7 +101,10 @@ function(mtcal_apply_unity)
   if(NOT MTCAL_UNITY)
     return()
   endif()
-  foreach(target mtcal_core mtcal mtcal_testing mtcal_tests mtcal_python mtcal_bench test_planning test_commanded_joints)
+  # The library, the server, the command, the Python module and the benchmarks. Not the tests: their
+  # units reuse short helper names (example(), vmc(), kTol ...) in anonymous namespaces, which
+  # collide in a batch (docs/building.md, "Unity builds").
+  foreach(target mtcal_core mtcal_server mtcal mtcal_python mtcal_bench)
     if(TARGET ${target})
       set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${MTCAL_UNITY_BATCH})
       # GCC 12 inlines across the units of a batch and then reports -Wmaybe-uninitialized on
