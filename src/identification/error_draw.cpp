@@ -167,7 +167,9 @@ ErrorDraw draw_errors(const Machine& machine, const ErrorDrawOptions& o) {
         const double v0 = f.value(at, 0);
         double big = 0.0;
         for (auto& x : v) big = std::max(big, std::abs(x -= v0));
-        for (auto& x : v) x *= big > 0 ? size / big : 0.0;
+        // A rotary table's curve repeats every turn: its value a turn from zero is zero but for
+        // rounding (1e-21 rad), which would read as a tiny error the calibration has to find.
+        for (auto& x : v) x = std::abs(x) <= 1e-12 * big ? 0.0 : x * size / big;
         t->forward = v;
       } else {
         // Random shape of the chosen parameters, scaled to the size over the travel.

@@ -128,6 +128,10 @@ TEST(ErrorDraw, TablesAreTablesZeroAtTheAxisZero) {
     EXPECT_DOUBLE_EQ(t->positions.front(), ax.travel->min);
     EXPECT_DOUBLE_EQ(t->positions.back(), ax.travel->max);
     EXPECT_NEAR(f.value(0.0, 0), 0.0, 1e-18);
+    if (axis == 'C') {  // travel +-360 deg: a turn from zero the periodic curve is zero too, exactly
+      EXPECT_EQ(t->forward.front(), 0.0);
+      EXPECT_EQ(t->forward.back(), 0.0);
+    }
     // The nominal machine: the same table, zero.
     const auto& fn = d.nominal.axis(axis).motion[axis == 'C' ? index_of(Component::C) : index_of(Component::X)];
     const auto* tn = std::get_if<Table>(&fn.form());
