@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# The closed loop on one 5-axis machine in LinuxCNC (docs/workflows.md, "The closed loop"; issue 33):
+#
+#   plan -> LinuxCNC runs the probing program -> probe-log -> identify -> compensate --format
+#   linuxcnc-kins -> LinuxCNC restarts with the module -> the same probing program -> probe-log ->
+#   identify of what is left -> history diff of before and after
+#
+# Each step is one mtcal command, or LinuxCNC running what mtcal wrote (lcnc-sim: Debian's LinuxCNC 2.9
+# headless, sim configuration, the kinematics module mtcal wrote as KINEMATICS). The machine is a
+# simulation: its true errors (TRUTH) are read only by the simulated probe (mtcal linuxcnc-probe)
+# and by sim-check, which says at the end how close the loop came. mtcal sees the nominal machine
+# (MACHINE) and what LinuxCNC logs.
+#
+# Needs: mtcal, Debian's linuxcnc-uspace and linuxcnc-uspace-dev (scripts/install-deps --linuxcnc).
+# The module's own step, `sh DIR/build.sh` (halcompile --install into LinuxCNC's module folder: root),
+# is run by lcnc-sim, under the lock the LinuxCNC tests share: another LinuxCNC run on a shared
+# machine installs its own mtcal_kins into the same folder.
+# Usage: [MTCAL=build/apps/mtcal/mtcal] [OUT=loop-out] [SEED=1] examples/loop/loop.sh
+# Every input below can be given in the environment. About 2 minutes on a 2-core machine.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+MTCAL=${MTCAL:-mtcal}
+MACHINE=${MACHINE:-$here/rrttt-nominal.yaml}                 # what mtcal knows of the machine
+ARTEFACT=${ARTEFACT:-$here/../plans/rrttt-viprey-sphere.csv} # where the plan puts the sphere
+ESTIMATE=${ESTIMATE:-EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A}
+POSES=${POSES:-12}
+# The reading sigma: LinuxCNC sees the probe once a servo period T, so a contact is late by a uniform
+# share of F T; a ball centre's largest component is F T sqrt(5/4) / sqrt(12) = 0.645 um at F = 120
+# mm/min, T = 1 ms (docs/planning.md, "The trip is quantised by the servo period").
+PROBE_FEED=${PROBE_FEED:-120}
+SIGMA_UM=${SIGMA_UM:-0.645}
+APPROACH=${APPROACH:-0.5}
+RANDOM_POSES=${RANDOM_POSES:-200}
+# The module's commanded travel: 1 mm (1 deg) inside each axis's travel, room for corrections up to
+# 1 mm (compensate's default room is 0.1 mm, which a tilt error of 100 urad at 600 mm from the
+# rotary axes already fills).
+RANGE=${RANGE:-X=-354:354,Y=-274:274,Z=-499:-1,A=-99:99,C=-179:179}
+SEED=${SEED:-1}
+OUT=${OUT:-loop-out}
+# The simulation's secret: the machine's true errors and where the sphere really is.
+TRUTH=${TRUTH:-$here/rrttt-truth.yaml}
+SPHERE_TRUE=${SPHERE_TRUE:-120.035,-80.042,60.021}
+SPHERE_DIAMETER=${SPHERE_DIAMETER:-25.4}
+STYLUS_DIAMETER=${STYLUS_DIAMETER:-3}
+
+step() { printf '\n== %s\n' "$*" >&2; }
+run() { printf '+ %s\n' "$*" >&2; "$@"; }
+mkdir -p "$OUT"
+store="sqlite:$OUT/history.db"
+cycle=(--approach "$APPROACH" --ball-diameter "$SPHERE_DIAMETER" --tip-diameter "$STYLUS_DIAMETER")
+
+step "0. The simulated machine (simulation only): the probe of the true machine, for LinuxCNC's probe input"
+run "$MTCAL" linuxcnc-probe -m "$MACHINE" --params "$TRUTH" --sphere "$SPHERE_TRUE" \
+    --sphere-diameter "$SPHERE_DIAMETER" --stylus-diameter "$STYLUS_DIAMETER" --out "$OUT/probe"
+
+step "1. The plan and its probing program, in the tool-point world of the kinematics module"
+run "$MTCAL" plan -m "$MACHINE" --artefact "$ARTEFACT" --estimate "$ESTIMATE" --poses "$POSES" \
+    --sigma-um "$SIGMA_UM" --probe-feed "$PROBE_FEED" --move-feed 30000 "${cycle[@]}" \
+    --program-coordinates tool-point --out "$OUT/plan.csv" --gcode "$OUT/probe.ngc"
+
+step "2. LinuxCNC on the nominal machine's kinematics runs the probing program"
+run "$MTCAL" compensate -m "$MACHINE" --format linuxcnc-kins --range "$RANGE" --out "$OUT/kins-nominal"
+lcnc_status=0
+run "$here/lcnc-sim" --machine "$MACHINE" --kins "$OUT/kins-nominal" --probe "$OUT/probe" --program "$OUT/probe.ngc" \
+    --out "$OUT/before" || lcnc_status=$?
+[ "$lcnc_status" -le 2 ] || exit "$lcnc_status"
+
+step "3. The contacts LinuxCNC logged, identified"
+# A program that LinuxCNC stopped (status 2: a probe that never tripped) leaves a log cut short:
+# probe-log names the contact that is missing, writes nothing, and the loop stops (status 2).
+if [ "$lcnc_status" -ne 0 ]; then
+  run "$MTCAL" probe-log -m "$MACHINE" --plan "$OUT/plan.csv" --log "$OUT/before/mtcal-contacts.txt" "${cycle[@]}" \
+      --program-coordinates tool-point --out "$OUT/measured-before.csv" || true
+  exit 2
+fi
+run "$MTCAL" probe-log -m "$MACHINE" --plan "$OUT/plan.csv" --log "$OUT/before/mtcal-contacts.txt" "${cycle[@]}" \
+    --program-coordinates tool-point --out "$OUT/measured-before.csv"
+run "$MTCAL" identify -m "$MACHINE" --measurements "$OUT/measured-before.csv" --estimate "$ESTIMATE" \
+    --sigma-um "$SIGMA_UM" --require-fit --out "$OUT/identified.yaml" --json --record="$store" \
+    >"$OUT/identify-before.json" 2>"$OUT/identify-before.log" || { cat "$OUT/identify-before.log" >&2; exit 1; }
+cat "$OUT/identify-before.log" >&2
+first=$(sed -n 's/^mtcal: recorded \([0-9a-f]*\) in .*/\1/p' "$OUT/identify-before.log")
+
+step "4. The compensation: a kinematics module of the identified machine"
+run "$MTCAL" compensate -m "$MACHINE" --params "$OUT/identified.yaml" --format linuxcnc-kins --range "$RANGE" \
+    --out "$OUT/kins-identified"
+
+step "5. LinuxCNC restarted with the module runs the same probing program, then $RANDOM_POSES random poses"
+run "$here/lcnc-sim" --machine "$MACHINE" --kins "$OUT/kins-identified" --probe "$OUT/probe" --program "$OUT/probe.ngc" \
+    --out "$OUT/after" --random-poses "$RANDOM_POSES" --seed "$SEED"
+run "$MTCAL" probe-log -m "$MACHINE" --plan "$OUT/plan.csv" --log "$OUT/after/mtcal-contacts.txt" "${cycle[@]}" \
+    --program-coordinates tool-point --out "$OUT/measured-after.csv"
+
+step "6. What is left, identified the same way, and the history's diff of before and after"
+run "$MTCAL" identify -m "$MACHINE" --measurements "$OUT/measured-after.csv" --estimate "$ESTIMATE" \
+    --sigma-um "$SIGMA_UM" --json --record="$store" >"$OUT/identify-after.json" 2>"$OUT/identify-after.log" \
+    || { cat "$OUT/identify-after.log" >&2; exit 1; }
+cat "$OUT/identify-after.log" >&2
+second=$(sed -n 's/^mtcal: recorded \([0-9a-f]*\) in .*/\1/p' "$OUT/identify-after.log")
+run "$MTCAL" history diff "$first" "$second" --store "$store" | tee "$OUT/history-diff.txt"
+run "$MTCAL" history diff "$first" "$second" --store "$store" --json >"$OUT/history-diff.json"
+
+step "7. How close the loop came (simulation only: against the truth)"
+run "$here/sim-check" --mtcal "$(command -v "$MTCAL" || echo "$MTCAL")" --machine "$MACHINE" --truth "$TRUTH" \
+    --plan "$OUT/plan.csv" --before "$OUT/measured-before.csv" --after "$OUT/measured-after.csv" \
+    --identified "$OUT/identify-before.json" --readings "$OUT/after/readings.json" --sigma-um "$SIGMA_UM" \
+    --out "$OUT/figures.json"
