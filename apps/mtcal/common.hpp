@@ -98,6 +98,8 @@ std::vector<Command> add_identification_commands(CLI::App& app);
 std::vector<Command> add_compensation_commands(CLI::App& app);
 // Workpiece error prediction (Yaqoob 2017): regress, predict, separate (cmd_prediction.cpp).
 std::vector<Command> add_prediction_commands(CLI::App& app);
+// A calibration campaign judged: pose-check, campaign (cmd_campaign.cpp).
+std::vector<Command> add_campaign_commands(CLI::App& app);
 // History analyses: diff, trend, rank, as subcommands of `history` (cmd_history_analysis.cpp).
 std::vector<Command> add_history_analysis_commands(CLI::App& history);
 

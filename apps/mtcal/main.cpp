@@ -18,6 +18,11 @@
 #include "mtcal/evaluation/error_stream.hpp"
 #include "mtcal/io/points/error_csv.hpp"
 #include "mtcal/io/json/error_map_json.hpp"
+#include "mtcal/io/json/campaign_json.hpp"
+#include "mtcal/io/model/drawn_parameters_file.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/identification/error_draw.hpp"
+#include "mtcal/util/parse.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/text/joints.hpp"
 #include "mtcal/io/text/number_format.hpp"
@@ -176,24 +181,87 @@ int run_eval(const EvalOptions& o) {
 
 struct ErrorsOptions {
   ModelOptions model;
-  std::string report;
+  std::string report, out, out_nominal;
+  std::optional<std::uint64_t> draw;
+  std::vector<std::string> draw_only, draw_table;
+  std::size_t draw_table_points = ErrorDrawOptions{}.table_points;
+  std::string draw_length = "5:50", draw_angle = "10:100";
   bool json_out = false, nonzero = false;
 };
 
+// "LO:HI" of --draw-length-um / --draw-angle-urad, in the option's unit.
+std::pair<double, double> draw_range(const std::string& spec, const char* option) {
+  const auto colon = spec.find(':');
+  const auto lo = colon == std::string::npos ? std::nullopt : parse_number(spec.substr(0, colon));
+  const auto hi = colon == std::string::npos ? std::nullopt : parse_number(spec.substr(colon + 1));
+  if (!lo || !hi || *lo < 0 || *hi < *lo)
+    throw InputError({option, 0, spec}, "expected LO:HI with 0 <= LO <= HI, found '" + printable(spec) + "'");
+  return {*lo, *hi};
+}
+
+// --draw SEED: the machine's errors replaced by a drawn truth (identification/error_draw.hpp).
+ErrorDraw run_draw(const ErrorsOptions& o, const Machine& m) {
+  ErrorDrawOptions d;
+  d.seed = *o.draw;
+  d.only = o.draw_only;
+  d.tables = o.draw_table;
+  d.table_points = o.draw_table_points;
+  const auto [llo, lhi] = draw_range(o.draw_length, "--draw-length-um");
+  const auto [alo, ahi] = draw_range(o.draw_angle, "--draw-angle-urad");
+  d.length_lo = llo * 1e-3, d.length_hi = lhi * 1e-3, d.angle_lo = alo * 1e-6, d.angle_hi = ahi * 1e-6;
+  d.only_source = "--draw-only";
+  d.tables_source = "--draw-table";
+  d.size_source = "--draw-length-um";
+  return draw_errors(m, d);
+}
+
 int run_errors(const ErrorsOptions& o) {
-  check_outputs(model_inputs(o.model), {o.report});
-  const Machine m = load(o.model);
-  const auto listed = listed_parameters(m, o.nonzero);
+  check_outputs(model_inputs(o.model), {o.report, o.out, o.out_nominal});
+  draw_range(o.draw_length, "--draw-length-um");  // malformed values are refused with or without --draw
+  draw_range(o.draw_angle, "--draw-angle-urad");
+  if (!o.draw)
+    for (const auto& [set, name] : {std::pair{!o.draw_only.empty(), "--draw-only"}, {!o.draw_table.empty(), "--draw-table"},
+                                    {!o.out_nominal.empty(), "--out-nominal"}})
+      if (set) throw InputError({name, 0, ""}, std::string(name) + " goes with --draw SEED");
+  for (const auto* p : {&o.out, &o.out_nominal})
+    if (!p->empty()) AtomicFile check(*p);
+  const Machine loaded = load(o.model);
+  std::optional<ErrorDraw> draw;
+  if (o.draw) draw = run_draw(o, loaded);
+  const Machine& m = draw ? draw->truth : loaded;
+  const auto listed = listed_parameters(m, o.nonzero || draw.has_value());
   if (!o.report.empty())
-    write_parameters_report(o.report, m, listed, m.parameter_count(), o.nonzero,
+    write_parameters_report(o.report, m, listed, m.parameter_count(), o.nonzero || draw.has_value(),
                             {command_line(), o.model.params, "", ""});
+  const std::string about = fmt::format("Drawn by mtcal errors --draw {} from machine {}", draw ? draw->seed : 0,
+                                        o.model.machine);
+  if (!o.out.empty()) {
+    if (draw)
+      write_truth_parameters(o.out, *draw, about);
+    else
+      write_file_atomically(o.out, every_error_yaml(m, "Errors of machine " + o.model.machine));
+  }
+  if (!o.out_nominal.empty()) write_nominal_parameters(o.out_nominal, *draw, about);
   if (o.json_out) {
-    print_json(to_json(m, std::span<const ErrorParameter>(listed)));
+    Json j = to_json(m, std::span<const ErrorParameter>(listed));
+    if (draw) j["draw"] = to_json(*draw);
+    if (!o.out.empty()) j["out"] = o.out;
+    if (!o.out_nominal.empty()) j["out_nominal"] = o.out_nominal;
+    print_json(j);
     return 0;
+  }
+  if (draw) {
+    std::cout << fmt::format("drew {} errors with seed {} (size: the largest |value| over the travel)\n",
+                             draw->drawn.size(), draw->seed);
+    for (const auto& e : draw->drawn)
+      std::cout << fmt::format("  {:<5} {:>10.3f} {}{}\n", e.error.str(), e.size * (e.rotational ? 1e6 : 1e3),
+                               e.rotational ? "urad" : "um", e.table ? "  (table)" : "");
   }
   std::cout << fmt::format("{:<10} {:<9} {:<10} {:>16}\n", "name", "kind", "unit", "value");
   for (const auto& p : listed)
     std::cout << fmt::format("{:<10} {:<9} {:<10} {:>16}\n", p.name, to_string(p.error.kind), p.unit, fmt_num(p.value));
+  if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
+  if (!o.out_nominal.empty()) std::cout << "wrote " << o.out_nominal << "\n";
   return 0;
 }
 
@@ -286,6 +354,31 @@ Command add_errors_command(CLI::App& app) {
   errors->add_flag("--json", o->json_out, "Machine-readable output");
   errors->add_flag("--nonzero", o->nonzero, "Only parameters whose value is not zero");
   errors->add_option("--report", o->report, "Write an HTML report of the parameters");
+  errors->add_option("--out", o->out,
+                     "Write a parameter file (--params reads it) with every error of the machine: the drawn truth "
+                     "with --draw (every other error zero), else the machine's values");
+  errors->add_option("--draw", o->draw,
+                     "Replace the machine's errors by a truth drawn with this seed: every location error (or "
+                     "--draw-only), each of a random size in --draw-length-um / --draw-angle-urad and sign; the same "
+                     "seed gives the same truth (docs/campaign.md)");
+  errors->add_option("--draw-only", o->draw_only,
+                     "With --draw: only these errors or parameters (e.g. the --estimate list of identify, so that "
+                     "the truth is within the calibration's reach), comma-separated")
+      ->delimiter(',');
+  errors->add_option("--draw-table", o->draw_table,
+                     "With --draw: these motion errors drawn as tables (e.g. ECC,EXX): a smooth curve at "
+                     "--draw-table-points positions over the axis' travel, zero at the axis' zero")
+      ->delimiter(',');
+  errors->add_option("--draw-table-points", o->draw_table_points, "Positions of a --draw-table table")
+      ->check(CLI::Range(2, 10000))
+      ->capture_default_str();
+  errors->add_option("--draw-length-um", o->draw_length, "With --draw: LO:HI, the size of a length error, um")
+      ->capture_default_str();
+  errors->add_option("--draw-angle-urad", o->draw_angle, "With --draw: LO:HI, the size of an angle error, urad")
+      ->capture_default_str();
+  errors->add_option("--out-nominal", o->out_nominal,
+                     "With --draw: a parameter file of the same errors in the same forms (the tables' positions), "
+                     "every value zero: the model the calibration starts from");
   return {errors, [o] { return run_errors(*o); }};
 }
 
@@ -321,7 +414,10 @@ constexpr std::pair<const char*, const char*> kExamples[] = {
      "  mtcal eval -m examples/machines/vmc-3axis.yaml --at \"Y=200\" --set EC0Y=20urad --only EC0Y\n"},
     {"errors",
      "  mtcal errors -m examples/machines/vmc-3axis.yaml --nonzero\n"
-     "  mtcal errors -m examples/machines/hu40t-wCBXfYZt.yaml --json\n"},
+     "  mtcal errors -m examples/machines/hu40t-wCBXfYZt.yaml --json\n"
+     "  # a truth to rehearse a campaign on: seed 7, the location errors of C and B, ECC as a table\n"
+     "  mtcal errors -m examples/machines/hu40t-wCBXfYZt.yaml --draw 7 --draw-only EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B \\\n"
+     "      --draw-table ECC --out truth.yaml --out-nominal nominal.yaml\n"},
     {"effects",
      "  mtcal effects -m examples/machines/hu40t-wCBXfYZt.yaml --at \"X=100,B=30,C=90\" --errors EX0C,EA0C,EXX\n"},
     {"probe-sim",
@@ -378,7 +474,8 @@ std::vector<Command> add_commands(CLI::App& app) {
   std::vector<Command> all{add_eval_command(app), add_errors_command(app), add_effects_command(app)};
   for (auto* add : {add_probing_commands, add_evaluation_commands, add_fit_motion_commands, add_compare_commands,
                     add_volumetric_commands, add_toolpath_commands, add_compensation_commands, add_prediction_commands,
-                    add_identification_commands, add_planning_commands, add_history_commands, add_serve_commands})
+                    add_identification_commands, add_planning_commands, add_campaign_commands, add_history_commands,
+                    add_serve_commands})
     for (auto& c : add(app)) all.push_back(std::move(c));
   // history diff, trend, rank beside the store's list, show, import, export, event add.
   for (auto& c : add_history_analysis_commands(*history_app())) all.push_back(std::move(c));

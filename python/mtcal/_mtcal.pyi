@@ -124,6 +124,13 @@ class BallbarTrace:
     def source(self) -> str:
         ...
 
+class CampaignResult:
+    """A campaign judged (mtcal campaign)."""
+    def to_dict(self) -> dict[str, Any]:
+        """As `mtcal campaign --json` (without report)."""
+    def write_report(self, path: str, command: str = ...) -> None:
+        """The HTML report of campaign --report."""
+
 class CircularDeviation:
     """ISO 230-4 quantities of one direction's path (mm)."""
     @property
@@ -407,6 +414,24 @@ class Effects:
     @property
     def values(self) -> npt.NDArray[np.float64]:
         """(E, 6): dx dy dz in um, rx ry rz in urad, per 1 um or 1 urad of each error"""
+
+class ErrorDraw:
+    """A drawn truth (mtcal errors --draw): the truth and the nominal model."""
+    @property
+    def nominal(self) -> Machine:
+        """The same machine and forms, every error zero"""
+    @property
+    def seed(self) -> int:
+        ...
+    def to_dict(self) -> dict[str, Any]:
+        """As the 'draw' of `mtcal errors --draw --json`: seed, drawn[error size unit table parameters]."""
+    @property
+    def truth(self) -> Machine:
+        """The nominal machine with the drawn errors (every other error zero)"""
+    def write_nominal(self, path: str, description: str = ...) -> None:
+        """The parameter file of errors --draw --out-nominal: the same errors and forms, every value zero."""
+    def write_truth(self, path: str, description: str = ...) -> None:
+        """The parameter file of errors --draw --out: every error of the machine, the drawn values."""
 
 class ErrorMap:
     """Translational errors at a set of configurations (error_map, volumetric)."""
@@ -723,6 +748,18 @@ class IdentificationRun:
     def write_parameters(self, path: str, measurements_source: str = ...) -> None:
         """Writes parameters_yaml() to path (as `mtcal identify --out`)."""
 
+class IdentifiedSummary:
+    """What identify --json printed, read back."""
+    @property
+    def converged(self) -> bool:
+        ...
+    @property
+    def parameters(self) -> dict[str, Any]:
+        """{name: (value, u)} in internal units"""
+    @property
+    def source(self) -> str:
+        ...
+
 class IndexedCentres:
     """Sphere centres per indexation (angles in rad, centres in mm)."""
     def __init__(self, angles: npt.ArrayLike, centres: npt.ArrayLike, *, source: str = ...) -> None:
@@ -1008,6 +1045,20 @@ class PointPair:
     def value(self) -> float:
         ...
 
+class PoseCheck:
+    """The tool point at reached poses (check_reached_poses)."""
+    @property
+    def errors(self) -> npt.NDArray[np.float64]:
+        """(N, 3) actual - commanded tool point, mm"""
+    @property
+    def max_error(self) -> float:
+        """mm"""
+    def to_dict(self, *, per_pose: bool = ...) -> dict[str, Any]:
+        """As `mtcal pose-check --json` (without machine)."""
+    @property
+    def va(self) -> float:
+        """mm"""
+
 class PositionObservation:
     """One CMM/probe pair of a feature at a step (mm)."""
     @property
@@ -1226,6 +1277,14 @@ class ProcessErrorStudy:
         """Program-generated error per feed (mm)"""
     def to_dict(self) -> dict[str, Any]:
         """As `mtcal process-error --json`."""
+
+class ReachedPoses:
+    """Commanded world poses and the joints reached (read_reached_poses)."""
+    def __len__(self) -> int:
+        ...
+    @property
+    def source(self) -> str:
+        ...
 
 class RotaryAxisResult:
     """Rotary-axis location errors (ISO 230-7) from sphere centres."""
@@ -1465,8 +1524,17 @@ def ballbar(trace: BallbarTrace, *, radius: float, plane: str = ..., overshoot_s
 def ballbar_parameters(result: BallbarResult, *, squareness: bool = ..., scale: bool = ..., backlash: bool = ...) -> list[EstimatedError]:
     """The ISO 230-4 diagnosis of a BallbarResult as model parameters (docs/fit-motion.md): squareness -> EC0Y (XY), EA0Z (YZ), EB0Z (ZX); scaling mismatch -> the linear terms of both axes' positioning errors; backlash -> their reversal terms. As `mtcal ballbar --to-params --terms ...`. A list of EstimatedError."""
 
+def campaign(machine: Machine, before: ProbingPlan, after: ProbingPlan, *, identified: IdentifiedSummary | None = ..., truth: Machine | None = ..., poses_before: ReachedPoses | None = ..., poses_after: ReachedPoses | None = ..., reference: str = ..., noise: float = ...) -> CampaignResult:
+    """The campaign (mtcal campaign): before and after are measurements of the same plan
+    (read_probing_plan); identified from read_identification_json; truth the machine with the true
+    errors (Machine.load(path, params=[truth file])); poses from read_reached_poses; noise: the probing noise in mm.
+    """
+
 def centres_from_contacts(contacts: ContactSet, *, sphere_diameter: float, stylus_diameter: float = ..., max_rms: float = ...) -> IndexedCentres:
     """One sphere fit per indexation (five-point protocol or least squares), diameters in mm."""
+
+def check_reached_poses(machine: Machine, poses: ReachedPoses, *, tool_length: float | None = ...) -> PoseCheck:
+    """The machine (the truth) at the reached joints: actual - commanded per pose, max |e|, VA (mtcal pose-check)."""
 
 def compare_methods(data: ComparisonData) -> MethodComparison:
     """Per parameter: both methods' mean and standard deviation, difference, overlap, correlation."""
@@ -1503,6 +1571,12 @@ def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against
 
 def diagonals(machine: Machine, box: str | Mapping[str, tuple[float, float]] | None, *, points: int = ..., face: bool = ..., travel_check: bool = ...) -> DiagonalsResult:
     """ISO 230-6 body (and face) diagonals of a box ("X=0:500,Y=0:400,Z=-300:0" in mm, or a dict letter -> (lo, hi) internal) simulated on the model, as `mtcal diagonals`."""
+
+def draw_errors(machine: Machine, seed: int, *, only: list[str] = ..., tables: list[str] = ..., table_points: int = ..., length_um: Any = ..., angle_urad: Any = ...) -> ErrorDraw:
+    """A truth drawn on the machine's nominal geometry (mtcal errors --draw SEED): every location error,
+    or only these errors/parameters, plus the motion errors in tables drawn as tables; sizes uniform in
+    length_um / angle_urad (lo, hi), random signs; the same seed gives the same truth everywhere.
+    """
 
 def effects(machine: Machine, at: npt.ArrayLike, *, errors: npt.ArrayLike | None = ..., around: str = ..., travel_check: bool = ...) -> Effects:
     """Effect of each single error on the tool at configuration `at` (internal units, shape (k,)):
@@ -1699,6 +1773,9 @@ def read_etalon(path: str) -> list[EtalonBlock]:
 def read_gcode(path: str, *, axes: str = ...) -> GcodeProgram:
     """A G-code program (G0 G1 G2 G3, G17-G19, G20/G21, G90/G91)."""
 
+def read_identification_json(path: str) -> IdentifiedSummary:
+    """The JSON `mtcal identify --json` printed (saved to a file), as campaign --identified reads it."""
+
 def read_laser_file(path: str) -> LaserFile:
     """A Renishaw LaserXL / CARTO ASCII export (.rtl linear, .rta rotary; a HEADER Type: line overrides the extension): the runs as deviations, the test's kind, axis and error, its metadata (docs/instrument-files.md). read_positioning reads the same runs for iso230_2."""
 
@@ -1722,6 +1799,9 @@ def read_probe_log(machine: Machine, path: str, *, dialect: str = ...) -> npt.ND
 
 def read_probing_plan(machine: Machine, path: str) -> ProbingPlan:
     """A plan or measurement CSV (docs/identification.md); InputError with file, line and column."""
+
+def read_reached_poses(machine: Machine, path: str) -> ReachedPoses:
+    """A reached-pose CSV (X,Y,Z,<rotary> commanded in mm and deg; qX,qY,qZ,q<rotary> reached), as pose-check --poses."""
 
 def rotary_axis(data: ContactSet | IndexedCentres, *, axis: str = ..., machine: Machine | None = ..., sphere_diameter: float | None = ..., stylus_diameter: float = ..., max_rms: float = ..., method: str = ..., reject_sigma: float = ..., bins: int = ..., threads: int = ...) -> RotaryAxisResult:
     """Location errors of rotary axis `axis` from a sphere probed at many indexations (ISO 230-7):

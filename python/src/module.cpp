@@ -18,6 +18,7 @@ void bind_measurements(py::module_& m);
 void bind_history(py::module_& m);
 void bind_acceptance_reports(py::module_& m);
 void bind_planning(py::module_& m);
+void bind_rehearsal(py::module_& m);
 
 py::object to_py(const Json& j) {
   switch (j.type()) {
@@ -271,6 +272,7 @@ PYBIND11_MODULE(_mtcal, m) {
   bind_history(m);
   bind_acceptance_reports(m);
   bind_planning(m);
+  bind_rehearsal(m);
   // A private hook for the tests: the address of the buffer the functions read for an input,
   // to show that a C-contiguous float64 array is used in place.
   m.def(

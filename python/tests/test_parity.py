@@ -12,7 +12,8 @@ from conftest import REPO, cli
 # Command -> the functions (or Class.method) of mtcal that do its work.
 PARITY = {
     "eval": ["evaluate", "ErrorModel.evaluate", "Machine.parse_joints", "read_configurations", "write_errors_csv"],
-    "errors": ["Machine.parameter_table", "Machine.to_dict", "write_report"],
+    "errors": ["Machine.parameter_table", "Machine.to_dict", "write_report", "draw_errors", "ErrorDraw.write_truth",
+               "ErrorDraw.write_nominal"],
     "effects": ["effects", "write_report"],
     "rotary-axis": ["read_contacts_csv", "read_centres_csv", "rotary_axis", "RotaryAxisResult.write_parameters", "write_report"],
     "probe-sim": ["simulate_sphere_probing"],
@@ -36,6 +37,8 @@ PARITY = {
     "identifiability": ["identifiability"],
     "plan": ["design_plan"],
     "probe-log": ["read_probe_log", "measurements_from_contacts"],
+    "pose-check": ["read_reached_poses", "check_reached_poses"],
+    "campaign": ["campaign", "read_identification_json", "CampaignResult.write_report"],
     "history": ["HistoryStore"],
     "history list": ["HistoryStore.list"],
     "history show": ["HistoryStore.show"],

@@ -60,6 +60,13 @@ for args in (
 ):
     subprocess.run([MTCAL, *args], check=True, stdout=subprocess.DEVNULL)
 
+# A drawn truth and what identify printed, for campaign (docs/campaign.md).
+subprocess.run([MTCAL, "errors", "-m", M5, "--draw", "3", "--draw-only", "EX0C,EY0C", "--out", f"{fix}/truth.yaml"],
+               check=True, stdout=subprocess.DEVNULL)
+with open(f"{fix}/id.json", "w") as f:
+    subprocess.run([MTCAL, "identify", "-m", M5, "--measurements", f"{fix}/meas.csv", "--estimate", EST,
+                    "--scale-bar", "1:2:304.8", "--json"], check=True, stdout=f)
+
 # A probing plan and its program (mtcal plan), and a probe log in LinuxCNC's form made from the
 # program: each G38.2 move's end, the rotary axes where the program left them. Those points lie on
 # a sphere about each ball (its radius plus the overshoot), so probe-log reads and fits them.
@@ -90,7 +97,10 @@ BASES = {
               "--meta", "machine=m1"],
              ["-m", M3, "--at", "X=100,Y=50,Z=-20"],
              ["-m", M3, "--points", f"{fix}/points.csv"]],
-    "errors": [["-m", M3, "--report", "o.html", "--set", "EXX.1=5ppm", "--tool-length", "100"]],
+    "errors": [["-m", M3, "--report", "o.html", "--set", "EXX.1=5ppm", "--tool-length", "100"],
+               ["-m", M5, "--draw", "7", "--draw-only", "EX0C,EY0C", "--draw-table", "ECC", "--draw-table-points", "9",
+                "--draw-length-um", "5:50", "--draw-angle-urad", "10:100", "--out", "t.yaml", "--out-nominal",
+                "n.yaml"]],
     "effects": [["-m", M5, "--at", "X=100,B=30", "--report", "o.html", "--errors", "EXX,EC0Y"]],
     "rotary-axis": [["--axis", "C", "--contacts", f"{fix}/contacts.csv", "--sphere-diameter", "30",
                      "--stylus-diameter", "6", "--machine", M5, "--out", "o.yaml", "--report", "o.html",
@@ -133,6 +143,11 @@ BASES = {
     "plan": [["-m", MR, "--artefact", f"{E}/plans/rrttt-viprey-sphere.csv", "--estimate", "EY0C,EZ0A", "--poses",
               "12", "--out", "o.csv", "--gcode", "o.ngc"]],
     "probe-log": [["-m", MR, "--plan", f"{fix}/plan.csv", "--log", f"{fix}/probe-log.txt", "--out", "o.csv"]],
+    "pose-check": [["-m", M5, "--poses", f"{E}/campaign/hu40t-reached-nominal.csv"]],
+    "campaign": [["-m", M5, "--before", f"{fix}/meas.csv", "--after", f"{fix}/meas.csv", "--identified",
+                  f"{fix}/id.json", "--truth", f"{fix}/truth.yaml", "--poses-before",
+                  f"{E}/campaign/hu40t-reached-nominal.csv", "--poses-after", f"{E}/campaign/hu40t-reached-nominal.csv",
+                  "--reference", "identified", "--noise-um", "0.5", "--report", "o.html"]],
     # The history's own commands are subcommands (list, show ...; tests/cli/test_history.sh): the
     # group's options (--precision) checked through one of them.
     "history": [["list", "--store", "h.db"]],

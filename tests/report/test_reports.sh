@@ -54,6 +54,18 @@ run "$MTCAL" toolpath -m "$M3" --gcode "$EXAMPLES/../gcode/pocket.nc" --step 2 -
 run "$MTCAL" simulate -m "$M5" --plan "$EXAMPLES/../plans/hu40t-samba-tango.csv" --noise-um 1 --scale-bar 1:2:304.8 --out "$tmp/samba.csv"
 run "$MTCAL" identify -m "$M5" --measurements "$tmp/samba.csv" --estimate EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B \
   --scale-bar 1:2:304.8 --report "$tmp/identify.html"
+# A rehearsed campaign (docs/campaign.md): a drawn truth probed before, a perfect compensation after.
+E7=EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C
+run "$MTCAL" errors -m "$M5" --draw 7 --draw-only "$E7" --out "$tmp/truth.yaml" --out-nominal "$tmp/nominal.yaml"
+run "$MTCAL" simulate -m "$M5" --params "$tmp/truth.yaml" --plan "$EXAMPLES/../plans/hu40t-samba-tango.csv" --noise-um 0.5 \
+  --scale-bar 1:2:304.8 --out "$tmp/before.csv"
+run "$MTCAL" simulate -m "$M5" --params "$tmp/nominal.yaml" --plan "$EXAMPLES/../plans/hu40t-samba-tango.csv" --noise-um 0.5 \
+  --seed 2 --scale-bar 1:2:304.8 --out "$tmp/after.csv"
+"$MTCAL" identify -m "$M5" --params "$tmp/nominal.yaml" --measurements "$tmp/before.csv" --estimate "$E7" --scale-bar 1:2:304.8 \
+  --json >"$tmp/identified.json" 2>"$tmp/err" || bad "identify --json: $(cat "$tmp/err")"
+run "$MTCAL" campaign -m "$M5" --params "$tmp/nominal.yaml" --before "$tmp/before.csv" --after "$tmp/after.csv" \
+  --identified "$tmp/identified.json" --truth "$tmp/truth.yaml" --poses-before "$EXAMPLES/../campaign/hu40t-reached-nominal.csv" \
+  --noise-um 0.5 --report "$tmp/campaign.html"
 run "$MTCAL" regress "$EXAMPLES/../prediction/yaqoob2017-table5_8.csv" --x t --y e_splz --report "$tmp/regress.html"
 run "$MTCAL" predict --model "$EXAMPLES/../prediction/yaqoob2017-model.yaml" --points "$EXAMPLES/../prediction/yaqoob2017-w2-points.csv" \
   --report "$tmp/predict.html"
@@ -62,7 +74,7 @@ run "$MTCAL" compensate -m "$M3" --format linuxcnc --out "$tmp/comp" --report "$
 "$HISTORY_FIXTURE" "$tmp/history.db" || bad "history fixture"
 run "$MTCAL" history trend --store "$tmp/history.db" --machine HU40T --tolerance EC0Y=40 \
   --tolerance-file "$EXAMPLES/../acceptance/tolerances.yaml" --report "$tmp/history-trend.html"
-for f in eval-grid eval-points effects errors rotary-axis iso230-2 iso230-2-acceptance iso230-2-laser iso230-2-b02 ballbar eval-hu40t compare volumetric contributions diagonals toolpath identify regress predict compensate history-trend; do
+for f in eval-grid eval-points effects errors rotary-axis iso230-2 iso230-2-acceptance iso230-2-laser iso230-2-b02 ballbar eval-hu40t compare volumetric contributions diagonals toolpath identify campaign regress predict compensate history-trend; do
   [ -s "$tmp/$f.html" ] && ok || bad "$f.html not written"
 done
 # The points report names its input with the input's SHA-256.
@@ -115,7 +127,7 @@ if command -v node >/dev/null; then
     "$tmp/eval-grid.html:2" "$tmp/eval-points.html:2" "$tmp/effects.html:1" "$tmp/errors.html:1" \
     "$tmp/rotary-axis.html:6" "$tmp/iso230-2.html:1" "$tmp/iso230-2-acceptance.html:1" "$tmp/iso230-2-laser.html:1" "$tmp/iso230-2-b02.html:1" "$tmp/ballbar.html:2" "$tmp/eval-hu40t.html:2" "$tmp/compare.html:1" "$tmp/hostile.html:2" \
     "$tmp/volumetric.html:5" "$tmp/contributions.html:2" "$tmp/diagonals.html:2" "$tmp/toolpath.html:2" \
-    "$tmp/identify.html:2" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1" \
+    "$tmp/identify.html:2" "$tmp/campaign.html:3" "$tmp/regress.html:1" "$tmp/predict.html:3" "$tmp/compensate.html:1" \
     "$tmp/history-trend.html:2") >"$tmp/browser" 2>&1
   node_rc=$?
   cat "$tmp/browser"
