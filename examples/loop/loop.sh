@@ -7,9 +7,9 @@
 #
 # Each step is one mtcal command, or LinuxCNC running what mtcal wrote (lcnc-sim: Debian's LinuxCNC 2.9
 # headless, sim configuration, the kinematics module mtcal wrote as KINEMATICS). The machine is a
-# simulation: its true errors (TRUTH) are read only by the simulated probe (mtcal linuxcnc-probe)
-# and by sim-check, which says at the end how close the loop came. mtcal sees the nominal machine
-# (MACHINE) and what LinuxCNC logs.
+# simulation: its true errors (TRUTH, drawn by `mtcal errors --draw SEED`) are read only by the
+# simulated probe (mtcal linuxcnc-probe) and by the campaign report, which says how close the loop
+# came. mtcal sees the nominal machine (MACHINE) and what LinuxCNC logs.
 #
 # Needs: mtcal, Debian's linuxcnc-uspace and linuxcnc-uspace-dev (scripts/install-deps --linuxcnc).
 # The module's own step, `sh DIR/build.sh` (halcompile --install into LinuxCNC's module folder: root),
@@ -37,8 +37,9 @@ RANDOM_POSES=${RANDOM_POSES:-200}
 RANGE=${RANGE:-X=-354:354,Y=-274:274,Z=-499:-1,A=-99:99,C=-179:179}
 SEED=${SEED:-1}
 OUT=${OUT:-loop-out}
-# The simulation's secret: the machine's true errors and where the sphere really is.
-TRUTH=${TRUTH:-$here/rrttt-truth.yaml}
+# The simulation's secret: the machine's true errors (TRUTH: a parameter file; default, drawn with
+# SEED) and where the sphere really is (the plan says 120,-80,60).
+TRUTH=${TRUTH:-}
 SPHERE_TRUE=${SPHERE_TRUE:-120.035,-80.042,60.021}
 SPHERE_DIAMETER=${SPHERE_DIAMETER:-25.4}
 STYLUS_DIAMETER=${STYLUS_DIAMETER:-3}
@@ -49,7 +50,13 @@ mkdir -p "$OUT"
 store="sqlite:$OUT/history.db"
 cycle=(--approach "$APPROACH" --ball-diameter "$SPHERE_DIAMETER" --tip-diameter "$STYLUS_DIAMETER")
 
-step "0. The simulated machine (simulation only): the probe of the true machine, for LinuxCNC's probe input"
+step "0. The simulated machine (simulation only): its true errors, and the probe of it for LinuxCNC's probe input"
+# The truth holds only what the estimate can absorb (--draw-only the estimated errors): an error the
+# loop does not estimate would bias what it does (tests/linuxcnc/run-loop's poor-fit case shows how).
+if [ -z "$TRUTH" ]; then
+  TRUTH=$OUT/truth.yaml
+  run "$MTCAL" errors -m "$MACHINE" --draw "$SEED" --draw-only "$ESTIMATE" --out "$TRUTH" >/dev/null
+fi
 run "$MTCAL" linuxcnc-probe -m "$MACHINE" --params "$TRUTH" --sphere "$SPHERE_TRUE" \
     --sphere-diameter "$SPHERE_DIAMETER" --stylus-diameter "$STYLUS_DIAMETER" --out "$OUT/probe"
 
@@ -100,8 +107,10 @@ second=$(sed -n 's/^mtcal: recorded \([0-9a-f]*\) in .*/\1/p' "$OUT/identify-aft
 run "$MTCAL" history diff "$first" "$second" --store "$store" | tee "$OUT/history-diff.txt"
 run "$MTCAL" history diff "$first" "$second" --store "$store" --json >"$OUT/history-diff.json"
 
-step "7. How close the loop came (simulation only: against the truth)"
-run "$here/sim-check" --mtcal "$(command -v "$MTCAL" || echo "$MTCAL")" --machine "$MACHINE" --truth "$TRUTH" \
-    --plan "$OUT/plan.csv" --before "$OUT/measured-before.csv" --after "$OUT/measured-after.csv" \
-    --identified "$OUT/identify-before.json" --readings "$OUT/after/readings.json" --sigma-um "$SIGMA_UM" \
-    --out "$OUT/figures.json"
+step "7. The campaign report: before/after at the probed points, identified against the truth, the random poses"
+run "$MTCAL" campaign -m "$MACHINE" --before "$OUT/measured-before.csv" --after "$OUT/measured-after.csv" \
+    --identified "$OUT/identify-before.json" --truth "$TRUTH" --poses-before "$OUT/after/poses-nominal.csv" \
+    --poses-after "$OUT/after/poses.csv" --noise-um "$SIGMA_UM" --reference mean --report "$OUT/campaign.html"
+run "$MTCAL" campaign -m "$MACHINE" --before "$OUT/measured-before.csv" --after "$OUT/measured-after.csv" \
+    --identified "$OUT/identify-before.json" --truth "$TRUTH" --poses-before "$OUT/after/poses-nominal.csv" \
+    --poses-after "$OUT/after/poses.csv" --noise-um "$SIGMA_UM" --reference mean --json >"$OUT/campaign.json"

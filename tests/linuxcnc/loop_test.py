@@ -2,12 +2,13 @@
 # The closed loop in LinuxCNC (issue 33; docs/workflows.md, "The closed loop"): runs the user's script
 # examples/loop/loop.sh — plan -> LinuxCNC (nominal kinematics module, simulated probe of a secret
 # truth) -> probe-log -> identify -> compensate --format linuxcnc-kins -> LinuxCNC with the module,
-# the same program -> probe-log -> identify -> history diff — and checks its figures (sim-check):
+# the same program -> probe-log -> identify -> history diff -> campaign — and checks its figures
+# (mtcal campaign --json; the truth drawn by mtcal errors --draw SEED):
 #   - after compensation the probed centres' scatter about their mean, RMS a coordinate, within
 #     2x the reading sigma;
 #   - every identified parameter within 3 u of the truth;
 #   - the random poses (>= 200) LinuxCNC commanded with the module: the truth's tool point off the
-#     command by at most a tenth of what the nominal kinematics leaves;
+#     command by at most a tenth of what the nominal kinematics leaves (mtcal campaign's figures);
 #   - history diff: the before/after change of every parameter the truth holds is significant.
 # Faults, each checked with nothing written: the log cut short (probe-log names the contact that
 # is missing), a truth far outside the model's reach (identify --require-fit: the fit is poor,
@@ -30,7 +31,7 @@ CASES = {
     "rrttt-seed2": {"env": {"SEED": "2", "SPHERE_TRUE": "119.962,-79.971,60.038"}, "faults": ["no-contact"]},
     # make test-loop: the second machine, the horizontal HU40T (pallet C on table B).
     "hu40t-seed1": {"env": {"SEED": "1", "MACHINE": "@/examples/loop/hu40t-nominal.yaml",
-                            "ARTEFACT": "@/examples/loop/hu40t-sphere.csv", "TRUTH": "@/examples/loop/hu40t-truth.yaml",
+                            "ARTEFACT": "@/examples/loop/hu40t-sphere.csv",
                             "ESTIMATE": "EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B", "SPHERE_TRUE": "160.028,159.961,177.871"},
                     "faults": []},
 }
@@ -56,29 +57,31 @@ def loop_case(name, spec, workdir, mtcal, root):
     if rc != 0:
         raise Failure("examples/loop/loop.sh exit %d; its last lines:\n  %s" % (rc, "\n  ".join(text.splitlines()[-30:])))
     for line in text.splitlines():
-        if line.startswith(("probed centres", "  about", "identified against", "  E", "lcnc-sim:")) or "random poses" in line:
-            print("  " + line.strip() if not line.startswith("  E") else "  " + line, flush=True)
-    with open(os.path.join(out, "figures.json")) as f:
+        if line.startswith(("probed centres", "identification ", "E", "reached poses", "goal", "lcnc-sim:")) or "within 3 u" in line:
+            print("  " + line, flush=True)
+    with open(os.path.join(out, "campaign.json")) as f:
         fig = json.load(f)
     with open(os.path.join(out, "history-diff.json")) as f:
         diff = json.load(f)
     checks = []
-    a, b = fig["after"], fig["before"]
+    a, b, sigma = fig["after"], fig["before"], fig["probing_noise_um"]
     checks.append(("after: the centres' scatter RMS a coordinate %.3f um <= 2 sigma %.3f um (before %.3f um)" % (
-        a["about_mean_rms_per_coordinate_um"], 2 * fig["sigma_um"], b["about_mean_rms_per_coordinate_um"]),
-        a["within_2_sigma"] and b["about_mean_rms_per_coordinate_um"] > 5 * fig["sigma_um"]))
-    checks.append(("every parameter within 3 u of the truth (worst %.2f u)" % fig["worst_ratio"], fig["worst_ratio"] <= 3.0))
-    checks.append(("identify: fit not poor (sigma0 %.3f, bound %.3f)" % (fig["fit"]["sigma0"], fig["fit"]["bound"]),
-                   not fig["fit"]["poor"]))
-    r = fig.get("random_poses") or {}
+        a["rms_coordinate_um"], 2 * sigma, b["rms_coordinate_um"]),
+        fig["goals"]["residual"] and a["rms_coordinate_um"] <= 2 * sigma and b["rms_coordinate_um"] > 5 * sigma))
+    checks.append(("every parameter within 3 u of the truth (worst %.2f u)" % fig["max_ratio"],
+                   fig["goals"]["parameters"] and fig["max_ratio"] <= 3.0 and not fig["not_estimated"]))
+    with open(os.path.join(out, "identify-before.json")) as f:
+        fit = json.load(f)["fit"]
+    checks.append(("identify: fit not poor (sigma0 %.3f, bound %.3f)" % (fit["sigma0"], fit["bound"]), not fit["poor"]))
+    r0, r1 = fig["random_poses"]["before"], fig["random_poses"]["after"]
     checks.append(("%d random poses: max |e| %.3f -> %.3f um, VA %.3f -> %.3f um (after <= 0.1 x before)" % (
-        r.get("poses", 0), r.get("max_e_before_um", 0), r.get("max_e_after_um", 0), r.get("va_before_um", 0),
-        r.get("va_after_um", 0)),
-        r.get("poses", 0) >= 200 and r["max_e_after_um"] <= 0.1 * r["max_e_before_um"] and r["va_after_um"] <= 0.1 * r["va_before_um"]))
+        r1["poses"], r0["max_um"], r1["max_um"], r0["va_um"], r1["va_um"]),
+        r1["poses"] >= 200 and r1["max_um"] <= 0.1 * r0["max_um"] and r1["va_um"] <= 0.1 * r0["va_um"]))
     rows = {p["name"]: p for p in diff["parameters"]["changes"]}
-    sig = [n for n in fig["parameters"] if rows.get(n, {}).get("verdict") == "significant"]
-    checks.append(("history diff: %d of %d parameters changed significantly before -> after" % (len(sig), len(fig["parameters"])),
-                   len(sig) == len(fig["parameters"])))
+    names = [p["name"] for p in fig["parameters"]]
+    sig = [n for n in names if rows.get(n, {}).get("verdict") == "significant"]
+    checks.append(("history diff: %d of %d parameters changed significantly before -> after" % (len(sig), len(names)),
+                   len(sig) == len(names) and len(names) > 0))
     for f in spec["faults"]:
         checks.append(FAULTS[f](workdir, out, mtcal, root, env))
     return checks, seconds
