@@ -48,7 +48,8 @@ test-linuxcnc: DEPS_FLAGS = --linuxcnc
 # Then the closed loop of examples/loop/loop.sh on the RRTTT, one seed: plan -> LinuxCNC (nominal
 # kinematics module, simulated probe of a secret truth) -> identify -> compensate --format
 # linuxcnc-kins -> LinuxCNC with the module, the same program and 200 random poses -> history diff,
-# the figures checked against the truth, and two faults (tests/linuxcnc/run-loop, docs/workflows.md).
+# the figures checked against the truth, and two faults, about 4 minutes (tests/linuxcnc/run-loop,
+# docs/workflows.md).
 # Then LinuxCNC's example programs through its interpreter rs274 (tests/linuxcnc/ncfiles/run,
 # docs/gcode.md), which `make test` skips when linuxcnc-uspace is not installed.
 test-linuxcnc: build

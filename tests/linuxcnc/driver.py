@@ -50,6 +50,10 @@ def snapshot(joints):
              "backlash_filt": g("joint.%d.backlash-filt" % j)} for j in range(joints)]
 
 
+def errors_in(messages):
+    return [m for m in messages if m["kind"] in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR)]
+
+
 def run_program(plan, c, s, err, stat):
     """AUTO mode: runs plan["program"] to its end (or until LinuxCNC stops it) and writes
     readings.json with the operator messages and errors LinuxCNC reported (e.g. "G38.2 move finished
@@ -68,8 +72,14 @@ def run_program(plan, c, s, err, stat):
             messages.append({"kind": m[0], "text": m[1]})
         if s.interp_state != linuxcnc.INTERP_IDLE:
             started = True
-        elif (started or time.time() - t0 > 2.0) and s.exec_state == linuxcnc.EXEC_DONE:
+        elif started and s.exec_state == linuxcnc.EXEC_DONE:
             break
+        elif not started and (errors_in(messages) or time.time() - t0 > STARTUP_TIMEOUT_S):
+            # Under load the interpreter can take seconds to leave IDLE after AUTO_RUN: a fixed 2 s
+            # here once took a program that had not started for one that had ended.
+            if errors_in(messages):
+                break
+            fail("the program %s did not start within %.0f s" % (path, STARTUP_TIMEOUT_S))
         if time.time() - t0 > plan.get("timeout", 240):
             fail("the program %s did not end within %d s" % (path, plan.get("timeout", 240)))
         time.sleep(0.01)
@@ -156,7 +166,14 @@ def main():
         words = " ".join("%s%.9f" % (letter, move["target"][i]) for i, letter in enumerate(letters))
         c.mdi("G53 G1 %s F%.0f" % (words, plan["feed"]))
         if c.wait_complete(MOVE_TIMEOUT_S) == -1:
-            fail("move %d (%s) did not complete" % (k, words))
+            said = []
+            for _ in range(20):  # what LinuxCNC said, if anything (a joint limit, a kinematics failure)
+                msg = err.poll()
+                if msg:
+                    said.append(msg[1])
+                time.sleep(0.01)
+            fail("move %d (%s) did not complete within %.0f s%s" % (k, words, MOVE_TIMEOUT_S,
+                                                                  ": LinuxCNC: " + "; ".join(said) if said else " (LinuxCNC said nothing)"))
         wait(lambda: stat().inpos and s.exec_state == linuxcnc.EXEC_DONE, MOVE_TIMEOUT_S, "move %d in position" % k)
         msg = err.poll()
         if msg:

@@ -32,7 +32,8 @@ CASES = {
     # make test-loop: the second machine, the horizontal HU40T (pallet C on table B).
     "hu40t-seed1": {"env": {"SEED": "1", "MACHINE": "@/examples/loop/hu40t-nominal.yaml",
                             "ARTEFACT": "@/examples/loop/hu40t-sphere.csv",
-                            "ESTIMATE": "EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B", "SPHERE_TRUE": "160.028,159.961,177.871"},
+                            "ESTIMATE": "EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B", "SPHERE_TRUE": "160.028,159.961,177.871",
+                            "RANGE": "X=-295:295,Y=-245:245,Z=-295:295,B=-175:175,C=-355:355"},
                     "faults": []},
 }
 
