@@ -11,7 +11,7 @@ COMPILERS = $(if $(filter default,$(origin CXX)),,-DCMAKE_CXX_COMPILER=$(CXX)) \
             $(if $(filter default,$(origin CC)),,-DCMAKE_C_COMPILER=$(CC))
 MTCAL = $(BUILD)/apps/mtcal/mtcal
 
-.PHONY: all deps configure build demo test build-times test-linuxcnc bench test-sanitize fuzz fuzz-run format clean
+.PHONY: all deps configure build demo test build-times test-linuxcnc test-loop bench test-sanitize fuzz fuzz-run format clean
 
 all: build
 
@@ -45,13 +45,26 @@ test-linuxcnc: DEPS_FLAGS = --linuxcnc
 # Then the probing program of `mtcal plan` run in LinuxCNC with the simulated probe of
 # `mtcal linuxcnc-probe` (halcompile), its log read back and identified against the truth, and a
 # probe that never trips, about 2 minutes (tests/linuxcnc/run-probe, docs/planning.md).
+# Then the closed loop of examples/loop/loop.sh on the RRTTT, one seed: plan -> LinuxCNC (nominal
+# kinematics module, simulated probe of a secret truth) -> identify -> compensate --format
+# linuxcnc-kins -> LinuxCNC with the module, the same program and 200 random poses -> history diff,
+# the figures checked against the truth, and two faults, about 4 minutes (tests/linuxcnc/run-loop,
+# docs/workflows.md).
 # Then LinuxCNC's example programs through its interpreter rs274 (tests/linuxcnc/ncfiles/run,
 # docs/gcode.md), which `make test` skips when linuxcnc-uspace is not installed.
 test-linuxcnc: build
 	tests/linuxcnc/run $(MTCAL)
 	tests/linuxcnc/run-kins $(MTCAL)
 	tests/linuxcnc/run-probe $(MTCAL)
+	tests/linuxcnc/run-loop $(MTCAL)
 	MTCAL_REQUIRE_RS274=1 tests/linuxcnc/ncfiles/run $(MTCAL)
+
+# The closed loop's other cases, nightly-style (not in CI): the RRTTT with a second seed (another
+# sphere position, other random poses) and a probe that never trips in LinuxCNC, and the second
+# machine, the HU40T (tests/linuxcnc/run-loop, docs/workflows.md "The closed loop").
+test-loop: DEPS_FLAGS = --linuxcnc
+test-loop: build
+	tests/linuxcnc/run-loop $(MTCAL) --case rrttt-seed2 --case hu40t-seed1
 
 # The benchmarks, then the ratios against their baselines of the same run (bench/ratios.py) and
 # `eval --grid` against the grid-aware numpy peer (bench/grid_peer.py); docs/performance.md.

@@ -18,6 +18,7 @@
 #include "mtcal/io/json/identification_json.hpp"
 #include "mtcal/io/model/identified_parameters_file.hpp"
 #include "mtcal/io/text/joints.hpp"
+#include "mtcal/identification/fit_check.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/report/identification.hpp"
@@ -157,8 +158,16 @@ struct IdentifyOptions {
   std::size_t monte_carlo = 0;
   std::uint64_t seed = 1;
   int threads = 0;
-  bool json_out = false;
+  bool json_out = false, require_fit = false;
 };
+
+// The fit check's words, the same in the warning, the refusal and the text output.
+std::string fit_text(const FitCheck& f) {
+  return fmt::format("sigma0 {:.3g} against the bound {:.3g} ({:g} % of correct fits stay below it, {} degrees of "
+                     "freedom); residual rms: balls {:.3f} um, facets {:.3f} um, scale bars {:.3f} um",
+                     f.sigma0, f.bound, f.probability * 100, f.degrees_of_freedom, f.rms_ball * 1e3,
+                     f.rms_facet * 1e3, f.rms_scale_bar * 1e3);
+}
 
 void print_estimates(const IdentificationRun& run) {
   const IdentificationResult& r = run.result;
@@ -183,6 +192,10 @@ void print_identification(const IdentifyOptions& o, const IdentificationRun& run
                            r.converged ? "converged" : "NOT converged", r.iterations, run.seconds * 1e3);
   std::cout << fmt::format("residual rms: balls {:.3f} um, facets {:.3f} um, scale bars {:.3f} um; sigma0 {:.3g}\n",
                            r.rms_ball * 1e3, r.rms_facet * 1e3, r.rms_scale_bar * 1e3, r.sigma0);
+  const FitCheck fit = check_fit(r);
+  std::cout << fmt::format("fit: {} (sigma0 {:.3g}, bound {:.3g} at {:g} %, {} degrees of freedom)\n",
+                           fit.poor ? "POOR" : "consistent with the readings' sigma", fit.sigma0, fit.bound,
+                           fit.probability * 100, fit.degrees_of_freedom);
   print_estimates(run);
   for (const auto& u : r.identifiability.unidentifiable) std::cout << "NOT identifiable, excluded: " << u << "\n";
   for (const auto& d : r.identifiability.null_directions) std::cout << "  cannot be separated: " << d << "\n";
@@ -242,6 +255,14 @@ int run_identify(const IdentifyOptions& o) {
   ao.threads = o.threads;
   ao.truth = truth ? &*truth : nullptr;
   const IdentificationRun run = identify_and_assess(prior, meas, opt, ao);
+  const FitCheck fit = check_fit(run.result);
+  if (fit.poor) {
+    const std::string why = "the fit is poor: " + fit_text(fit) +
+                            ". The residuals are larger than the readings' sigma explains: errors the estimate cannot "
+                            "absorb, measurements that do not belong to the plan, or a sigma too small";
+    if (o.require_fit) throw InputError({o.measurements, 0, ""}, why + "; nothing written (--require-fit)");
+    std::cerr << "mtcal: warning: " << why << "\n";
+  }
   if (!o.out.empty()) write_identified_parameters(o.out, prior, run.result, o.measurements);
   if (!o.report.empty())
     identification_report(prior, run, {o.model.params, o.measurements, o.truth, o.workspace}, command_line())
@@ -382,6 +403,9 @@ std::vector<Command> add_identification_commands(CLI::App& app) {
     c->add_option("--threads", o->threads, "Threads for Monte Carlo (0: all cores)")->check(CLI::Range(0, 1024));
     c->add_option("--out", o->out, "Parameter file with the identified errors (mtcal eval --params ...)");
     c->add_option("--report", o->report, "Write an HTML report");
+    c->add_flag("--require-fit", o->require_fit,
+                "Refuse a poor fit (sigma0 above its chi-square bound at 99.9 %): exit non-zero, write nothing "
+                "(without it: a warning on stderr and fit.poor in --json)");
     c->add_flag("--json", o->json_out,
                 "Machine-readable output: parameters{value u} rank condition rms_um unidentifiable ...");
     out.push_back({c, [o] { return run_identify(*o); }});

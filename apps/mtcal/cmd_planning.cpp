@@ -18,6 +18,7 @@
 #include "mtcal/io/gcode/probe_program.hpp"
 #include "mtcal/io/instruments/probe_log.hpp"
 #include "mtcal/io/json/planning_json.hpp"
+#include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/units.hpp"
@@ -38,11 +39,27 @@ struct PlanOptions {
   ProbeReach reach;
   TimingOptions timing;
   ProbeCycle cycle;
-  std::string gcode, dialect = "linuxcnc", log = "mtcal-contacts.txt";
+  std::string gcode, dialect = "linuxcnc", log = "mtcal-contacts.txt", program_coordinates = "axes";
   double move_feed = ProbeProgramOptions{}.feed;
   int threads = 0;
   bool json_out = false;
 };
+
+// --program-coordinates tool-point needs a machine with a tool-centre-point world: refused before anything
+// is designed or written.
+void check_tool_point_coordinates(const Machine& m, const std::string& coordinates) {
+  if (coordinates != "tool-point") return;
+  try {
+    ToolPointCoordinates check(m);
+  } catch (const ModelError& e) {
+    throw InputError({"--program-coordinates", 0, "tool-point"}, std::string(m.source) + ": " + e.what());
+  }
+}
+
+const char* const kProgramCoordinatesHelp =
+    "What the program's X Y Z mean: axes (the machine's axis values, a controller without tool-centre-point "
+    "kinematics, LinuxCNC trivkins) or tool-point (the world of a tool-centre-point kinematics such as the module of "
+    "compensate --format linuxcnc-kins: the nominal tool point in the workpiece frame and the rotary axes)";
 
 // The probing cycle's options, shared by plan --gcode and probe-log (they must be the same).
 void add_cycle_options(CLI::App* c, ProbeCycle& cycle) {
@@ -142,6 +159,7 @@ int run_plan(const PlanOptions& o) {
   inputs.push_back(o.against);
   check_outputs(inputs, {o.out});
   const Machine m = load(o.model);
+  check_tool_point_coordinates(m, o.program_coordinates);
   if (o.artefact.empty() && o.against.empty() && o.ball_region.empty())
     throw InputError({"--artefact", 0, ""},
                      "expected the artefact's balls and facets: --artefact PLAN.csv, --against PLAN.csv or --ball-region");
@@ -279,6 +297,7 @@ int run_plan(const PlanOptions& o) {
     po.probe_feed = o.timing.probe_feed;
     po.feed = o.move_feed;
     po.log = o.log;
+    po.coordinates = o.program_coordinates == "tool-point" ? ProbeCoordinates::ToolPoint : ProbeCoordinates::Axes;
     po.header = fmt::format("machine {}: {} poses designed by mtcal plan", m.name, design.plan.records.size());
     ProbeCycle cycle = o.cycle;
     cycle.approach = o.timing.approach;
@@ -335,7 +354,7 @@ int run_plan(const PlanOptions& o) {
 
 struct ProbeLogOptions {
   ModelOptions model;
-  std::string plan, log, dialect = "linuxcnc", out;
+  std::string plan, log, dialect = "linuxcnc", out, program_coordinates = "axes";
   ProbeCycle cycle;
   double approach = 3.0;
   int touches = 5;
@@ -348,9 +367,10 @@ int run_probe_log(const ProbeLogOptions& o) {
   inputs.push_back(o.log);
   check_outputs(inputs, {o.out});
   const Machine m = load(o.model);
+  check_tool_point_coordinates(m, o.program_coordinates);
   const ProbingPlan plan = plan_targets(m, read_probing_csv(m, o.plan));
-  const auto contacts =
-      read_probe_log(m, o.log, o.dialect == "iso" ? ProbeLogFormat::IsoCsv : ProbeLogFormat::LinuxCNC);
+  auto contacts = read_probe_log(m, o.log, o.dialect == "iso" ? ProbeLogFormat::IsoCsv : ProbeLogFormat::LinuxCNC);
+  if (o.program_coordinates == "tool-point") contacts = contacts_from_tool_points(m, std::move(contacts));
   ProbeCycle cycle = o.cycle;
   cycle.approach = o.approach;
   cycle.touches_per_ball = o.touches;
@@ -473,6 +493,9 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
             return {};
           },
           "NAME"));
+  c->add_option("--program-coordinates", o->program_coordinates, kProgramCoordinatesHelp)
+      ->check(CLI::IsMember({"axes", "tool-point"}))
+      ->capture_default_str();
   add_cycle_options(c, o->cycle);
   c->add_flag("--json", o->json_out, "Machine-readable output: poses predicted{parameters{u}} time against ...");
   c->footer(
@@ -486,7 +509,9 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       "  mtcal plan -m examples/machines/rrttt-table-table.yaml --artefact examples/plans/rrttt-viprey-sphere.csv \\\n"
       "      --estimate EX0C,EY0C --candidates EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --choose 4 --poses 20\n"
       "  mtcal plan -m examples/machines/rrttt-table-table.yaml --ball-region -100:100,-100:100,50 --ball-spacing 100 \\\n"
-      "      --estimate EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --poses 20 --rotary-step-deg 30\n");
+      "      --estimate EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --poses 20 --rotary-step-deg 30\n"
+      "  mtcal plan -m examples/loop/rrttt-nominal.yaml --artefact examples/plans/rrttt-viprey-sphere.csv \\\n"
+      "      --estimate EX0C,EY0C,EY0A,EZ0A --poses 8 --gcode probe.ngc --program-coordinates tool-point\n");
   std::vector<Command> out{{c, [o] { return run_plan(*o); }}};
   auto l = std::make_shared<ProbeLogOptions>();
   auto* lc = app.add_subcommand("probe-log",
@@ -500,6 +525,11 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       ->capture_default_str();
   lc->add_option("--approach", l->approach, "As given to mtcal plan, mm")->check(CLI::PositiveNumber & kFinite)->capture_default_str();
   lc->add_option("--touches", l->touches, "As given to mtcal plan")->check(CLI::Range(4, 5))->capture_default_str();
+  lc->add_option("--program-coordinates", l->program_coordinates,
+                 "As given to mtcal plan: axes, or tool-point (the log holds world positions of a tool-centre-point "
+                 "kinematics, turned back into axis values by the nominal chain)")
+      ->check(CLI::IsMember({"axes", "tool-point"}))
+      ->capture_default_str();
   add_cycle_options(lc, l->cycle);
   lc->add_option("--out", l->out, "Measurement CSV to write (mtcal identify --measurements)")->required();
   lc->add_flag("--json", l->json_out, "Machine-readable output: records contacts out");

@@ -10,6 +10,7 @@
 #include <Eigen/Cholesky>
 
 #include "mtcal/evaluation/volumetric.hpp"
+#include "mtcal/identification/fit_check.hpp"
 #include "mtcal/identification/planning.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
@@ -516,6 +517,33 @@ TEST(Planning, TimeByHand) {
   }
   EXPECT_NEAR(t.moves, move + 3 * 5 * 24.0 / 100, 1e-9);
   EXPECT_NEAR(t.total, t.moves + t.probing + t.indexing, 1e-12);
+}
+
+// identify's fit check (identification/fit_check.hpp), which the closed loop's identify --require-fit
+// uses to refuse a model that does not reach the probe log (here beside the plan, whose sigma it takes).
+TEST(FitCheck, BoundIsTheChiSquareQuantile) {
+  // Against the chi-square table's 99.9 % quantiles (NIST/SEMATECH e-Handbook of Statistical
+  // Methods, 1.3.6.7.4, upper critical values): k = 10: 29.588, 30: 59.703, 100: 149.449. The bound
+  // on sigma0 is sqrt(chi2 / k); Wilson-Hilferty is within 1 % of it from k = 10 on.
+  for (const auto& [k, chi2] : {std::pair{10, 29.588}, std::pair{30, 59.703}, std::pair{100, 149.449}}) {
+    IdentificationResult r;
+    r.unknowns = 20;
+    r.residuals = 20 + static_cast<std::size_t>(k);
+    r.sigma0 = 1.0;
+    const FitCheck f = check_fit(r);
+    EXPECT_EQ(f.degrees_of_freedom, static_cast<std::size_t>(k));
+    EXPECT_NEAR(f.bound, std::sqrt(chi2 / k), 0.01 * std::sqrt(chi2 / k)) << k;
+    EXPECT_FALSE(f.poor);
+    r.sigma0 = 1.01 * f.bound;
+    EXPECT_TRUE(check_fit(r).poor) << k;
+    r.sigma0 = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_TRUE(check_fit(r).poor) << "a NaN sigma0 is never a good fit";
+  }
+  IdentificationResult none;
+  none.residuals = none.unknowns = 5;
+  EXPECT_FALSE(check_fit(none).poor);
+  EXPECT_TRUE(std::isinf(check_fit(none).bound));
+  EXPECT_THROW(check_fit(none, 0.3), InputError);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <random>
 #include <regex>
@@ -20,6 +21,7 @@
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/io/gcode/rs274.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "input_errors.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -174,6 +176,85 @@ TEST(ProbeProgram, LinuxcncInterpreterReadsTheProgram) {
     EXPECT_NEAR(std::stod((*it)[6]), t.end[*m.axis_index('C')] * 180 / std::numbers::pi, 1e-3);
   }
   EXPECT_EQ(i, touches.size());
+}
+
+// The words of one block (a line that starts with G; comments have none): letter -> value.
+std::map<char, double> block_words(const std::string& line) {
+  std::map<char, double> w;
+  if (line.empty() || line[0] != 'G') return w;
+  std::istringstream in(line);
+  for (std::string tok; in >> tok;)
+    if (tok.size() > 1 && std::isupper(static_cast<unsigned char>(tok[0])) && tok[0] != 'G' && tok[0] != 'F')
+      w[tok[0]] = std::stod(tok.substr(1));
+  return w;
+}
+
+TEST(ProbeProgram, ToolPointCoordinatesAreTheNominalToolPoint) {
+  // --program-coordinates tool-point (the program for a tool-centre-point kinematics, examples/loop):
+  // every probing block's X Y Z is the nominal tool point of the touch's end in the workpiece frame,
+  // by ErrorModel::nominal_pose (the chain of kinematics/chain.cpp, not the solver the writer uses),
+  // and the indexations turn with the linear axes held at the safe level, at most 5 deg a block.
+  const Machine m = hu40t();
+  const ProbingPlan p = small_plan(m);
+  const ProbeCycle c;
+  const auto touches = probe_touches(m, p, c);
+  ProbeProgramOptions o;
+  o.coordinates = ProbeCoordinates::ToolPoint;
+  const std::string prog = probe_program(m, p, c, o);
+  EXPECT_NE(prog.find("(Coordinates: tool-point world"), std::string::npos);
+  const ErrorModel model(m);
+  const ToolPointCoordinates world(m);
+  const std::size_t tz = *m.axis_index('Z');
+  std::size_t i = 0, index_blocks = 0;
+  std::istringstream lines(prog);
+  std::map<char, double> last_rotary;
+  for (std::string line; std::getline(lines, line);) {
+    const auto w = block_words(line);
+    if (line.rfind("G38.2", 0) == 0) {
+      ASSERT_LT(i, touches.size());
+      const Vec3 t = model.nominal_pose(touches[i].end).t;
+      for (int a = 0; a < 3; ++a) EXPECT_NEAR(w.at("XYZ"[a]), t[a], 2e-6) << line;
+      ++i;
+    }
+    if (line.rfind("G0", 0) == 0 && w.count('B') && w.count('C')) {
+      std::vector<double> v(m.axes.size());
+      for (std::size_t k = 0; k < m.axes.size(); ++k)
+        v[k] = w.at(m.axes[k].letter) * (m.axes[k].kind == AxisKind::Rotary ? std::numbers::pi / 180 : 1.0);
+      const auto q = world.axes(v);
+      const auto& tr = *m.axes[tz].travel;
+      // 1e-5 mm: the words' 6 decimals of a degree (8.7e-9 rad) at up to 700 mm from the rotary axes.
+      EXPECT_NEAR(q[tz], m.axes[tz].direction_sign > 0 ? tr.max : tr.min, 1e-5) << line;
+      if (!last_rotary.empty()) {
+        for (char a : {'B', 'C'}) EXPECT_LE(std::abs(w.at(a) - last_rotary[a]), 5.0 + 1e-6) << line;
+      }
+      last_rotary = {{'B', w.at('B')}, {'C', w.at('C')}};
+      ++index_blocks;
+    }
+  }
+  EXPECT_EQ(i, touches.size());
+  EXPECT_GT(index_blocks, 6u);  // the small plan turns C and B between its records
+
+  // The log LinuxCNC writes on that kinematics holds world positions: read back through the nominal
+  // chain they give the plan's ball centres (noise-free: to the log's 6 decimals).
+  std::string log;
+  for (const auto& t : touches) {
+    const Vec3 x = model.nominal_pose(t.expected).t;
+    log += fmt::format("{:.6f} {:.6f} {:.6f} 0 {:.6f} {:.6f} 0 0 0\n", x[0], x[1], x[2],
+                       t.expected[*m.axis_index('B')] * 180 / std::numbers::pi,
+                       t.expected[*m.axis_index('C')] * 180 / std::numbers::pi);
+  }
+  const auto contacts =
+      contacts_from_tool_points(m, parse_probe_log(m, log, "probe.txt", ProbeLogFormat::LinuxCNC));
+  const ProbingPlan meas = measurements_from_contacts(m, p, c, contacts);
+  for (std::size_t r = 0; r < p.records.size(); ++r)
+    for (char a : {'X', 'Y', 'Z'})
+      EXPECT_NEAR(meas.records[r].q[*m.axis_index(a)], p.records[r].q[*m.axis_index(a)], 2e-6) << r;
+  // An ISO log without the rotary values cannot be turned back: named with its line.
+  const std::string msg = error_message([&] {
+    contacts_from_tool_points(m, parse_probe_log(m, "#5061,#5062,#5063\n1,2,3\n", "probe.csv", ProbeLogFormat::IsoCsv));
+  });
+  EXPECT_NE(msg.find("probe.csv:2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected a value of C"), std::string::npos) << msg;
 }
 
 TEST(ProbeLog, ContactsBackToMeasurementsThatIdentifyReads) {

@@ -3,7 +3,8 @@
 # plan.json with the `linuxcnc` Python module and reads, after each move, what the motion
 # controller applies, with the `hal` module (doubles, full precision). Writes readings.json.
 # With "program" in plan.json (tests/linuxcnc/run-probe) it runs that G-code file in AUTO mode
-# instead and records the messages LinuxCNC reports.
+# instead and records the messages LinuxCNC reports; with "program" and "moves" (examples/loop) the
+# program first, then the moves.
 #
 # LinuxCNC starts it as `driver.py -ini FILE` from the configuration's folder (the linuxcnc script
 # runs [DISPLAY]DISPLAY there); its exit status becomes LinuxCNC's.
@@ -15,6 +16,7 @@
 # they are equal, i.e. the correction has settled, before it reads.
 import json
 import os
+import subprocess
 import sys
 import time
 
@@ -48,6 +50,10 @@ def snapshot(joints):
              "backlash_filt": g("joint.%d.backlash-filt" % j)} for j in range(joints)]
 
 
+def errors_in(messages):
+    return [m for m in messages if m["kind"] in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR)]
+
+
 def run_program(plan, c, s, err, stat):
     """AUTO mode: runs plan["program"] to its end (or until LinuxCNC stops it) and writes
     readings.json with the operator messages and errors LinuxCNC reported (e.g. "G38.2 move finished
@@ -66,8 +72,14 @@ def run_program(plan, c, s, err, stat):
             messages.append({"kind": m[0], "text": m[1]})
         if s.interp_state != linuxcnc.INTERP_IDLE:
             started = True
-        elif (started or time.time() - t0 > 2.0) and s.exec_state == linuxcnc.EXEC_DONE:
+        elif started and s.exec_state == linuxcnc.EXEC_DONE:
             break
+        elif not started and (errors_in(messages) or time.time() - t0 > STARTUP_TIMEOUT_S):
+            # Under load the interpreter can take seconds to leave IDLE after AUTO_RUN: a fixed 2 s
+            # here once took a program that had not started for one that had ended.
+            if errors_in(messages):
+                break
+            fail("the program %s did not start within %.0f s" % (path, STARTUP_TIMEOUT_S))
         if time.time() - t0 > plan.get("timeout", 240):
             fail("the program %s did not end within %d s" % (path, plan.get("timeout", 240)))
         time.sleep(0.01)
@@ -83,14 +95,10 @@ def run_program(plan, c, s, err, stat):
     end = {"joint_position": list(s.joint_position[:plan["joints"]]), "position": list(s.position[:9]),
            "tool_offset": list(s.tool_offset[:9]),
            "pos_cmd": [hal.get_value("joint.%d.pos-cmd" % j) for j in range(plan["joints"])]}
-    with open("readings.json", "w") as f:
-        json.dump({"program": path, "messages": messages, "completed": not errors, "program_seconds": seconds,
-                   "end": end, "readings": []}, f, indent=1)
-    c.state(linuxcnc.STATE_OFF)
-    c.wait_complete()
     print("driver: program %s %s in %.1f s" % (os.path.basename(path), "ran to its end" if not errors else
                                                 "stopped: " + "; ".join(m["text"] for m in errors), seconds), flush=True)
-    return 0
+    return {"program": path, "messages": messages, "completed": not errors, "program_seconds": seconds, "end": end,
+            "readings": []}
 
 
 def main():
@@ -128,8 +136,24 @@ def main():
     c.rapidrate(1.0)
     wait(lambda: stat().feedrate == 1.0 and s.rapidrate == 1.0, STARTUP_TIMEOUT_S, "feed and rapid overrides at 100 %")
 
+    result = {"readings": []}
     if "program" in plan:
-        return run_program(plan, c, s, err, stat)
+        # With "moves" too (examples/loop: the probing program, then the random-pose check on the same
+        # kinematics), the moves follow a program that ran to its end.
+        result = run_program(plan, c, s, err, stat)
+        if not plan.get("moves") or not result["completed"]:
+            with open("readings.json", "w") as f:
+                json.dump(result, f, indent=1)
+            c.state(linuxcnc.STATE_OFF)
+            c.wait_complete()
+            return 0
+        c.mode(linuxcnc.MODE_MDI)
+        c.wait_complete()
+        # The moves after a probing program go anywhere over the travel, through the simulated probe's
+        # sphere too: LinuxCNC would stop them ("Probe tripped during non-probe move"). Its pin is
+        # unlinked for them (halcmd, LinuxCNC's own HAL command).
+        if plan.get("unlink_probe_for_moves"):
+            subprocess.run(["halcmd", "unlinkp", "motion.probe-input"], check=True)
 
     g = hal.get_value
 
@@ -142,7 +166,14 @@ def main():
         words = " ".join("%s%.9f" % (letter, move["target"][i]) for i, letter in enumerate(letters))
         c.mdi("G53 G1 %s F%.0f" % (words, plan["feed"]))
         if c.wait_complete(MOVE_TIMEOUT_S) == -1:
-            fail("move %d (%s) did not complete" % (k, words))
+            said = []
+            for _ in range(20):  # what LinuxCNC said, if anything (a joint limit, a kinematics failure)
+                msg = err.poll()
+                if msg:
+                    said.append(msg[1])
+                time.sleep(0.01)
+            fail("move %d (%s) did not complete within %.0f s%s" % (k, words, MOVE_TIMEOUT_S,
+                                                                  ": LinuxCNC: " + "; ".join(said) if said else " (LinuxCNC said nothing)"))
         wait(lambda: stat().inpos and s.exec_state == linuxcnc.EXEC_DONE, MOVE_TIMEOUT_S, "move %d in position" % k)
         msg = err.poll()
         if msg:
@@ -176,8 +207,9 @@ def main():
         readings.append(r)
     elapsed = time.time() - t_moves
 
+    result.update({"readings": readings, "moves_seconds": elapsed})
     with open("readings.json", "w") as f:
-        json.dump({"readings": readings, "moves_seconds": elapsed}, f, indent=1)
+        json.dump(result, f, indent=1)
     c.state(linuxcnc.STATE_OFF)
     c.wait_complete()
     print("driver: %d moves, %d readings in %.1f s" % (len(plan["moves"]), len(readings), elapsed), flush=True)

@@ -264,13 +264,16 @@ def fill(template, fields):
     return text
 
 
-def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, snippet, extra_halfiles, comp_files):
-    """joint_limits/axis_limits: per coordinate letter (lo, hi). snippet: {joint: {KEY: value}}."""
+def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, snippet, extra_halfiles, comp_files,
+                 speeds=None):
+    """joint_limits/axis_limits: per coordinate letter (lo, hi). snippet: {joint: {KEY: value}}.
+    speeds: {"linear": (mm/s, mm/s^2), "angular": (deg/s, deg/s^2)}, default 500, 5000 and 3600, 36000."""
     os.makedirs(cfg)
+    speeds = dict({"linear": (500, 5000), "angular": (3600, 36000)}, **(speeds or {}))
     blocks = []
     for j, letter in enumerate(coordinates):
         rotary = letter in "ABC"
-        vel, acc = (3600, 36000) if rotary else (500, 5000)
+        vel, acc = speeds["angular"] if rotary else speeds["linear"]
         blocks.append(fill("axis.ini.in", {"AXIS": letter, "AXIS_MIN": axis_limits[letter][0], "AXIS_MAX": axis_limits[letter][1],
                                            "VELOCITY": vel, "ACCELERATION": acc}))
         # The joint's MAX_ACCELERATION also sets how the controller ramps a change of the correction
@@ -290,7 +293,8 @@ def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, 
         raise Failure("the INI snippet names joints %s; this configuration has joints 0..%d (%s)" % (sorted(unknown), len(coordinates) - 1, coordinates))
     ini = fill("sim.ini.in", {
         "CASE": case, "COORDINATES": " ".join(coordinates), "KINEMATICS": kinematics, "JOINTS": len(coordinates),
-        "LINEAR_VELOCITY": 500, "LINEAR_ACCELERATION": 5000, "ANGULAR_VELOCITY": 3600,
+        "LINEAR_VELOCITY": speeds["linear"][0], "LINEAR_ACCELERATION": speeds["linear"][1],
+        "ANGULAR_VELOCITY": speeds["angular"][0],
         "EXTRA_HALFILES": "\n".join("HALFILE = %s" % h for h in extra_halfiles),
         "AXES_AND_JOINTS": "\n".join(blocks)})
     with open(os.path.join(cfg, "test.ini"), "w") as f:

@@ -1,11 +1,14 @@
 #include "mtcal/io/gcode/probe_program.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "mtcal/io/system/files.hpp"
+#include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -31,6 +34,20 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
     if (!(v > 0) || !std::isfinite(v)) throw InputError({name, 0, ""}, fmt::format("expected > 0 mm/min, found {:g}", v));
   if (o.log.find_first_of("()\n\r") != std::string::npos)
     throw InputError({"probe log", 0, o.log}, "a log file name may not contain parentheses or line ends");
+  const bool tcp = o.coordinates == ProbeCoordinates::ToolPoint;
+  if (tcp && !(o.index_step > 0 && std::isfinite(o.index_step)))
+    throw InputError({"indexing step", 0, ""}, fmt::format("expected > 0 rad, found {:g}", o.index_step));
+  std::optional<ToolPointCoordinates> world;
+  if (tcp) {
+    try {
+      world.emplace(m);
+    } catch (const ModelError& e) {
+      throw InputError({m.source, 0, ""}, std::string("no tool-point coordinates for this machine: ") + e.what());
+    }
+  }
+  // The words of a position: the axis values themselves, or their tool point's world position.
+  const auto at = [&](const std::vector<double>& q, bool rotary) { return words(m, tcp ? world->world(q) : q, rotary); };
+  const auto full = [&](const std::vector<double>& q) { return at(q, false) + (tcp ? " " + at(q, true) : ""); };
   const std::vector<ProbeTouch> touches = probe_touches(m, plan, cycle);
   const bool lcnc = o.dialect == ProbeDialect::LinuxCNC;
   // The tool-axis linear axis and its safe end: where the tool is farthest from the workpiece.
@@ -55,7 +72,13 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
     for (char& c : h) c = c == '(' ? '[' : c == ')' ? ']' : (c == '\n' || c == '\r') ? ' ' : c;
     s += "(" + h + ")\n";
   }
-  s += "(Coordinates: the machine's axis values of mtcal's model, mm and deg; the tool length is in the model.)\n";
+  if (tcp) {
+    s += "(Coordinates: tool-point world of a tool-centre-point kinematics - X Y Z the nominal tool point in the "
+         "workpiece frame, mm; rotary words the rotary axes, deg; the tool length is in the model and the kinematics.)\n";
+    s += "(Indexations turn at the safe level in blocks that hold the linear axes there.)\n";
+  } else {
+    s += "(Coordinates: the machine's axis values of mtcal's model, mm and deg; the tool length is in the model.)\n";
+  }
   s += "(Run with the G54 work offsets zero and no tool length offset: G54 G49 below.)\n";
   s += fmt::format("(Cycle: ball diameter {:g} mm, tip diameter {:g} mm, approach {:g} mm, overtravel {:g} mm, "
                    "clearance {:g} mm, {} touches a ball; safe retract {}{:g})\n",
@@ -78,29 +101,54 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
       current = t.record;
       s += fmt::format("(record {}: indexation {}, {} {}, plan line {})\n", t.record + 1, r.indexation,
                        ball ? "ball" : "facet", plan.features[r.feature].id, r.line);
-      s += fmt::format("G0 {}{:.6f}\n", zl, safe);
-      const std::string rot = words(m, r.q, true);
-      if (!rot.empty() && rot != (last_rotary.empty() ? std::string() : words(m, last_rotary, true)))
-        s += "G0 " + rot + "\n";
-      last_rotary = r.q;
       // Over the start at the safe level, then down to it.
       std::vector<double> over = t.start;
       over[tz] = safe;
-      s += "G0 " + words(m, over, false) + "\n";
+      if (!tcp) {
+        s += fmt::format("G0 {}{:.6f}\n", zl, safe);
+        const std::string rot = words(m, r.q, true);
+        if (!rot.empty() && rot != (last_rotary.empty() ? std::string() : words(m, last_rotary, true)))
+          s += "G0 " + rot + "\n";
+      } else {
+        // Up to the safe level where the last touch started (the first record: from the rotary
+        // zero at the safe level), then the indexation along the axes' own path.
+        std::vector<double> from = i == 0 ? std::vector<double>(m.axes.size(), 0.0) : touches[i - 1].start;
+        from[tz] = safe;
+        s += "G0 " + full(from) + "\n";
+        double turn = 0;
+        for (std::size_t k = 0; k < m.axes.size(); ++k)
+          if (m.axes[k].kind == AxisKind::Rotary) turn = std::max(turn, std::abs(r.q[k] - from[k]));
+        const auto steps = static_cast<std::size_t>(std::ceil(turn / o.index_step - 1e-9));
+        for (std::size_t j = 1; j <= steps; ++j) {
+          std::vector<double> q = from;
+          for (std::size_t k = 0; k < m.axes.size(); ++k)
+            if (m.axes[k].kind == AxisKind::Rotary)
+              q[k] = from[k] + (r.q[k] - from[k]) * static_cast<double>(j) / static_cast<double>(steps);
+          s += "G0 " + full(q) + "\n";
+        }
+      }
+      last_rotary = r.q;
+      s += "G0 " + at(over, false) + "\n";
     } else if (ball) {
       // Between a ball's touches: up to the clearance level above the ball, over, down.
       std::vector<double> lift = touches[i - 1].start, over = t.start;
       const double top = r.q[tz] + zax.direction_sign * (rho + cycle.clearance);
       lift[tz] = top;
       over[tz] = top;
-      s += fmt::format("G1 {} F{:g}\n", words(m, lift, false), o.feed);
-      s += fmt::format("G1 {} F{:g}\n", words(m, over, false), o.feed);
+      s += fmt::format("G1 {} F{:g}\n", at(lift, false), o.feed);
+      s += fmt::format("G1 {} F{:g}\n", at(over, false), o.feed);
     }
-    s += fmt::format("G1 {} F{:g}\n", words(m, t.start, false), o.feed);
-    s += fmt::format("{} {} F{:g}\n", lcnc ? "G38.2" : "G31", words(m, t.end, false), o.probe_feed);
-    s += fmt::format("G1 {} F{:g}\n", words(m, t.start, false), o.feed);
+    s += fmt::format("G1 {} F{:g}\n", at(t.start, false), o.feed);
+    s += fmt::format("{} {} F{:g}\n", lcnc ? "G38.2" : "G31", at(t.end, false), o.probe_feed);
+    s += fmt::format("G1 {} F{:g}\n", at(t.start, false), o.feed);
   }
-  s += fmt::format("G0 {}{:.6f}\n", zl, safe);
+  if (!tcp || touches.empty()) {
+    s += fmt::format("G0 {}{:.6f}\n", zl, safe);
+  } else {
+    std::vector<double> end = touches.back().start;
+    end[tz] = safe;
+    s += "G0 " + at(end, false) + "\n";
+  }
   if (lcnc) s += "(PROBECLOSE)\n";
   s += "M2\n";
   if (!lcnc) s += "%\n";

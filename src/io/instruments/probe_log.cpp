@@ -4,10 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "mtcal/io/system/files.hpp"
+#include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 
@@ -103,6 +105,25 @@ std::vector<LoggedContact> parse_probe_log(const Machine& m, std::string_view te
 
 std::vector<LoggedContact> read_probe_log(const Machine& m, const std::string& path, ProbeLogFormat format) {
   return parse_probe_log(m, read_text_file(path, "probe log"), path, format);
+}
+
+std::vector<LoggedContact> contacts_from_tool_points(const Machine& m, std::vector<LoggedContact> contacts) {
+  std::optional<ToolPointCoordinates> world;
+  try {
+    world.emplace(m);
+  } catch (const ModelError& e) {
+    throw InputError({m.source, 0, ""}, std::string("no tool-point coordinates for this machine: ") + e.what());
+  }
+  for (LoggedContact& c : contacts) {
+    for (std::size_t k = 0; k < m.axes.size(); ++k)
+      if (!std::isfinite(c.q[k]))
+        throw InputError({c.source, c.line, ""},
+                         fmt::format("expected a value of {} (tool-point coordinates need every axis of the machine), "
+                                     "found none",
+                                     m.axes[k].letter));
+    c.q = world->axes(c.q);
+  }
+  return contacts;
 }
 
 }  // namespace mtcal

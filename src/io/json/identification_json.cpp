@@ -1,6 +1,8 @@
 // JSON of the identification results: the documented keys of simulate, identify and identifiability --json.
 #include "mtcal/io/json/identification_json.hpp"
 
+#include "mtcal/identification/fit_check.hpp"
+
 #include <cmath>
 
 namespace mtcal {
@@ -57,6 +59,14 @@ Json to_json(const IdentificationRun& run, const std::string& out, const std::st
   j["singular_values"] = r.identifiability.singular_values;
   j["rms_um"] = {{"ball", r.rms_ball * 1e3}, {"facet", r.rms_facet * 1e3}, {"scale_bar", r.rms_scale_bar * 1e3}};
   j["sigma0"] = r.sigma0;
+  {
+    const FitCheck f = check_fit(r);
+    j["fit"] = {{"poor", f.poor},
+                {"sigma0", f.sigma0},
+                {"bound", std::isfinite(f.bound) ? Json(f.bound) : Json(nullptr)},
+                {"probability", f.probability},
+                {"degrees_of_freedom", f.degrees_of_freedom}};
+  }
   j["initial_cost"] = r.initial_cost;
   j["final_cost"] = r.final_cost;
   Json params = Json::object();

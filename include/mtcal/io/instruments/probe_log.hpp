@@ -27,4 +27,12 @@ std::vector<LoggedContact> parse_probe_log(const Machine& m, std::string_view te
                                            ProbeLogFormat format);
 std::vector<LoggedContact> read_probe_log(const Machine& m, const std::string& path, ProbeLogFormat format);
 
+// Contacts a program in tool-point coordinates logged (ProbeCoordinates::ToolPoint, run on a
+// tool-centre-point kinematics: the log holds the world position X Y Z of the tool point and the
+// rotary coordinates) as the axis values of the machine's nominal chain (ToolPointCoordinates::axes).
+// On a compensating kinematics the world position is that module's forward — its model's actual tool
+// point — so the axis values are those whose nominal tool point is there. Throws InputError with file
+// and line for a contact without a value the conversion needs.
+std::vector<LoggedContact> contacts_from_tool_points(const Machine& m, std::vector<LoggedContact> contacts);
+
 }  // namespace mtcal

@@ -22,7 +22,7 @@ Json to_json(const Simulation& sim, double noise_um, double artefact_error_um, s
              const std::string& out = "");
 
 // identify: termination converged iterations seconds residuals unknowns rank condition
-// singular_values rms_um sigma0 initial_cost final_cost parameters correlation unidentifiable
+// singular_values rms_um sigma0 fit{poor sigma0 bound probability degrees_of_freedom} initial_cost final_cost parameters correlation unidentifiable
 // null_directions artefact [pretravel] [monte_carlo] [va] [e_v] [out] [report].
 Json to_json(const IdentificationRun& run, const std::string& out = "", const std::string& report = "");
 
