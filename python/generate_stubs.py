@@ -64,12 +64,17 @@ FUNC_ARG_TYPES = {
     ("inverse", "rotary"): "npt.ArrayLike | None",
     ("nominal_inverse", "point"): "npt.ArrayLike",
     ("nominal_inverse", "rotary"): "npt.ArrayLike | None",
-    ("write_report", "result"): "PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends",
+    ("write_report", "result"): ("PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends | "
+                                 "VolumetricResult | ContributionResult | DiagonalsResult | Effects | EvaluationRun | "
+                                 "ToolpathResult | ModelComparison | IdentificationRun | PredictionRun | "
+                                 "RotaryAxisResult | TargetOutput | Machine"),
     ("write_report", "runs"): "PositioningRuns | None",
     ("write_report", "pdf"): "str | None",
     ("write_report", "png_dir"): "str | None",
     ("write_report", "acceptance"): "AcceptanceVerdict | None",
-    ("evaluate_tolerances", "result"): "PositioningEvaluation | BallbarResult",
+    ("evaluate_tolerances", "result"): "PositioningEvaluation | BallbarResult | VolumetricResult",
+    ("import_", "files"): "str | Sequence[str]",
+    ("linuxcnc_probe", "spheres"): "npt.ArrayLike",
     ("evaluate_tolerances", "tolerances"): "Mapping[str, float] | None",
     ("trend", "tolerances"): "Mapping[str, float | tuple[float, float]] | Sequence[str] | None",
     ("rank", "tolerances"): "Mapping[str, float | tuple[float, float]] | Sequence[str] | None",

@@ -60,35 +60,8 @@ GcodeCorrectionOptions correction_options(const Machine& m, const GcodeCorrectio
   return opt;
 }
 
-// The corrected program's text: the input with new coordinates where each block's words are its
-// one move (no expansion, no offsets), else every move written anew (docs/gcode.md).
-struct CorrectedText {
-  std::string text;
-  GcodeRewriteSummary summary;
-  bool expanded = false;
-};
-
-CorrectedText corrected_text(const GcodeCorrectionCliOptions& o, const Machine& m, const GcodeProgram& program,
-                             const GcodeCorrectionResult& result) {
-  GcodeRewriteOptions ro;
-  ro.decimals = o.decimals;
-  CorrectedText c;
-  c.expanded = program.interpreter != "mtcal" || program.counts.expanded_blocks > 0 || program.counts.offset_blocks > 0;
-  std::string axes;
-  for (const auto& ax : m.axes) axes += ax.letter;
-  if (c.expanded) {
-    c.text = write_expanded_gcode(result.moves, program, axes,
-                                  fmt::format("mtcal compensate --gcode: corrected for machine {}", m.name), ro, &c.summary);
-  } else {
-    GcodeOptions go;
-    go.axes = axes;
-    c.text = rewrite_gcode(read_text_file(o.gcode, "G-code program"), o.gcode, go, result.moves, ro, &c.summary);
-  }
-  return c;
-}
-
 void print_correction(const GcodeCorrectionCliOptions& o, const Machine& m, const GcodeProgram& program,
-                      const GcodeCorrectionResult& result, const CorrectedText& c, double seconds) {
+                      const GcodeCorrectionResult& result, const CorrectedProgram& c, double seconds) {
   const GcodeRewriteSummary& rs = c.summary;
   std::cout << fmt::format("machine      {} ({})\n", m.name, m.topology.chain);
   std::cout << fmt::format("program      {}: {} lines, {} moves{}\n", o.gcode, rs.lines_in, result.moves.size(),
@@ -129,7 +102,9 @@ int run(const GcodeCorrectionCliOptions& o) {
   const GcodeProgram program = read_gcode_program(o.gcode, m, o.input);
   print_gcode_warnings(program.warnings, program.counts.warnings);
   const GcodeCorrectionResult result = correct_program(model, program, opt);
-  const CorrectedText c = corrected_text(o, m, program, result);
+  GcodeRewriteOptions ro;
+  ro.decimals = o.decimals;
+  const CorrectedProgram c = corrected_program(m, program, read_text_file(o.gcode, "G-code program"), result.moves, ro);
   file.stream() << c.text;
   file.commit();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -137,16 +112,7 @@ int run(const GcodeCorrectionCliOptions& o) {
     print_correction(o, m, program, result, c, seconds);
     return 0;
   }
-  Json j;
-  j["machine"] = m.name;
-  j["program"] = o.gcode;
-  j["interpreter"] = program.interpreter;
-  j["written"] = c.expanded ? "expanded" : "in_place";
-  j["correction"] = to_json(result);
-  j["rewrite"] = to_json(c.summary);
-  j["seconds"] = seconds;
-  j["out"] = o.out;
-  print_json(j);
+  print_json(to_json(m, o.gcode, program.interpreter, result, c, seconds, o.out));
   return 0;
 }
 

@@ -8,13 +8,11 @@
 
 #include "acceptance.hpp"
 #include "history.hpp"
-#include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/evaluation/metadata.hpp"
-#include "mtcal/io/instruments/iso230_files.hpp"
-#include "mtcal/io/json/evaluation_json.hpp"
 #include "mtcal/io/json/history_json.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/history/config.hpp"
+#include "mtcal/io/history/import_files.hpp"
 #include "mtcal/io/history/queries.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -240,20 +238,6 @@ struct ImportOptions {
   bool json_out = false;
 };
 
-// The command a result JSON came from, by the keys its --json documents.
-std::string detect_command(const Json& j) {
-  auto has = [&](std::initializer_list<const char*> keys) {
-    for (const char* k : keys)
-      if (!j.contains(k)) return false;
-    return true;
-  };
-  if (has({"A", "E", "M", "R", "targets"})) return "iso230-2";
-  if (has({"G_cw", "G_ccw"})) return "ballbar";
-  if (has({"va", "critical_pair"})) return "volumetric";
-  if (has({"parameters", "sigma0", "rank"})) return "identify";
-  return "";
-}
-
 // --meta key=value pairs, checked as report metadata keys.
 std::map<std::string, std::string> import_metadata(const std::vector<std::string>& pairs) {
   ReportMetadata m;  // validates keys
@@ -267,53 +251,9 @@ std::map<std::string, std::string> import_metadata(const std::vector<std::string
   return meta;
 }
 
-// A command's result JSON, or an instrument file of positioning runs (laser, CSV) evaluated to
-// ISO 230-2 as `mtcal iso230-2` does, as the record that command would have made.
-CalibrationRecord record_from_file(const std::string& path, const std::string& command_given,
-                                   const std::map<std::string, std::string>& meta) {
-  const std::string text = read_text_file(path, "history import");
-  const InputHash hash{path, sha256_hex(text)};
-  const auto j = Json::parse(text, nullptr, false);
-  CalibrationRecord r;
-  if (!j.is_discarded()) {
-    if (!j.is_object()) throw InputError({path, 0, ""}, "expected a result JSON object, found " + std::string(j.type_name()));
-    const std::string command = command_given.empty() ? detect_command(j) : command_given;
-    if (command.empty())
-      throw InputError({path, 0, ""},
-                       "cannot tell which command's result this is (expected the keys of iso230-2, "
-                       "ballbar, volumetric or identify): give --command NAME");
-    r = record_from_result(command, text, meta, {hash}, path);
-  } else {
-    const PositioningRuns runs = read_positioning_file(path, "auto", "mm", "");
-    Json result = to_json(evaluate_positioning(runs));
-    Json m = Json::object();
-    for (const auto& [k, v] : runs.metadata) m[k] = v;
-    result["metadata"] = m;
-    r = record_from_result("iso230-2", json_text(result), meta, {hash}, path);
-  }
-  if (r.machine_name.empty()) throw InputError({path, 0, "machine"}, "the result names no machine: give --meta machine=NAME");
-  return r;
-}
-
-// What an import stored: records from result/instrument files, then JSON-lines files' contents.
-struct ImportOutcome {
-  std::vector<CalibrationRecord> records;
-  std::vector<std::string> origin, ids, skipped;
-  std::vector<std::size_t> duplicates;  // indices into records
-  std::size_t added = 0, events = 0;
-};
-
-void print_import(const ImportOutcome& r, const std::string& store, bool json_out) {
+void print_import(const HistoryImport& r, const std::string& store, bool json_out) {
   if (json_out) {
-    Json j;
-    j["store"] = store;
-    j["records_added"] = r.added;
-    j["events_added"] = r.events;
-    j["skipped"] = r.skipped;
-    Json list = Json::array();
-    for (std::size_t i = 0; i < r.records.size(); ++i) list.push_back({{"file", r.origin[i]}, {"id", r.ids[i]}});
-    j["records"] = list;
-    print_json(j);
+    print_json(to_json(r, store));
     return;
   }
   for (std::size_t i = 0; i < r.records.size(); ++i)
@@ -328,31 +268,11 @@ void print_import(const ImportOutcome& r, const std::string& store, bool json_ou
 int run_import(const ImportOptions& o) {
   const auto meta = import_metadata(o.meta);
   auto store = open_cli_store(o.store);
-  // Everything is read first and stored in one transaction: a bad file imports nothing.
-  ImportOutcome r;
-  std::vector<std::string> jsonl;
-  for (const auto& path : o.files) {
-    if (path.size() > 6 && path.compare(path.size() - 6, 6, ".jsonl") == 0) {
-      jsonl.push_back(path);
-      continue;
-    }
-    r.records.push_back(record_from_file(path, o.command, meta));
-    r.origin.push_back(path);
+  try {
+    print_import(import_files(*store, o.files, o.command, meta), store->describe(), o.json_out);
+  } catch (const InputError& e) {
+    rethrow_for_options(e, {{"command", "--command"}, {"machine", "--meta machine=NAME"}});
   }
-  std::size_t jsonl_records = 0;
-  for (const auto& path : jsonl) {
-    // Read through the formats layer like every other input (its size limit and messages).
-    std::istringstream in(read_text_file(path, "history import"));
-    const auto s = import_jsonl(*store, in, path);
-    jsonl_records += s.records;
-    r.events += s.events;
-    for (const auto& k : s.skipped) r.skipped.push_back(path + ": " + k);
-  }
-  r.ids = store->record_all(r.records, {}, &r.duplicates);
-  for (const auto i : r.duplicates)
-    r.skipped.push_back(r.origin[i] + ": duplicate of record " + r.ids[i] + " (same content hash)");
-  r.added = r.records.size() - r.duplicates.size() + jsonl_records;
-  print_import(r, store->describe(), o.json_out);
   return 0;
 }
 

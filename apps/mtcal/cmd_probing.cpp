@@ -296,17 +296,10 @@ int run_linuxcnc_probe(const LinuxcncProbeCliOptions& o) {
   if (p.spheres.size() > kLinuxcncProbeMaxSpheres)
     throw InputError({"--sphere", 0, ""},
                      fmt::format("expected at most {} spheres, found {}", kLinuxcncProbeMaxSpheres, p.spheres.size()));
-  TargetOutput out;
-  out.files = linuxcnc_probe_files(linuxcnc_kins_model(m, p.component_name), p);
+  const TargetOutput out = linuxcnc_probe_output(m, p);
   write_target_output(o.out, out);
   if (o.json_out) {
-    Json j;
-    j["machine"] = m.name;
-    j["component"] = p.component_name;
-    j["spheres"] = p.spheres.size();
-    j["out"] = o.out;
-    for (const auto& f : out.files) j["files"].push_back(f.name);
-    print_json(j);
+    print_json(linuxcnc_probe_json(m, p, out, o.out));
     return 0;
   }
   std::cout << fmt::format("simulated probe {} of {} ({}), {} sphere(s), stylus {:g} mm\n", p.component_name, m.name,

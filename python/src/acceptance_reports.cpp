@@ -43,13 +43,6 @@ py::dict metadata_dict(const ReportMetadata& m) {
   return d;
 }
 
-// What evaluate_tolerances returns: the verdict with the metadata it was judged under.
-struct Acceptance {
-  ToleranceVerdict verdict;
-  ReportMetadata metadata;
-  AcceptanceTest test = AcceptanceTest::None;
-};
-
 // The quantities of a result the tolerances judge, and which test it is.
 std::pair<std::vector<std::pair<std::string, double>>, AcceptanceTest> judged(py::handle result) {
   if (py::isinstance<PositioningEvaluation>(result))
@@ -225,11 +218,20 @@ against permitted values in µm, as the commands' --tolerance / --tolerance-file
             const auto listed = listed_parameters(mm, nonzero_only);
             write_parameters_report(path, mm, listed, mm.parameter_count(), nonzero_only, {cmd, {}, "", ""});
           };
+        } else if (py::hasattr(result, "_tolerance_values")) {
+          // A VolumetricResult (evaluation.cpp): the verdict on VA, VAx, VAy, VAz as the command's
+          // `volumetric --tolerance ... --report` shows it.
+          if (!verdict.empty() && acceptance.cast<const Acceptance&>().test != AcceptanceTest::Volumetric)
+            throw py::value_error(
+                "acceptance: expected the verdict on this result (evaluate_tolerances of it), found "
+                "one of another test");
+          write = [&] { result.attr("_write_report")(path, cmd, acceptance); };
         } else if (py::hasattr(result, "_write_report")) {
-          // The results the other binding units keep (volumetric, contributions, diagonals, effects, identify,
-          // predict): their reports show no verdict.
+          // The results the other binding units keep (contributions, diagonals, effects, eval, toolpath,
+          // regress, identify, predict): their reports show no verdict.
           if (!verdict.empty())
-            throw py::value_error("acceptance: this result's report shows no verdict (ISO 230-2, ballbar only)");
+            throw py::value_error(
+                "acceptance: this result's report shows no verdict (ISO 230-2, ballbar, volumetric only)");
           write = [&] { result.attr("_write_report")(path, cmd); };
         } else {
           throw py::type_error("result: expected a result that has a report (docs/python.md, 'Acceptance and "

@@ -1,7 +1,8 @@
 // Python bindings of the evaluations: volumetric accuracy, contributions, histograms, diagonals, ISO 230-2, ISO
-// 230-4, method comparison, tool paths; their files.
+// 230-4, method comparison, tool paths and the corrected G-code program; their files.
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <sstream>
 
@@ -18,11 +19,15 @@
 #include "mtcal/io/instruments/iso230_files.hpp"
 #include "mtcal/io/json/evaluation_json.hpp"
 #include "mtcal/io/system/files.hpp"
+#include "mtcal/compensation/gcode_correction.hpp"
 #include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/gcode/rewrite.hpp"
+#include "mtcal/io/json/gcode_correction_json.hpp"
 #include "mtcal/io/text/joints.hpp"
 #include "mtcal/io/json/toolpath_json.hpp"
 #include "mtcal/io/json/volumetric_json.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/report/toolpath.hpp"
 #include "mtcal/report/volumetric.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -299,6 +304,7 @@ struct ToolpathResult {
   ToolpathSummary summary;
   ToolpathChunk points;               // every point of the program, the chunks appended
   std::string interpreter = "mtcal";  // who read the program (GcodeProgram::interpreter)
+  ToolpathReportInputs report{};      // what the report names: the program, the step, the options
 };
 
 GcodePosition origin_of(const Machine& m, py::handle origin) {
@@ -328,6 +334,9 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
   ToolpathInterpolator check(m, opt);  // a bad step is refused before any reading
   const ErrorModel model(m);
   ToolpathResult r{m, {}, {}};
+  r.report.step = step;
+  r.report.skip_rapids = skip_rapids;
+  r.report.directions = directions;
   auto sink = [&](const ToolpathChunk& c) {
     auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
     append(r.points.line, c.line);
@@ -341,11 +350,14 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
   if (py::isinstance<GcodeProgram>(program)) {
     const auto& p = program.cast<const GcodeProgram&>();
     r.interpreter = p.interpreter;
+    r.report.program = p.source;
+    r.report.program_file = std::filesystem::is_regular_file(p.source);  // read_gcode's; parse_gcode's names none
     LongCall release;  // without the GIL, stoppable with Ctrl-C
     r.summary = simulate_toolpath(model, p, opt, sink);
   } else {
     const auto path = program.cast<std::string>();
     const std::string text = read_text_file(path, "G-code program");
+    r.report.program = path;
     GcodeOptions go;
     go.axes.clear();
     for (const auto& ax : m.axes) go.axes += ax.letter;
@@ -354,6 +366,44 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
     r.summary = simulate_toolpath(model, reader, opt, sink);
   }
   return r;
+}
+
+// ---------------------------------------------------------------- corrected G-code (mtcal compensate --gcode)
+
+struct CorrectedGcode {
+  Machine machine;
+  std::string program, interpreter;
+  GcodeCorrectionResult result;
+  CorrectedProgram corrected;
+  double seconds = 0;
+};
+
+CorrectedGcode correct_gcode(const Machine& m, const std::string& path, double max_deviation, bool linearise_arcs,
+                             py::handle origin, int decimals, bool directions, bool orientation, bool travel_check) {
+  GcodeCorrectionOptions opt;
+  opt.max_deviation = max_deviation;
+  opt.linearise_arcs = linearise_arcs;
+  opt.directions = directions;
+  opt.orientation = orientation;
+  opt.travel_check = travel_check;
+  opt.origin = origin_of(m, origin);
+  GcodeRewriteOptions ro;
+  ro.decimals = decimals;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string text = read_text_file(path, "G-code program");
+  GcodeOptions go;
+  go.axes.clear();
+  for (const auto& ax : m.axes) go.axes += ax.letter;
+  CorrectedGcode c{m, path, "mtcal", {}, {}, 0};
+  {
+    LongCall release;  // without the GIL, stoppable with Ctrl-C
+    const GcodeProgram program = parse_gcode(text, path, go);
+    c.interpreter = program.interpreter;
+    c.result = correct_program(ErrorModel(m), program, opt);
+    c.corrected = corrected_program(m, program, text, c.result.moves, ro);
+  }
+  c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return c;
 }
 
 }  // namespace
@@ -488,10 +538,13 @@ void bind_evaluation(py::module_& m) {
       .def("_tolerance_values", [](const VolumetricResult& r) { return tolerance_values(r.study.va); })
       .def(
           "_write_report",
-          [](const VolumetricResult& r, const std::string& path, const std::string& command) {
-            write_volumetric_report(path, ErrorModel(r.machine), r.map, r.study, r.box_text, {command, {}, "", r.grid_text});
+          [](const VolumetricResult& r, const std::string& path, const std::string& command, py::handle acceptance) {
+            const ToleranceVerdict verdict =
+                acceptance.is_none() ? ToleranceVerdict{} : acceptance.cast<const Acceptance&>().verdict;
+            write_volumetric_report(path, ErrorModel(r.machine), r.map, r.study, r.box_text,
+                                    {command, {}, "", r.grid_text}, verdict);
           },
-          "path"_a, "command"_a)
+          "path"_a, "command"_a, "acceptance"_a = py::none())
       .def_property_readonly(
           "va", [](const VolumetricResult& r) { return r.study.va.va.value; }, "mm")
       .def_property_readonly(
@@ -825,6 +878,15 @@ overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.)
       },
       "text"_a, "source"_a = "<string>", py::kw_only(), "axes"_a = "XYZABC");
   py::class_<ToolpathResult>(m, "ToolpathResult", "Points along a program and the volumetric error at each.")
+      .def(
+          "_write_report",
+          [](const ToolpathResult& r, const std::string& path, const std::string& command) {
+            // The plots thin the points as the command's sampler does while the program streams.
+            ToolpathPlotSampler sampler(r.machine.axes.size());
+            sampler.add(r.points);
+            write_toolpath_report(path, ErrorModel(r.machine), r.summary, sampler, r.report, {command, {}, "", ""});
+          },
+          "path"_a, "command"_a)
       .def_property_readonly(
           "lines", [](const ToolpathResult& r) { return r.points.line; }, "Source line of each point")
       .def_property_readonly(
@@ -856,6 +918,37 @@ overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.)
             return to_py(j);
           },
           "The summary as `mtcal toolpath --json`.");
+  py::class_<CorrectedGcode>(m, "CorrectedGcode", "A G-code program corrected for the machine's errors.")
+      .def_property_readonly(
+          "text", [](const CorrectedGcode& c) { return c.corrected.text; }, "The corrected program")
+      .def_property_readonly(
+          "expanded", [](const CorrectedGcode& c) { return c.corrected.expanded; },
+          "Every move written anew (cycles, offsets) instead of corrected in place")
+      .def_property_readonly("warnings", [](const CorrectedGcode& c) { return c.result.warnings; })
+      .def(
+          "write",
+          [](const CorrectedGcode& c, const std::string& path) { write_file_atomically(path, c.corrected.text); },
+          "path"_a, "Writes the corrected program (complete or not at all), as --out.")
+      .def(
+          "to_dict",
+          [](const CorrectedGcode& c, const std::string& out) {
+            return to_py(to_json(c.machine, c.program, c.interpreter, c.result, c.corrected, c.seconds, out));
+          },
+          "out"_a = "",
+          "As `mtcal compensate --gcode --json`: machine, program, interpreter, written, correction {moves, "
+          "moves_corrected, subdivisions, ...}, rewrite {lines_in, lines_changed, lines_added}, seconds, out.");
+  m.def("correct_gcode", &correct_gcode, "machine"_a, "program"_a, py::kw_only(), "max_deviation"_a = 0.001,
+        "linearise_arcs"_a = false, "origin"_a = py::none(), "decimals"_a = 6, "directions"_a = true,
+        "orientation"_a = true, "travel_check"_a = true,
+        R"(The corrected G-code program, as `mtcal compensate --gcode FILE --out OUT`
+(docs/compensation-gcode.md): the commanded positions that put the actual tool on the programmed
+path, moves cut until the tool point stays within max_deviation (mm) of it. program: the file,
+read by mtcal's reader with the machine's axis letters (no work offsets or tool table given;
+LinuxCNC's interpreter is the command's). Corrected in place when each block is one move in
+program coordinates, else every move written anew (expanded). origin: program zero in machine axis
+positions {"X": 100, ...} (mm, deg); decimals: digits written after the point; directions=False:
+as --no-direction, orientation=False: as --no-orientation. Returns CorrectedGcode: text,
+expanded, warnings, write(path), to_dict(out).)");
   m.def("toolpath", &toolpath, "machine"_a, "program"_a, py::kw_only(), "step"_a = 0.5, "angle_step"_a = 0.5,
         "skip_rapids"_a = false, "origin"_a = py::none(), "directions"_a = true, "travel_check"_a = true,
         "threads"_a = 0,

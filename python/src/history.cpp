@@ -7,6 +7,7 @@
 #include "results.hpp"
 #include "mtcal/evaluation/metadata.hpp"
 #include "mtcal/history/analysis.hpp"
+#include "mtcal/io/history/import_files.hpp"
 #include "mtcal/io/history/queries.hpp"
 #include "mtcal/io/history/store.hpp"
 #include "mtcal/io/json/history_json.hpp"
@@ -244,18 +245,22 @@ tolerances (µm) of the figures. Returns HistoryTrends (to_dict(), write_report(
           "nothing; returns the line count), or returned as text without a path.")
       .def(
           "import_",
-          [](const PyStore& s, const std::string& path) {
-            std::istringstream in(read_text_file(path, "history import"));
-            const ImportSummary sum = import_jsonl(*s, in, path);
-            py::dict d;
-            d["records_added"] = sum.records;
-            d["events_added"] = sum.events;
-            d["skipped"] = sum.skipped;
-            return d;
+          [](const PyStore& s, py::handle files, const std::string& command, py::handle metadata) {
+            std::vector<std::string> paths;
+            if (py::isinstance<py::str>(files))
+              paths.push_back(files.cast<std::string>());
+            else
+              paths = files.cast<std::vector<std::string>>();
+            return to_py(to_json(import_files(*s, paths, command, metadata_map(metadata)), (*s).describe()));
           },
-          "path"_a,
-          "Imports what export wrote (a .jsonl file) in one transaction, as `mtcal history import FILE.jsonl`: "
-          "ids kept, records stored already skipped. {records_added, events_added, skipped}.")
+          "files"_a, py::kw_only(), "command"_a = "", "metadata"_a = py::none(),
+          R"(Imports files as `mtcal history import FILE... --json` does: result JSON files (what a command's
+--json printed; command: the command that made them, or "" to tell it from their keys: iso230-2,
+ballbar, volumetric, identify), instrument files of positioning runs (evaluated to ISO 230-2)
+and JSON-lines exports (*.jsonl, what export wrote: ids kept). files: a path or a list of
+paths; metadata: the test's fields, over what the files say (machine, date ...; --meta). Every
+result file is read before anything is stored; records stored already (same content hash) are
+skipped and listed. Returns {store, records_added, events_added, skipped, records: [{file, id}]}.)")
       .def(
           "close", [](PyStore& s) { s.store.reset(); }, "Closes the connection (also when the object goes).")
       .def("__enter__", [](PyStore& s) -> PyStore& { return s; }, py::return_value_policy::reference)

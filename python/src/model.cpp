@@ -1,5 +1,5 @@
-// Python bindings of the model and the kinematics: Machine, MachineBuilder, ErrorModel, evaluate, jacobian, effects,
-// machine and parameter files, joint values and configuration files.
+// Python bindings of the model and the kinematics: Machine, MachineBuilder, ErrorModel, evaluate, eval's run,
+// jacobian, effects, machine and parameter files, joint values and configuration files.
 #include <algorithm>
 #include <chrono>
 #include <numbers>
@@ -143,6 +143,61 @@ py::array_t<double> evaluate(py::handle model_obj, py::handle configs, py::handl
     model.evaluate_batch(q.span(), d.span(), std::span<double>(o, q.rows * 6), BatchOptions{threads});
   }
   return out;
+}
+
+// mtcal eval --points / --grid: every configuration's error, the summary the command prints and what
+// its report shows.
+struct EvaluationRun {
+  Machine machine;
+  StreamSummary summary;
+  std::vector<double> q, error;   // N x k (internal units), N x 6
+  std::vector<std::int8_t> dir;   // N x k, or empty
+  std::string points_file, grid;  // what the report names as the configurations' source
+};
+
+EvaluationRun evaluate_configurations(const Machine& m, py::handle configs, py::handle directions, py::handle grid,
+                                      const std::string& points, bool travel_check, int threads) {
+  const int given = (configs.is_none() ? 0 : 1) + (grid.is_none() ? 0 : 1) + (points.empty() ? 0 : 1);
+  if (given != 1) throw py::value_error("expected exactly one of configs, grid, points");
+  if (!directions.is_none() && configs.is_none())
+    throw py::value_error("directions: expected configs beside them (a points file has its own)");
+  const std::size_t k = m.axes.size();
+  EvaluationRun r{m, {}, {}, {}, {}, points, ""};
+  ConfigurationList list;
+  GridValues values;
+  if (!points.empty()) {
+    list = read_configurations(m, points, travel_check);
+  } else if (!grid.is_none()) {
+    values = grid_values(m, grid, "grid");
+    check_grid(m, values, "grid", travel_check, 200'000'000);
+    if (py::isinstance<py::str>(grid)) r.grid = grid.cast<std::string>();
+  } else {
+    const Rows q = as_rows(configs, "configs", k, false);
+    Directions d;
+    if (!directions.is_none()) d = as_directions(directions, "directions", q.rows, k, false);
+    if (travel_check) check_travel(m, q);
+    list.axes = k;
+    list.q.assign(q.data, q.data + q.rows * k);
+    list.dir.assign(d.data, d.data + d.size);
+    list.lines.assign(q.rows, 0);
+  }
+  const auto source = grid.is_none() ? ConfigurationSource::list(list) : ConfigurationSource::grid(values);
+  const ErrorModel model(m);
+  r.q.reserve(source.size() * k);
+  r.error.reserve(source.size() * 6);
+  if (source.has_directions()) r.dir.reserve(source.size() * k);
+  StreamOptions so;  // the command's chunks and grid kernel: the same numbers as `mtcal eval`
+  so.threads = threads;
+  LongCall release;  // without the GIL, stoppable with Ctrl-C
+  r.summary = evaluate_stream(
+      model, source,
+      [&](const ErrorChunk& c) {
+        r.q.insert(r.q.end(), c.q.begin(), c.q.end());
+        r.dir.insert(r.dir.end(), c.dir.begin(), c.dir.end());
+        r.error.insert(r.error.end(), c.error.begin(), c.error.end());
+      },
+      so);
+  return r;
 }
 
 py::array_t<double> jacobian(py::handle model_obj, py::handle configs, py::handle directions, int threads) {
@@ -657,6 +712,42 @@ polynomial=[c0, c1, c2, c3] (E = sum c_i q^i, + reversal * sign of the motion), 
           "q"_a, "Tool pose in the workpiece frame without errors: 4x4 (mm).")
       .def("__repr__", [](const ErrorModel& em) { return "<mtcal.ErrorModel of '" + em.machine().name + "'>"; });
 
+  py::class_<EvaluationRun>(m, "EvaluationRun",
+                            "Every configuration's error with the summary of mtcal eval --points / --grid.")
+      .def(
+          "_write_report",
+          [](const EvaluationRun& r, const std::string& path, const std::string& command) {
+            const ErrorModel model(r.machine);
+            const std::size_t k = r.machine.axes.size();
+            ErrorStreamReport report(model, r.summary.count);
+            report.add(ErrorChunk{0, k, r.q, r.dir, r.error});
+            report.write(path, {command, {}, r.points_file, r.grid});
+          },
+          "path"_a, "command"_a)
+      .def_property_readonly(
+          "configs", [](const EvaluationRun& r) { return to_array(r.q, r.machine.axes.size()); },
+          "(N, k) joint values, internal units, in the command's order (a grid: last axis fastest)")
+      .def_property_readonly("directions",
+                             [](const EvaluationRun& r) -> py::object {
+                               if (r.dir.empty()) return py::none();
+                               return to_int8_array(r.dir, r.machine.axes.size());
+                             })
+      .def_property_readonly(
+          "errors", [](const EvaluationRun& r) { return to_array(r.error, 6); }, "(N, 6) dx dy dz (mm) rx ry rz (rad)")
+      .def("__len__", [](const EvaluationRun& r) { return r.summary.count; })
+      .def(
+          "to_dict", [](const EvaluationRun& r) { return to_py(to_json(r.machine, r.summary)); },
+          "As `mtcal eval --points/--grid --json`: configurations, seconds, max_translation {value (mm), at}, "
+          "max_rotation {value (rad), at} (at in mm and deg).");
+  m.def("evaluate_configurations", &evaluate_configurations, "machine"_a, "configs"_a = py::none(),
+        "directions"_a = py::none(), py::kw_only(), "grid"_a = py::none(), "points"_a = "", "travel_check"_a = false,
+        "threads"_a = 0,
+        R"(The volumetric error at every configuration of configs (N, k) in internal units (with
+optional directions), of a grid (the command's text "X=0:500:21,..." in mm and deg, or a dict
+letter -> values in internal units) or of a points file (read_configurations' CSV), as `mtcal
+eval --points/--grid`: EvaluationRun with configs, directions, errors (N, 6), to_dict() = the
+command's --json, and write_report(run, path) = --report. Keeps every error in memory; evaluate()
+is the array-only path.)");
   m.def("evaluate", &evaluate, "model"_a, "configs"_a, "directions"_a = py::none(), py::kw_only(), "threads"_a = 0,
         "travel_check"_a = false, "out"_a = py::none(), kEvaluateDoc);
   // The C++ batch call alone, timed in C++ on copies of the inputs into std::vectors and a reused

@@ -1,10 +1,12 @@
 // Python bindings of prediction (Yaqoob 2017 regressions, prediction models, separation, process error) and of the
-// compensation targets' registry; their files.
+// compensation targets' registry and the simulated LinuxCNC probe; their files.
 #include <map>
+#include <optional>
 
 #include "common.hpp"
 #include "mtcal/compensation/compensation.hpp"
 #include "mtcal/compensation/tables.hpp"
+#include "mtcal/io/compensation/linuxcnc_probe.hpp"
 #include "mtcal/io/compensation/output.hpp"
 #include "mtcal/io/compensation/output_json.hpp"
 #include "mtcal/io/text/csv.hpp"
@@ -89,9 +91,18 @@ py::array_t<double> rows_array(const std::vector<std::vector<double>>& rows, std
 struct Regression {
   ModelComparison comparison;
   std::size_t n = 0;
+  std::vector<double> x, y;  // the data, for the report
+  std::string file, x_name = "x", y_name = "y";
 };
 
 struct Compensated {
+  TargetOutput output;
+};
+
+// mtcal linuxcnc-probe: the simulated probe's files with what its summary names.
+struct ProbeComponent {
+  Machine machine;  // the truth
+  LinuxcncProbeOptions options;
   TargetOutput output;
 };
 
@@ -142,25 +153,35 @@ void bind_prediction_compensation(py::module_& m) {
                              [](const Regression& r) { return r.comparison.fits.at(r.comparison.by_loocv.at(0)); })
       .def(
           "to_dict",
-          [](const Regression& r, const std::string& file, const std::string& x, const std::string& y) {
-            return to_py(to_json(r.comparison, file, x, y, r.n));
+          [](const Regression& r, const std::optional<std::string>& file, const std::optional<std::string>& x,
+             const std::optional<std::string>& y) {
+            return to_py(to_json(r.comparison, file.value_or(r.file), x.value_or(r.x_name), y.value_or(r.y_name), r.n));
           },
-          "file"_a = "", "x"_a = "x", "y"_a = "y", "As `mtcal regress --json` (file, x, y name the data).");
+          "file"_a = py::none(), "x"_a = py::none(), "y"_a = py::none(),
+          "As `mtcal regress --json` (file, x, y name the data; default: as given to compare_models).")
+      .def(
+          "_write_report",
+          [](const Regression& r, const std::string& path, const std::string& command) {
+            regression_report(r.comparison, r.x, r.y, r.file, r.x_name, r.y_name, command).write(path);
+          },
+          "path"_a, "command"_a);
   m.def(
       "compare_models",
-      [](py::handle x, py::handle y, const std::string& models) {
+      [](py::handle x, py::handle y, const std::string& models, const std::string& file, const std::string& x_name,
+         const std::string& y_name) {
         const auto specs = parse_model_specs(models, "models");
-        const auto xs = as_std_vector(x, "x");
-        const auto ys = as_std_vector(y, "y", xs.size());
-        Regression r{compare_models(specs, xs, ys), xs.size()};
+        auto xs = as_std_vector(x, "x");
+        auto ys = as_std_vector(y, "y", xs.size());
+        Regression r{compare_models(specs, xs, ys), xs.size(), std::move(xs), std::move(ys), file, x_name, y_name};
         if (r.comparison.fits.empty())
           throw Error("no model could be fitted: " +
                       (r.comparison.skipped.empty() ? std::string() : r.comparison.skipped[0].reason));
         return r;
       },
-      "x"_a, "y"_a, py::kw_only(), "models"_a = "all",
+      "x"_a, "y"_a, py::kw_only(), "models"_a = "all", "file"_a = "", "x_name"_a = "x", "y_name"_a = "y",
       "Fits every form of models ('all' or a comma list of labels) and ranks them by backward prediction and "
-      "leave-one-out error. As `mtcal regress`.");
+      "leave-one-out error. As `mtcal regress`. file, x_name, y_name: what to_dict() and write_report name as the "
+      "data (the data file, hashed into the report, and its columns).");
 
   // ---------------------------------------------------------------- prediction models
   py::class_<PredictionModel>(m, "PredictionModel", "A workpiece error prediction model (YAML, docs/prediction.md).")
@@ -377,6 +398,46 @@ void bind_prediction_compensation(py::module_& m) {
       .def(
           "to_dict", [](const TargetOutput& o) { return to_py(to_json(o)); },
           "The summary as `mtcal compensate --json`.");
+  py::class_<ProbeComponent>(m, "LinuxcncProbe", "The simulated touch probe for LinuxCNC (mtcal linuxcnc-probe).")
+      .def_property_readonly(
+          "files",
+          [](const ProbeComponent& p) {
+            py::dict d;
+            for (const auto& f : p.output.files) d[py::str(f.name)] = f.text;
+            return d;
+          },
+          "file name -> text (mtcal_probe.c, build.sh, linuxcnc-probe.hal, README.txt)")
+      .def_property_readonly("component", [](const ProbeComponent& p) { return p.options.component_name; })
+      .def(
+          "write", [](const ProbeComponent& p, const std::string& dir) { write_target_output(dir, p.output); }, "dir"_a,
+          "Writes the files into dir (new or empty): all of them or none, as --out.")
+      .def(
+          "to_dict",
+          [](const ProbeComponent& p, const std::string& out) {
+            return to_py(linuxcnc_probe_json(p.machine, p.options, p.output, out));
+          },
+          "out"_a = "", "As `mtcal linuxcnc-probe --json` (out: the directory written, as --out).");
+  m.def(
+      "linuxcnc_probe",
+      [](const Machine& mm, py::handle spheres, double sphere_diameter, double stylus_diameter) {
+        const Rows c = as_rows(spheres, "spheres", 3, true);
+        ProbeComponent p{mm, {}, {}};
+        p.options.stylus_diameter = stylus_diameter;
+        for (std::size_t i = 0; i < c.rows; ++i) {
+          SimulatedSphere sp;
+          sp.centre = Vec3(c.data[3 * i], c.data[3 * i + 1], c.data[3 * i + 2]);
+          sp.diameter = sphere_diameter;
+          p.options.spheres.push_back(sp);
+        }
+        p.output = linuxcnc_probe_output(mm, p.options);
+        return p;
+      },
+      "machine"_a, "spheres"_a, py::kw_only(), "sphere_diameter"_a = 25.4, "stylus_diameter"_a = 3.0,
+      R"(A simulated touch probe for LinuxCNC, as `mtcal linuxcnc-probe`: the HAL component (C,
+halcompile) that sets motion.probe-input while the stylus tip of machine (its errors are the
+truth the probe sees) touches a sphere. spheres: centres (S, 3) or one (3,), mm in the machine's
+workpiece frame (1 to 16); diameters in mm. Returns LinuxcncProbe: files, write(dir), to_dict().
+docs/planning.md.)");
   m.def(
       "compensation_targets",
       []() {

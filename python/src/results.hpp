@@ -5,6 +5,8 @@
 #include <string>
 
 #include "mtcal/evaluation/ballbar.hpp"
+#include "mtcal/evaluation/metadata.hpp"
+#include "mtcal/evaluation/tolerance.hpp"
 #include "mtcal/history/analysis.hpp"
 #include "mtcal/history/record.hpp"
 
@@ -25,6 +27,14 @@ struct HistoryTrends {
   MachineTrends trends;
   std::vector<CalibrationRecord> records;
   std::string store;  // the store's description
+};
+
+// What evaluate_tolerances returns (AcceptanceVerdict): the verdict with the metadata it was
+// judged under; write_report shows it on the reports that have a verdict.
+struct Acceptance {
+  ToleranceVerdict verdict;
+  ReportMetadata metadata;
+  AcceptanceTest test = AcceptanceTest::None;
 };
 
 }  // namespace mtcal::python

@@ -33,7 +33,7 @@ Report regression_report(const ModelComparison& c, std::span<const double> x, st
   const FitResult& bb = c.fits[c.by_backward[0]];
   const FitResult& bl = c.fits[c.by_loocv[0]];
   Report r("Regression: " + y_name + " vs " + x_name, command);
-  r.add_input("data", file);
+  if (!file.empty()) r.add_input("data", file);
   r.add_figure("points", fmt::format("{}", x.size()), "");
   r.add_figure("best by backward prediction (sec. 3.8)", bb.model.spec.label(),
                fmt::format("mean |diff| {}", significant6(bb.backward.mean)));

@@ -56,7 +56,7 @@ void write_toolpath_report(const std::string& file, const ErrorModel& model, con
   const std::size_t n = m.axes.size();
   Report r("Tool-path simulation: " + o.program, sources.command);
   r.set_machine(m);
-  r.add_input("G-code program", o.program);
+  if (o.program_file) r.add_input("G-code program", o.program);
   for (const auto& f : sources.parameter_files) r.add_input("parameter file", f);
   r.add_figure("points", fmt::format("{}", sum.points),
                fmt::format("along {} blocks, every ≤ {:g} mm", sum.blocks, o.step));

@@ -87,7 +87,7 @@ expect_exit 0 "import again" -- "$MTCAL" history import "$tmp/x.json" --store "$
   --meta date=2026-10-01
 grep -q "skipped  .*x.json: duplicate of record" "$tmp/out" && grep -q "^0 record(s) added" "$tmp/out" && ok || bad "import duplicate: $(cat "$tmp/out")"
 echo '{"hello": 1}' >"$tmp/what.json"
-expect_error "import unknown JSON" "give --command NAME" -- "$MTCAL" history import "$tmp/x.json" "$tmp/what.json" \
+expect_error "import unknown JSON" "give the command that made it (--command)" -- "$MTCAL" history import "$tmp/x.json" "$tmp/what.json" \
   --store "$tmp/imp2.db" --meta machine=M
 [ ! -e "$tmp/imp2.db" ] || [ "$(count "$tmp/imp2.db")" = 0 ] && ok || bad "a failed import stored records"
 

@@ -16,8 +16,8 @@ std::string fit_parameters_text(const FitResult& f);
 // 6 significant digits, "-" where not finite.
 std::string significant6(double v);
 
-// The data with every fitted curve and the table of criteria. file: the data file (hashed);
-// x_name, y_name: its columns.
+// The data with every fitted curve and the table of criteria. file: the data file (hashed; empty:
+// data given in memory, no file named); x_name, y_name: its columns.
 Report regression_report(const ModelComparison& c, std::span<const double> x, std::span<const double> y,
                          const std::string& file, const std::string& x_name, const std::string& y_name,
                          const std::string& command);

@@ -32,6 +32,7 @@ struct ToolpathReportInputs {
   std::string program;  // the G-code file
   double step = 0;      // mm, as simulated
   bool skip_rapids = false, directions = true;
+  bool program_file = true;  // false: a program read from text in memory, named but not hashed
 };
 
 void write_toolpath_report(const std::string& file, const ErrorModel& model, const ToolpathSummary& summary,

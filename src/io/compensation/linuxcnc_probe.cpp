@@ -208,4 +208,21 @@ std::vector<TargetFile> linuxcnc_probe_files(const LinuxcncKins& truth, const Li
   return files;
 }
 
+TargetOutput linuxcnc_probe_output(const Machine& truth, const LinuxcncProbeOptions& o) {
+  TargetOutput out;
+  out.files = linuxcnc_probe_files(linuxcnc_kins_model(truth, o.component_name), o);
+  return out;
+}
+
+Json linuxcnc_probe_json(const Machine& truth, const LinuxcncProbeOptions& o, const TargetOutput& out,
+                         const std::string& dir) {
+  Json j;
+  j["machine"] = truth.name;
+  j["component"] = o.component_name;
+  j["spheres"] = o.spheres.size();
+  j["out"] = dir;
+  for (const auto& f : out.files) j["files"].push_back(f.name);
+  return j;
+}
+
 }  // namespace mtcal

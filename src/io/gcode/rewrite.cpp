@@ -428,4 +428,22 @@ std::string write_expanded_gcode(std::span<const CorrectedMove> moves, const Gco
   return out;
 }
 
+CorrectedProgram corrected_program(const Machine& m, const GcodeProgram& program, std::string_view text,
+                                   std::span<const CorrectedMove> moves, const GcodeRewriteOptions& rewrite) {
+  CorrectedProgram c;
+  c.expanded = program.interpreter != "mtcal" || program.counts.expanded_blocks > 0 || program.counts.offset_blocks > 0;
+  std::string axes;
+  for (const auto& ax : m.axes) axes += ax.letter;
+  if (c.expanded) {
+    c.text = write_expanded_gcode(moves, program, axes,
+                                  fmt::format("mtcal compensate --gcode: corrected for machine {}", m.name), rewrite,
+                                  &c.summary);
+  } else {
+    GcodeOptions go;
+    go.axes = axes;
+    c.text = rewrite_gcode(text, program.source, go, moves, rewrite, &c.summary);
+  }
+  return c;
+}
+
 }  // namespace mtcal

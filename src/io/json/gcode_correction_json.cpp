@@ -31,4 +31,18 @@ Json to_json(const GcodeRewriteSummary& s) {
   return j;
 }
 
+Json to_json(const Machine& m, const std::string& program, const std::string& interpreter,
+             const GcodeCorrectionResult& r, const CorrectedProgram& c, double seconds, const std::string& out) {
+  Json j;
+  j["machine"] = m.name;
+  j["program"] = program;
+  j["interpreter"] = interpreter;
+  j["written"] = c.expanded ? "expanded" : "in_place";
+  j["correction"] = to_json(r);
+  j["rewrite"] = to_json(c.summary);
+  j["seconds"] = seconds;
+  j["out"] = out;
+  return j;
+}
+
 }  // namespace mtcal

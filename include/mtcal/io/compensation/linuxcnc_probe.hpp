@@ -6,6 +6,7 @@
 
 #include "mtcal/compensation/linuxcnc_kins.hpp"
 #include "mtcal/io/compensation/output.hpp"
+#include "mtcal/io/json/json.hpp"
 #include "mtcal/model/machine.hpp"
 
 namespace mtcal {
@@ -39,5 +40,15 @@ std::string linuxcnc_probe_source(const LinuxcncKins& truth, const LinuxcncProbe
 // Every file: <name>.c, build.sh (halcompile --install), linuxcnc-probe.hal (loadrt, addf before
 // the motion controller, the joint and probe nets), README.txt.
 std::vector<TargetFile> linuxcnc_probe_files(const LinuxcncKins& truth, const LinuxcncProbeOptions& o);
+
+// The files of `mtcal linuxcnc-probe`: linuxcnc_probe_files of the truth machine's chain
+// (linuxcnc_kins_model named by the component), to be written with write_target_output. Throws as
+// linuxcnc_kins_model and linuxcnc_probe_source do.
+TargetOutput linuxcnc_probe_output(const Machine& truth, const LinuxcncProbeOptions& o);
+
+// {"machine", "component", "spheres" (their count), "out", "files": [name ...]}: the summary
+// `mtcal linuxcnc-probe --json` prints (out: the directory written).
+Json linuxcnc_probe_json(const Machine& truth, const LinuxcncProbeOptions& o, const TargetOutput& out,
+                         const std::string& dir);
 
 }  // namespace mtcal

@@ -50,4 +50,13 @@ std::string write_expanded_gcode(std::span<const CorrectedMove> moves, const Gco
                                  const std::string& axes, const std::string& title,
                                  const GcodeRewriteOptions& rewrite = {}, GcodeRewriteSummary* summary = nullptr);
 
+// The corrected program of `mtcal compensate --gcode` (docs/compensation-gcode.md): `text`, the
+// program file that `program` was read from with the machine's axis letters, with new coordinates
+// (rewrite_gcode) when mtcal's reader read it and each block is its one move in program
+// coordinates (no block expanded into several moves, no work offset or tool length in effect);
+// else every move written anew (write_expanded_gcode) under a title naming the machine. `text`
+// is read only in the first case. Throws as rewrite_gcode does.
+CorrectedProgram corrected_program(const Machine& m, const GcodeProgram& program, std::string_view text,
+                                   std::span<const CorrectedMove> moves, const GcodeRewriteOptions& rewrite = {});
+
 }  // namespace mtcal

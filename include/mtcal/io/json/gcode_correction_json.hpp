@@ -15,4 +15,10 @@ Json to_json(const GcodeCorrectionResult& r);
 // {"lines_in", "lines_changed", "lines_added"}
 Json to_json(const GcodeRewriteSummary& s);
 
+// The summary `mtcal compensate --gcode --json` prints: {"machine", "program" (the file),
+// "interpreter" (who read it: "mtcal" or "rs274"), "written" ("expanded" or "in_place"),
+// "correction", "rewrite", "seconds", "out" (the file written)}.
+Json to_json(const Machine& m, const std::string& program, const std::string& interpreter,
+             const GcodeCorrectionResult& r, const CorrectedProgram& c, double seconds, const std::string& out);
+
 }  // namespace mtcal
