@@ -1,7 +1,8 @@
 // A bounded load test of mtcal serve on loopback (issue 32): a SQLite store of MACHINES x MONTHS
 // records (default 1,000 x 120 = 120,000, as bench_history), the server in this process, then
 //  1. the fleet page alone, one client, sequential: p50/p99, against the login page (no store
-//     access) in the same run as the baseline;
+//     access) in the same run as the baseline; then as a browser asks for it (compressed), and
+//     right after each of 20 new records of ranked machines (the ranking follows each);
 //  2. CLIENTS concurrent clients (each logged in with its own session) sending REQUESTS requests
 //     in all, mixed: fleet page, machine page, machine JSON, uploads of the real ISO 230-2 file
 //     (recorded); p50/p99 per kind, errors, and the check that nothing was lost (records of the
@@ -19,6 +20,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <regex>
@@ -138,19 +140,27 @@ int main(int argc, char** argv) {
 
   // 1. The fleet page alone, against the login page.
   const Session main_session = login(port, "load", "load-test-password");
-  auto timed = [&](const std::string& path, int n, const Session* s) {
+  // before(i): run before request i, untimed (a write by another program).
+  auto timed = [&](const std::string& path, int n, const Session* s, const std::string& accept_encoding = {},
+                   const std::function<void(int)>& before = {}) {
     httplib::Client c("127.0.0.1", port);
     c.set_connection_timeout(10, 0);
     c.set_read_timeout(120, 0);
     std::vector<double> ms;
     httplib::Headers h;
     if (s) h = {{"Cookie", "mtcal_session=" + s->cookie}};
+    if (!accept_encoding.empty()) h.emplace("Accept-Encoding", accept_encoding);
+    std::string encoding;
     for (int i = 0; i < n; ++i) {
+      if (before) before(i);
       const auto t = Clock::now();
       const auto r = c.Get(path, h);
       ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t).count());
       if (!r || r->status != 200) std::printf("  %s: status %d\n", path.c_str(), r ? r->status : -1);
+      if (r) encoding = r->get_header_value("Content-Encoding");
     }
+    if (!accept_encoding.empty()) std::printf("  (Accept-Encoding: %s; answered Content-Encoding: %s)\n",
+                                              accept_encoding.c_str(), encoding.empty() ? "none" : encoding.c_str());
     return ms;
   };
   const auto login_ms = timed("/login", 200, nullptr);
@@ -159,6 +169,20 @@ int main(int argc, char** argv) {
   std::printf("fleet page (%d machines): p50 %.1f ms, p99 %.1f ms (%.0fx the login page's p50)\n", machines,
               percentile(fleet_ms, 0.5), percentile(fleet_ms, 0.99),
               percentile(fleet_ms, 0.5) / std::max(1e-9, percentile(login_ms, 0.5)));
+  // The fleet page as a browser asks for it: Chromium and Firefox accept gzip and brotli.
+  const auto browser_ms = timed("/fleet", 20, &main_session, "gzip, deflate, br");
+  std::printf("fleet page, compressed as a browser accepts it: p50 %.1f ms, p99 %.1f ms\n", percentile(browser_ms, 0.5),
+              percentile(browser_ms, 0.99));
+  // The fleet page after each of 20 new records of fleet machines (written by another program,
+  // as `mtcal ... --record` would): the ranking follows each of them.
+  {
+    auto writer = open_history_store(conn);
+    const auto after_ms = timed("/fleet", 20, &main_session, {}, [&](int i) {
+      writer->record(result((i * 37) % machines, months + i));
+    });
+    std::printf("fleet page after each new record of a ranked machine: p50 %.1f ms, p99 %.1f ms\n",
+                percentile(after_ms, 0.5), percentile(after_ms, 0.99));
+  }
 
   // 2. Mixed load.
   auto store = open_history_store(conn);

@@ -409,16 +409,27 @@ TrendResult fit_sorted(const std::vector<TrendSample>& samples, const std::optio
 
 // ---------------------------------------------------------------------------------------------
 
-FleetRanking rank_fleet(const std::vector<RankSeries>& series, const RankOptions& o) {
-  std::vector<TrendResult> fits(series.size());
-  for (const auto& s : series)
-    if (s.samples.empty())
-      throw InputError({s.machine, 0, s.quantity},
-                       "machine " + printable(s.machine) + ": no samples of " + printable(s.quantity));
-  parallel_for(series.size(), o.threads, [&](std::size_t i, std::size_t) {
-    fits[i] = fit_trend(series[i].samples, series[i].band, o.trend, series[i].machine + " " + series[i].quantity);
-  });
+namespace {
+void check_rank_samples(const RankSeries& s) {
+  if (s.samples.empty())
+    throw InputError({s.machine, 0, s.quantity}, "machine " + printable(s.machine) + ": no samples of " + printable(s.quantity));
+}
+}  // namespace
 
+FittedSeries fit_rank_series(const RankSeries& s, const TrendOptions& o) {
+  check_rank_samples(s);
+  return {s.machine, s.quantity, s.unit, fit_trend(s.samples, s.band, o, s.machine + " " + s.quantity)};
+}
+
+FleetRanking rank_fleet(const std::vector<RankSeries>& series, const RankOptions& o) {
+  for (const auto& s : series) check_rank_samples(s);  // before any fit, as before
+  std::vector<FittedSeries> fitted(series.size());
+  parallel_for(series.size(), o.threads,
+               [&](std::size_t i, std::size_t) { fitted[i] = fit_rank_series(series[i], o.trend); });
+  return rank_fitted(fitted, o);
+}
+
+FleetRanking rank_fitted(const std::vector<FittedSeries>& series, const RankOptions& o) {
   std::map<std::string, std::size_t> index;  // machine -> position in the result
   FleetRanking out;
   out.options = o;
@@ -429,7 +440,7 @@ FleetRanking rank_fleet(const std::vector<RankSeries>& series, const RankOptions
       out.machines.back().machine = series[i].machine;
     }
     RankedMachine& m = out.machines[it->second];
-    const TrendResult& f = fits[i];
+    const TrendResult& f = series[i].trend;
     std::optional<double> years;
     if (f.crossing.status == CrossingStatus::AlreadyOutside)
       years = 0.0;

@@ -83,6 +83,18 @@ std::string cookie_value(const httplib::Request& req, const std::string& name) {
   return {};
 }
 
+// httplib compresses a response body whenever the client accepts it, with brotli at its default
+// quality (11) when "br" is accepted, as every browser does: the fleet page of 1,000 machines
+// then took 3.9 s (p50) instead of 65 ms (bench/serve_load.cpp). httplib compresses bodies and
+// chunked content providers only, so the pages and the API's JSON go as a provider of known
+// length, uncompressed (a plant's reverse proxy may compress them).
+void send_uncompressed(httplib::Response& res, std::string body, const char* type) {
+  auto text = std::make_shared<const std::string>(std::move(body));
+  res.set_content_provider(text->size(), type, [text](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+    return sink.write(text->data() + offset, length);
+  });
+}
+
 // An error that becomes an HTTP status with one line of text (or {"error": ...} for the API).
 struct HttpError {
   int status;
@@ -234,21 +246,12 @@ struct Server::Impl {
   std::map<std::string, PendingUpload> pending;
   std::string dummy_hash;  // verified against for unknown users: a failed login costs the same time
   bool tls = false;
-  // The fleet's ranking: tolerances (ServerOptions) and the last ranking with the store state it
-  // was made for (the latest records and their counts): made again only when a record came.
-  std::optional<ToleranceFile> tolerance_file;
-  std::vector<HistoryTolerance> tolerance_specs;
-  // Per machine and quantity its series with band (or why it is left out) and the machine's
-  // latest records it was read for: a new record re-reads the series of its machine only.
-  struct CachedSeries {
-    std::string machine_state;
-    std::optional<RankSeries> series;
-    std::string note;
-  };
+  // The fleet's ranking (ServerOptions' tolerances; none: no ranking) and its JSON, made again
+  // when the ranker's ranking is a new one.
+  std::unique_ptr<FleetRanker> ranker;
   std::mutex rank_mutex;
-  std::string rank_key, rank_wanted_key;
+  std::shared_ptr<const FleetRanker::Ranking> rank_source;
   std::shared_ptr<const Json> rank_cache;
-  std::map<std::pair<std::string, std::string>, CachedSeries> series_cache;
   // run() and stop() (Server::stop says why they need more than httplib's own).
   enum class RunState { NotStarted, Starting, Returned };
   std::mutex run_mutex;
@@ -274,9 +277,14 @@ struct Server::Impl {
       http = std::make_unique<httplib::Server>();
     }
     dummy_hash = hash_password("not a password of anyone", opt.kdf_cost);
-    if (!opt.tolerance_file.empty()) tolerance_file = read_tolerance_file(opt.tolerance_file);
-    // "Q=V" or "Q=LO:HI" as `mtcal history rank --tolerance` reads them.
-    tolerance_specs = parse_history_tolerances(opt.tolerances, "tolerance");
+    // "Q=V" or "Q=LO:HI" as `mtcal history rank --tolerance` reads them; the file read here.
+    RankRequest rank_request;
+    rank_request.tolerances = parse_history_tolerances(opt.tolerances, "tolerance");
+    rank_request.tolerance_file = opt.tolerance_file;
+    rank_request.options.threads = 1;  // a request thread: the other threads serve other requests
+    rank_request.tolerance_source = "tolerance";
+    if (!rank_request.tolerances.empty() || !rank_request.tolerance_file.empty())
+      ranker = std::make_unique<FleetRanker>(std::move(rank_request), true);
     const int threads = std::max(1, opt.threads);
     http->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
     http->set_payload_max_length(opt.max_upload);
@@ -309,9 +317,9 @@ struct Server::Impl {
     register_routes();
     // The fleet's ranking made once here (about a second for 1,000 machines on a loaded 2-core
     // machine), so that no request pays for it; afterwards a new record re-reads its machine only.
-    if (tolerance_file || !tolerance_specs.empty()) {
+    if (ranker) {
       auto store = pool.lease();
-      ranking(*store, store->latest_calibrations());
+      ranking(*store);
     }
   }
 
@@ -420,7 +428,7 @@ struct Server::Impl {
   }
 
   static void send_json(httplib::Response& res, const Json& j) {
-    res.set_content(j.dump(2) + "\n", "application/json");
+    send_uncompressed(res, j.dump(2) + "\n", "application/json");
   }
 
   PageUser page_user(const Context* c) const {
@@ -429,106 +437,37 @@ struct Server::Impl {
             static_cast<int>(c->role) >= static_cast<int>(Role::Engineer), c->role == Role::Admin};
   }
 
-  // The fleet ranking as `mtcal history rank --json` gives it (the same series, bands and
-  // rank_fleet), by machine; null without tolerances. A series whose unit is not a length under a
-  // tolerance file's limit (µm) is left out and named in "notes". Made again only when the
-  // store's latest records changed, and then the series of the machines whose latest records
-  // changed are read again (a fleet of 1,000 machines: 1,000 series queries otherwise, about a
-  // second, after every upload).
-  std::shared_ptr<const Json> ranking(HistoryStore& store, const std::vector<LatestCalibration>& latest) {
-    if (!tolerance_file && tolerance_specs.empty()) return nullptr;
-    std::map<std::string, std::string> state;  // machine -> its latest records and their counts
-    for (const auto& l : latest) state[l.machine] += l.command + '\x1f' + l.record_id + '\x1f' + std::to_string(l.count) + '\x1e';
-    std::string states;
-    for (const auto& [m, st] : state) states += m + '\x1d' + st;
-    const std::string key = sha256_hex(states);
+  // The fleet ranking as `mtcal history rank --json` gives it (FleetRanker: rank_store's series,
+  // bands and ranking), by machine; null without tolerances. A series that history rank would
+  // refuse (a unit that is not a length under a tolerance file's limit in µm) is left out and
+  // named in "notes". The ranker reads the machines' revisions and fits again only the series of
+  // machines whose records changed since the last page (a fleet of 1,000 machines: 1,000 series
+  // read and fitted otherwise, after every upload); the JSON is made again only when it did.
+  std::shared_ptr<const Json> ranking(HistoryStore& store) {
+    if (!ranker) return nullptr;
     std::lock_guard lock(rank_mutex);  // one ranking at a time; the others wait for it
-    if (rank_cache && rank_key == key) return rank_cache;
-    struct Wanted {
-      bool figure = false;
-      ToleranceBand band;
-      bool in_micrometres = false;
-    };
-    std::map<std::string, Wanted> wanted;
-    if (tolerance_file) {
-      // The axes the store's ISO 230-2 figures name, for the file's "any" (as history rank does).
-      std::vector<std::string> axes;
-      const auto any = tolerance_file->iso230_2.find("any");
-      if (any != tolerance_file->iso230_2.end() && !any->second.limits.empty())
-        for (const char* axis : {"X", "Y", "Z", "A", "B", "C", "U", "V", "W"})
-          if (!store.latest_figure(any->second.limits.front().first + "_" + axis).empty()) axes.emplace_back(axis);
-      for (const auto& [name, band] : history_figure_bands(*tolerance_file, axes)) wanted[name] = {true, band, true};
-    }
-    for (const auto& t : tolerance_specs) {
-      const bool parameter = !store.latest_parameter(t.quantity).empty();
-      if (!parameter && store.latest_figure(t.quantity).empty()) continue;  // not recorded yet
-      wanted[t.quantity] = {!parameter, t.band(!parameter), false};
-    }
-    // Other quantities or bands (a quantity recorded for the first time): nothing cached holds.
-    std::string wanted_key;
-    for (const auto& [name, w] : wanted)
-      wanted_key += fmt::format("{}\x1f{}\x1f{}\x1f{}\x1e", name, w.figure, w.band.lo, w.band.hi);
-    if (wanted_key != rank_wanted_key) series_cache.clear();
-    rank_wanted_key = wanted_key;
-    std::map<std::pair<std::string, std::string>, CachedSeries> fresh;
-    std::vector<RankSeries> series;
-    Json notes = Json::array();
-    for (const auto& [name, w] : wanted) {
-      for (const auto& l : w.figure ? store.latest_figure(name) : store.latest_parameter(name)) {
-        const std::pair<std::string, std::string> at{l.machine, name};
-        CachedSeries c;
-        if (auto hit = series_cache.find(at); hit != series_cache.end() && hit->second.machine_state == state[l.machine]) {
-          c = std::move(hit->second);
-        } else {
-          c.machine_state = state[l.machine];
-          auto samples = w.figure ? store.figure_series(l.machine, name) : store.parameter_series(l.machine, name);
-          if (samples.empty()) continue;
-          const std::string unit = samples.front().unit;
-          ToleranceBand band = w.band;
-          const auto per = w.in_micrometres ? micrometres_per(unit) : std::optional<double>(1.0);
-          if (!per) {
-            c.note = fmt::format("{} of {}: the tolerance is a length in µm, the store keeps {} in '{}'", name, l.machine,
-                                 name, unit);
-          } else {
-            band = {band.lo / *per, band.hi / *per};
-            try {
-              QuantityTrend q = trend_from_series(name, w.figure, samples, band);  // unit checks, time order
-              c.series = RankSeries{l.machine, name, unit, std::move(q.samples), band};
-            } catch (const InputError& e) {
-              c.note = e.what();
-            }
-          }
-        }
-        if (c.series) series.push_back(*c.series);
-        if (!c.note.empty()) notes.push_back(c.note);
-        fresh.emplace(at, std::move(c));
+    const auto ranked = ranker->rank(store);
+    if (rank_cache && ranked == rank_source) return rank_cache;
+    auto out = std::make_shared<Json>(Json{{"machines", Json::object()}, {"notes", ranked->notes}});
+    const Json all = to_json(ranked->ranking);
+    for (const auto& m : all["machines"]) {
+      Json entry = m;
+      // The drift state of the deciding quantity (the first), and the earliest date a line
+      // leaves its tolerance among the machine's quantities.
+      const Json& first = m["quantities"][0];
+      entry["drift"] = first["crossing"]["status"];
+      Json date = nullptr;
+      for (const auto& q : m["quantities"]) {
+        const Json& c = q["crossing"];
+        if (c["status"] == "predicted" && c["date"].is_string() &&
+            (date.is_null() || c["date"].get<std::string>() < date.get<std::string>()))
+          date = c["date"];
       }
+      entry["out_of_tolerance_on"] = date;
+      (*out)["machines"][m["machine"].get<std::string>()] = std::move(entry);
     }
-    series_cache = std::move(fresh);
-    auto out = std::make_shared<Json>(Json{{"machines", Json::object()}, {"notes", notes}});
-    if (!series.empty()) {
-      RankOptions ro;
-      ro.threads = 1;  // a request thread: the other threads serve other requests
-      const Json all = to_json(rank_fleet(series, ro));
-      for (const auto& m : all["machines"]) {
-        Json entry = m;
-        // The drift state of the deciding quantity (the first), and the earliest date a line
-        // leaves its tolerance among the machine's quantities.
-        const Json& first = m["quantities"][0];
-        entry["drift"] = first["crossing"]["status"];
-        Json date = nullptr;
-        for (const auto& q : m["quantities"]) {
-          const Json& c = q["crossing"];
-          if (c["status"] == "predicted" && c["date"].is_string() &&
-              (date.is_null() || c["date"].get<std::string>() < date.get<std::string>()))
-            date = c["date"];
-        }
-        entry["out_of_tolerance_on"] = date;
-        (*out)["machines"][m["machine"].get<std::string>()] = entry;
-      }
-    }
+    rank_source = ranked;
     rank_cache = out;
-    rank_key = key;
     return out;
   }
 
@@ -538,7 +477,7 @@ struct Server::Impl {
     const auto latest = store.latest_calibrations();
     std::map<std::string, int> intervals;
     for (const auto& i : store.machine_intervals()) intervals[i.machine] = i.days;
-    const auto rank = ranking(store, latest);
+    const auto rank = ranking(store);
     const auto now = std::chrono::system_clock::now();
     Json machines = Json::array();
     std::string current;
@@ -807,12 +746,12 @@ struct Server::Impl {
 void Server::Impl::register_routes() {
   using Req = httplib::Request;
   using Res = httplib::Response;
-  const auto html = [](Res& res, const std::string& body) { res.set_content(body, "text/html; charset=utf-8"); };
+  const auto html = [](Res& res, std::string body) { send_uncompressed(res, std::move(body), "text/html; charset=utf-8"); };
 
   // Static assets: the reports' Plotly and the pages' script and style (no user data).
   add({"GET", "/static/plotly.min.js", Role::Viewer, true, false, ""}, [](const Req&, Res& res, const Context*) {
     const auto js = plotly_js();
-    res.set_content(js.data(), js.size(), "application/javascript");
+    send_uncompressed(res, std::string(js.data(), js.size()), "application/javascript");
     res.set_header("Cache-Control", "public, max-age=86400");
   });
   add({"GET", "/static/app.js", Role::Viewer, true, false, ""}, [](const Req&, Res& res, const Context*) {
@@ -898,7 +837,7 @@ void Server::Impl::register_routes() {
     // The report inlines Plotly and its data in <script> elements: this page alone allows inline scripts.
     res.set_header("Content-Security-Policy",
                    "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data: blob:");
-    res.set_content(trend_report_html("mtcal serve", m, records, store->describe(), now_utc_text()),
+    send_uncompressed(res, trend_report_html("mtcal serve", m, records, store->describe(), now_utc_text()),
                     "text/html; charset=utf-8");
   });
   add({"GET", "/api/machine/trend", Role::Viewer, false, true, "name=M1"},
@@ -916,7 +855,7 @@ void Server::Impl::register_routes() {
     auto store = pool.lease();
     const auto r = store->get(required(req, "id"));
     if (!r) throw HttpError{404, "no record '" + printable(req.get_param_value("id")) + "' in the store"};
-    res.set_content(record_to_json_line(*r) + "\n", "application/json");
+    send_uncompressed(res, record_to_json_line(*r) + "\n", "application/json");
   });
   add({"GET", "/diff", Role::Viewer, false, false, "a=0&b=1"}, [this, html](const Req& req, Res& res, const Context* c) {
     auto store = pool.lease();
@@ -1031,6 +970,15 @@ void Server::Impl::register_routes() {
     add_user(*store, required(req, "user"), required(req, "role"), required(req, "password"), opt.kdf_cost);
     res.status = 303;
     res.set_header("Location", "/admin/users");
+  });
+  // The users page's form for a plant's own tools: adds a user or changes one's role and password.
+  add({"POST", "/api/users", Role::Admin, false, true, ""}, [this](const Req& req, Res& res, const Context*) {
+    auto store = pool.lease();
+    const std::string name = required(req, "user");
+    add_user(*store, name, required(req, "role"), required(req, "password"), opt.kdf_cost);
+    const auto u = store->find_user(name);
+    if (!u) throw HttpError{500, "the user was not stored"};
+    send_json(res, {{"name", u->name}, {"role", u->role}, {"created_at", u->created_at}});
   });
 }
 

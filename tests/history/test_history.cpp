@@ -9,13 +9,19 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
+#include <libpq-fe.h>
+
 #include "mtcal/io/history/config.hpp"
+#include "mtcal/io/history/queries.hpp"
 #include "mtcal/io/history/store.hpp"
+#include "mtcal/io/json/history_json.hpp"
 #include "pg_server.hpp"
 #include "temp_dir.hpp"
 
@@ -367,6 +373,154 @@ TEST_P(Store, AccountsSessionsAndAudit) {
   EXPECT_EQ(store_->latest_calibrations().size(), 1u);
 }
 
+// Runs SQL on the store's database behind the store's back (a test that takes a store back to
+// an older schema): sqlite3 or libpq.
+void raw_sql(const std::string& conn, const std::string& sql) {
+  if (conn.rfind("sqlite:", 0) == 0) {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(conn.substr(7).c_str(), &db), SQLITE_OK);
+    char* err = nullptr;
+    const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err);
+    EXPECT_EQ(rc, SQLITE_OK) << (err ? err : "") << ": " << sql;
+    sqlite3_free(err);
+    sqlite3_close(db);
+    return;
+  }
+  PGconn* db = PQconnectdb(conn.c_str());
+  ASSERT_EQ(PQstatus(db), CONNECTION_OK) << PQerrorMessage(db);
+  PGresult* r = PQexec(db, sql.c_str());
+  EXPECT_EQ(PQresultStatus(r), PGRES_COMMAND_OK) << PQerrorMessage(db) << ": " << sql;
+  PQclear(r);
+  PQfinish(db);
+}
+
+std::map<std::string, long long> revisions(HistoryStore& s) {
+  std::map<std::string, long long> out;
+  for (const auto& r : s.machine_revisions()) out[r.machine] = r.revision;
+  return out;
+}
+
+// A machine's revision rises with every write of its records (a record, a batch by its count, a
+// removal), not with events, duplicates or a removal of nothing; other machines' stay.
+TEST_P(Store, MachineRevisionsRiseWithEveryWriteOfItsRecords) {
+  EXPECT_TRUE(store_->machine_revisions().empty());
+  const std::string first = store_->record(sample("M1", "2026-01-01", 1, 1));
+  EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 1}}));
+  store_->record_all({sample("M1", "2026-02-01", 2, 2), sample("M1", "2026-03-01", 3, 3), sample("M2", "2026-01-01", 1, 4)});
+  EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 3}, {"M2", 1}}));
+  store_->record(sample("M1", "2026-01-01", 1, 1));  // a duplicate: nothing written
+  store_->add_event({"", "M1", "2026-02-15", EventKind::Repair, "spindle"});
+  store_->add_event_by({"", "M2", "2026-02-15", EventKind::Crash, ""}, "ann");
+  EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 3}, {"M2", 1}}));
+  EXPECT_TRUE(store_->remove(first));
+  EXPECT_FALSE(store_->remove(first));
+  EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 4}, {"M2", 1}}));
+  store_->record_by(sample("M2", "2026-04-01", 4, 5), "ann");
+  EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 4}, {"M2", 2}}));
+}
+
+// A store of schema version 3 (before machine_revisions) gains the table, filled with each
+// machine's count of records, and the next write raises it.
+TEST_P(Store, MigrationFromVersion3FillsMachineRevisions) {
+  store_->record_all({sample("M1", "2026-01-01", 1, 1), sample("M1", "2026-02-01", 2, 2), sample("M2", "2026-01-01", 1, 3)});
+  const auto before = store_->list();
+  store_.reset();
+  raw_sql(conn_, "DROP TABLE machine_revisions");
+  raw_sql(conn_, "DELETE FROM schema_version WHERE version = 4");
+  store_ = open_history_store(conn_);
+  EXPECT_EQ(store_->schema_version(), kHistorySchemaVersion);
+  EXPECT_EQ(store_->list(), before);
+  EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 2}, {"M2", 1}}));
+  store_->record(sample("M2", "2026-02-01", 2, 4));
+  EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 2}, {"M2", 2}}));
+}
+
+// FleetRanker (mtcal serve's fleet page) gives what rank_store (history rank) gives after every
+// kind of write, and fits again only the series of the machine whose records changed: a new
+// record; an event (nothing); a removal and an older record between two calls, which leave the
+// machine's latest record and count as they were; a write through another connection (another
+// server process on the same store).
+TEST_P(Store, FleetRankerIsRankStoreAfterEveryWrite) {
+  for (int m = 1; m <= 3; ++m)
+    for (int k = 0; k < 4; ++k)
+      store_->record(sample("M" + std::to_string(m), "2026-0" + std::to_string(k + 1) + "-01", 0.5 * m + 0.3 * k * m, 10 * m + k));
+  RankRequest request;
+  request.tolerances = parse_history_tolerances({"EXX=6", "VA=20"});
+  FleetRanker ranker(request, false);
+  // The reference: rank_fleet of every series read now (EXX a parameter, |EXX| <= 6 um; VA a
+  // figure, VA <= 20 um; in name order as history rank takes them), and history rank's own.
+  const auto reference = [&] {
+    std::vector<RankSeries> series;
+    for (const auto& [name, figure, band] : {std::tuple{std::string("EXX"), false, ToleranceBand::symmetric(6)},
+                                             std::tuple{std::string("VA"), true, ToleranceBand::at_most(20)}})
+      for (const auto& l : figure ? store_->latest_figure(name) : store_->latest_parameter(name)) {
+        const auto q = trend_from_series(
+            name, figure, figure ? store_->figure_series(l.machine, name) : store_->parameter_series(l.machine, name), band);
+        series.push_back({l.machine, name, q.unit, q.samples, band});
+      }
+    return to_json(rank_fleet(series));
+  };
+  const auto same = [&](const FleetRanker::Ranking& r) {
+    const Json got = to_json(r.ranking);
+    EXPECT_EQ(got, reference());
+    return got == to_json(rank_store(*store_, request).ranking);
+  };
+  const auto r1 = ranker.rank(*store_);
+  EXPECT_TRUE(same(*r1));
+  EXPECT_EQ(r1->fitted, 6u);  // 3 machines x (EXX, VA)
+  EXPECT_EQ(r1->ranking.machines.front().machine, "M3");
+  EXPECT_EQ(ranker.rank(*store_), r1);  // nothing changed: the same ranking
+  store_->add_event({"", "M2", "2026-03-15", EventKind::Repair, ""});
+  EXPECT_EQ(ranker.rank(*store_), r1);  // events do not change a ranking
+  // M1 drifts fast now: it ranks first; only its two series are read again.
+  store_->record(sample("M1", "2026-05-01", 5.5, 15));
+  const auto r2 = ranker.rank(*store_);
+  EXPECT_TRUE(same(*r2));
+  EXPECT_EQ(r2->fitted, 2u);
+  EXPECT_EQ(r2->ranking.machines.front().machine, "M1");
+  // M3: one record removed and an older one of another value added, so its latest record and
+  // count are as before: the ranking still follows.
+  const auto m3 = store_->list({"M3", "", "", ""});
+  ASSERT_EQ(m3.size(), 4u);
+  const auto before = to_json(r2->ranking);
+  ASSERT_TRUE(store_->remove(m3[1].id));
+  store_->record(sample("M3", "2026-02-15", 0.1, 99));
+  const auto r3 = ranker.rank(*store_);
+  EXPECT_TRUE(same(*r3));
+  EXPECT_EQ(r3->fitted, 2u);
+  EXPECT_NE(to_json(r3->ranking), before);
+  // Another connection writes (another server on this store).
+  auto other = open_history_store(conn_);
+  other->record(sample("M2", "2026-06-01", 9.0, 77));
+  const auto r4 = ranker.rank(*store_);
+  EXPECT_TRUE(same(*r4));
+  EXPECT_EQ(r4->fitted, 2u);
+  EXPECT_EQ(r4->ranking.machines.front().machine, "M2");
+  // A new machine: its series read, the others kept.
+  other->record(sample("M4", "2026-06-01", 1.0, 88));
+  const auto r5 = ranker.rank(*store_);
+  EXPECT_TRUE(same(*r5));
+  EXPECT_EQ(r5->fitted, 2u);
+  EXPECT_EQ(r5->ranking.machines.size(), 4u);
+}
+
+// Lenient (the server): a tolerance of a quantity no machine has yet is skipped, and no series at
+// all is no machine ranked; not lenient (history rank): refused as rank_store refuses them.
+TEST_P(Store, FleetRankerLenientLeavesOutWhatRankStoreRefuses) {
+  store_->record(sample("M1", "2026-01-01", 1, 1));
+  store_->record(sample("M1", "2026-02-01", 2, 2));
+  RankRequest request;
+  request.tolerances = parse_history_tolerances({"EXX=6", "NOPE=1"});
+  EXPECT_THROW(rank_store(*store_, request), InputError);
+  EXPECT_THROW(FleetRanker(request, false).rank(*store_), InputError);
+  FleetRanker lenient(request, true);
+  const auto r = lenient.rank(*store_);
+  ASSERT_EQ(r->ranking.machines.size(), 1u);
+  EXPECT_TRUE(r->notes.empty());
+  request.tolerances = parse_history_tolerances({"NOPE=1"});
+  EXPECT_TRUE(FleetRanker(request, true).rank(*store_)->ranking.machines.empty());
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, Store, ::testing::Values("sqlite", "postgresql"),
                          [](const auto& p) { return p.param == "sqlite" ? "SQLite" : "PostgreSQL"; });
 
@@ -387,9 +541,9 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     return out;
   };
   EXPECT_EQ(text("PRAGMA journal_mode"), "wal");
-  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2,3");
+  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2,3,4");
   EXPECT_EQ(text("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'parameters_fleet'"), "1");
-  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (4, '2030-01-01T00:00:00Z', 'future')", nullptr,
+  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (5, '2030-01-01T00:00:00Z', 'future')", nullptr,
                          nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -397,7 +551,7 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     open_history_store("sqlite:" + path);
     ADD_FAILURE() << "a store of a newer schema was opened";
   } catch (const StoreError& e) {
-    EXPECT_NE(std::string(e.what()).find("schema version 4, newer than this program's 3"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("schema version 5, newer than this program's 4"), std::string::npos)
         << e.what();
   }
 }
@@ -419,7 +573,8 @@ TEST(SqliteStore, MigrationFromVersion1FillsLatestValues) {
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   ASSERT_EQ(sqlite3_exec(db,
                          "DROP TABLE latest_values; DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; "
-                         "DROP TABLE users; DROP TABLE machine_intervals; DELETE FROM schema_version WHERE version >= 2",
+                         "DROP TABLE users; DROP TABLE machine_intervals; DROP TABLE machine_revisions; DELETE FROM "
+                         "schema_version WHERE version >= 2",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -449,12 +604,13 @@ TEST(SqliteStore, MigrationFromVersion2KeepsRecordsAndAddsAccounts) {
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   ASSERT_EQ(sqlite3_exec(db,
                          "DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; DROP TABLE users; "
-                         "DROP TABLE machine_intervals; DELETE FROM schema_version WHERE version = 3",
+                         "DROP TABLE machine_intervals; DROP TABLE machine_revisions; DELETE FROM schema_version WHERE "
+                         "version >= 3",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
   auto s = open_history_store(path);
-  EXPECT_EQ(s->schema_version(), 3);
+  EXPECT_EQ(s->schema_version(), kHistorySchemaVersion);
   EXPECT_EQ(s->list(), before);
   EXPECT_TRUE(s->users().empty());
   const auto latest = s->latest_calibrations();  // filled from the records by the migration

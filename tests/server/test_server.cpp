@@ -8,6 +8,10 @@
 #include <sys/time.h>
 #include <unistd.h>
 
+// Before httplib.h (through Eigen): its system headers define macros that break Eigen's declarations.
+#include "mtcal/io/history/queries.hpp"
+#include "mtcal/io/json/history_json.hpp"
+
 #include <httplib.h>
 
 #include <atomic>
@@ -511,6 +515,39 @@ TEST_P(Serve, FleetRanksByTheShareOfToleranceUsed) {
     if (m["machine"] == "M1") {
       EXPECT_NEAR(m["rank"]["utilisation"].get<double>(), 0.9, 1e-12);
     }
+  // After every kind of write, by the server or by another program on the store, the fleet's
+  // ranking is what history rank gives (rank_store, printed as to_json): an upload through the
+  // server, an event, a removal and an older record (M1's latest record and count stay).
+  const auto same_as_history_rank = [&](const std::string& when) {
+    RankRequest request;
+    request.tolerances = parse_history_tolerances({"A_X=10"});
+    const auto rank = nlohmann::json::parse(to_json(rank_store(*store_, request).ranking).dump());
+    const auto fleet_now = nlohmann::json::parse(c.Get("/api/fleet", l.headers())->body);
+    std::map<std::string, nlohmann::json> served;
+    for (const auto& m : fleet_now["machines"])
+      if (!m["rank"].is_null()) served[m["machine"].get<std::string>()] = m["rank"];
+    ASSERT_EQ(served.size(), rank["machines"].size()) << when;
+    for (const auto& m : rank["machines"]) {
+      const auto& f = served[m["machine"].get<std::string>()];
+      for (const char* k : {"rank", "utilisation", "years_to_limit", "outside", "quantities"})
+        EXPECT_EQ(f[k], m[k]) << when << ": " << m["machine"] << " " << k;
+    }
+  };
+  same_as_history_rank("after a record");
+  const Login e = login("eng");
+  const httplib::Headers h{{"Cookie", "mtcal_session=" + e.cookie}, {"X-CSRF-Token", e.csrf}};
+  httplib::MultipartFormDataItems items{{"machine", "M7", "", ""}, {"date", "2026-10-01", "", ""},
+                                        {"confirm", "1", "", ""},
+                                        {"file", read_file(data_file()), "b02_x_axis.dat", "text/plain"}};
+  const auto up = c.Post("/api/upload", h, items);
+  ASSERT_EQ(up->status, 200) << up->body;
+  same_as_history_rank("after an upload");
+  ASSERT_EQ(c.Post("/api/events", h, httplib::Params{{"machine", "M1"}, {"date", "2026-09-20"}, {"kind", "repair"}})->status,
+            200);
+  same_as_history_rank("after an event");
+  ASSERT_TRUE(store_->remove(ids_[0]));
+  store_->record_by(sample("M1", "2026-02-10", 1.0), "eng");
+  same_as_history_rank("after a removal and an older record");
 }
 
 // Intervals per machine: an admin sets one (an audit row names them), the fleet's overdue
@@ -547,6 +584,27 @@ TEST_P(Serve, CalibrationIntervalsPerMachine) {
   const auto page = c.Get("/admin/machines", admin.headers());
   ASSERT_EQ(page->status, 200);
   EXPECT_EQ(page->body.find("<script>alert"), std::string::npos);
+}
+
+// POST /api/users (the users page's form for scripts): an admin adds a user, who can then log in
+// with that role; a bad role or short password is 400 and stores nothing.
+TEST_P(Serve, AdminsAddUsersThroughTheApi) {
+  const Login admin = login("ada");
+  auto c = client();
+  const httplib::Headers h{{"Cookie", "mtcal_session=" + admin.cookie}, {"X-CSRF-Token", admin.csrf}};
+  const auto r = c.Post("/api/users", h, httplib::Params{{"user", "bob"}, {"role", "engineer"}, {"password", kPassword}});
+  ASSERT_EQ(r->status, 200) << r->body;
+  const auto j = nlohmann::json::parse(r->body);
+  EXPECT_EQ(j["name"], "bob");
+  EXPECT_EQ(j["role"], "engineer");
+  ASSERT_TRUE(store_->find_user("bob"));
+  EXPECT_EQ(store_->find_user("bob")->role, "engineer");
+  EXPECT_FALSE(login("bob").cookie.empty());
+  EXPECT_EQ(c.Post("/api/users", h, httplib::Params{{"user", "carl"}, {"role", "root"}, {"password", kPassword}})->status,
+            400);
+  EXPECT_EQ(c.Post("/api/users", h, httplib::Params{{"user", "carl"}, {"role", "viewer"}, {"password", "short"}})->status,
+            400);
+  EXPECT_FALSE(store_->find_user("carl"));
 }
 
 // The store lost in the middle of a request: the test holds an exclusive lock on the records

@@ -234,6 +234,17 @@ struct FleetRanking {
 // Series of one machine may have different dates. Throws InputError naming machine and quantity.
 FleetRanking rank_fleet(const std::vector<RankSeries>& series, const RankOptions& o = {});
 
+// A series as rank_fleet fits it: fit_trend(samples, band, o.trend) named "MACHINE QUANTITY" in errors.
+struct FittedSeries {
+  std::string machine, quantity, unit;
+  TrendResult trend;
+};
+FittedSeries fit_rank_series(const RankSeries& s, const TrendOptions& o = {});
+// The ranking of fitted series: rank_fleet is fit_rank_series of every series, then this. Fits
+// kept from an earlier ranking (mtcal serve's fleet page refits only the machines whose records
+// changed) give the same ranking as rank_fleet of all the series, in the same order.
+FleetRanking rank_fitted(const std::vector<FittedSeries>& fitted, const RankOptions& o = {});
+
 // ---------------------------------------------------------------------------------------------
 // From store records
 

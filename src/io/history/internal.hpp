@@ -59,6 +59,7 @@ class SqlHistoryStore : public HistoryStore {
   std::vector<LatestCalibration> latest_calibrations() override;
   void set_machine_interval(const std::string& machine, int days, const std::string& user) override;
   std::vector<MachineInterval> machine_intervals() override;
+  std::vector<MachineRevision> machine_revisions() override;
   void put_user(const UserAccount& u) override;
   std::optional<UserAccount> find_user(const std::string& name) override;
   std::vector<UserAccount> users() override;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <memory>
 #include <set>
 
 #include "mtcal/evaluation/tolerance.hpp"
@@ -173,10 +174,32 @@ MachineTrends machine_trends(HistoryStore& store, const TrendRequest& o, const s
   return m;
 }
 
-StoreRanking rank_store(HistoryStore& store, const RankRequest& o) {
-  if (o.tolerances.empty() && o.tolerance_file.empty())
+// What a FleetRanker keeps per machine and quantity: the revision of the machine and the wanted
+// band it was made for, and the fitted series or why it is left out.
+struct FleetRanker::Entry {
+  long long revision = 0;
+  bool figure = false;
+  ToleranceBand band;
+  std::optional<FittedSeries> fitted;
+  std::string note;
+};
+
+FleetRanker::FleetRanker(RankRequest request, bool lenient) : request_(std::move(request)), lenient_(lenient) {
+  if (!request_.tolerance_file.empty())
+    file_ = std::make_shared<const ToleranceFile>(read_tolerance_file(request_.tolerance_file));
+}
+
+std::shared_ptr<const FleetRanker::Ranking> FleetRanker::rank(HistoryStore& store) {
+  const RankRequest& o = request_;
+  if (o.tolerances.empty() && !file_)
     throw InputError({o.tolerance_source, 0, ""},
                      "a ranking needs tolerances: give a tolerance Q=V or a tolerance file");
+  // The revisions first: a write after this read raises a revision that the next call sees, so
+  // what is read below is never kept under a revision newer than its data.
+  std::vector<MachineRevision> revisions = store.machine_revisions();
+  if (last_ && revisions == revisions_) return last_;
+  std::map<std::string, long long> revision_of;
+  for (const auto& r : revisions) revision_of[r.machine] = r.revision;
   // quantity -> (figure?, band in µm for the file's figures / as given for a tolerance)
   struct Wanted {
     bool figure = false;
@@ -184,37 +207,72 @@ StoreRanking rank_store(HistoryStore& store, const RankRequest& o) {
     bool from_file = false;
   };
   std::map<std::string, Wanted> wanted;
-  if (!o.tolerance_file.empty()) {
-    const ToleranceFile f = read_tolerance_file(o.tolerance_file);
-    for (const auto& [name, band] : history_figure_bands(f, figure_axes(store, f))) wanted[name] = {true, band, true};
-  }
+  if (file_)
+    for (const auto& [name, band] : history_figure_bands(*file_, figure_axes(store, *file_))) wanted[name] = {true, band, true};
   for (const auto& s : o.tolerances) {
     const bool parameter = !store.latest_parameter(s.quantity).empty();
-    if (!parameter && store.latest_figure(s.quantity).empty())
+    if (!parameter && store.latest_figure(s.quantity).empty()) {
+      if (lenient_) continue;  // not recorded yet
       throw InputError({o.tolerance_source, 0, s.quantity},
                        "no machine in the store has a parameter or figure named " + printable(s.quantity));
+    }
     wanted[s.quantity] = {!parameter, s.band(!parameter), false};
   }
-  std::vector<RankSeries> series;
+  auto out = std::make_shared<Ranking>();
+  std::map<std::pair<std::string, std::string>, std::shared_ptr<const Entry>> entries;
+  std::vector<FittedSeries> fitted;
   for (const auto& [name, w] : wanted) {
     const auto latest = w.figure ? store.latest_figure(name) : store.latest_parameter(name);
     for (const auto& l : latest) {
-      auto samples = w.figure ? store.figure_series(l.machine, name) : store.parameter_series(l.machine, name);
-      if (samples.empty()) continue;
-      const std::string unit = samples.front().unit;
-      const ToleranceBand band = w.from_file ? band_in_unit(w.band, unit, name, o.tolerance_file) : w.band;
-      const QuantityTrend q = trend_from_series(name, w.figure, samples, band);  // unit checks, time order
-      series.push_back({l.machine, name, unit, q.samples, band});
+      const std::pair<std::string, std::string> key{l.machine, name};
+      // A machine first recorded after the revisions were read has none yet: kept under -1, read again next time.
+      const auto rev = revision_of.find(l.machine);
+      const long long revision = rev == revision_of.end() ? -1 : rev->second;
+      std::shared_ptr<const Entry> entry;
+      if (const auto kept = entries_.find(key); kept != entries_.end() && kept->second->revision == revision &&
+                                                revision >= 0 && kept->second->figure == w.figure &&
+                                                kept->second->band.lo == w.band.lo && kept->second->band.hi == w.band.hi)
+        entry = kept->second;
+      if (!entry) {
+        auto e = std::make_shared<Entry>();
+        e->revision = revision;
+        e->figure = w.figure;
+        e->band = w.band;
+        ++out->fitted;
+        auto samples = w.figure ? store.figure_series(l.machine, name) : store.parameter_series(l.machine, name);
+        if (samples.empty()) continue;
+        const std::string unit = samples.front().unit;
+        try {
+          const ToleranceBand band = w.from_file ? band_in_unit(w.band, unit, name, o.tolerance_file) : w.band;
+          const QuantityTrend q = trend_from_series(name, w.figure, samples, band);  // unit checks, time order
+          e->fitted = fit_rank_series({l.machine, name, unit, q.samples, band}, o.options.trend);
+        } catch (const InputError& x) {
+          if (!lenient_) throw;
+          e->note = "machine " + printable(l.machine) + ": " + x.what();
+        }
+        entry = std::move(e);
+      }
+      if (entry->fitted) fitted.push_back(*entry->fitted);
+      if (!entry->note.empty()) out->notes.push_back(entry->note);
+      entries.emplace(key, std::move(entry));
     }
   }
-  if (series.empty()) {
+  if (fitted.empty() && !lenient_) {
     std::string names;
     for (const auto& [name, w] : wanted) names += (names.empty() ? "" : ", ") + name;
     throw InputError({store.describe(), 0, ""},
                      "no machine in the store has any of the quantities with a tolerance (" + names + ")");
   }
+  out->ranking = rank_fitted(fitted, o.options);
+  entries_ = std::move(entries);
+  revisions_ = std::move(revisions);
+  last_ = out;
+  return out;
+}
+
+StoreRanking rank_store(HistoryStore& store, const RankRequest& o) {
   StoreRanking out;
-  out.ranking = rank_fleet(series, o.options);
+  out.ranking = FleetRanker(o, false).rank(store)->ranking;
   for (const auto& m : store.machines())
     if (std::none_of(out.ranking.machines.begin(), out.ranking.machines.end(),
                      [&](const auto& r) { return r.machine == m; }))

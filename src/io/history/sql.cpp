@@ -96,6 +96,14 @@ const std::vector<Migration>& migrations() {
         // A calibration interval per machine (the fleet's overdue column), set by an admin.
         "CREATE TABLE machine_intervals (machine_name {T} PRIMARY KEY, days INTEGER NOT NULL, set_by {T} NOT NULL, "
         "set_at {T} NOT NULL)"}},
+      // mtcal serve's fleet ranking kept the fits of machines whose latest record and count per
+      // command had not changed, which a removal and an older record between two pages leave
+      // alike: a revision per machine, raised by every write of its records, is the key instead.
+      // Filled with the count of each machine's records.
+      {"machine_revisions: a revision per machine, raised by every write of its records",
+       {"CREATE TABLE machine_revisions (machine_name {T} PRIMARY KEY, revision BIGINT NOT NULL)",
+        "INSERT INTO machine_revisions (machine_name, revision) SELECT machine_name, COUNT(*) FROM records GROUP BY "
+        "machine_name"}},
   };
   return kMigrations;
 }
@@ -491,6 +499,15 @@ std::vector<std::string> SqlHistoryStore::write_all(std::vector<CalibrationRecor
         slot.first = &r;
       ++slot.second;
     }
+    // Each machine's revision, raised by the number of its records written now (machines in
+    // order, as above, so that concurrent writers lock their rows in the same order).
+    std::map<std::string, long long> written;
+    for (const auto& [key, v] : per_kind) written[key.first] += v.second;
+    std::vector<SqlParam> revision_rows;
+    for (const auto& [machine, n] : written)
+      for (SqlParam x : {SqlParam(machine), SqlParam(n)}) revision_rows.push_back(std::move(x));
+    insert_rows("INSERT INTO machine_revisions (machine_name, revision)", 2, revision_rows,
+                " ON CONFLICT (machine_name) DO UPDATE SET revision = machine_revisions.revision + excluded.revision");
     std::vector<SqlParam> kind_rows;
     for (const auto& [key, v] : per_kind)
       for (SqlParam x : {SqlParam(key.first), SqlParam(key.second), SqlParam(v.first->id),
@@ -597,6 +614,13 @@ std::vector<MachineInterval> SqlHistoryStore::machine_intervals() {
   std::vector<MachineInterval> out;
   for (const auto& row : query("SELECT machine_name, days, set_by, set_at FROM machine_intervals ORDER BY machine_name"))
     out.push_back({text_of(row[0]), static_cast<int>(std::stoll(text_of(row[1]))), text_of(row[2]), text_of(row[3])});
+  return out;
+}
+
+std::vector<MachineRevision> SqlHistoryStore::machine_revisions() {
+  std::vector<MachineRevision> out;
+  for (const auto& row : query("SELECT machine_name, revision FROM machine_revisions ORDER BY machine_name"))
+    out.push_back({text_of(row[0]), std::stoll(text_of(row[1]))});
   return out;
 }
 
@@ -707,6 +731,9 @@ bool SqlHistoryStore::remove(const std::string& id) {
            "AND command = $2) FROM records WHERE machine_name = $3 AND command = $4 ORDER BY measured_at DESC, "
            "recorded_at DESC, id DESC LIMIT 1",
            {m, c, m, c});
+      exec("INSERT INTO machine_revisions (machine_name, revision) VALUES ($1, 1) ON CONFLICT (machine_name) DO UPDATE "
+           "SET revision = machine_revisions.revision + 1",
+           {m});
     }
     commit();
     return n > 0;

@@ -1,8 +1,11 @@
 // What history diff, trend and rank ask of a store: a machine's records, its trends with tolerances, the fleet ranked.
 #pragma once
 
+#include <map>
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mtcal/history/analysis.hpp"
@@ -10,6 +13,8 @@
 #include "mtcal/io/json/json.hpp"
 
 namespace mtcal {
+
+struct ToleranceFile;  // io/instruments/acceptance_files.hpp
 
 // A tolerance of a recorded quantity: "Q=V" (|value| <= V for a parameter, value <= V for a
 // figure) or "Q=LO:HI", in the quantity's recorded unit.
@@ -65,5 +70,35 @@ struct StoreRanking {
 // Every machine's series of the quantities with a tolerance, ranked (rank_fleet). Throws
 // InputError for no tolerances, a tolerance of a quantity no machine has, or no series at all.
 StoreRanking rank_store(HistoryStore& store, const RankRequest& request);
+
+// rank_store kept up to date between calls (mtcal serve's fleet page): each call reads the
+// machines' revisions (HistoryStore::machine_revisions) first, returns the last ranking when none
+// changed, and otherwise reads and fits again only the series of the machines whose revision
+// changed, ranking the kept fits with the new ones (rank_fitted): the same ranking as
+// rank_store's. One object is not meant to be shared between threads without a lock.
+class FleetRanker {
+ public:
+  // Reads the tolerance file (InputError as rank_store). lenient: what rank_store refuses is
+  // left out instead: a tolerance of a quantity no machine has yet (silently), a series whose
+  // unit is not the tolerance file's length or whose samples cannot be fitted (said in notes),
+  // no series at all (no machines ranked). Not lenient: rank_store's errors.
+  FleetRanker(RankRequest request, bool lenient);
+  struct Ranking {
+    FleetRanking ranking;
+    std::vector<std::string> notes;  // lenient: the series left out and why
+    std::size_t fitted = 0;          // series read and fitted for this ranking (the rest kept)
+  };
+  // The ranking of the store now: the same object as the last call's while no machine's revision changed.
+  std::shared_ptr<const Ranking> rank(HistoryStore& store);
+
+ private:
+  struct Entry;
+  RankRequest request_;
+  bool lenient_;
+  std::shared_ptr<const ToleranceFile> file_;  // read once
+  std::vector<MachineRevision> revisions_;
+  std::shared_ptr<const Ranking> last_;
+  std::map<std::pair<std::string, std::string>, std::shared_ptr<const Entry>> entries_;  // (machine, quantity)
+};
 
 }  // namespace mtcal

@@ -58,6 +58,16 @@ struct LatestCalibration {
   long long count = 0;  // records of this machine and command
 };
 
+// A machine's revision: a number that every write of its records (record, import, remove) raises
+// in the same transaction, never lowered or reused. Two reads that give a machine the same
+// revision saw the same records of it: what was computed from them may be kept (mtcal serve's
+// fleet ranking, also across server processes on one PostgreSQL store). Events do not change it.
+struct MachineRevision {
+  std::string machine;
+  long long revision = 0;
+  bool operator==(const MachineRevision&) const = default;
+};
+
 // A history store. Every write is one transaction: it happens completely or not at all.
 // Concurrent writers (processes or threads, each with its own store object) lose nothing.
 // One object is not meant to be shared between threads.
@@ -105,6 +115,8 @@ class HistoryStore {
   // name or days < 0. machine_intervals: every set interval, by machine.
   virtual void set_machine_interval(const std::string& machine, int days, const std::string& user) = 0;
   virtual std::vector<MachineInterval> machine_intervals() = 0;
+  // Every machine that ever had a record, by name, with its revision (schema version 4).
+  virtual std::vector<MachineRevision> machine_revisions() = 0;
 
   // Accounts (names compared byte-wise). put_user inserts or replaces a user's role and hash.
   virtual void put_user(const UserAccount& u) = 0;
@@ -130,7 +142,7 @@ class HistoryStore {
 };
 
 // The schema this program writes (docs/history.md lists the versions and their migrations).
-inline constexpr int kHistorySchemaVersion = 3;
+inline constexpr int kHistorySchemaVersion = 4;
 
 // Opens (creating it when absent, migrating it to kHistorySchemaVersion) the store named by
 // connection: "postgresql://..." or "postgres://..." (libpq URI; also "postgresql:" followed by
