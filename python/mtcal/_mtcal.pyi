@@ -977,6 +977,9 @@ class PlanResult:
     def criterion(self) -> str:
         ...
     @property
+    def estimate(self) -> list[str]:
+        """The estimated parameters: estimate, then those chosen among candidates (with choose)"""
+    @property
     def plan(self) -> ProbingPlan:
         """ProbingPlan of the selected poses (write_probing_csv writes it)"""
     @property
@@ -993,6 +996,9 @@ class PlanResult:
     @property
     def uncertainties(self) -> dict[str, Any]:
         """Predicted standard uncertainty per estimated parameter (internal units)"""
+    @property
+    def va_u(self) -> Any:
+        """The predicted VA's standard uncertainty of the design (mm), or None without the VA"""
 
 class PointPair:
     """Two points i, j of a set and the value of their difference (mm)."""
@@ -1491,14 +1497,20 @@ def contributions(machine: Machine, *, at: npt.ArrayLike | None = ..., pair: tup
     exact VA without each error (what_if). Configurations in internal units. As `mtcal contributions`.
     """
 
-def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str], scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., criterion: str = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., approach: float = ..., touches: int = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ...) -> PlanResult:
+def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str] = ..., candidates: list[str] = ..., choose: int = ..., scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., target_va_u: float = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., va_tie: float = ..., criterion: str = ..., ball_region: tuple[float, float, float, float, float] | None = ..., ball_spacing: float = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., move_feed: float = ..., approach: float = ..., touches: int = ..., ball_diameter: float = ..., tip_diameter: float = ..., overtravel: float = ..., clearance: float = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ...) -> PlanResult:
     """Designs a probing plan, as `mtcal plan` (docs/planning.md): the fewest poses (indexations x
-    balls and facets of artefact, a ProbingPlan) that identify `estimate` to a budget: poses (exactly
-    N, with criterion 'd', 'a' or 'max-u'), target_u {parameter: u in internal units}, or the
-    predicted uncertainties of `against` (a given ProbingPlan). sigma: standard deviation of a
-    reading (mm); rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length,
-    holder_radius, table_z in mm) and timing (rapid, probe_feed mm/min, rotary_speed deg/min,
-    approach mm, touches). Returns PlanResult (plan, uncertainties, time, to_dict()).
+    balls and facets of artefact, a ProbingPlan, and of ball_region) that identify `estimate` (and,
+    with candidates and choose, the best conditioned full-rank subset of choose of the candidates) to
+    a budget: poses (exactly N, with criterion 'd', 'a', 'max-u' or 'va'), target_u {parameter: u in
+    internal units}, target_va_u (mm: the predicted VA's standard uncertainty over workspace, a grid
+    spec or dict as identify takes it, default the travels at 5 values an axis; va_tie: pairs within
+    it of the critical one count, mm, 0: 6 x target_va_u or 1 um), or the predicted uncertainties of
+    `against` (a given ProbingPlan). ball_region: (x_min, x_max, y_min, y_max, z) mm, workpiece
+    frame, ball positions every ball_spacing. sigma: standard deviation of a reading (mm);
+    rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length, holder_radius,
+    table_z in mm); the time of the program (rapid, probe_feed, move_feed mm/min, rotary_speed
+    deg/min) with its cycle (approach, ball_diameter, tip_diameter, overtravel, clearance mm,
+    touches). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict()).
     """
 
 def diagonals(machine: Machine, box: str | Mapping[str, tuple[float, float]] | None, *, points: int = ..., face: bool = ..., travel_check: bool = ...) -> DiagonalsResult:
@@ -1663,8 +1675,8 @@ def predict(model: PredictionModel, points: PredictionPoints | Mapping[str, npt.
 def predict_ballbar(machine: Machine, plane: str, centre: npt.ArrayLike | None, *, radius: float, step: float = ...) -> BallbarTrace:
     """The trace a ballbar would record on the model: circle of radius mm (required) in plane 'XY'/'YZ'/'ZX' about the centre configuration (internal units), both directions, one sample every step rad."""
 
-def probe_program(machine: Machine, plan: ProbingPlan, *, dialect: str = ..., probe_feed: float = ..., log: str = ..., header: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ...) -> str:
-    """The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or 'iso' (G31, #5061 CSV). Text."""
+def probe_program(machine: Machine, plan: ProbingPlan, *, dialect: str = ..., probe_feed: float = ..., move_feed: float = ..., log: str = ..., header: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ...) -> str:
+    """The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or 'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min). Text."""
 
 def probing_csv(machine: Machine, plan: ProbingPlan, comment: str = ...) -> str:
     """The plan's CSV text."""
