@@ -83,6 +83,7 @@ FUNC_ARG_TYPES = {
     ("design_plan", "artefact"): "ProbingPlan | None",
     ("design_plan", "against"): "ProbingPlan | None",
     ("design_plan", "target_u"): "Mapping[str, float] | None",
+    ("design_plan", "ball_region"): "tuple[float, float, float, float, float] | None",
 }
 ARRAY_ARGS = {"configs", "at", "q", "user", "internal", "x", "y", "targets", "runs", "up", "down", "angles",
               "radii", "centres", "angles_deg", "feeds", "origin_xyz", "sphere"}

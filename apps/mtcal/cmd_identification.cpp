@@ -64,16 +64,16 @@ IdentificationOptions to_options(const EstimateOptions& e) {
   o.estimate_source = "--estimate";
   for (const auto& s : e.scale_bars) o.scale_bars.push_back(parse_scale_bar(s, "--scale-bar"));
   o.estimate_pretravel = e.pretravel;
-  o.sigma_ball = o.sigma_facet = o.sigma_scale_bar = e.sigma_um * 1e-3;
+  o.sigma_ball = o.sigma_facet = o.sigma_scale_bar = o.sigma_ballbar = o.sigma_laser = e.sigma_um * 1e-3;
   o.rank_tolerance = e.rank_tolerance;
   return o;
 }
 
 // The dense Jacobian of a plan (residuals x unknowns) and its QR copies: a plan's memory grows with
-// records x features. Unknowns: 3 per ball, 1 per facet, and the machine's parameters at most.
+// records x features. Unknowns: 3 per ball, 1 per facet (unknowns_of), and the machine's parameters at most.
 void check_plan_size(const Machine& m, const ProbingPlan& plan, const std::string& option) {
   double unknowns = static_cast<double>(m.parameter_count()) + 1;
-  for (const auto& f : plan.features) unknowns += f.kind == ProbeFeature::Kind::Ball ? 3 : 1;
+  for (const auto& f : plan.features) unknowns += static_cast<double>(unknowns_of(f.kind));
   const double residuals = static_cast<double>(plan.residual_count());
   // Jacobian, Ceres' dense QR copy, the SVD's U (thin) and V: about 4 residuals x unknowns doubles.
   check_estimate({option + " " + plan.source + " (" + std::to_string(plan.records.size()) + " records, " +
@@ -190,8 +190,13 @@ void print_identification(const IdentifyOptions& o, const IdentificationRun& run
   std::cout << fmt::format("{} residuals, {} unknowns, rank {}, condition {:.4g}; {} in {} iterations ({:.1f} ms)\n",
                            r.residuals, r.unknowns, r.identifiability.rank, r.identifiability.condition,
                            r.converged ? "converged" : "NOT converged", r.iterations, run.seconds * 1e3);
-  std::cout << fmt::format("residual rms: balls {:.3f} um, facets {:.3f} um, scale bars {:.3f} um; sigma0 {:.3g}\n",
-                           r.rms_ball * 1e3, r.rms_facet * 1e3, r.rms_scale_bar * 1e3, r.sigma0);
+  std::string instruments;
+  for (const auto kind : {ProbeFeature::Kind::Ballbar, ProbeFeature::Kind::Laser})
+    if (std::any_of(run.features.begin(), run.features.end(), [&](const ProbeFeature& f) { return f.kind == kind; }))
+      instruments += fmt::format(", {} {:.3f} um", kind == ProbeFeature::Kind::Ballbar ? "ballbars" : "lasers",
+                                 (kind == ProbeFeature::Kind::Ballbar ? r.rms_ballbar : r.rms_laser) * 1e3);
+  std::cout << fmt::format("residual rms: balls {:.3f} um, facets {:.3f} um, scale bars {:.3f} um{}; sigma0 {:.3g}\n",
+                           r.rms_ball * 1e3, r.rms_facet * 1e3, r.rms_scale_bar * 1e3, instruments, r.sigma0);
   const FitCheck fit = check_fit(r);
   std::cout << fmt::format("fit: {} (sigma0 {:.3g}, bound {:.3g} at {:g} %, {} degrees of freedom)\n",
                            fit.poor ? "POOR" : "consistent with the readings' sigma", fit.sigma0, fit.bound,

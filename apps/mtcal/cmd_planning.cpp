@@ -4,7 +4,6 @@
 #include <memory>
 #include <numbers>
 #include <optional>
-#include <set>
 
 #include <fmt/format.h>
 
@@ -40,7 +39,6 @@ struct PlanOptions {
   TimingOptions timing;
   ProbeCycle cycle;
   std::string gcode, dialect = "linuxcnc", log = "mtcal-contacts.txt", program_coordinates = "axes";
-  double move_feed = ProbeProgramOptions{}.feed;
   int threads = 0;
   bool json_out = false;
 };
@@ -173,24 +171,13 @@ int run_plan(const PlanOptions& o) {
     artefact = read_probing_csv(m, o.artefact);
   else if (against)
     artefact = *against;
-  std::vector<ProbeFeature> features = artefact.features;
-  std::size_t region_positions = 0;
-  if (!o.ball_region.empty()) {
-    std::vector<ProbeFeature> balls;
-    try {
-      balls = region_balls(parse_region(o.ball_region, o.ball_spacing), features);
-    } catch (const InputError& e) {
-      rethrow_for_options(e, {{"ball region", "--ball-region"}});
-    }
-    region_positions = balls.size();
-    features.insert(features.end(), balls.begin(), balls.end());
-  }
-
   PlanStudyOptions so;
+  if (!o.ball_region.empty()) so.ball_region = parse_region(o.ball_region, o.ball_spacing);
   so.model.estimate = o.estimate;
   so.model.estimate_source = "--estimate";
   for (const auto& s : o.scale_bars) so.model.scale_bars.push_back(parse_scale_bar(s, "--scale-bar"));
-  so.model.sigma_ball = so.model.sigma_facet = so.model.sigma_scale_bar = o.sigma_um * 1e-3;
+  so.model.sigma_ball = so.model.sigma_facet = so.model.sigma_scale_bar = so.model.sigma_ballbar = so.model.sigma_laser =
+      o.sigma_um * 1e-3;
   // --candidates: the best conditioned full-rank subset at every candidate pose (identifiability --choose).
   if (!o.candidates.empty()) {
     SubsetOptions c;
@@ -210,16 +197,12 @@ int run_plan(const PlanOptions& o) {
   const std::string va_option = o.workspace.empty() ? "--target-va-u" : "--workspace";
   if (so.va) {
     try {
-      so.workspace = o.workspace.empty() ? travel_grid(m, 5) : checked_grid(m, o.workspace, false, 1'000'000);
+      if (!o.workspace.empty()) so.workspace = checked_grid(m, o.workspace, false, 1'000'000);
       if (!o.target_va_u.empty()) so.target_va_u = parse_in_unit(o.target_va_u, "mm", {"--target-va-u", 0, ""});
     } catch (const InputError& e) {
       rethrow_for_options(e, {{"--grid", "--workspace"}, {"workspace", va_option}});
     }
-    if (o.va_tie_um > 0)
-      so.va_options.tie_tolerance = o.va_tie_um * 1e-3;
-    else if (so.target_va_u > 0)
-      so.va_options.tie_tolerance = 6 * so.target_va_u;  // a pair can overtake the critical one by 3 u of each
-    so.va_options.max_pairs = 256;
+    so.va_tie = o.va_tie_um * 1e-3;
   }
   so.criterion = o.criterion == "a"       ? DesignCriterion::A
                  : o.criterion == "max-u" ? DesignCriterion::MaxU
@@ -230,6 +213,7 @@ int run_plan(const PlanOptions& o) {
   so.rotary_step = o.rotary_step_deg * std::numbers::pi / 180;
   so.reach = o.reach;
   so.timing = o.timing;
+  so.cycle = o.cycle;
   so.monte_carlo = o.monte_carlo;
   so.seed = o.seed;
   so.threads = o.threads;
@@ -244,45 +228,20 @@ int run_plan(const PlanOptions& o) {
     if (!path->empty()) AtomicFile check(*path);
   Progress progress("plan: poses", 0);
   if (progress.active()) so.progress = [&](const char*, std::size_t n) { progress.update(n, n); };
-  ProbingPlan candidates_of = artefact;
-  candidates_of.features = features;  // the artefact's features and the region's balls
   std::optional<PlanStudy> studied;
   try {
-    studied = plan_study(m, candidates_of, against, so);
+    studied = plan_study(m, artefact, against, so);
   } catch (const InputError& e) {
-    rethrow_for_options(e, {{"workspace", va_option}});
+    rethrow_for_options(e, {{"workspace", va_option}, {"ball region", "--ball-region"}});
   }
   const PlanStudy& study = *studied;
   const CandidateSet& cands = study.candidates;
   const PlanDesign& design = study.design;
   const std::optional<PlanPrediction>& against_pred = study.against;
   const std::optional<TimeEstimate>& against_time = study.against_time;
-  PlanReport report;
-  report.candidates = &cands;
-  report.design = &design;
-  report.time = study.time;
-  report.against = against_pred;
-  report.against_time = against_time;
+  PlanReport report = plan_report(study);
   report.against_path = o.against;
-  report.monte_carlo = study.monte_carlo;
-  if (study.choice) report.choice = &*study.choice;
-  if (study.va) {
-    report.va = &*study.va;
-    report.workspace = o.workspace.empty() ? "the travels, 5 values an axis" : o.workspace;
-    report.target_va_u = so.target_va_u;
-    if (against_pred) report.against_va_u = va_uncertainty(*study.va, against_pred->covariance);
-  }
-  if (region_positions > 0) {
-    report.region.positions = region_positions;
-    std::set<std::size_t> reachable, used;
-    const std::size_t first = artefact.features.size();
-    for (const auto& r : cands.plan.records)
-      if (r.feature >= first) reachable.insert(r.feature);
-    for (const auto& r : design.plan.records)
-      if (r.feature >= first) used.insert(r.feature);
-    report.region.reachable = reachable.size();
-    report.region.used = used.size();
-  }
+  if (study.va) report.workspace = o.workspace.empty() ? kPlanTravelWorkspace : o.workspace;
   if (!o.out.empty()) {
     report.out = o.out;
     write_probing_csv(o.out, m, design.plan,
@@ -295,14 +254,11 @@ int run_plan(const PlanOptions& o) {
     ProbeProgramOptions po;
     po.dialect = o.dialect == "iso" ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
     po.probe_feed = o.timing.probe_feed;
-    po.feed = o.move_feed;
+    po.feed = o.timing.move_feed;
     po.log = o.log;
     po.coordinates = o.program_coordinates == "tool-point" ? ProbeCoordinates::ToolPoint : ProbeCoordinates::Axes;
     po.header = fmt::format("machine {}: {} poses designed by mtcal plan", m.name, design.plan.records.size());
-    ProbeCycle cycle = o.cycle;
-    cycle.approach = o.timing.approach;
-    cycle.touches_per_ball = o.timing.touches_per_ball;
-    write_probe_program(o.gcode, m, design.plan, cycle, po);
+    write_probe_program(o.gcode, m, design.plan, o.cycle, po);
   }
   if ((o.json_out || recording()) && emit_json(to_json(report), o.json_out)) return 0;
 
@@ -316,7 +272,7 @@ int run_plan(const PlanOptions& o) {
   std::cout << fmt::format("candidates: {} considered, {} kept;", cands.considered, cands.plan.records.size());
   for (const auto& [name, n] : cands.removed) std::cout << fmt::format(" {} removed by {}", n, name) << ";";
   std::cout << "\n";
-  if (region_positions > 0)
+  if (report.region.positions > 0)
     std::cout << fmt::format("ball region: {} positions, {} with a candidate left, {} used by the design\n",
                              report.region.positions, report.region.reachable, report.region.used);
   std::cout << fmt::format("designed plan: {} poses at {} indexations (criterion {}, {} after elimination, {} exchanges in {} passes){}\n",
@@ -335,7 +291,7 @@ int run_plan(const PlanOptions& o) {
   if (va) {
     std::cout << fmt::format("VA over {} ({} configurations): {:.3f} um; its predicted u {:.4g} um (best reachable "
                              "{:.4g} um{}{}; {} pair{} within {:.4g} um of the critical one)\n",
-                             report.workspace, va_points(so.workspace), va->va * 1e3, design.va_u * 1e3,
+                             report.workspace, va_points(study.workspace), va->va * 1e3, design.va_u * 1e3,
                              design.va_u_best * 1e3, so.target_va_u > 0 ? fmt::format(", target {:.4g} um", so.target_va_u * 1e3) : "",
                              report.against_va_u ? fmt::format(", against {:.4g} um", *report.against_va_u * 1e3) : "",
                              va->pair_lengths.size(), va->pair_lengths.size() == 1 ? "" : "s", va->tie_tolerance * 1e3);
@@ -462,10 +418,10 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
   c->add_option("--probe-feed", o->timing.probe_feed, "Probing feed, mm/min")
       ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
-  c->add_option("--approach", o->timing.approach, "Probing distance before the expected contact, mm")
+  c->add_option("--approach", o->cycle.approach, "Probing distance before the expected contact, mm")
       ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
-  c->add_option("--touches", o->timing.touches_per_ball, "Touches per ball centre (the program: 4 or 5)")
+  c->add_option("--touches", o->cycle.touches_per_ball, "Touches per ball centre (the program: 4 or 5)")
       ->check(CLI::Range(4, 5))
       ->capture_default_str();
   c->add_option("--monte-carlo", o->monte_carlo,
@@ -475,8 +431,9 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
   c->add_option("--threads", o->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
   c->add_option("--out", o->out, "Plan CSV to write (mtcal simulate --plan, identifiability --plan)");
   c->add_option("--gcode", o->gcode, "Probing program to write for the designed plan (--dialect)");
-  c->add_option("--move-feed", o->move_feed,
-                "The program's feed (G1) of the moves between a ball's touches, mm/min (the time estimate takes --rapid)")
+  c->add_option("--move-feed", o->timing.move_feed,
+                "The program's feed (G1) of the moves near the artefact: down to each touch, its retract, between a "
+                "ball's touches; mm/min (the time estimate uses it)")
       ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
   c->add_option("--dialect", o->dialect, "G-code dialect: linuxcnc (G38.2, PROBEOPEN log) or iso (G31, #5061 CSV)")

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "common.hpp"
+#include "mtcal/evaluation/error_stream.hpp"
 #include "mtcal/identification/plan_study.hpp"
 #include "mtcal/io/gcode/probe_program.hpp"
 #include "mtcal/io/instruments/probe_log.hpp"
@@ -22,6 +23,7 @@ struct PlanResult {
   Machine machine;
   PlanStudy study;
   std::string against_path;
+  std::string workspace;  // the VA's grid in words (PlanReport::workspace)
 };
 
 ProbeCycle cycle_of(double ball_diameter, double tip_diameter, double approach, double overtravel, double clearance,
@@ -71,18 +73,19 @@ void bind_planning(py::module_& m) {
             return d;
           },
           "Predicted standard uncertainty per estimated parameter (internal units)")
+      .def_property_readonly(
+          "estimate", [](const PlanResult& r) { return r.study.model.estimate; },
+          "The estimated parameters: estimate, then those chosen among candidates (with choose)")
+      .def_property_readonly(
+          "va_u", [](const PlanResult& r) -> py::object { return r.study.va ? py::cast(r.study.design.va_u) : py::none(); },
+          "The predicted VA's standard uncertainty of the design (mm), or None without the VA")
       .def_property_readonly("time", [](const PlanResult& r) { return r.study.time.total; }, "Estimated seconds")
       .def(
           "to_dict",
           [](const PlanResult& r, const std::string& out, const std::string& gcode) {
-            PlanReport rep;
-            rep.candidates = &r.study.candidates;
-            rep.design = &r.study.design;
-            rep.time = r.study.time;
-            rep.against = r.study.against;
-            rep.against_time = r.study.against_time;
+            PlanReport rep = plan_report(r.study);
             rep.against_path = r.against_path;
-            rep.monte_carlo = r.study.monte_carlo;
+            if (r.study.va) rep.workspace = r.workspace;
             rep.out = out;
             rep.gcode = gcode;
             return to_py(to_json(rep));
@@ -91,30 +94,83 @@ void bind_planning(py::module_& m) {
   m.def(
       "design_plan",
       [](const Machine& mm, py::handle artefact, py::handle against, const std::vector<std::string>& estimate,
-         const std::vector<std::string>& scale_bars, double sigma, std::size_t poses, py::handle target_u,
-         const std::string& criterion, double rotary_step, double max_tilt_deg, double stylus_length,
-         double holder_radius, double table_z, double rapid, double rotary_speed, double probe_feed, double approach,
-         int touches, std::size_t monte_carlo, std::uint64_t seed, int threads) {
-        if (artefact.is_none() && against.is_none())
-          throw py::value_error("artefact: expected the artefact's balls and facets (a ProbingPlan), or against");
+         const std::vector<std::string>& candidates, std::size_t choose, const std::vector<std::string>& scale_bars,
+         double sigma, std::size_t poses, py::handle target_u, double target_va_u, py::handle workspace,
+         double va_tie, const std::string& criterion, py::handle ball_region, double ball_spacing,
+         double rotary_step, double max_tilt_deg, double stylus_length, double holder_radius, double table_z,
+         double rapid, double rotary_speed, double probe_feed, double move_feed, double approach, int touches,
+         double ball_diameter, double tip_diameter, double overtravel, double clearance, std::size_t monte_carlo,
+         std::uint64_t seed, int threads) {
+        if (artefact.is_none() && against.is_none() && ball_region.is_none())
+          throw py::value_error(
+              "artefact: expected the artefact's balls and facets (a ProbingPlan), against, or ball_region");
+        if (estimate.empty() && candidates.empty())
+          throw py::value_error("estimate: expected the parameters to identify, or candidates with choose");
+        if (!candidates.empty() && choose == 0) throw py::value_error("choose: candidates needs choose (how many)");
+        if (candidates.empty() && choose != 0) throw py::value_error("choose: needs candidates");
         if (!(sigma > 0)) throw py::value_error("sigma: expected a standard deviation > 0 in mm");
+        if (!(target_va_u >= 0) || !std::isfinite(target_va_u))
+          throw py::value_error("target_va_u: expected a standard uncertainty >= 0 in mm (0: none)");
+        if (!(va_tie >= 0) || !std::isfinite(va_tie)) throw py::value_error("va_tie: expected a length >= 0 in mm");
+        if (!(move_feed > 0) || !std::isfinite(move_feed)) throw py::value_error("move_feed: expected a feed > 0 mm/min");
         PlanStudyOptions o;
         o.model.estimate = estimate;
         o.model.estimate_source = "estimate";
         for (const auto& s : scale_bars) o.model.scale_bars.push_back(parse_scale_bar(s, "scale_bars"));
-        o.model.sigma_ball = o.model.sigma_facet = o.model.sigma_scale_bar = sigma;
+        o.model.sigma_ball = o.model.sigma_facet = o.model.sigma_scale_bar = o.model.sigma_ballbar = o.model.sigma_laser =
+            sigma;
         if (criterion == "d")
           o.criterion = DesignCriterion::D;
         else if (criterion == "a")
           o.criterion = DesignCriterion::A;
         else if (criterion == "max-u")
           o.criterion = DesignCriterion::MaxU;
+        else if (criterion == "va")
+          o.criterion = DesignCriterion::Va;
         else
-          throw py::value_error("criterion: expected 'd', 'a' or 'max-u', found '" + criterion + "'");
+          throw py::value_error("criterion: expected 'd', 'a', 'max-u' or 'va', found '" + criterion + "'");
+        // As mtcal plan --candidates: the best conditioned full-rank subset at every candidate pose.
+        if (!candidates.empty()) {
+          SubsetOptions c;
+          c.candidates = candidates;
+          c.always = estimate;
+          c.choose = choose;
+          c.threads = threads;
+          c.keep = 1;
+          c.candidates_source = "candidates";
+          c.always_source = "estimate";
+          c.choose_source = "choose";
+          c.max_subsets = 10'000'000;
+          o.choose = c;
+        }
         o.poses = poses;
         if (!target_u.is_none())
           for (auto item : target_u.cast<py::dict>())
             o.target_u.emplace_back(py::str(item.first).cast<std::string>(), item.second.cast<double>());
+        o.va = target_va_u > 0 || !workspace.is_none() || criterion == "va";
+        std::string workspace_text = kPlanTravelWorkspace;
+        if (!workspace.is_none()) {
+          o.workspace = grid_values(mm, workspace, "workspace");
+          check_grid(mm, o.workspace, "workspace", false, 1'000'000);
+          workspace_text = py::isinstance<py::str>(workspace) ? workspace.cast<std::string>() : std::string("given");
+        }
+        o.target_va_u = target_va_u;
+        o.va_tie = va_tie;
+        o.target_va_source = "target_va_u";
+        if (!ball_region.is_none()) {
+          const auto v = ball_region.cast<std::vector<double>>();
+          if (v.size() != 5)
+            throw py::value_error("ball_region: expected (x_min, x_max, y_min, y_max, z) in mm, found " +
+                                  std::to_string(v.size()) + " values");
+          BallRegion br;
+          br.x_min = v[0];
+          br.x_max = v[1];
+          br.y_min = v[2];
+          br.y_max = v[3];
+          br.z = v[4];
+          br.spacing = ball_spacing;
+          o.ball_region = br;
+        }
         o.rotary_step = rotary_step;
         o.reach.max_tilt_deg = max_tilt_deg;
         o.reach.stylus_length = stylus_length;
@@ -123,8 +179,8 @@ void bind_planning(py::module_& m) {
         o.timing.rapid = rapid;
         o.timing.rotary_speed = rotary_speed;
         o.timing.probe_feed = probe_feed;
-        o.timing.approach = approach;
-        o.timing.touches_per_ball = touches;
+        o.timing.move_feed = move_feed;
+        o.cycle = cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, touches);
         o.monte_carlo = monte_carlo;
         o.seed = seed;
         o.threads = threads;
@@ -132,45 +188,56 @@ void bind_planning(py::module_& m) {
         o.against_source = "against";
         std::optional<ProbingPlan> given;
         if (!against.is_none()) given = against.cast<ProbingPlan>();
-        const ProbingPlan art = artefact.is_none() ? *given : artefact.cast<ProbingPlan>();
-        PlanResult r{mm, {}, given ? given->source : std::string()};
+        const ProbingPlan art = !artefact.is_none() ? artefact.cast<ProbingPlan>() : given ? *given : ProbingPlan{};
+        PlanResult r{mm, {}, given ? given->source : std::string(), workspace_text};
         LongCall release;  // without the GIL, stoppable with Ctrl-C
         r.study = plan_study(mm, art, given, o);
         return r;
       },
-      "machine"_a, "artefact"_a = py::none(), py::kw_only(), "against"_a = py::none(), "estimate"_a,
-      "scale_bars"_a = std::vector<std::string>{}, "sigma"_a = 1e-3, "poses"_a = std::size_t{0},
-      "target_u"_a = py::none(), "criterion"_a = "d", "rotary_step"_a = 15 * std::numbers::pi / 180,
-      "max_tilt_deg"_a = 90.0, "stylus_length"_a = 50.0, "holder_radius"_a = 20.0, "table_z"_a = 0.0,
-      "rapid"_a = 10000.0, "rotary_speed"_a = 5400.0, "probe_feed"_a = 200.0, "approach"_a = 3.0, "touches"_a = 5,
+      "machine"_a, "artefact"_a = py::none(), py::kw_only(), "against"_a = py::none(),
+      "estimate"_a = std::vector<std::string>{}, "candidates"_a = std::vector<std::string>{},
+      "choose"_a = std::size_t{0}, "scale_bars"_a = std::vector<std::string>{}, "sigma"_a = 1e-3,
+      "poses"_a = std::size_t{0}, "target_u"_a = py::none(), "target_va_u"_a = 0.0, "workspace"_a = py::none(),
+      "va_tie"_a = 0.0, "criterion"_a = "d", "ball_region"_a = py::none(), "ball_spacing"_a = 100.0,
+      "rotary_step"_a = 15 * std::numbers::pi / 180, "max_tilt_deg"_a = 90.0, "stylus_length"_a = 50.0,
+      "holder_radius"_a = 20.0, "table_z"_a = 0.0, "rapid"_a = 10000.0, "rotary_speed"_a = 5400.0,
+      "probe_feed"_a = 200.0, "move_feed"_a = 2000.0, "approach"_a = 3.0, "touches"_a = 5,
+      "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0,
       "monte_carlo"_a = std::size_t{0}, "seed"_a = std::uint64_t{1}, "threads"_a = 0,
       R"(Designs a probing plan, as `mtcal plan` (docs/planning.md): the fewest poses (indexations x
-balls and facets of artefact, a ProbingPlan) that identify `estimate` to a budget: poses (exactly
-N, with criterion 'd', 'a' or 'max-u'), target_u {parameter: u in internal units}, or the
-predicted uncertainties of `against` (a given ProbingPlan). sigma: standard deviation of a
-reading (mm); rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length,
-holder_radius, table_z in mm) and timing (rapid, probe_feed mm/min, rotary_speed deg/min,
-approach mm, touches). Returns PlanResult (plan, uncertainties, time, to_dict()).)");
+balls and facets of artefact, a ProbingPlan, and of ball_region) that identify `estimate` (and,
+with candidates and choose, the best conditioned full-rank subset of choose of the candidates) to
+a budget: poses (exactly N, with criterion 'd', 'a', 'max-u' or 'va'), target_u {parameter: u in
+internal units}, target_va_u (mm: the predicted VA's standard uncertainty over workspace, a grid
+spec or dict as identify takes it, default the travels at 5 values an axis; va_tie: pairs within
+it of the critical one count, mm, 0: 6 x target_va_u or 1 um), or the predicted uncertainties of
+`against` (a given ProbingPlan). ball_region: (x_min, x_max, y_min, y_max, z) mm, workpiece
+frame, ball positions every ball_spacing. sigma: standard deviation of a reading (mm);
+rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length, holder_radius,
+table_z in mm); the time of the program (rapid, probe_feed, move_feed mm/min, rotary_speed
+deg/min) with its cycle (approach, ball_diameter, tip_diameter, overtravel, clearance mm,
+touches). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict()).)");
 
   // ---------------------------------------------------------------- probe programs and logs (mtcal plan --gcode, probe-log)
   m.def(
       "probe_program",
-      [](const Machine& mm, const ProbingPlan& plan, const std::string& dialect, double probe_feed,
+      [](const Machine& mm, const ProbingPlan& plan, const std::string& dialect, double probe_feed, double move_feed,
          const std::string& log, const std::string& header, double ball_diameter, double tip_diameter,
          double approach, double overtravel, double clearance, int touches) {
         ProbeProgramOptions po;
         po.dialect = log_format(dialect) == ProbeLogFormat::IsoCsv ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
         po.probe_feed = probe_feed;
+        po.feed = move_feed;
         po.log = log;
         po.header = header;
         return probe_program(mm, plan, cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, touches),
                              po);
       },
       "machine"_a, "plan"_a, py::kw_only(), "dialect"_a = "linuxcnc", "probe_feed"_a = 200.0,
-      "log"_a = "mtcal-contacts.txt", "header"_a = "", "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0,
+      "move_feed"_a = 2000.0, "log"_a = "mtcal-contacts.txt", "header"_a = "", "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0,
       "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5,
       "The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or "
-      "'iso' (G31, #5061 CSV). Text.");
+      "'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min). Text.");
   m.def(
       "read_probe_log",
       [](const Machine& mm, const std::string& path, const std::string& dialect) {

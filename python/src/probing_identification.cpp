@@ -177,7 +177,7 @@ IdentificationOptions identification_options(py::handle estimate, py::handle sca
   o.scale_bars = scale_bars_of(scale_bars);
   o.estimate_pretravel = pretravel;
   if (!(sigma > 0) || !std::isfinite(sigma)) throw py::value_error("sigma: expected a standard deviation > 0 in mm");
-  o.sigma_ball = o.sigma_facet = o.sigma_scale_bar = sigma;
+  o.sigma_ball = o.sigma_facet = o.sigma_scale_bar = o.sigma_ballbar = o.sigma_laser = sigma;
   o.rank_tolerance = rank_tolerance;
   return o;
 }
@@ -433,9 +433,7 @@ letter's axis). method 'both', 'triples' (Cubas & Yeh 2022) or 'lsq'. As `mtcal 
   py::class_<ProbeFeature>(m, "ProbeFeature", "An artefact feature: a ball or a facet (workpiece frame, mm).")
       .def_readonly("id", &ProbeFeature::id)
       .def_property_readonly("kind",
-                             [](const ProbeFeature& f) {
-                               return f.kind == ProbeFeature::Kind::Ball ? "ball" : "facet";
-                             })
+                             [](const ProbeFeature& f) { return feature_kind_name(f.kind); })
       .def_property_readonly("position", [](const ProbeFeature& f) { return to_array(f.position); })
       .def_property_readonly("normal", [](const ProbeFeature& f) { return to_array(f.normal); });
   py::class_<ProbingPlan>(m, "ProbingPlan", "A probing plan or measurement (balls and facets at indexations).")

@@ -30,8 +30,45 @@ def test_design_plan_matches_cli(tmp_path, rrttt):
     assert data(mine) == data(out)
     with pytest.raises(mtcal.InputError, match="budget"):
         mtcal.design_plan(rrttt, artefact, estimate=["EY0C"])
-    with pytest.raises(ValueError, match="criterion"):
+    with pytest.raises(ValueError, match="'max-u' or 'va'"):
         mtcal.design_plan(rrttt, artefact, estimate=["EY0C"], poses=3, criterion="e")
+
+
+def test_design_plan_options_match_cli(rrttt):
+    """The options of mtcal plan beyond a pose budget, each against the command's --json exactly:
+    parameters chosen among candidates (with the program's feeds and cycle in the time), the VA's
+    uncertainty over a workspace (criterion va), and a region where balls may go."""
+    artefact = mtcal.read_probing_plan(rrttt, str(SPHERE))
+    ref = cli_json("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", "EX0C,EY0C",
+                   "--candidates", "EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A", "--choose", 4, "--poses", 14,
+                   "--rotary-step-deg", 30, "--move-feed", 900, "--rapid", 8000, "--approach", 2,
+                   "--clearance", 6, "--ball-diameter", 20)
+    r = mtcal.design_plan(rrttt, artefact, estimate=["EX0C", "EY0C"],
+                          candidates=["EA0C", "EB0C", "EY0A", "EZ0A", "EB0A", "EC0A"], choose=4, poses=14,
+                          rotary_step=np.radians(30), move_feed=900, rapid=8000, approach=2, clearance=6,
+                          ball_diameter=20)
+    assert_same(r.to_dict(), ref, tol=0)
+    assert r.estimate == ref["parameters_chosen"]["estimate"] and r.va_u is None
+    workspace = "X=-200:200:3,Y=-200:200:3,Z=-400:-100:3,A=-60:60:3,C=-180:120:5"
+    est = ["EX0C", "EY0C", "EA0C", "EB0C", "EY0A", "EZ0A", "EB0A", "EC0A"]
+    ref = cli_json("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", ",".join(est), "--poses", 12,
+                   "--criterion", "va", "--workspace", workspace, "--va-tie-um", 2, "--rotary-step-deg", 30)
+    r = mtcal.design_plan(rrttt, artefact, estimate=est, poses=12, criterion="va", workspace=workspace,
+                          va_tie=2e-3, rotary_step=np.radians(30))
+    assert_same(r.to_dict(), ref, tol=0)
+    assert r.va_u == ref["va"]["u"]
+    ref = cli_json("plan", "-m", RRTTT, "--ball-region", "-100:100,-100:100,50", "--ball-spacing", 200,
+                   "--estimate", "EX0C,EY0C,EA0C,EB0C", "--poses", 10, "--rotary-step-deg", 30)
+    r = mtcal.design_plan(rrttt, estimate=["EX0C", "EY0C", "EA0C", "EB0C"], ball_region=(-100, 100, -100, 100, 50),
+                          ball_spacing=200, poses=10, rotary_step=np.radians(30))
+    assert_same(r.to_dict(), ref, tol=0)
+    assert ref["ball_region"]["positions"] == 4
+    with pytest.raises(ValueError, match="choose"):
+        mtcal.design_plan(rrttt, artefact, estimate=["EY0C"], candidates=["EZ0A"], poses=3)
+    with pytest.raises(ValueError, match="ball_region"):
+        mtcal.design_plan(rrttt, estimate=["EY0C"], ball_region=(0, 1, 0, 1), poses=3)
+    with pytest.raises(mtcal.InputError, match="spacing"):
+        mtcal.design_plan(rrttt, estimate=["EY0C"], ball_region=(0, 1, 0, 1, 0), ball_spacing=-1, poses=3)
 
 
 def test_probe_program_and_log_match_cli(tmp_path, rrttt):
@@ -39,6 +76,11 @@ def test_probe_program_and_log_match_cli(tmp_path, rrttt):
         "--out", tmp_path / "plan.csv", "--gcode", tmp_path / "probe.ngc")
     designed = mtcal.design_plan(rrttt, mtcal.read_probing_plan(rrttt, str(SPHERE)), estimate=["EY0C", "EZ0A"], poses=12)
     text = mtcal.probe_program(rrttt, designed.plan, header=f"machine {rrttt.name}: 12 poses designed by mtcal plan")
+    cli("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", "EY0C,EZ0A", "--poses", 12,
+        "--gcode", tmp_path / "slow.ngc", "--move-feed", 700, "--probe-feed", 90)
+    assert mtcal.probe_program(rrttt, designed.plan, move_feed=700, probe_feed=90,
+                               header=f"machine {rrttt.name}: 12 poses designed by mtcal plan") == \
+        (tmp_path / "slow.ngc").read_text()
     assert text == (tmp_path / "probe.ngc").read_text()
     # A LinuxCNC probe log of that program: each G38.2 move's end (as tests/cli/test_option_errors.py makes it).
     at, log = {}, []

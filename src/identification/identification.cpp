@@ -1,6 +1,7 @@
 #include "mtcal/identification/identification.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -32,7 +33,10 @@ ArtefactState nominal_artefact(const ProbingPlan& plan) {
   a.offset.assign(plan.features.size(), 0.0);
   for (std::size_t f = 0; f < plan.features.size(); ++f) {
     a.ball[f] = plan.features[f].position;
-    a.offset[f] = plan.features[f].normal.dot(plan.features[f].position);
+    // A ballbar's offset is its length offset (nominally none); a laser's, d . p where it reads 0.
+    a.offset[f] = plan.features[f].kind == ProbeFeature::Kind::Ballbar
+                      ? 0.0
+                      : plan.features[f].normal.dot(plan.features[f].position);
   }
   return a;
 }
@@ -94,7 +98,8 @@ ProbingPlan plan_targets(const Machine& m, const ProbingPlan& plan) {
     const auto& f = plan.features[r.feature];
     for (std::size_t k : lin) r.q[k] = 0.0;
     const Eigen::Matrix3d A = linear_jacobian(nominal, r.q, lin);
-    solve_position(nominal, false, r.q, r.dir, f.position, A, lin, r.line);
+    const bool instrument = f.kind == ProbeFeature::Kind::Ballbar || f.kind == ProbeFeature::Kind::Laser;
+    solve_position(nominal, false, r.q, r.dir, instrument ? instrument_target(f, r.at) : f.position, A, lin, r.line);
     if (f.kind == ProbeFeature::Kind::Facet) {
       const auto [k, sign] = probing_axis(A, f.normal, lin);
       r.dir[k] = sign;
@@ -120,6 +125,18 @@ ProbingPlan simulate_readings(const Machine& truth, const ProbingPlan& plan, con
   for (auto& r : out.records) {
     const auto& f = plan.features[r.feature];
     const Eigen::Matrix3d A = linear_jacobian(nominal, r.q, lin);
+    // The instruments read at the commanded (nominal) targets: the bar's length from the true
+    // pivot, read with its length offset; the displacement along the beam less its offset.
+    if (f.kind == ProbeFeature::Kind::Ballbar) {
+      const Vec3 p = actual.actual_pose(r.q, r.dir).t;
+      r.reading = (p - artefact.ball[r.feature]).norm() + artefact.offset[r.feature] + noise_facet * gauss(rng);
+      continue;
+    }
+    if (f.kind == ProbeFeature::Kind::Laser) {
+      const Vec3 p = actual.actual_pose(r.q, r.dir).t;
+      r.reading = f.normal.dot(p) - artefact.offset[r.feature] + noise_facet * gauss(rng);
+      continue;
+    }
     if (f.kind == ProbeFeature::Kind::Ball) {
       solve_position(actual, true, r.q, r.dir, artefact.ball[r.feature], A, lin, r.line);
       for (std::size_t k : lin) r.q[k] += noise_ball * gauss(rng);
@@ -158,6 +175,11 @@ Simulation simulate_probing(const Machine& truth, const ProbingPlan& plan, const
       // left to right). z, y, x keeps the numbers mtcal has always given (GCC's order).
       const double dz = gauss(rng), dy = gauss(rng), dx = gauss(rng);
       sim.truth.ball[f] += o.artefact_error * Vec3(dx, dy, dz);
+    } else if (plan.features[f].kind == ProbeFeature::Kind::Ballbar) {
+      // The pivot placed and the bar's length set as well as a ball's position is known.
+      const double dz = gauss(rng), dy = gauss(rng), dx = gauss(rng);
+      sim.truth.ball[f] += o.artefact_error * Vec3(dx, dy, dz);
+      sim.truth.offset[f] += o.artefact_error * gauss(rng);
     } else
       sim.truth.offset[f] += o.artefact_error * gauss(rng);
   }
@@ -414,7 +436,7 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
     // At the nominal targets, not the readings: the readings carry the machine's errors (up to
     // 1e-4 of the travel), which would turn exact equivalences into near ones.
     const ProbingModel pm0(nominal_machine, plan_targets(nominal_machine, meas), requested, o.scale_bars,
-                           o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+                           o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar, o.sigma_ballbar, o.sigma_laser);
     check_enough(pm0, meas.source);
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
@@ -432,14 +454,16 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
         pretravel = false;  // requested like a parameter: reported and excluded
         continue;
       }
-      if (u.rfind("ball ", 0) != 0 && u.rfind("facet ", 0) != 0) continue;
+      if (u.rfind("ball ", 0) != 0 && u.rfind("facet ", 0) != 0 && u.rfind("ballbar ", 0) != 0 &&
+          u.rfind("laser ", 0) != 0)
+        continue;
       std::string why;
       for (const auto& d : before.null_directions)
         if (d.rfind(u + " ", 0) == 0) why = ": " + d;
       throw InputError({meas.source, 0, ""}, "the measurements cannot determine " + u + why);
     }
   }
-  const ProbingModel pm(prior, meas, params, o.scale_bars, pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+  const ProbingModel pm(prior, meas, params, o.scale_bars, pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar, o.sigma_ballbar, o.sigma_laser);
   res.pretravel_estimated = pretravel;
   check_enough(pm, meas.source);
   const Eigen::VectorXd x0 = start ? *start : pm.initial();
@@ -474,24 +498,25 @@ IdentificationResult identify_with(const Machine& prior, const ProbingPlan& meas
   const double dof = static_cast<double>(pm.residuals()) - static_cast<double>(pm.unknowns());
   res.sigma0 = dof > 0 ? std::sqrt(r.squaredNorm() / dof) : 0.0;
   // Unweighted residual RMS per kind.
-  double sb = 0, sf = 0, ss = 0;
-  std::size_t nb = 0, nf = 0, ns = 0;
+  // Per kind: ball, facet, ballbar, laser, scale bar.
+  std::array<double, 5> sum{};
+  std::array<std::size_t, 5> count{};
   for (std::size_t b = 0, row = 0; b < pm.blocks(); ++b) {
     const std::size_t size = pm.block_size(b);
+    const std::size_t kind = b < meas.records.size() ? static_cast<std::size_t>(pm.block_kind(b)) : 4;
     for (std::size_t i = 0; i < size; ++i) {
       const double v = r[static_cast<Eigen::Index>(row + i)] * pm.sigma(b);
-      if (pm.is_ball_block(b))
-        sb += v * v, ++nb;
-      else if (pm.is_facet_block(b))
-        sf += v * v, ++nf;
-      else
-        ss += v * v, ++ns;
+      sum[kind] += v * v;
+      ++count[kind];
     }
     row += size;
   }
-  res.rms_ball = nb ? std::sqrt(sb / static_cast<double>(nb)) : 0.0;
-  res.rms_facet = nf ? std::sqrt(sf / static_cast<double>(nf)) : 0.0;
-  res.rms_scale_bar = ns ? std::sqrt(ss / static_cast<double>(ns)) : 0.0;
+  auto rms = [&](std::size_t kind) { return count[kind] ? std::sqrt(sum[kind] / static_cast<double>(count[kind])) : 0.0; };
+  res.rms_ball = rms(static_cast<std::size_t>(ProbeFeature::Kind::Ball));
+  res.rms_facet = rms(static_cast<std::size_t>(ProbeFeature::Kind::Facet));
+  res.rms_ballbar = rms(static_cast<std::size_t>(ProbeFeature::Kind::Ballbar));
+  res.rms_laser = rms(static_cast<std::size_t>(ProbeFeature::Kind::Laser));
+  res.rms_scale_bar = rms(4);
   // Covariance sigma0^2 (J^T J)^-1 at the solution (weighted Jacobian).
   const Identifiability at = make_identifiability(pm, J, o.rank_tolerance);
   res.identifiability.columns = at.columns;
@@ -538,7 +563,7 @@ Identifiability identifiability(const Machine& machine, const ProbingPlan& plan,
   m.clear_errors();                             // structural: see identify_with
   const ProbingPlan p = plan_targets(m, plan);  // measurements too: see identify_with
   const ProbingModel pm(m, p, detail::parameter_indices(m, o.estimate, o.estimate_source), o.scale_bars,
-                        o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar);
+                        o.estimate_pretravel, o.sigma_ball, o.sigma_facet, o.sigma_scale_bar, o.sigma_ballbar, o.sigma_laser);
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
   pm.evaluate(pm.initial(), r, &J);
@@ -570,7 +595,7 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
   IdentificationOptions run_options = o;
   run_options.estimate_pretravel = result.pretravel_estimated;
   const ProbingModel pm(prior, measurements, params, o.scale_bars, result.pretravel_estimated, o.sigma_ball,
-                        o.sigma_facet, o.sigma_scale_bar);
+                        o.sigma_facet, o.sigma_scale_bar, o.sigma_ballbar, o.sigma_laser);
   // The solution vector of the identification, as the start of every run.
   Eigen::VectorXd x0 = pm.initial();
   for (std::size_t i = 0; i < k; ++i) x0[static_cast<Eigen::Index>(i)] = result.parameters[i].value;
@@ -578,10 +603,7 @@ MonteCarloResult monte_carlo(const Machine& prior, const ProbingPlan& measuremen
     bool used = false;
     for (const auto& r : measurements.records) used = used || r.feature == f;
     if (!used) continue;
-    if (measurements.features[f].kind == ProbeFeature::Kind::Ball)
-      x0.segment<3>(static_cast<Eigen::Index>(pm.ball_column(f))) = result.artefact.ball[f];
-    else
-      x0[static_cast<Eigen::Index>(pm.facet_column(f))] = result.artefact.offset[f];
+    pm.put_artefact(f, result.artefact, x0.data());
   }
   if (pm.has_pretravel()) x0[static_cast<Eigen::Index>(pm.pretravel_column())] = result.pretravel;
   out.samples.assign(mc.runs, std::vector<double>(k, std::numeric_limits<double>::quiet_NaN()));

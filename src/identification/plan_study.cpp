@@ -1,5 +1,7 @@
 #include "mtcal/identification/plan_study.hpp"
 
+#include <set>
+
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal {
@@ -8,16 +10,33 @@ PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::o
                      const PlanStudyOptions& o) {
   PlanStudy s;
   s.model = o.model;
-  s.candidates = candidate_configurations(m, artefact.features, rotary_grid(m, o.rotary_step), o.reach);
+  std::vector<ProbeFeature> features = artefact.features;
+  if (o.ball_region) {
+    const auto balls = region_balls(*o.ball_region, features);
+    s.region = BallRegionUse{balls.size(), 0, 0};
+    features.insert(features.end(), balls.begin(), balls.end());
+  }
+  if (features.empty())
+    throw InputError({"artefact", 0, ""}, "expected the artefact's balls and facets, or a region where balls may go");
+  s.candidates = candidate_configurations(m, features, rotary_grid(m, o.rotary_step), o.reach);
   if (o.choose) {
     s.choice = choose_parameters(m, s.candidates.plan, *o.choose, s.model);
     s.model.estimate = s.choice->estimate;
     s.model.estimate_source = o.choose->candidates_source;
   }
-  if (o.va) s.va = va_sensitivity(m, o.workspace, s.model, o.va_options);
+  if (o.va) {
+    s.workspace = o.workspace.empty() ? travel_grid(m, 5) : o.workspace;
+    s.target_va_u = o.target_va_u;
+    VaOptions vo = o.va_options;
+    if (o.va_tie > 0)
+      vo.tie_tolerance = o.va_tie;
+    else if (o.target_va_u > 0)
+      vo.tie_tolerance = 6 * o.target_va_u;
+    s.va = va_sensitivity(m, s.workspace, s.model, vo);
+  }
   if (against) {
     s.against = predict_plan(m, *against, s.model);
-    s.against_time = estimate_time(m, *against, o.timing);
+    s.against_time = estimate_time(m, *against, o.cycle, o.timing);
   }
   DesignOptions d;
   d.model = s.model;
@@ -40,12 +59,23 @@ PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::o
     d.target_source = o.against_source;
   }
   s.design = design_plan(m, s.candidates.plan, d);
-  s.time = estimate_time(m, s.design.plan, o.timing);
+  s.time = estimate_time(m, s.design.plan, o.cycle, o.timing);
+  if (s.va && s.against) s.against_va_u = va_uncertainty(*s.va, s.against->covariance);
+  if (s.region) {
+    std::set<std::size_t> reachable, used;
+    const std::size_t first = artefact.features.size();
+    for (const auto& r : s.candidates.plan.records)
+      if (r.feature >= first) reachable.insert(r.feature);
+    for (const auto& r : s.design.plan.records)
+      if (r.feature >= first) used.insert(r.feature);
+    s.region->reachable = reachable.size();
+    s.region->used = used.size();
+  }
   if (o.monte_carlo > 0) {
     Machine prior = m;
     for (const auto& e : s.design.prediction.parameters) prior.set_parameter(e.name, 0.0);
     s.monte_carlo = plan_monte_carlo(m, prior, s.design.plan, s.model, o.monte_carlo, o.seed, o.threads,
-                                     o.va ? o.workspace : std::vector<std::vector<double>>{});
+                                     s.workspace);
   }
   return s;
 }

@@ -116,6 +116,12 @@ CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeF
                                       const CandidateGrid& grid, const ProbeReach& reach) {
   const auto rot = rotary_axes(m);
   const auto lin = linear_axes(m);
+  for (const auto& f : features)
+    if (f.kind != ProbeFeature::Kind::Ball && f.kind != ProbeFeature::Kind::Facet)
+      throw InputError({"artefact", 0, f.id},
+                       fmt::format("the design proposes probings of balls and facets; the {} '{}' is not one (its "
+                                   "records are not proposed as candidates)",
+                                   feature_kind_name(f.kind), f.id));
   if (grid.rotary.size() != rot.size())
     throw InputError({"candidate grid", 0, ""}, fmt::format("expected values for the {} rotary axes, found {}",
                                                             rot.size(), grid.rotary.size()));
@@ -268,7 +274,7 @@ PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const Ide
   }
   const auto params = detail::parameter_indices(m, o.estimate, o.estimate_source);
   const detail::ProbingModel pm(nominal, targets, params, o.scale_bars, false, o.sigma_ball, o.sigma_facet,
-                                o.sigma_scale_bar);
+                                o.sigma_scale_bar, o.sigma_ballbar, o.sigma_laser);
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
   pm.evaluate(pm.initial(), r, &J);
@@ -665,7 +671,7 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
 
   // Jacobian rows of every candidate (and the fixed scale-bar rows), unit-norm columns.
   const detail::ProbingModel pm(nominal, candidates, params, o.model.scale_bars, false, o.model.sigma_ball,
-                                o.model.sigma_facet, o.model.sigma_scale_bar);
+                                o.model.sigma_facet, o.model.sigma_scale_bar, o.model.sigma_ballbar, o.model.sigma_laser);
   Eigen::VectorXd res;
   Eigen::MatrixXd J;
   pm.evaluate(pm.initial(), res, &J);
@@ -865,6 +871,10 @@ std::vector<ProbeTouch> probe_touches(const Machine& m, const ProbingPlan& plan,
   };
   for (std::size_t i = 0; i < plan.records.size(); ++i) {
     const ProbingRecord& r = plan.records[i];
+    const ProbeFeature::Kind kind = plan.features[r.feature].kind;
+    if (kind != ProbeFeature::Kind::Ball && kind != ProbeFeature::Kind::Facet)
+      throw InputError({plan.source, r.line, "kind"},
+                       fmt::format("a probing program probes balls and facets, not a {}", feature_kind_name(kind)));
     const Vec3 target(r.q[lin[0]], r.q[lin[1]], r.q[lin[2]]);
     if (plan.features[r.feature].kind == ProbeFeature::Kind::Ball) {
       std::vector<Vec3> dirs{up, a, -a, b, -b};
@@ -967,37 +977,87 @@ ProbingPlan measurements_from_contacts(const Machine& m, const ProbingPlan& plan
 
 // ---------------------------------------------------------------------------------------------
 
-TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const TimingOptions& o) {
+std::pair<std::size_t, double> probe_safe_retract(const Machine& m) {
+  std::size_t tz = m.axes.size();
+  for (std::size_t k = 0; k < m.axes.size(); ++k)
+    if (m.axes[k].kind == AxisKind::Linear && m.axes[k].direction_axis == m.tool.tool_axis) tz = k;
+  if (tz == m.axes.size() || !m.axes[tz].travel)
+    throw InputError({m.source, 0, ""}, "the linear axis along the tool needs a travel (its end is the safe retract)");
+  const Axis& z = m.axes[tz];
+  return {tz, z.direction_sign > 0 ? z.travel->max : z.travel->min};
+}
+
+TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle, const TimingOptions& o) {
   for (const auto& [name, v] : {std::pair{"rapid", o.rapid}, std::pair{"rotary speed", o.rotary_speed},
-                                std::pair{"probing feed", o.probe_feed}})
+                                std::pair{"probing feed", o.probe_feed}, std::pair{"move feed", o.move_feed}})
     if (!(v > 0) || !std::isfinite(v))
       throw InputError({name, 0, ""}, fmt::format("expected a speed > 0, found {:g}", v));
+  if (!(o.settle >= 0) || !std::isfinite(o.settle))
+    throw InputError({"settle", 0, ""}, fmt::format("expected a time >= 0 s, found {:g}", o.settle));
+  TimeEstimate t;
+  if (plan.records.empty()) return t;
+  const std::vector<ProbeTouch> touches = probe_touches(m, plan, cycle);
+  const auto [tz, safe] = probe_safe_retract(m);
   const auto rot = rotary_axes(m);
   const auto lin = linear_axes(m);
-  TimeEstimate t;
-  const double rapid = o.rapid / 60.0, feed = o.probe_feed / 60.0;  // mm/s
-  const double rotary = o.rotary_speed / 60.0 * std::numbers::pi / 180.0;  // rad/s
-  const ProbingRecord* prev = nullptr;
-  for (const auto& r : plan.records) {
-    if (prev) {
-      double index = 0.0, move = 0.0;
-      for (std::size_t k : rot) index = std::max(index, std::abs(r.q[k] - prev->q[k]));
-      for (std::size_t k : lin) move = std::max(move, std::abs(r.q[k] - prev->q[k]));
-      if (index > 0) {
-        t.indexing += index / rotary + o.settle;
+  const double rapid = o.rapid / 60.0, feed = o.move_feed / 60.0, probe = o.probe_feed / 60.0;  // mm/s
+  const double rotary = o.rotary_speed / 60.0 * std::numbers::pi / 180.0;                      // rad/s
+  // G0: every axis at its rapid, the largest change sets the time; G1 and the probing move: the
+  // feed along the path of the linear axes (RS274/NGC feed rate mode G94, LinuxCNC's G1).
+  auto g0 = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0.0;
+    for (std::size_t k : lin) d = std::max(d, std::abs(b[k] - a[k]));
+    return d / rapid;
+  };
+  auto path = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0.0;
+    for (std::size_t k : lin) d += (b[k] - a[k]) * (b[k] - a[k]);
+    return std::sqrt(d);
+  };
+  const double rho = (cycle.ball_diameter + cycle.tip_diameter) / 2;
+  const double top_offset = m.axes[tz].direction_sign * (rho + cycle.clearance);
+  std::vector<double> at;  // the linear axes' position (chain order); empty before the first record
+  std::size_t current = plan.records.size();
+  const ProbingRecord* last = nullptr;
+  for (std::size_t i = 0; i < touches.size(); ++i) {
+    const ProbeTouch& tt = touches[i];
+    const ProbingRecord& r = plan.records[tt.record];
+    std::vector<double> over = tt.start;
+    over[tz] = safe;
+    if (tt.record != current) {
+      current = tt.record;
+      if (!at.empty()) {
+        std::vector<double> up = at;
+        up[tz] = safe;
+        t.moves += g0(at, up);
+        double index = 0.0;
+        for (std::size_t k : rot) index = std::max(index, std::abs(r.q[k] - last->q[k]));
+        if (index > 0) {
+          t.indexing += index / rotary + o.settle;
+          ++t.indexations;
+        }
+        t.moves += g0(up, over);
+      } else {
         ++t.indexations;
       }
-      t.moves += move / rapid;
-    } else {
-      ++t.indexations;
+      last = &r;
+      at = over;
+    } else if (plan.features[r.feature].kind == ProbeFeature::Kind::Ball) {
+      // Between a ball's touches: up to the clearance level above it, over the next start.
+      std::vector<double> lift = at, above = tt.start;
+      lift[tz] = above[tz] = r.q[tz] + top_offset;
+      t.moves += (path(at, lift) + path(lift, above)) / feed;
+      at = above;
     }
-    const bool ball = plan.features[r.feature].kind == ProbeFeature::Kind::Ball;
-    const int touches = ball ? o.touches_per_ball : 1;
-    t.touches += static_cast<std::size_t>(touches);
-    t.probing += touches * (o.approach / feed + o.approach / rapid);
-    if (ball) t.moves += touches * (2 * o.ball_radius + 2 * o.approach) / rapid;
-    prev = &r;
+    t.moves += path(at, tt.start) / feed;
+    const double approach = path(tt.start, tt.expected);
+    t.probing += approach / probe + approach / feed;
+    ++t.touches;
+    at = tt.start;
   }
+  std::vector<double> up = at;
+  up[tz] = safe;
+  t.moves += g0(at, up);
   t.total = t.moves + t.probing + t.indexing;
   return t;
 }

@@ -34,15 +34,17 @@ std::vector<std::size_t> parameter_indices(const Machine& m, const std::vector<s
 
 ProbingModel::ProbingModel(const Machine& base, const ProbingPlan& plan, std::vector<std::size_t> parameters,
                            const std::vector<ScaleBar>& scale_bars, bool pretravel, double sigma_ball,
-                           double sigma_facet, double sigma_scale_bar)
+                           double sigma_facet, double sigma_scale_bar, double sigma_ballbar, double sigma_laser)
     : base_(base),
       plan_(plan),
       params_(std::move(parameters)),
       pretravel_(pretravel),
       sb_(sigma_ball),
       sf_(sigma_facet),
-      ss_(sigma_scale_bar) {
-  for (double s : {sb_, sf_, ss_})
+      ss_(sigma_scale_bar),
+      sbb_(sigma_ballbar),
+      sl_(sigma_laser) {
+  for (double s : {sb_, sf_, ss_, sbb_, sl_})
     if (!(s > 0) || !std::isfinite(s))
       throw InputError({"sigma", 0, ""}, fmt::format("expected a standard deviation > 0 mm, found {:g}", s));
   n_ = params_.size();
@@ -52,7 +54,7 @@ ProbingModel::ProbingModel(const Machine& base, const ProbingPlan& plan, std::ve
   for (std::size_t f = 0; f < plan_.features.size(); ++f) {
     if (!used[f]) continue;
     col_[f] = n_;
-    n_ += plan_.features[f].kind == ProbeFeature::Kind::Ball ? 3 : 1;
+    n_ += unknowns_of(plan_.features[f].kind);
   }
   for (const auto& sb : scale_bars) {
     const auto a = plan_.feature_index(sb.ball_a), b = plan_.feature_index(sb.ball_b);
@@ -79,15 +81,25 @@ ProbingModel::ProbingModel(const Machine& base, const ProbingPlan& plan, std::ve
 
 std::size_t ProbingModel::block_size(std::size_t b) const {
   if (b >= plan_.records.size()) return 1;
-  return plan_.features[plan_.records[b].feature].kind == ProbeFeature::Kind::Ball ? 3 : 1;
+  return readings_of(plan_.features[plan_.records[b].feature].kind);
 }
+ProbeFeature::Kind ProbingModel::block_kind(std::size_t b) const { return plan_.features[plan_.records[b].feature].kind; }
 bool ProbingModel::is_ball_block(std::size_t b) const {
   return b < plan_.records.size() && plan_.features[plan_.records[b].feature].kind == ProbeFeature::Kind::Ball;
 }
 bool ProbingModel::is_facet_block(std::size_t b) const {
   return b < plan_.records.size() && plan_.features[plan_.records[b].feature].kind == ProbeFeature::Kind::Facet;
 }
-double ProbingModel::sigma(std::size_t b) const { return is_ball_block(b) ? sb_ : is_facet_block(b) ? sf_ : ss_; }
+double ProbingModel::sigma(std::size_t b) const {
+  if (b >= plan_.records.size()) return ss_;
+  switch (block_kind(b)) {
+    case ProbeFeature::Kind::Ball: return sb_;
+    case ProbeFeature::Kind::Facet: return sf_;
+    case ProbeFeature::Kind::Ballbar: return sbb_;
+    case ProbeFeature::Kind::Laser: return sl_;
+  }
+  return ss_;
+}
 
 std::vector<std::string> ProbingModel::names() const {
   std::vector<std::string> out(n_);
@@ -99,13 +111,32 @@ std::vector<std::string> ProbingModel::names() const {
     if (!used[f]) continue;
     const auto& feat = plan_.features[f];
     if (feat.kind == ProbeFeature::Kind::Ball)
-      for (int c = 0; c < 3; ++c)
-        out[col_[f] + static_cast<std::size_t>(c)] = fmt::format("ball {} {}", feat.id, "xyz"[c]);
-    else
-      out[col_[f]] = "facet " + feat.id;
+      for (int c = 0; c < 3; ++c) out[col_[f] + static_cast<std::size_t>(c)] = fmt::format("ball {} {}", feat.id, "xyz"[c]);
+    if (feat.kind == ProbeFeature::Kind::Facet) out[col_[f]] = "facet " + feat.id;
+    if (feat.kind == ProbeFeature::Kind::Ballbar) {
+      const int k = ballbar_plane(feat);
+      out[col_[f]] = fmt::format("ballbar {} {}", feat.id, "xyz"[(k + 1) % 3]);
+      out[col_[f] + 1] = fmt::format("ballbar {} {}", feat.id, "xyz"[(k + 2) % 3]);
+      out[col_[f] + 2] = "ballbar " + feat.id + " length offset";
+    }
+    if (feat.kind == ProbeFeature::Kind::Laser) out[col_[f]] = "laser " + feat.id + " offset";
   }
   if (pretravel_) out[pre_col_] = "pre-travel";
   return out;
+}
+
+void ProbingModel::put_artefact(std::size_t f, const ArtefactState& a, double* x) const {
+  const auto kind = plan_.features[f].kind;
+  const std::size_t c0 = col_[f];
+  if (kind == ProbeFeature::Kind::Ball)
+    for (std::size_t c = 0; c < 3; ++c) x[c0 + c] = a.ball[f][static_cast<Eigen::Index>(c)];
+  if (kind == ProbeFeature::Kind::Facet || kind == ProbeFeature::Kind::Laser) x[c0] = a.offset[f];
+  if (kind == ProbeFeature::Kind::Ballbar) {
+    const int k = ballbar_plane(plan_.features[f]);
+    x[c0] = a.ball[f][(k + 1) % 3];
+    x[c0 + 1] = a.ball[f][(k + 2) % 3];
+    x[c0 + 2] = a.offset[f];
+  }
 }
 
 Eigen::VectorXd ProbingModel::initial() const {
@@ -116,10 +147,7 @@ Eigen::VectorXd ProbingModel::initial() const {
   for (const auto& r : plan_.records) used[r.feature] = true;
   for (std::size_t f = 0; f < plan_.features.size(); ++f) {
     if (!used[f]) continue;
-    if (plan_.features[f].kind == ProbeFeature::Kind::Ball)
-      x.segment<3>(static_cast<Eigen::Index>(col_[f])) = a.ball[f];
-    else
-      x[static_cast<Eigen::Index>(col_[f])] = a.offset[f];
+    put_artefact(f, a, x.data());
   }
   return x;
 }
@@ -136,10 +164,16 @@ ArtefactState ProbingModel::artefact(const double* x) const {
   for (const auto& r : plan_.records) used[r.feature] = true;
   for (std::size_t f = 0; f < plan_.features.size(); ++f) {
     if (!used[f]) continue;
-    if (plan_.features[f].kind == ProbeFeature::Kind::Ball)
-      a.ball[f] = Vec3(x[col_[f]], x[col_[f] + 1], x[col_[f] + 2]);
-    else
-      a.offset[f] = x[col_[f]];
+    const auto kind = plan_.features[f].kind;
+    const std::size_t c0 = col_[f];
+    if (kind == ProbeFeature::Kind::Ball) a.ball[f] = Vec3(x[c0], x[c0 + 1], x[c0 + 2]);
+    if (kind == ProbeFeature::Kind::Facet || kind == ProbeFeature::Kind::Laser) a.offset[f] = x[c0];
+    if (kind == ProbeFeature::Kind::Ballbar) {
+      const int k = ballbar_plane(plan_.features[f]);
+      a.ball[f][(k + 1) % 3] = x[c0];
+      a.ball[f][(k + 2) % 3] = x[c0 + 1];
+      a.offset[f] = x[c0 + 2];
+    }
   }
   return a;
 }
@@ -184,6 +218,36 @@ void ProbingModel::block(const double* x, std::size_t b, double* r, double* J) c
         J[k * n_ + i] = full_(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(params_[i])) / sb_;
       J[k * n_ + col_[rec.feature] + k] = -1.0 / sb_;
     }
+    return;
+  }
+  if (f.kind == ProbeFeature::Kind::Ballbar) {
+    // The bar's length: |p - c| (ISO 230-4), read delta long; c the pivot, its in-plane
+    // coordinates unknowns. First order in the errors through p.
+    const std::size_t c0 = col_[rec.feature];
+    const int k = ballbar_plane(f);
+    const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+    Vec3 c = f.position;
+    c[k1] = x[c0];
+    c[k2] = x[c0 + 1];
+    const Vec3 d = p - c;
+    const double len = d.norm();
+    r[0] = (len + x[c0 + 2] - rec.reading) / sbb_;
+    if (!J || !(len > 0)) return;
+    const Vec3 u = d / len;
+    for (std::size_t i = 0; i < params_.size(); ++i)
+      J[i] = u.dot(full_.col(static_cast<Eigen::Index>(params_[i])).head<3>()) / sbb_;
+    J[c0] = -u[k1] / sbb_;
+    J[c0 + 1] = -u[k2] / sbb_;
+    J[c0 + 2] = 1.0 / sbb_;
+    return;
+  }
+  if (f.kind == ProbeFeature::Kind::Laser) {
+    // The displacement along the beam (ISO 230-2): d . p less the offset where the laser was zeroed.
+    r[0] = (f.normal.dot(p) - x[col_[rec.feature]] - rec.reading) / sl_;
+    if (!J) return;
+    for (std::size_t i = 0; i < params_.size(); ++i)
+      J[i] = f.normal.dot(full_.col(static_cast<Eigen::Index>(params_[i])).head<3>()) / sl_;
+    J[col_[rec.feature]] = -1.0 / sl_;
     return;
   }
   const double pre = pretravel_ ? x[pre_col_] : 0.0;

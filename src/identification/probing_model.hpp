@@ -12,17 +12,20 @@
 
 namespace mtcal::detail {
 
-// Unknowns x = [machine parameters (chosen) | ball centres (3 each) | facet offsets | pre-travel].
+// Unknowns x = [machine parameters (chosen) | per feature: ball centre (3), facet offset (1),
+// ballbar pivot centre in its plane and length offset (3), laser offset (1) | pre-travel].
 // Residuals, weighted by 1/sigma:
-//   ball record:  p(q, dir) - c_b                         (3; the tool point on the ball centre)
-//   facet record: n . p(q, dir) - d_f + pretravel          (1; the probe centre on the plane)
-//   scale bar:    |c_a - c_b| - L                          (1)
+//   ball record:    p(q, dir) - c_b                       (3; the tool point on the ball centre)
+//   facet record:   n . p(q, dir) - d_f + pretravel        (1; the probe centre on the plane)
+//   ballbar record: |p(q, dir) - c_s| + delta_s - l        (1; l the bar's reading, ISO 230-4)
+//   laser record:   d . p(q, dir) - o_s - l                (1; l the displacement read along the beam d)
+//   scale bar:      |c_a - c_b| - L                        (1)
 // with p the actual tool point in the workpiece frame (ErrorModel, exact chain).
 class ProbingModel {
  public:
   ProbingModel(const Machine& base, const ProbingPlan& plan, std::vector<std::size_t> parameters,
                const std::vector<ScaleBar>& scale_bars, bool pretravel, double sigma_ball, double sigma_facet,
-               double sigma_scale_bar);
+               double sigma_scale_bar, double sigma_ballbar = 1e-3, double sigma_laser = 1e-3);
 
   std::size_t unknowns() const { return n_; }
   std::size_t residuals() const { return m_; }
@@ -44,8 +47,11 @@ class ProbingModel {
   // The machine with x's parameter values.
   Machine machine(const double* x) const;
   ArtefactState artefact(const double* x) const;
+  // Feature f's unknowns from an artefact state, into x (its columns; used features only).
+  void put_artefact(std::size_t f, const ArtefactState& a, double* x) const;
   bool is_ball_block(std::size_t b) const;
   bool is_facet_block(std::size_t b) const;
+  ProbeFeature::Kind block_kind(std::size_t b) const;  // of a record block (a scale bar: not called)
   double sigma(std::size_t b) const;
 
  private:
@@ -60,7 +66,7 @@ class ProbingModel {
   };
   std::vector<Bar> bars_;
   bool pretravel_;
-  double sb_, sf_, ss_;
+  double sb_, sf_, ss_, sbb_, sl_;
   std::size_t n_ = 0, m_ = 0, pre_col_ = 0;
   std::vector<std::size_t> col_;  // per feature: first column of its unknowns
   // The compiled model for the last parameter values (rebuilt when they change).

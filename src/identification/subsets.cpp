@@ -144,7 +144,7 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   std::vector<std::size_t> params = always;
   params.insert(params.end(), cand.begin(), cand.end());
   const detail::ProbingModel pm(m, p, params, mo.scale_bars, mo.estimate_pretravel, mo.sigma_ball, mo.sigma_facet,
-                                mo.sigma_scale_bar);
+                                mo.sigma_scale_bar, mo.sigma_ballbar, mo.sigma_laser);
   Eigen::VectorXd r0;
   Eigen::MatrixXd J;
   pm.evaluate(pm.initial(), r0, &J);
@@ -174,7 +174,7 @@ SubsetAnalysis full_rank_subsets(const Machine& machine, const ProbingPlan& plan
   double r0_2 = 0;
   if (plan.measured) {
     const detail::ProbingModel measured(m, plan, params, mo.scale_bars, mo.estimate_pretravel, mo.sigma_ball,
-                                        mo.sigma_facet, mo.sigma_scale_bar);
+                                        mo.sigma_facet, mo.sigma_scale_bar, mo.sigma_ballbar, mo.sigma_laser);
     measured.evaluate(measured.initial(), r0, nullptr);
     c = -(S.transpose() * r0);
     r0_2 = r0.squaredNorm();

@@ -84,7 +84,7 @@ expect_exit 0 "pre-travel excluded" -- "$MTCAL" identify -m "$H" --measurements 
 
 # Bad input: one line, non-zero exit, no output file.
 head -12 "$tmp/m0.csv" | sed 's/,ball,/,sphere,/' >"$tmp/bad1.csv"
-expect_error "unknown kind" "expected ball or facet" -- "$MTCAL" identify -m "$H" --measurements "$tmp/bad1.csv" --estimate EX0C
+expect_error "unknown kind" "expected ball, facet, ballbar or laser" -- "$MTCAL" identify -m "$H" --measurements "$tmp/bad1.csv" --estimate EX0C
 grep -v '^#' "$tmp/m0.csv" | cut -d, -f1-16 >"$tmp/bad2.csv"
 expect_error "missing reading column" "X, Y, Z or none" -- "$MTCAL" identify -m "$H" --measurements "$tmp/bad2.csv" --estimate EX0C
 sed '12s/,[^,]*$/,nan/' "$tmp/m0.csv" >"$tmp/bad3.csv"

@@ -114,6 +114,30 @@ expect_error "bad region" "expected XMIN:XMAX,YMIN:YMAX,Z" -- "$MTCAL" plan -m "
   --estimate EX0C --poses 4
 expect_error "empty region" "min <= max" -- "$MTCAL" plan -m "$V" --ball-region 100:-100,-100:100,50 --estimate EX0C --poses 4
 
+# Ballbar circles and a laser line as measurement records (docs/identification.md): simulate writes
+# their readings, identify reads them and recovers what probing alone cannot; plan refuses them.
+M3="$EXAMPLES/machines/vmc-3axis.yaml"
+BL="$EXAMPLES/plans/vmc-ballbar-laser.csv"
+SQ=EC0Y,EA0Z,EB0Z,EXX.1,EZZ.1
+expect_exit 0 "simulate ballbar and laser records" -- "$MTCAL" simulate -m "$M3" --plan "$BL" --noise-um 1 --artefact-error-um 5 \
+  --scale-bar 1:2:489.89794855663564 --out "$tmp/bl-meas.csv"
+grep -q ',radius,angle,along,reading$' "$tmp/bl-meas.csv" && grep -q ',ballbar,' "$tmp/bl-meas.csv" && ok || bad "their readings written"
+ZERO3=()
+for p in ${SQ//,/ }; do ZERO3+=(--set "$p=0"); done
+expect_exit 0 "identify from ballbar and laser records" -- "$MTCAL" identify -m "$M3" "${ZERO3[@]}" --measurements "$tmp/bl-meas.csv" \
+  --estimate "$SQ" --scale-bar 1:2:489.89794855663564 --truth "$M3" --workspace X=-100:100:2,Y=-100:100:2,Z=-400:-100:2 --json
+python3 - "$tmp/out" <<'PY' && ok || bad "identify: the 5 squarenesses and scales within 3 u of the truth; ballbar and laser rms"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["converged"] and not d["unidentifiable"], d["unidentifiable"]
+assert len(d["parameters"]) == 5
+for name, p in d["parameters"].items():
+    assert abs(p["value"] - p["imposed"]) < 3 * p["u"], (name, p)
+assert 0 < d["rms_um"]["ballbar"] < 3 and 0 < d["rms_um"]["laser"] < 3, d["rms_um"]
+assert set(d["artefact"]["ballbars"]) == {"XY", "YZ", "ZX"} and set(d["artefact"]["lasers"]) == {"LX"}
+PY
+expect_error "plan with a ballbar feature" "not proposed" -- "$MTCAL" plan -m "$M3" --artefact "$BL" --estimate EC0Y --poses 4
+
 # probe-log: a log with a bad line, located; nothing written.
 printf '1 2 3 0 0 0 0 0 0\nx 2 3 0 0 0 0 0 0\n' >"$tmp/bad.txt"
 expect_error "bad log line" "bad.txt:2" -- "$MTCAL" probe-log -m "$H" --plan "$tmp/plan.csv" --log "$tmp/bad.txt" --out "$tmp/no4.csv"

@@ -77,7 +77,7 @@ TEST(ProbingPlan, BadFilesGiveLocatedErrors) {
   EXPECT_NE(fails("indexation,B,C,feature,x,y,z\n1,0,0,1,0,0,0\n", "no kind").find("missing column 'kind'"),
             std::string::npos);
   EXPECT_NE(fails(head + "1,0,0,1,ball,0,nan,0,,,,,,\n", "NaN").find("'y'"), std::string::npos);
-  EXPECT_NE(fails(head + "1,0,0,1,sphere,0,0,0,,,,,,\n", "kind").find("expected ball or facet"), std::string::npos);
+  EXPECT_NE(fails(head + "1,0,0,1,sphere,0,0,0,,,,,,\n", "kind").find("expected ball, facet, ballbar or laser"), std::string::npos);
   EXPECT_NE(fails(head + "1,0,0,7,facet,0,0,0,1,1,0,,,\n", "normal").find("unit normal"), std::string::npos);
   EXPECT_NE(
       fails(head + "1,0,0,1,ball,0,0,0,,,,,,\n2,0,0,1,ball,1,0,0,,,,,,\n", "moved").find("different kind or geometry"),

@@ -488,35 +488,58 @@ TEST(Planning, BadBudgetsAndParameters) {
 }
 
 TEST(Planning, TimeByHand) {
-  const Machine m = hu40t();
-  ProbingPlan p = read_probing_csv(m, kPlans + "hu40t-samba-tango.csv");
-  p.records = {p.records[0], p.records[1], p.records[3]};  // two balls at B=10, C=30; one at B=-10, C=-30
-  p = plan_targets(m, p);
+  // One ball of the RRTTT (chain C A Y X Z; Z +z, travel [-500, 0]: the safe retract Z 0) probed at
+  // two indexations, the program's moves added up by hand.
+  const Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/rrttt-table-table.yaml");
+  ProbingPlan p;
+  p.features.push_back({"1", ProbeFeature::Kind::Ball, Vec3(0, 0, 0), Vec3::Zero()});
+  const double deg = std::numbers::pi / 180;
+  for (const auto& [c, z] : {std::pair{0.0, -300.0}, std::pair{90 * deg, -290.0}}) {
+    ProbingRecord r;
+    r.q = {c, 0.0, 10.0, 20.0, z};  // C A Y X Z
+    r.dir.assign(5, 0);
+    p.records.push_back(r);
+  }
+  ProbeCycle c;
+  c.ball_diameter = 20;  // rho = (20 + 2) / 2 = 11 mm from the centre at the contact
+  c.tip_diameter = 2;
+  c.approach = 2;
+  c.overtravel = 1;
+  c.clearance = 5;  // 16 mm above the centre between touches
+  c.touches_per_ball = 5;
   TimingOptions o;
   o.rapid = 6000;         // 100 mm/s
-  o.rotary_speed = 3600;  // 60 deg/s
+  o.move_feed = 600;      // 10 mm/s
   o.probe_feed = 60;      // 1 mm/s
-  o.approach = 2;
-  o.touches_per_ball = 5;
-  o.ball_radius = 10;
+  o.rotary_speed = 3600;  // 60 deg/s
   o.settle = 1;
-  const TimeEstimate t = estimate_time(m, p, o);
-  // Probing: 3 balls x 5 touches x (2 mm at 1 mm/s + 2 mm at 100 mm/s) = 30.3 s.
-  EXPECT_NEAR(t.probing, 15 * (2.0 + 0.02), 1e-12);
-  // Indexing: C from 30 to -30 deg, 60 deg at 60 deg/s = 1 s, plus 1 s settle.
-  EXPECT_NEAR(t.indexing, 2.0, 1e-12);
+  const TimeEstimate t = estimate_time(m, p, c, o);
+  // Each touch: 2 mm probing at 1 mm/s and the 2 mm retract at 10 mm/s.
+  EXPECT_NEAR(t.probing, 10 * (2.0 + 0.2), 1e-12);
+  EXPECT_EQ(t.touches, 10u);
+  // C 0 -> 90 deg at 60 deg/s, and the settle.
+  EXPECT_NEAR(t.indexing, 1.5 + 1.0, 1e-12);
   EXPECT_EQ(t.indexations, 2u);
-  EXPECT_EQ(t.touches, 15u);
-  // Moves: between the targets (largest axis difference at 100 mm/s), and per ball 5 x (20 + 4) mm.
-  double move = 0;
-  for (std::size_t i = 1; i < 3; ++i) {
-    double d = 0;
-    for (char a : {'X', 'Y', 'Z'})
-      d = std::max(d, std::abs(p.records[i].q[*m.axis_index(a)] - p.records[i - 1].q[*m.axis_index(a)]));
-    move += d / 100;
-  }
-  EXPECT_NEAR(t.moves, move + 3 * 5 * 24.0 / 100, 1e-9);
+  // G1 at 10 mm/s, from the first record's G0 over its pole at Z 0:
+  //   record 1: down to the pole's start Z -300+13: 287 mm;
+  //   touch +X: up 3 mm to Z -284, over 13 mm, down 16 mm: 32 mm;
+  //   touch -X: up 16, over 26, down 16: 58 mm;
+  //   touch +Y: up 16, over sqrt(13^2 + 13^2), down 16;
+  //   touch -Y: up 16, over 26, down 16: 58 mm.
+  const double ball = 32 + 58 + (32 + std::sqrt(338.0)) + 58;
+  double moves = (287 + ball) / 10;
+  // Record 2: G0 up to Z 0 from Z -300 (300 mm at 100 mm/s), G0 over the pole from Y -3 to Y 10
+  // (13 mm), G1 down to Z -290+13 (277 mm), the same four touches; the final G0 up from Z -290.
+  moves += 300.0 / 100 + 13.0 / 100 + (277 + ball) / 10 + 290.0 / 100;
+  EXPECT_NEAR(t.moves, moves, 1e-9);
   EXPECT_NEAR(t.total, t.moves + t.probing + t.indexing, 1e-12);
+  // The moves at the move feed: ten times slower G1 moves take ten times longer.
+  o.move_feed = 60;
+  const TimeEstimate slow = estimate_time(m, p, c, o);
+  EXPECT_NEAR(slow.moves, (287 + 277 + 2 * ball) / 1 + 3.0 + 0.13 + 2.9, 1e-9);
+  EXPECT_NEAR(slow.probing, 10 * (2.0 + 2.0), 1e-12);
+  o.move_feed = 0;
+  EXPECT_NE(error_message([&] { estimate_time(m, p, c, o); }).find("move feed"), std::string::npos);
 }
 
 // identify's fit check (identification/fit_check.hpp), which the closed loop's identify --require-fit

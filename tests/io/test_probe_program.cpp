@@ -150,6 +150,79 @@ TEST(ProbeProgram, MtcalsReaderFollowsTheProgram) {
   }
 }
 
+// The program's time from its text: G0 at the rapid of each axis (the largest change sets it;
+// the rotary axes at the indexing speed, then the settle), G1 and the probing move at their F along
+// the X Y Z path, a probing move stopping `approach` along its way (where a machine without errors
+// trips). From the first G1 on: the moves before it start from wherever the machine is.
+TimeEstimate time_of_program(const std::string& prog, const char* probe_word, const TimingOptions& o, double approach) {
+  TimeEstimate t;
+  std::map<char, double> at;
+  bool started = false;
+  std::istringstream lines(prog);
+  const std::regex word(R"(([XYZBCF])(-?[0-9.]+))");
+  for (std::string line; std::getline(lines, line);) {
+    const std::string code = line.substr(0, line.find(' '));
+    if (code != "G0" && code != "G1" && code != probe_word) continue;
+    std::map<char, double> to = at;
+    double f = 0;
+    for (auto it = std::sregex_iterator(line.begin(), line.end(), word); it != std::sregex_iterator(); ++it) {
+      const char a = (*it)[1].str()[0];
+      (a == 'F' ? f : to[a]) = std::stod((*it)[2]);
+    }
+    double lin = 0, largest = 0, rot = 0;
+    for (char a : {'X', 'Y', 'Z'}) {
+      const double d = to[a] - at[a];
+      lin += d * d;
+      largest = std::max(largest, std::abs(d));
+    }
+    lin = std::sqrt(lin);
+    for (char a : {'B', 'C'}) rot = std::max(rot, std::abs(to[a] - at[a]));
+    if (code == "G1") started = true;
+    if (code == probe_word) {
+      t.probing += approach / (f / 60);
+      for (char a : {'X', 'Y', 'Z'}) to[a] = at[a] + (to[a] - at[a]) * approach / lin;
+      ++t.touches;
+    } else if (started && code == "G1") {
+      t.moves += lin / (f / 60);  // the retracts too (estimate_time counts them with the probing)
+    } else if (started && rot > 0) {
+      t.indexing += rot / (o.rotary_speed / 60) + o.settle;
+    } else if (started) {
+      t.moves += largest / (o.rapid / 60);
+    }
+    at = to;
+  }
+  t.total = t.moves + t.probing + t.indexing;
+  return t;
+}
+
+TEST(ProbeProgram, TimeEstimateFollowsTheProgram) {
+  const Machine m = hu40t();
+  const ProbingPlan p = small_plan(m);
+  ProbeCycle c;
+  c.approach = 1.5;
+  c.clearance = 7;
+  TimingOptions o;
+  o.rapid = 8000;
+  o.move_feed = 1500;
+  o.probe_feed = 150;
+  o.rotary_speed = 1800;
+  o.settle = 0.7;
+  const TimeEstimate est = estimate_time(m, p, c, o);
+  for (const auto dialect : {ProbeDialect::LinuxCNC, ProbeDialect::Iso}) {
+    ProbeProgramOptions po;
+    po.dialect = dialect;
+    po.feed = o.move_feed;
+    po.probe_feed = o.probe_feed;
+    const std::string prog = probe_program(m, p, c, po);
+    const TimeEstimate got = time_of_program(prog, dialect == ProbeDialect::LinuxCNC ? "G38.2" : "G31", o, c.approach);
+    EXPECT_EQ(got.touches, est.touches);
+    EXPECT_NEAR(got.indexing, est.indexing, 1e-9);
+    // The program's words have 6 decimals: the times agree to a few 1e-6 s.
+    EXPECT_NEAR(got.total, est.total, 1e-5) << got.moves << " " << est.moves << " " << got.probing << " " << est.probing;
+    EXPECT_NEAR(got.moves + got.probing, est.moves + est.probing, 1e-5);
+  }
+}
+
 TEST(ProbeProgram, LinuxcncInterpreterReadsTheProgram) {
   if (find_rs274().empty()) GTEST_SKIP() << "LinuxCNC's rs274 is not installed (linuxcnc-uspace)";
   const Machine m = hu40t();

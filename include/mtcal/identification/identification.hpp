@@ -67,6 +67,7 @@ struct IdentificationOptions {
   bool estimate_pretravel = false;  // one probe pre-travel for all facet touches (mm)
   // Standard deviations that weight the residuals (mm).
   double sigma_ball = 1e-3, sigma_facet = 1e-3, sigma_scale_bar = 1e-3;
+  double sigma_ballbar = 1e-3, sigma_laser = 1e-3;  // a ballbar's length reading, a laser's displacement
   enum class Loss { None, Huber, Cauchy };
   Loss loss = Loss::None;
   double loss_scale = 3.0;  // in units of sigma
@@ -109,6 +110,7 @@ struct IdentificationResult {
   std::size_t residuals = 0, unknowns = 0;
   double sigma0 = 0.0;  // a posteriori standard deviation of unit weight: sqrt(2 cost / (m - n))
   double rms_ball = 0.0, rms_facet = 0.0, rms_scale_bar = 0.0;  // unweighted residual RMS, mm
+  double rms_ballbar = 0.0, rms_laser = 0.0;                    // the same of the ballbar and laser readings
   Identifiability identifiability;                              // at the solution, over the estimated unknowns
   std::vector<EstimatedParameter> parameters;                   // estimated machine parameters
   Eigen::MatrixXd correlation;                                  // among them

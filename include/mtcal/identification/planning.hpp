@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -263,22 +264,31 @@ ProbingPlan measurements_from_contacts(const Machine& m, const ProbingPlan& plan
 // ---- Measuring time ----
 
 struct TimingOptions {
-  double rapid = 10000.0;        // mm/min, linear moves between poses (axes move together)
+  double rapid = 10000.0;        // mm/min, G0 of the linear axes (the slowest axis sets the time)
   double rotary_speed = 5400.0;  // deg/min, indexing (rotary axes move together)
-  double probe_feed = 200.0;     // mm/min, the probing move
-  double approach = 3.0;         // mm, probing distance before the expected contact (and retract)
-  int touches_per_ball = 5;      // touches of a ball centre cycle (four on the equator and the pole)
-  double ball_radius = 12.7;     // mm, moves around a ball between touches
+  double probe_feed = 200.0;     // mm/min, the probing move (G38.2 / G31)
+  double move_feed = 2000.0;     // mm/min, the program's G1 moves near the artefact (ProbeProgramOptions::feed)
   double settle = 0.5;           // s, dwell after each indexing (clamping)
 };
 struct TimeEstimate {
   double total = 0.0, moves = 0.0, probing = 0.0, indexing = 0.0;  // s
   std::size_t indexations = 0, touches = 0;
 };
-// The plan's records in order: rapid between targets (the slowest axis sets the time), indexing
-// when the rotary values change (the slowest rotary axis, plus settle), per ball touches_per_ball
-// touches and per facet one, each approach at probe_feed and retract at rapid, with moves of
-// 2 ball_radius + 2 approach between a ball's touches.
-TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const TimingOptions& options);
+// The time of the probing program of the plan (io/gcode/probe_program.hpp) with the cycle, move
+// by move as the program makes them: per record a G0 retract of the tool-axis linear axis to its
+// safe travel end, the indexing when the rotary values change (G0: the largest rotary change at
+// rotary_speed, plus settle), a G0 over the first touch's start at the safe level (G0: the largest
+// linear axis change at rapid), then per touch (probe_touches) the G1 moves at move_feed (down to
+// the start; between a ball's touches up to the clearance level, over and down: path length over
+// the feed), the probing move from the start to the expected contact at probe_feed and the G1
+// retract to the start at move_feed; at the end the G0 retract. "probing" is the probing moves
+// and their retracts, "indexing" the rotary moves and settles, "moves" the rest. The moves before
+// the first record's G0 over its start (from wherever the machine is) are not counted, nor
+// accelerations. Throws InputError for a speed that is not > 0 or a cycle that probe_touches refuses.
+TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                           const TimingOptions& options);
+// The probing program's safe retract: the linear axis along the tool (chain index) and its travel
+// end where the tool is farthest from the workpiece. Throws InputError when that axis has no travel.
+std::pair<std::size_t, double> probe_safe_retract(const Machine& m);
 
 }  // namespace mtcal

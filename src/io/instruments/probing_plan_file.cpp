@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -20,8 +21,8 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
     if (!m.axis_index(c))
       throw InputError({source, 0, ""},
                        fmt::format("probing plans need linear axes X, Y and Z; {} has no {}", m.topology.chain, c));
-  std::vector<std::string> allowed{"indexation", "feature", "kind", "x",    "y", "z", "nx", "ny",
-                                   "nz",         "dirX",    "dirY", "dirZ", "X", "Y", "Z"};
+  std::vector<std::string> allowed{"indexation", "feature", "kind", "x", "y",      "z",     "nx",    "ny",      "nz",
+                                   "dirX",       "dirY",    "dirZ", "X", "Y",      "Z",     "radius", "angle", "along", "reading"};
   for (const auto& ax : m.axes)
     if (ax.kind == AxisKind::Rotary) allowed.push_back(std::string(1, ax.letter));
   for (const auto& c : t.columns)
@@ -29,7 +30,8 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
       throw InputError(
           {source, t.header_line, c},
           fmt::format("unknown column '{}' (expected indexation, the rotary axes of {}, feature, kind, x, y, z, "
-                      "nx, ny, nz, dirX, dirY, dirZ and, in a measurement, X, Y, Z)",
+                      "nx, ny, nz, dirX, dirY, dirZ, for ballbars radius and angle, for lasers along and, in a "
+                      "measurement, X, Y, Z and the ballbars' and lasers' reading)",
                       c, m.topology.chain));
   for (const char* c : {"indexation", "feature", "kind", "x", "y", "z"})
     if (t.column(c) < 0) throw InputError({source, t.header_line, ""}, fmt::format("missing column '{}'", c));
@@ -67,23 +69,42 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
       f.kind = ProbeFeature::Kind::Ball;
     } else if (kind == "facet") {
       f.kind = ProbeFeature::Kind::Facet;
+    } else if (kind == "ballbar") {
+      f.kind = ProbeFeature::Kind::Ballbar;
+    } else if (kind == "laser") {
+      f.kind = ProbeFeature::Kind::Laser;
     } else {
-      throw InputError({source, line, "kind"}, "expected ball or facet, found '" + printable(kind) + "'");
+      throw InputError({source, line, "kind"},
+                       "expected ball, facet, ballbar or laser, found '" + printable(kind) + "'");
     }
+    const bool instrument = f.kind == ProbeFeature::Kind::Ballbar || f.kind == ProbeFeature::Kind::Laser;
     f.position = Vec3(number("x", false), number("y", false), number("z", false));
     const Vec3 nrm(number("nx", true), number("ny", true), number("nz", true));
-    if (f.kind == ProbeFeature::Kind::Facet) {
+    if (f.kind == ProbeFeature::Kind::Facet || f.kind == ProbeFeature::Kind::Laser) {
       if (std::abs(nrm.norm() - 1.0) > 1e-6)
         throw InputError({source, line, "nx"},
-                         fmt::format("expected a facet's unit normal, found length {:g}", nrm.norm()));
+                         fmt::format("expected a {}'s unit {}, found length {:g}", kind,
+                                     f.kind == ProbeFeature::Kind::Laser ? "beam direction" : "normal", nrm.norm()));
       f.normal = nrm.normalized();  // accepted within 1e-6 of unit length; used exactly unit
+    } else if (f.kind == ProbeFeature::Kind::Ballbar) {
+      f.normal = nrm;
+      try {
+        ballbar_plane(f);
+      } catch (const InputError&) {
+        throw InputError({source, line, "nx"},
+                         fmt::format("expected a ballbar's plane normal 0,0,1 (XY), 1,0,0 (YZ) or 0,1,0 (ZX), found "
+                                     "{:g},{:g},{:g}",
+                                     nrm.x(), nrm.y(), nrm.z()));
+      }
+      f.radius = number("radius", false);
+      if (!(f.radius > 0)) throw InputError({source, line, "radius"}, fmt::format("expected a bar length > 0 mm, found {:g}", f.radius));
     } else if (!nrm.isZero(0.0)) {
       throw InputError({source, line, "nx"}, "a ball has no normal: leave nx, ny, nz empty or 0");
     }
     std::size_t fi = 0;
     if (const auto known = plan.feature_index(f.id)) {
       const auto& g = plan.features[*known];
-      if (g.kind != f.kind || g.position != f.position || g.normal != f.normal)
+      if (g.kind != f.kind || g.position != f.position || g.normal != f.normal || g.radius != f.radius)
         throw InputError({source, line, "feature"},
                          "feature '" + printable(f.id) + "' has a different kind or geometry than on an earlier row");
       fi = *known;
@@ -100,6 +121,9 @@ ProbingPlan parse_probing_csv(const Machine& m, const std::string& text, const s
     rec.indexation = static_cast<int>(idx);
     rec.q.assign(n, 0.0);
     rec.dir.assign(n, 0);
+    if (f.kind == ProbeFeature::Kind::Ballbar) rec.at = number("angle", false) * std::numbers::pi / 180;
+    if (f.kind == ProbeFeature::Kind::Laser) rec.at = number("along", false);
+    if (instrument && plan.measured) rec.reading = number("reading", false);
     for (std::size_t k = 0; k < n; ++k) {
       const Axis& ax = m.axes[k];
       const std::string letter(1, ax.letter);
@@ -134,6 +158,11 @@ std::string probing_csv(const Machine& m, const ProbingPlan& plan, const std::st
     if (ax.kind == AxisKind::Rotary) out += fmt::format(",{}", ax.letter);
   out += ",feature,kind,x,y,z,nx,ny,nz,dirX,dirY,dirZ";
   if (plan.measured) out += ",X,Y,Z";
+  // The instruments' columns only where the plan has ballbars or lasers: ball and facet files as before.
+  const bool instruments = std::any_of(plan.features.begin(), plan.features.end(), [](const ProbeFeature& f) {
+    return f.kind == ProbeFeature::Kind::Ballbar || f.kind == ProbeFeature::Kind::Laser;
+  });
+  if (instruments) out += plan.measured ? ",radius,angle,along,reading" : ",radius,angle,along";
   out += "\n";
   const std::size_t ix = *m.axis_index('X'), iy = *m.axis_index('Y'), iz = *m.axis_index('Z');
   for (const auto& r : plan.records) {
@@ -141,15 +170,26 @@ std::string probing_csv(const Machine& m, const ProbingPlan& plan, const std::st
     out += fmt::format("{}", r.indexation);
     for (std::size_t k = 0; k < m.axes.size(); ++k)
       if (m.axes[k].kind == AxisKind::Rotary) out += fmt::format(",{:.12g}", to_user_units(m.axes[k], r.q[k]));
-    out += fmt::format(",{},{},{:.12g},{:.12g},{:.12g}", f.id, f.kind == ProbeFeature::Kind::Ball ? "ball" : "facet",
-                       f.position.x(), f.position.y(), f.position.z());
-    if (f.kind == ProbeFeature::Kind::Facet)
+    out += fmt::format(",{},{},{:.12g},{:.12g},{:.12g}", f.id, feature_kind_name(f.kind), f.position.x(),
+                       f.position.y(), f.position.z());
+    if (f.kind != ProbeFeature::Kind::Ball)
       out += fmt::format(",{:.12g},{:.12g},{:.12g}", f.normal.x(), f.normal.y(), f.normal.z());
     else
       out += ",,,";
     out += fmt::format(",{},{},{}", r.dir[ix], r.dir[iy], r.dir[iz]);
     // Shortest round-trip form: a written simulation reads back bit for bit.
     if (plan.measured) out += fmt::format(",{},{},{}", r.q[ix], r.q[iy], r.q[iz]);
+    if (instruments) {
+      if (f.kind == ProbeFeature::Kind::Ballbar)
+        out += fmt::format(",{:.12g},{},", f.radius, r.at * 180 / std::numbers::pi);
+      else if (f.kind == ProbeFeature::Kind::Laser)
+        out += fmt::format(",,,{}", r.at);
+      else
+        out += ",,,";
+      if (plan.measured) out += f.kind == ProbeFeature::Kind::Ballbar || f.kind == ProbeFeature::Kind::Laser
+                                    ? fmt::format(",{}", r.reading)
+                                    : ",";
+    }
     out += "\n";
   }
   return out;

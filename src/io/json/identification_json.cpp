@@ -1,9 +1,10 @@
 // JSON of the identification results: the documented keys of simulate, identify and identifiability --json.
 #include "mtcal/io/json/identification_json.hpp"
 
-#include "mtcal/identification/fit_check.hpp"
-
+#include <algorithm>
 #include <cmath>
+
+#include "mtcal/identification/fit_check.hpp"
 
 namespace mtcal {
 
@@ -20,14 +21,23 @@ Json to_json(const Identifiability& id) {
 }
 
 Json artefact_json(const std::vector<ProbeFeature>& features, const ArtefactState& state) {
-  Json balls = Json::object(), facets = Json::object();
+  Json balls = Json::object(), facets = Json::object(), ballbars = Json::object(), lasers = Json::object();
   for (std::size_t f = 0; f < features.size(); ++f) {
-    if (features[f].kind == ProbeFeature::Kind::Ball)
-      balls[features[f].id] = {state.ball[f].x(), state.ball[f].y(), state.ball[f].z()};
-    else
-      facets[features[f].id] = state.offset[f];
+    const Vec3& c = state.ball[f];
+    switch (features[f].kind) {
+      case ProbeFeature::Kind::Ball: balls[features[f].id] = {c.x(), c.y(), c.z()}; break;
+      case ProbeFeature::Kind::Facet: facets[features[f].id] = state.offset[f]; break;
+      case ProbeFeature::Kind::Ballbar:
+        ballbars[features[f].id] = {{"pivot", {c.x(), c.y(), c.z()}}, {"length_offset", state.offset[f]}};
+        break;
+      case ProbeFeature::Kind::Laser: lasers[features[f].id] = state.offset[f]; break;
+    }
   }
-  return {{"balls", balls}, {"facets", facets}};
+  Json j = {{"balls", balls}, {"facets", facets}};
+  // Only with the instruments: the keys of probing alone as before.
+  if (!ballbars.empty()) j["ballbars"] = ballbars;
+  if (!lasers.empty()) j["lasers"] = lasers;
+  return j;
 }
 
 Json to_json(const Simulation& sim, double noise_um, double artefact_error_um, std::uint64_t seed,
@@ -58,6 +68,9 @@ Json to_json(const IdentificationRun& run, const std::string& out, const std::st
   j["condition"] = std::isfinite(r.identifiability.condition) ? Json(r.identifiability.condition) : Json(nullptr);
   j["singular_values"] = r.identifiability.singular_values;
   j["rms_um"] = {{"ball", r.rms_ball * 1e3}, {"facet", r.rms_facet * 1e3}, {"scale_bar", r.rms_scale_bar * 1e3}};
+  for (const auto kind : {ProbeFeature::Kind::Ballbar, ProbeFeature::Kind::Laser})
+    if (std::any_of(run.features.begin(), run.features.end(), [&](const ProbeFeature& f) { return f.kind == kind; }))
+      j["rms_um"][feature_kind_name(kind)] = (kind == ProbeFeature::Kind::Ballbar ? r.rms_ballbar : r.rms_laser) * 1e3;
   j["sigma0"] = r.sigma0;
   {
     const FitCheck f = check_fit(r);

@@ -37,6 +37,25 @@ Json to_json(const PlanMonteCarlo& mc, const PlanPrediction& predicted) {
   return j;
 }
 
+PlanReport plan_report(const PlanStudy& s) {
+  PlanReport r;
+  r.candidates = &s.candidates;
+  r.design = &s.design;
+  r.time = s.time;
+  r.against = s.against;
+  r.against_time = s.against_time;
+  r.monte_carlo = s.monte_carlo;
+  if (s.choice) r.choice = &*s.choice;
+  if (s.va) {
+    r.va = &*s.va;
+    r.workspace = kPlanTravelWorkspace;
+    r.target_va_u = s.target_va_u;
+    r.against_va_u = s.against_va_u;
+  }
+  if (s.region) r.region = {s.region->positions, s.region->reachable, s.region->used};
+  return r;
+}
+
 Json to_json(const PlanReport& r) {
   const PlanDesign& d = *r.design;
   Json j;

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "mtcal/identification/plan_study.hpp"
 #include "mtcal/identification/planning.hpp"
 #include "mtcal/io/json/json.hpp"
 
@@ -40,5 +41,10 @@ struct PlanReport {
   } region;  // --ball-region (positions 0: none)
 };
 Json to_json(const PlanReport& r);
+// The report of a study (pointers into it: it must outlive the report); against_path, workspace
+// (the VA's grid in words), out and gcode are the caller's.
+PlanReport plan_report(const PlanStudy& s);
+// The words of PlanReport::workspace for the default workspace (travel_grid, 5 values an axis).
+inline constexpr const char* kPlanTravelWorkspace = "the travels, 5 values an axis";
 
 }  // namespace mtcal
