@@ -124,6 +124,13 @@ class BallbarTrace:
     def source(self) -> str:
         ...
 
+class CampaignResult:
+    """A campaign judged (mtcal campaign)."""
+    def to_dict(self) -> dict[str, Any]:
+        """As `mtcal campaign --json` (without report)."""
+    def write_report(self, path: str, command: str = ...) -> None:
+        """The HTML report of campaign --report."""
+
 class CircularDeviation:
     """ISO 230-4 quantities of one direction's path (mm)."""
     @property
@@ -283,6 +290,22 @@ class ControlSeparation:
     def to_dict(self, file: str = ...) -> dict[str, Any]:
         ...
 
+class CorrectedGcode:
+    """A G-code program corrected for the machine's errors."""
+    @property
+    def expanded(self) -> bool:
+        """Every move written anew (cycles, offsets) instead of corrected in place"""
+    @property
+    def text(self) -> str:
+        """The corrected program"""
+    def to_dict(self, out: str = ...) -> dict[str, Any]:
+        """As `mtcal compensate --gcode --json`: machine, program, interpreter, written, correction {moves, moves_corrected, subdivisions, ...}, rewrite {lines_in, lines_changed, lines_added}, seconds, out."""
+    @property
+    def warnings(self) -> list[str]:
+        ...
+    def write(self, path: str) -> None:
+        """Writes the corrected program (complete or not at all), as --out."""
+
 class CsvTable:
     """A numeric CSV table (read_csv): columns, values (N, C), source lines."""
     def __getitem__(self, arg0: str) -> npt.NDArray[np.float64]:
@@ -408,6 +431,24 @@ class Effects:
     def values(self) -> npt.NDArray[np.float64]:
         """(E, 6): dx dy dz in um, rx ry rz in urad, per 1 um or 1 urad of each error"""
 
+class ErrorDraw:
+    """A drawn truth (mtcal errors --draw): the truth and the nominal model."""
+    @property
+    def nominal(self) -> Machine:
+        """The same machine and forms, every error zero"""
+    @property
+    def seed(self) -> int:
+        ...
+    def to_dict(self) -> dict[str, Any]:
+        """As the 'draw' of `mtcal errors --draw --json`: seed, drawn[error size unit table parameters]."""
+    @property
+    def truth(self) -> Machine:
+        """The nominal machine with the drawn errors (every other error zero)"""
+    def write_nominal(self, path: str, description: str = ...) -> None:
+        """The parameter file of errors --draw --out-nominal: the same errors and forms, every value zero."""
+    def write_truth(self, path: str, description: str = ...) -> None:
+        """The parameter file of errors --draw --out: every error of the machine, the drawn values."""
+
 class ErrorMap:
     """Translational errors at a set of configurations (error_map, volumetric)."""
     def __len__(self) -> int:
@@ -511,6 +552,22 @@ class EtalonBlock:
     def value(self) -> float:
         """A position error: mm or rad"""
 
+class EvaluationRun:
+    """Every configuration's error with the summary of mtcal eval --points / --grid."""
+    def __len__(self) -> int:
+        ...
+    @property
+    def configs(self) -> npt.NDArray[np.float64]:
+        """(N, k) joint values, internal units, in the command's order (a grid: last axis fastest)"""
+    @property
+    def directions(self) -> Any:
+        ...
+    @property
+    def errors(self) -> npt.NDArray[np.float64]:
+        """(N, 6) dx dy dz (mm) rx ry rz (rad)"""
+    def to_dict(self) -> dict[str, Any]:
+        """As `mtcal eval --points/--grid --json`: configurations, seconds, max_translation {value (mm), at}, max_rotation {value (rad), at} (at in mm and deg)."""
+
 class FitResult:
     """A least-squares fit of one model form (Yaqoob 2017 ch. 5)."""
     def __call__(self, x: npt.ArrayLike) -> npt.NDArray[np.float64]:
@@ -590,8 +647,15 @@ class HistoryStore:
         """Events in date order (machine '': all)."""
     def export(self, path: str | None = ...) -> Any:
         """The store as JSON lines (records then events), as `mtcal history export`: written to path (all or nothing; returns the line count), or returned as text without a path."""
-    def import_(self, path: str) -> dict[str, Any]:
-        """Imports what export wrote (a .jsonl file) in one transaction, as `mtcal history import FILE.jsonl`: ids kept, records stored already skipped. {records_added, events_added, skipped}."""
+    def import_(self, files: str | Sequence[str], *, command: str = ..., metadata: Mapping[str, str] | None = ...) -> Any:
+        """Imports files as `mtcal history import FILE... --json` does: result JSON files (what a command's
+        --json printed; command: the command that made them, or "" to tell it from their keys: iso230-2,
+        ballbar, volumetric, identify), instrument files of positioning runs (evaluated to ISO 230-2)
+        and JSON-lines exports (*.jsonl, what export wrote: ids kept). files: a path or a list of
+        paths; metadata: the test's fields, over what the files say (machine, date ...; --meta). Every
+        result file is read before anything is stored; records stored already (same content hash) are
+        skipped and listed. Returns {store, records_added, events_added, skipped, records: [{file, id}]}.
+        """
     def list(self, *, machine: str = ..., command: str = ..., from_: str = ..., to: str = ...) -> list[Any]:
         """The records in time order (measured), as `mtcal history list --json`'s records."""
     def machines(self) -> list[str]:
@@ -723,6 +787,18 @@ class IdentificationRun:
     def write_parameters(self, path: str, measurements_source: str = ...) -> None:
         """Writes parameters_yaml() to path (as `mtcal identify --out`)."""
 
+class IdentifiedSummary:
+    """What identify --json printed, read back."""
+    @property
+    def converged(self) -> bool:
+        ...
+    @property
+    def parameters(self) -> dict[str, Any]:
+        """{name: (value, u)} in internal units"""
+    @property
+    def source(self) -> str:
+        ...
+
 class IndexedCentres:
     """Sphere centres per indexation (angles in rad, centres in mm)."""
     def __init__(self, angles: npt.ArrayLike, centres: npt.ArrayLike, *, source: str = ...) -> None:
@@ -765,6 +841,19 @@ class LaserFile:
     @property
     def runs(self) -> PositioningRuns:
         """PositioningRuns: deviations per target and run, in the file's units"""
+
+class LinuxcncProbe:
+    """The simulated touch probe for LinuxCNC (mtcal linuxcnc-probe)."""
+    @property
+    def component(self) -> str:
+        ...
+    @property
+    def files(self) -> dict[str, Any]:
+        """file name -> text (mtcal_probe.c, build.sh, linuxcnc-probe.hal, README.txt)"""
+    def to_dict(self, out: str = ...) -> dict[str, Any]:
+        """As `mtcal linuxcnc-probe --json` (out: the directory written, as --out)."""
+    def write(self, dir: str) -> None:
+        """Writes the files into dir (new or empty): all of them or none, as --out."""
 
 class Machine:
     """A machine model: topology, axes, tool and workpiece set-up, and every ISO 230 error parameter by name. Values in internal units (mm, rad). Machine.load reads a machine file; MachineBuilder builds one from Python values; with_params returns a modified copy."""
@@ -923,8 +1012,8 @@ class ModelComparison:
     @property
     def fits(self) -> list[FitResult]:
         ...
-    def to_dict(self, file: str = ..., x: str = ..., y: str = ...) -> dict[str, Any]:
-        """As `mtcal regress --json` (file, x, y name the data)."""
+    def to_dict(self, file: str | None = ..., x: str | None = ..., y: str | None = ...) -> dict[str, Any]:
+        """As `mtcal regress --json` (file, x, y name the data; default: as given to compare_models)."""
 
 class MotionFit:
     """How one motion error was fitted."""
@@ -1013,6 +1102,20 @@ class PointPair:
     @property
     def value(self) -> float:
         ...
+
+class PoseCheck:
+    """The tool point at reached poses (check_reached_poses)."""
+    @property
+    def errors(self) -> npt.NDArray[np.float64]:
+        """(N, 3) actual - commanded tool point, mm"""
+    @property
+    def max_error(self) -> float:
+        """mm"""
+    def to_dict(self, *, per_pose: bool = ...) -> dict[str, Any]:
+        """As `mtcal pose-check --json` (without machine)."""
+    @property
+    def va(self) -> float:
+        """mm"""
 
 class PositionObservation:
     """One CMM/probe pair of a feature at a step (mm)."""
@@ -1232,6 +1335,14 @@ class ProcessErrorStudy:
         """Program-generated error per feed (mm)"""
     def to_dict(self) -> dict[str, Any]:
         """As `mtcal process-error --json`."""
+
+class ReachedPoses:
+    """Commanded world poses and the joints reached (read_reached_poses)."""
+    def __len__(self) -> int:
+        ...
+    @property
+    def source(self) -> str:
+        ...
 
 class RotaryAxisResult:
     """Rotary-axis location errors (ISO 230-7) from sphere centres."""
@@ -1471,14 +1582,23 @@ def ballbar(trace: BallbarTrace, *, radius: float, plane: str = ..., overshoot_s
 def ballbar_parameters(result: BallbarResult, *, squareness: bool = ..., scale: bool = ..., backlash: bool = ...) -> list[EstimatedError]:
     """The ISO 230-4 diagnosis of a BallbarResult as model parameters (docs/fit-motion.md): squareness -> EC0Y (XY), EA0Z (YZ), EB0Z (ZX); scaling mismatch -> the linear terms of both axes' positioning errors; backlash -> their reversal terms. As `mtcal ballbar --to-params --terms ...`. A list of EstimatedError."""
 
+def campaign(machine: Machine, before: ProbingPlan, after: ProbingPlan, *, identified: IdentifiedSummary | None = ..., truth: Machine | None = ..., poses_before: ReachedPoses | None = ..., poses_after: ReachedPoses | None = ..., reference: str = ..., noise: float = ...) -> CampaignResult:
+    """The campaign (mtcal campaign): before and after are measurements of the same plan
+    (read_probing_plan); identified from read_identification_json; truth the machine with the true
+    errors (Machine.load(path, params=[truth file])); poses from read_reached_poses; noise: the probing noise in mm.
+    """
+
 def centres_from_contacts(contacts: ContactSet, *, sphere_diameter: float, stylus_diameter: float = ..., max_rms: float = ...) -> IndexedCentres:
     """One sphere fit per indexation (five-point protocol or least squares), diameters in mm."""
+
+def check_reached_poses(machine: Machine, poses: ReachedPoses, *, tool_length: float | None = ...) -> PoseCheck:
+    """The machine (the truth) at the reached joints: actual - commanded per pose, max |e|, VA (mtcal pose-check)."""
 
 def compare_methods(data: ComparisonData) -> MethodComparison:
     """Per parameter: both methods' mean and standard deviation, difference, overlap, correlation."""
 
-def compare_models(x: npt.ArrayLike, y: npt.ArrayLike, *, models: str = ...) -> ModelComparison:
-    """Fits every form of models ('all' or a comma list of labels) and ranks them by backward prediction and leave-one-out error. As `mtcal regress`."""
+def compare_models(x: npt.ArrayLike, y: npt.ArrayLike, *, models: str = ..., file: str = ..., x_name: str = ..., y_name: str = ...) -> ModelComparison:
+    """Fits every form of models ('all' or a comma list of labels) and ranks them by backward prediction and leave-one-out error. As `mtcal regress`. file, x_name, y_name: what to_dict() and write_report name as the data (the data file, hashed into the report, and its columns)."""
 
 def compensate(machine: Machine, target: str, *, sampling: list[AxisSampling] = ..., points: int = ..., reference: npt.ArrayLike | None = ..., residual_points: int = ..., threads: int = ..., skew_reference_length: float = ...) -> TargetOutput:
     """Compensation for a controller: `target` names an entry of compensation_targets(). sampling: per
@@ -1495,6 +1615,18 @@ def contributions(machine: Machine, *, at: npt.ArrayLike | None = ..., pair: tup
     """Contribution of every error (first order, mm) to the error at configuration `at`, to
     e(to) - e(from) for pair=(from, to), or to the critical pair of a map (configs or grid) with the
     exact VA without each error (what_if). Configurations in internal units. As `mtcal contributions`.
+    """
+
+def correct_gcode(machine: Machine, program: str, *, max_deviation: float = ..., linearise_arcs: bool = ..., origin: Mapping[str, float] | None = ..., decimals: int = ..., directions: bool = ..., orientation: bool = ..., travel_check: bool = ...) -> CorrectedGcode:
+    """The corrected G-code program, as `mtcal compensate --gcode FILE --out OUT`
+    (docs/compensation-gcode.md): the commanded positions that put the actual tool on the programmed
+    path, moves cut until the tool point stays within max_deviation (mm) of it. program: the file,
+    read by mtcal's reader with the machine's axis letters (no work offsets or tool table given;
+    LinuxCNC's interpreter is the command's). Corrected in place when each block is one move in
+    program coordinates, else every move written anew (expanded). origin: program zero in machine axis
+    positions {"X": 100, ...} (mm, deg); decimals: digits written after the point; directions=False:
+    as --no-direction, orientation=False: as --no-orientation. Returns CorrectedGcode: text,
+    expanded, warnings, write(path), to_dict(out).
     """
 
 def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str] = ..., candidates: list[str] = ..., choose: int = ..., scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., target_va_u: float = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., va_tie: float = ..., criterion: str = ..., ball_region: tuple[float, float, float, float, float] | None = ..., ball_spacing: float = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., move_feed: float = ..., approach: float = ..., touches: int = ..., ball_diameter: float = ..., tip_diameter: float = ..., overtravel: float = ..., clearance: float = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ...) -> PlanResult:
@@ -1515,6 +1647,12 @@ def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against
 
 def diagonals(machine: Machine, box: str | Mapping[str, tuple[float, float]] | None, *, points: int = ..., face: bool = ..., travel_check: bool = ...) -> DiagonalsResult:
     """ISO 230-6 body (and face) diagonals of a box ("X=0:500,Y=0:400,Z=-300:0" in mm, or a dict letter -> (lo, hi) internal) simulated on the model, as `mtcal diagonals`."""
+
+def draw_errors(machine: Machine, seed: int, *, only: list[str] = ..., tables: list[str] = ..., table_points: int = ..., length_um: Any = ..., angle_urad: Any = ...) -> ErrorDraw:
+    """A truth drawn on the machine's nominal geometry (mtcal errors --draw SEED): every location error,
+    or only these errors/parameters, plus the motion errors in tables drawn as tables; sizes uniform in
+    length_um / angle_urad (lo, hi), random signs; the same seed gives the same truth everywhere.
+    """
 
 def effects(machine: Machine, at: npt.ArrayLike, *, errors: npt.ArrayLike | None = ..., around: str = ..., travel_check: bool = ...) -> Effects:
     """Effect of each single error on the tool at configuration `at` (internal units, shape (k,)):
@@ -1563,7 +1701,16 @@ def evaluate(model: Machine | ErrorModel, configs: npt.ArrayLike, directions: np
         the argument.
     """
 
-def evaluate_tolerances(result: PositioningEvaluation | BallbarResult, tolerances: Mapping[str, float] | None = ..., *, tolerance_file: str = ..., metadata: Mapping[str, str] | None = ..., axis: str = ...) -> AcceptanceVerdict:
+def evaluate_configurations(machine: Machine, configs: npt.ArrayLike | None = ..., directions: npt.ArrayLike | None = ..., *, grid: str | Mapping[str, npt.ArrayLike] | None = ..., points: str = ..., travel_check: bool = ..., threads: int = ...) -> EvaluationRun:
+    """The volumetric error at every configuration of configs (N, k) in internal units (with
+    optional directions), of a grid (the command's text "X=0:500:21,..." in mm and deg, or a dict
+    letter -> values in internal units) or of a points file (read_configurations' CSV), as `mtcal
+    eval --points/--grid`: EvaluationRun with configs, directions, errors (N, 6), to_dict() = the
+    command's --json, and write_report(run, path) = --report. Keeps every error in memory; evaluate()
+    is the array-only path.
+    """
+
+def evaluate_tolerances(result: PositioningEvaluation | BallbarResult | VolumetricResult, tolerances: Mapping[str, float] | None = ..., *, tolerance_file: str = ..., metadata: Mapping[str, str] | None = ..., axis: str = ...) -> AcceptanceVerdict:
     """Acceptance: the quantities of an ISO 230-2 (A, E, M, R, B), ISO 230-4 (G, F, H) or volumetric
     (VA, VAx, VAy, VAz) result
     against permitted values in µm, as the commands' --tolerance / --tolerance-file: tolerances
@@ -1631,6 +1778,14 @@ def jacobian(model: Machine | ErrorModel, configs: npt.ArrayLike, directions: np
         d(dx dy dz rx ry rz) / d(parameter), columns in the order of Machine.parameter_names
         (P = Machine.parameter_count); per unit of each parameter's internal unit
         (ErrorParameter.unit). Exact: analytic through the exact transforms.
+    """
+
+def linuxcnc_probe(machine: Machine, spheres: npt.ArrayLike, *, sphere_diameter: float = ..., stylus_diameter: float = ...) -> LinuxcncProbe:
+    """A simulated touch probe for LinuxCNC, as `mtcal linuxcnc-probe`: the HAL component (C,
+    halcompile) that sets motion.probe-input while the stylus tip of machine (its errors are the
+    truth the probe sees) touches a sphere. spheres: centres (S, 3) or one (3,), mm in the machine's
+    workpiece frame (1 to 16); diameters in mm. Returns LinuxcncProbe: files, write(dir), to_dict().
+    docs/planning.md.
     """
 
 def measurements_from_contacts(machine: Machine, plan: ProbingPlan, log: str, *, dialect: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ...) -> ProbingPlan:
@@ -1711,6 +1866,9 @@ def read_etalon(path: str) -> list[EtalonBlock]:
 def read_gcode(path: str, *, axes: str = ...) -> GcodeProgram:
     """A G-code program (G0 G1 G2 G3, G17-G19, G20/G21, G90/G91)."""
 
+def read_identification_json(path: str) -> IdentifiedSummary:
+    """The JSON `mtcal identify --json` printed (saved to a file), as campaign --identified reads it."""
+
 def read_laser_file(path: str) -> LaserFile:
     """A Renishaw LaserXL / CARTO ASCII export (.rtl linear, .rta rotary; a HEADER Type: line overrides the extension): the runs as deviations, the test's kind, axis and error, its metadata (docs/instrument-files.md). read_positioning reads the same runs for iso230_2."""
 
@@ -1734,6 +1892,9 @@ def read_probe_log(machine: Machine, path: str, *, dialect: str = ...) -> npt.ND
 
 def read_probing_plan(machine: Machine, path: str) -> ProbingPlan:
     """A plan or measurement CSV (docs/identification.md); InputError with file, line and column."""
+
+def read_reached_poses(machine: Machine, path: str) -> ReachedPoses:
+    """A reached-pose CSV (X,Y,Z,<rotary> commanded in mm and deg; qX,qY,qZ,q<rotary> reached), as pose-check --poses."""
 
 def rotary_axis(data: ContactSet | IndexedCentres, *, axis: str = ..., machine: Machine | None = ..., sphere_diameter: float | None = ..., stylus_diameter: float = ..., max_rms: float = ..., method: str = ..., reject_sigma: float = ..., bins: int = ..., threads: int = ...) -> RotaryAxisResult:
     """Location errors of rotary axis `axis` from a sphere probed at many indexations (ISO 230-7):
@@ -1797,7 +1958,7 @@ def write_parameters(path: str, errors: list[EstimatedError], description: str) 
 def write_probing_csv(path: str, machine: Machine, plan: ProbingPlan, comment: str = ...) -> None:
     ...
 
-def write_report(result: PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends, path: str, pdf: str | None = ..., png_dir: str | None = ..., *, runs: PositioningRuns | None = ..., acceptance: AcceptanceVerdict | None = ..., metadata: Mapping[str, str] | None = ..., command: str = ..., browser_timeout: float = ..., machine: Any | None = ..., max_rms: float = ..., nonzero_only: bool = ...) -> None:
+def write_report(result: PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends | VolumetricResult | ContributionResult | DiagonalsResult | Effects | EvaluationRun | ToolpathResult | ModelComparison | IdentificationRun | PredictionRun | RotaryAxisResult | TargetOutput | Machine, path: str, pdf: str | None = ..., png_dir: str | None = ..., *, runs: PositioningRuns | None = ..., acceptance: AcceptanceVerdict | None = ..., metadata: Mapping[str, str] | None = ..., command: str = ..., browser_timeout: float = ..., machine: Any | None = ..., max_rms: float = ..., nonzero_only: bool = ...) -> None:
     """The HTML report of a result, as the command's --report (written complete or not at all):
     iso230_2 (PositioningEvaluation; runs= the PositioningRuns), ballbar (BallbarResult), compare_methods
     (MethodComparison), HistoryStore.trend (HistoryTrends), volumetric, contributions, diagonals,
