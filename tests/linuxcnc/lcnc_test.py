@@ -264,8 +264,9 @@ def fill(template, fields):
     return text
 
 
-def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, snippet, extra_halfiles, comp_files):
-    """joint_limits/axis_limits: per coordinate letter (lo, hi). snippet: {joint: {KEY: value}}."""
+def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, snippet, extra_halfiles, comp_files, tool_table=""):
+    """joint_limits/axis_limits: per coordinate letter (lo, hi). snippet: {joint: {KEY: value}}.
+    tool_table: the text of tool.tbl ([EMCIO]TOOL_TABLE, LinuxCNC's format, machine units); empty by default."""
     os.makedirs(cfg)
     blocks = []
     for j, letter in enumerate(coordinates):
@@ -300,8 +301,9 @@ def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, 
         f.write(fill("sim.hal.in", {"LOOPBACK": loop}))
     for src in comp_files + [os.path.join(HERE, "driver.py")]:
         shutil.copy(src, cfg)
-    for name in ("tool.tbl", "sim.var"):
-        open(os.path.join(cfg, name), "w").close()
+    with open(os.path.join(cfg, "tool.tbl"), "w") as f:
+        f.write(tool_table)
+    open(os.path.join(cfg, "sim.var"), "w").close()
 
 
 def run_linuxcnc(cfg, plan):
