@@ -183,7 +183,8 @@ def main():
                 break
             if time.time() - t0 > MOVE_TIMEOUT_S:
                 fail("joints still moving %.0f s after move %d" % (MOVE_TIMEOUT_S, k))
-        r = {"label": move.get("label", ""), "target": move["target"], "joints": after}
+        r = {"label": move.get("label", ""), "target": move["target"], "joints": after,
+             "seconds": time.time() - t_moves}  # since the first move: what each part of a run costs
         stat()
         r["world"] = list(s.position[:9])
         r["actual"] = list(s.actual_position[:9])  # kinematicsForward of the joints' feedback

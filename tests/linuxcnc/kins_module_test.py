@@ -127,7 +127,7 @@ def g43_segments(src, workdir, letters):
     return segments
 
 
-def g43_check(name, seg, readings, letters, workdir, seconds):
+def g43_check(name, seg, readings, letters, workdir, seconds, g43_seconds):
     """The tool tip (the model with the segment's tool length at the joints LinuxCNC computed) on the
     commanded point within 0.1 um; forward (actual_position) equal to the world LinuxCNC holds, the
     command plus the tool offset along z, within 1e-6 mm; G43 applied (stat and the HAL pin)."""
@@ -154,7 +154,7 @@ def g43_check(name, seg, readings, letters, workdir, seconds):
          "max_e_after_um": float(np.max(np.linalg.norm(d_after, axis=1))) * 1e3,
          "va_before_um": va(d_before) * 1e3, "va_after_um": va(d_after) * 1e3,
          "forward_mm": fwd, "forward_rotary_deg": rot_w, "linuxcnc_seconds": round(seconds, 1),
-         "tool_offset_error_mm": offset_seen, "comp_tables": 0}
+         "tool_offset_error_mm": offset_seen, "comp_tables": 0, "g43_seconds": round(g43_seconds, 1)}
     c["ok"] = (c["max_e_after_um"] * 1e-3 <= TOL_POINT_MM and fwd <= TOL_FORWARD_MM and rot_w <= 1e-6
                and offset_seen <= 1e-9 and c["max_e_before_um"] > 1.0)
     return c
@@ -198,6 +198,7 @@ def machine_case(name, spec, workdir):
             moves += seg["moves"]
         res = L.run_linuxcnc(cfg, {"joints": len(letters), "coordinates": letters, "moves": moves, "feed": 30000})
         g43_readings = res["readings"][len(poses):]
+        g43_seconds = g43_readings[-1]["seconds"] - res["readings"][len(poses) - 1]["seconds"] if g43_readings else 0.0
         res["readings"] = res["readings"][:len(poses)]
         if len(res["readings"]) != len(poses) or len(g43_readings) != sum(len(seg["poses"]) for seg in segments):
             raise Failure("%s: %d readings for %d poses" % (name, len(res["readings"]) + len(g43_readings), len(moves)))
@@ -244,7 +245,7 @@ def machine_case(name, spec, workdir):
         results.append(c)
         for seg in segments:
             n = len(seg["poses"])
-            results.append(g43_check(name, seg, g43_readings[:n], letters, workdir, res["seconds"]))
+            results.append(g43_check(name, seg, g43_readings[:n], letters, workdir, res["seconds"], g43_seconds))
             g43_readings = g43_readings[n:]
     return results
 
@@ -290,7 +291,8 @@ def main():
                     print("PASS %s: %d poses, tool length %g mm: max |e| %.3f -> %.6f um, VA %.3f -> %.6f um; forward %.2g mm, "
                           "rotary %.2g deg; LinuxCNC run %.1f s" % (c["check"], c["poses"], c["tool_length_mm"], c["max_e_before_um"],
                                                                   c["max_e_after_um"], c["va_before_um"], c["va_after_um"],
-                                                                  c["forward_mm"], c["forward_rotary_deg"], c["linuxcnc_seconds"]), flush=True)
+                                                                  c["forward_mm"], c["forward_rotary_deg"], c["linuxcnc_seconds"]) +
+                          ("" if "tool_offset_error_mm" not in c else " (G43: its moves and tool changes %.1f s)" % c["g43_seconds"]), flush=True)
                     if c["comp_tables"]:
                         print("     COMP_FILE type 1 reversal tables on %d joint(s): applied - table %.2g mm (corrections up to %.4f mm; "
                               "forward column %d times, reverse %d)" % (c["comp_tables"], c["comp_worst_mm"], c["comp_max_mm"],
