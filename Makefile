@@ -40,7 +40,8 @@ test: build
 # (tests/linuxcnc/run, docs/compensation-linuxcnc-test.md).
 test-linuxcnc: DEPS_FLAGS = --linuxcnc
 # Then the kinematics module of --format linuxcnc-kins built with halcompile (linuxcnc-uspace-dev) and
-# run on the four example machines with its COMP_FILE reversal tables loaded, about 6.5 minutes on
+# run on the four example machines with its COMP_FILE reversal tables loaded, and G43 from a tool
+# table on three of them, about 7 minutes on
 # 2 cores (tests/linuxcnc/run-kins, docs/compensation-linuxcnc-kins.md).
 # Then the probing program of `mtcal plan` run in LinuxCNC with the simulated probe of
 # `mtcal linuxcnc-probe` (halcompile), its log read back and identified against the truth, and a

@@ -4,10 +4,13 @@
 // commanded one to 1e-9 mm, equal the C++ solver's, and its forward inverts its inverse.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <unistd.h>
@@ -67,6 +70,24 @@ fs::path build_harness(const std::string& source, const std::string& name, bool 
   return exe;
 }
 
+// One example's module and its harness, built once per test binary (the tests below share them).
+struct ExampleModule {
+  Machine machine;
+  LinuxcncKins kins;
+  fs::path exe;
+};
+const ExampleModule& example_module(const std::string& f) {
+  static std::map<std::string, ExampleModule> built;
+  auto it = built.find(f);
+  if (it == built.end()) {
+    Machine m = example(f.c_str());
+    LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
+    const fs::path exe = build_harness(linuxcnc_kins_source(k), f.substr(0, 4));
+    it = built.emplace(f, ExampleModule{std::move(m), std::move(k), exe}).first;
+  }
+  return it->second;
+}
+
 std::vector<std::vector<double>> drive(const fs::path& exe, const std::string& input) {
   const fs::path in = exe.parent_path() / "in.txt", out = exe.parent_path() / "out.txt";
   std::ofstream(in) << input;
@@ -86,9 +107,10 @@ std::vector<std::vector<double>> drive(const fs::path& exe, const std::string& i
 
 TEST(LinuxcncKinsModule, GeneratedCMatchesTheLibraryOnEveryExample) {
   for (const char* f : {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"}) {
-    const Machine m = example(f);
-    const LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
-    const fs::path exe = build_harness(linuxcnc_kins_source(k), std::string(f).substr(0, 4));
+    const ExampleModule& em = example_module(f);
+    const Machine& m = em.machine;
+    const LinuxcncKins& k = em.kins;
+    const fs::path& exe = em.exe;
     const CommandedJointSolver s(m);  // the library, with the full model (directions unused)
     const std::size_t n = m.axes.size();
     // World rotary order: the rotary letters of the coordinates; joint order: the coordinates.
@@ -144,12 +166,116 @@ TEST(LinuxcncKinsModule, GeneratedCMatchesTheLibraryOnEveryExample) {
   }
 }
 
+// LinuxCNC's G43 convention (src/emc/kinematics/trtfuncs.c, 5axiskins.c; docs/compensation-linuxcnc-kins.md):
+// LinuxCNC hands the kinematics the programmed point plus the tool length offset O along the tool axis
+// letter (z on the examples), and the module's tool-offset pin carries O. The tool tip must land on the
+// programmed point, world - O e_tool, with a tool tool-length + O long along the actual tool axis: the
+// library's actual pose at the C joints says where the tip is, and the library's inverse for that tip
+// and length gives the joints. Table-table (RRTTT, HU40T), head-head and 3-axis.
+TEST(LinuxcncKinsModule, ToolOffsetOfG43PutsTheTipOnTheProgrammedPoint) {
+  for (const char* f : {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"}) {
+    const ExampleModule& em = example_module(f);
+    const Machine& m = em.machine;
+    const LinuxcncKins& k = em.kins;
+    const fs::path& exe = em.exe;
+    const CommandedJointSolver s(m);
+    const std::size_t n = m.axes.size();
+    ASSERT_EQ(m.tool.tool_axis, 2) << f;  // the examples' tools point along -z: G43's Z offset is the length
+    const Vec3 e_tool = Vec3::UnitZ();
+    std::vector<std::size_t> world_slot(n, 0);
+    std::size_t slot = 0;
+    for (const char c : k.coordinates)
+      if (c == 'A' || c == 'B' || c == 'C') world_slot[*m.axis_index(c)] = slot++;
+    constexpr std::size_t kRows = 48;
+    const auto q = mtcal::testing::random_configurations(m, kRows, 33);
+    std::string input;
+    std::vector<CommandedPose> tips;
+    std::vector<std::vector<double>> worlds;
+    std::vector<double> pin_length, offset;
+    for (std::size_t r = 0; r < kRows; ++r) {
+      const double O = r % 3 == 0 ? 50.0 : r % 3 == 1 ? 137.5 : 12.25;  // tool table lengths
+      const double L = r % 2 ? 0.0 : 7.5;                                // tool-length pin
+      const CommandedPose tip = s.nominal_forward({q.data() + r * n, n}, L + O);
+      std::vector<double> w(3 + s.rotary_count());
+      for (int i = 0; i < 3; ++i) w[static_cast<std::size_t>(i)] = tip.point[i] + O * e_tool[i];  // what G43 hands over
+      for (std::size_t j = 0; j < s.rotary_count(); ++j) w[3 + world_slot[s.rotary_axes()[j]]] = tip.rotary[j] / kDeg;
+      input += fmt::format("i {:.17g} {:.17g}", L, O);
+      for (double v : w) input += fmt::format(" {:.17g}", v);
+      input += "\n";
+      tips.push_back(tip);
+      worlds.push_back(w);
+      pin_length.push_back(L);
+      offset.push_back(O);
+    }
+    const auto rows = drive(exe, input);
+    ASSERT_EQ(rows.size(), kRows) << f;
+    std::string forward_input;
+    double worst_tip = 0.0;
+    for (std::size_t r = 0; r < kRows; ++r) {
+      ASSERT_EQ(rows[r].size(), 3 + n) << f;
+      ASSERT_EQ(rows[r][0], 0.0) << f << " inverse status, row " << r;
+      std::vector<double> qc(n);
+      for (std::size_t a = 0; a < n; ++a) {
+        const double v = rows[r][3 + k.coordinates.find(m.axes[a].letter)];
+        qc[a] = m.axes[a].kind == AxisKind::Rotary ? v * kDeg : v;
+      }
+      const double L = pin_length[r] + offset[r];
+      // The model's tip with a tool L long along its actual axis (a tilted tool included).
+      const Affine actual = s.actual_pose(qc, L);
+      worst_tip = std::max(worst_tip, (actual.t - tips[r].point).norm());
+      EXPECT_LE((actual.t - tips[r].point).norm(), 1e-9) << f << " row " << r;
+      const auto lib = s.inverse(tips[r], L);
+      ASSERT_TRUE(lib.converged);
+      for (std::size_t ax = 0; ax < n; ++ax) EXPECT_NEAR(qc[ax], lib.q[ax], 1e-9) << f << " axis " << m.axes[ax].letter;
+      forward_input += fmt::format("f {:.17g} {:.17g}", pin_length[r], offset[r]);
+      for (std::size_t j = 0; j < n; ++j) forward_input += fmt::format(" {:.17g}", rows[r][3 + j]);
+      forward_input += "\n";
+    }
+    const auto back = drive(exe, forward_input);
+    ASSERT_EQ(back.size(), kRows);
+    for (std::size_t r = 0; r < kRows; ++r) {
+      ASSERT_EQ(back[r][0], 0.0) << f << " forward status";
+      for (std::size_t i = 0; i < worlds[r].size(); ++i) EXPECT_NEAR(back[r][1 + i], worlds[r][i], 1e-9) << f << " row " << r;
+    }
+    std::printf("[ measured ] %s: G43 tool offset, %zu configurations: |tip - programmed point| <= %.2g mm\n", f, kRows,
+                worst_tip);
+  }
+}
+
+// trt-kins' inverse at the rotary zero (trtfuncs.c: P = R (pos - dz e_z) + dz e_z = pos for R = I) and
+// 5axiskins' (pivot-length grows with the offset, the joints do not move while the tool is vertical):
+// G43 changes no joint there. The module on the error-free machine must do the same: its joints with
+// offset O equal its joints with none, to 1e-9 mm.
+TEST(LinuxcncKinsModule, G43AtRotaryZeroMovesNoJointOnTheErrorFreeMachine) {
+  for (const char* f : {"rrttt-table-table.yaml", "head-head-5axis.yaml"}) {
+    Machine m = example(f);
+    m.clear_errors();
+    LinuxcncKinsOptions ko;
+    ko.check_points = 2;  // the pre-check is not what this test is about
+    const LinuxcncKins k = compensate_linuxcnc_kins(m, quick(), ko);
+    const fs::path exe = build_harness(linuxcnc_kins_source(k), "g43-zero-" + std::string(f).substr(0, 4));
+    std::string input;
+    for (const double O : {50.0, 137.5})
+      for (const char* w : {"0 0 0 0 0", "120.5 -80 35 0 0", "-210 140 -60 0 0"})
+        input += fmt::format("I 0 {}\ni 0 {:.17g} {}\n", w, O, w);
+    const auto rows = drive(exe, input);
+    ASSERT_EQ(rows.size(), 12u) << f;
+    for (std::size_t r = 0; r < rows.size(); r += 2) {
+      ASSERT_EQ(rows[r][0], 0.0) << f;
+      ASSERT_EQ(rows[r + 1][0], 0.0) << f;
+      for (std::size_t j = 3; j < rows[r].size(); ++j) EXPECT_NEAR(rows[r + 1][j], rows[r][j], 1e-9) << f << " row " << r;
+    }
+  }
+}
+
 TEST(LinuxcncKinsModule, NonFiniteInputIsAnErrorNotAPosition) {
   const Machine m = example("head-head-5axis.yaml");
   const LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
   const fs::path exe = build_harness(linuxcnc_kins_source(k), "nan");
-  const auto rows = drive(exe, "I 150 nan 0 0 0 0\nI inf 0 0 0 0 0\nI 150 0 0 1e300 0 0\nF 150 nan 0 0 0 0\n");
-  ASSERT_EQ(rows.size(), 4u);
+  const auto rows = drive(exe,
+                         "I 150 nan 0 0 0 0\nI inf 0 0 0 0 0\nI 150 0 0 1e300 0 0\nF 150 nan 0 0 0 0\n"
+                         "i 0 nan 0 0 0 0 0\ni 0 inf 0 0 0 0 0\nf 0 nan 0 0 0 0 0\ni 0 50 0 0 nan 0 0\n");
+  ASSERT_EQ(rows.size(), 8u);
   for (const auto& r : rows) EXPECT_LT(r[0], 0.0);
 }
 

@@ -2,6 +2,9 @@
 # DISPLAY program of mtcal's LinuxCNC test (tests/linuxcnc/run): drives the sim through the moves of
 # plan.json with the `linuxcnc` Python module and reads, after each move, what the motion
 # controller applies, with the `hal` module (doubles, full precision). Writes readings.json.
+# A move may bring MDI lines to run before it ("before": a tool change, G43, G49) and its motion
+# words ("motion": default "G53 G1", machine coordinates; "G90 G1" commands program coordinates,
+# where G43's tool offset applies).
 # With "program" in plan.json (tests/linuxcnc/run-probe) it runs that G-code file in AUTO mode
 # instead and records the messages LinuxCNC reports; with "program" and "moves" (examples/loop) the
 # program first, then the moves.
@@ -163,8 +166,20 @@ def main():
     readings = []
     t_moves = time.time()
     for k, move in enumerate(plan["moves"]):
+        # MDI lines before the move (a tool change, G43, G49), each run to its end.
+        for line in move.get("before", []):
+            c.mdi(line)
+            if c.wait_complete(MOVE_TIMEOUT_S) == -1:
+                fail("MDI %r before move %d did not complete" % (line, k))
+            wait(lambda: stat().exec_state == linuxcnc.EXEC_DONE and s.interp_state == linuxcnc.INTERP_IDLE,
+                 MOVE_TIMEOUT_S, "MDI %r to end" % line)
+            msg = err.poll()
+            if msg:
+                fail("LinuxCNC error after MDI %r: %s" % (line, msg[1]))
+        # G53 G1 (machine coordinates: LinuxCNC's world, no tool offset) unless the move says "G90 G1"
+        # (program coordinates: G54, which these configurations leave at 0, plus the tool offset).
         words = " ".join("%s%.9f" % (letter, move["target"][i]) for i, letter in enumerate(letters))
-        c.mdi("G53 G1 %s F%.0f" % (words, plan["feed"]))
+        c.mdi("%s %s F%.0f" % (move.get("motion", "G53 G1"), words, plan["feed"]))
         if c.wait_complete(MOVE_TIMEOUT_S) == -1:
             said = []
             for _ in range(20):  # what LinuxCNC said, if anything (a joint limit, a kinematics failure)
@@ -199,11 +214,14 @@ def main():
                 break
             if time.time() - t0 > MOVE_TIMEOUT_S:
                 fail("joints still moving %.0f s after move %d" % (MOVE_TIMEOUT_S, k))
-        r = {"label": move.get("label", ""), "target": move["target"], "joints": after}
+        r = {"label": move.get("label", ""), "target": move["target"], "joints": after,
+             "seconds": time.time() - t_moves}  # since the first move: what each part of a run costs
         stat()
         r["world"] = list(s.position[:9])
         r["actual"] = list(s.actual_position[:9])  # kinematicsForward of the joints' feedback
         r["joint_position"] = list(s.joint_position[:joints])
+        r["tool_offset"] = list(s.tool_offset[:9])  # what G43 applies (stat), and the HAL pin it reaches
+        r["tooloffset_pin"] = [g("motion.tooloffset.%s" % a) for a in "xyz"]
         readings.append(r)
     elapsed = time.time() - t_moves
 

@@ -9,6 +9,10 @@
 #     `mtcal eval`'s error e = actual - nominal) equals the commanded point within 0.1 um;
 #   - actual_position equals the command within 1e-6 mm.
 # Prints per machine max |e| and VA of the tool point before (nominal joints) and after (the module).
+# G43 (cases with "g43"): the run without a tool length goes on with a tool table of two tools, T1 M6 G43,
+# T2 M6 G43 and G49, poses in program coordinates; the module's tool-offset pin on motion.tooloffset.z as
+# its linuxcnc-kins.hal nets it: the tool tip (the model with that tool's length) on the commanded point
+# within 0.1 um, forward equal to the command plus the offset within 1e-6 mm.
 # The direction-dependent COMP_FILE type 1 tables are loaded as the INI snippet says; the tool-point
 # check reads pos-cmd, before them, and what LinuxCNC adds to the motor command must equal the
 # table's forward or reverse column at pos-cmd within 1e-6 mm, both columns met.
@@ -35,12 +39,18 @@ from lcnc_test import Failure
 TOL_POINT_MM = 1e-4     # issue 30: the actual tool point on the command within 0.1 um
 TOL_FORWARD_MM = 1e-6   # and the forward kinematics equal to the command within 1e-6 mm
 MODULE = "mtcal_kins"
+# "g43": the run without a tool length goes on with G43 from a tool table (T1 M6 G43, T2 M6 G43, G49).
 CASES = {
-    "vmc-3axis": {"machine": "examples/machines/vmc-3axis.yaml", "poses": 26},
+    "vmc-3axis": {"machine": "examples/machines/vmc-3axis.yaml", "poses": 26, "g43": True},
     "hu40t": {"machine": "examples/machines/hu40t-wCBXfYZt.yaml", "poses": 26},
-    "rrttt": {"machine": "examples/machines/rrttt-table-table.yaml", "poses": 26},
-    "head-head": {"machine": "examples/machines/head-head-5axis.yaml", "poses": 26},
+    "rrttt": {"machine": "examples/machines/rrttt-table-table.yaml", "poses": 26, "g43": True},
+    "head-head": {"machine": "examples/machines/head-head-5axis.yaml", "poses": 26, "g43": True},
 }
+# The G43 check: two tools of different lengths (mm, the machine's units) and poses per segment, drawn
+# from the middle of the travel (short moves). The example machines' tools point along -z: G43's Z.
+G43_TOOLS = ((1, 60.0), (2, 135.5))
+G43_POSES = 5
+G43_TOOL_TABLE = "".join("T%d P%d Z%.3f D6 ;mtcal G43 test\n" % (t, t, z) for t, z in G43_TOOLS)
 
 
 def model_error(machine_path, letters, joints, workdir, tag):
@@ -73,9 +83,9 @@ def with_tool_length(src, dst, length):
         yaml.safe_dump(doc, f, sort_keys=False)
 
 
-def poses_for(m, count, seed, tool_length):
+def poses_for(m, count, seed, tool_length, margin=0.1):
     """World poses (x y z mm, rotary coordinates deg in the coordinates' order) of nominal joints
-    drawn inside the travel less 10 % at each end (rotary axes within +-170 deg)."""
+    drawn inside the travel less `margin` of it at each end (rotary axes within +-170 deg)."""
     rng = np.random.default_rng(seed)
     letters = "".join(l for l in "XYZABC" if l in m.chain)
     out = []
@@ -86,10 +96,68 @@ def poses_for(m, count, seed, tool_length):
             if l in "ABC":
                 lo, hi = max(lo, -170.0), min(hi, 170.0)
             span = hi - lo
-            q[l] = float(rng.uniform(lo + 0.1 * span, hi - 0.1 * span))
+            q[l] = float(rng.uniform(lo + margin * span, hi - margin * span))
         p = m.nominal_tool_point(q)
         out.append((q, [float(v) for v in p] + [q[l] for l in letters if l in "ABC"]))
     return letters, out
+
+
+def g43_segments(src, workdir, letters):
+    """The G43 check's moves, run after the poses without a tool length: per segment (T1 M6 G43,
+    T2 M6 G43, G49) the rotary axes to 0 first (a tool change elsewhere moves the joints at once, as
+    with trt-kins), the MDI lines, then poses in program coordinates (G90 G1; G54 is 0 here), whose
+    tool tip is the commanded point. The truth of a segment: the machine file with that tool length
+    (the module's tool-length pin is 0 in this run: the tool table holds the whole length)."""
+    base = L.Machine(src)
+    axis = str((base.doc.get("tool") or {}).get("axis", "+z")).lower()
+    if axis not in ("+z", "z"):
+        raise Failure("the G43 check needs a tool along -z (G43's Z offset); %s has tool axis %s" % (src, axis))
+    rot = [l for l in letters if l in "ABC"]
+    to_zero = ["G53 G1 %s F30000" % " ".join("%s0" % l for l in rot)] if rot else []
+    plan = [("G43 T%d" % t, ["T%d M6" % t, "G43"], z) for t, z in G43_TOOLS] + [("G49", ["G49"], 0.0)]
+    segments = []
+    for k, (label, mdi, length) in enumerate(plan):
+        path = os.path.join(workdir, "machine-g43-%d.yaml" % k)
+        with_tool_length(src, path, length)
+        m = L.Machine(path)
+        _, poses = poses_for(m, G43_POSES, 30 + k, length, margin=0.3)
+        moves = [{"target": p, "read": True, "label": "%s #%d" % (label, i), "motion": "G90 G1",
+                  "before": to_zero + mdi if i == 0 else []} for i, (_, p) in enumerate(poses)]
+        segments.append({"label": label, "offset": length, "path": path, "machine": m, "poses": poses, "moves": moves})
+    return segments
+
+
+def g43_check(name, seg, readings, letters, workdir, seconds, g43_seconds):
+    """The tool tip (the model with the segment's tool length at the joints LinuxCNC computed) on the
+    commanded point within 0.1 um; forward (actual_position) equal to the world LinuxCNC holds, the
+    command plus the tool offset along z, within 1e-6 mm; G43 applied (stat and the HAL pin)."""
+    m, poses, o = seg["machine"], seg["poses"], seg["offset"]
+    if len(readings) != len(poses):
+        raise Failure("%s %s: %d readings for %d poses" % (name, seg["label"], len(readings), len(poses)))
+    after = [{l: r["joints"][j]["pos_cmd"] for j, l in enumerate(letters)} for r in readings]
+    before = [q for q, _ in poses]
+    e = model_error(seg["path"], letters, after + before, workdir, "g43-%s" % seg["label"].replace(" ", "-"))
+    target = np.array([p[:3] for _, p in poses])
+    d_after = np.array([m.nominal_tool_point(q) for q in after]) + e[:len(after)] - target
+    d_before = np.array([m.nominal_tool_point(q) for q in before]) + e[len(after):] - target
+    world = target + o * np.array([0.0, 0.0, 1.0])
+    fwd = max(max(abs(r["actual"][i] - world[k][i]) for i in range(3)) for k, r in enumerate(readings))
+    rot_w = max([abs(r["actual"][3 + "ABC".index(l)] - p[3 + k]) for r, (_, p) in zip(readings, poses)
+                 for k, l in enumerate(x for x in letters if x in "ABC")] or [0.0])
+    offset_seen = max(max(abs(r["tool_offset"][2] - o), abs(r["tooloffset_pin"][2] - o)) for r in readings)
+
+    def va(d):
+        return max(float(np.linalg.norm(a - b)) for a, b in itertools.combinations(d, 2))
+
+    c = {"check": "%s %s" % (name, seg["label"]), "poses": len(poses), "tool_length_mm": o,
+         "max_e_before_um": float(np.max(np.linalg.norm(d_before, axis=1))) * 1e3,
+         "max_e_after_um": float(np.max(np.linalg.norm(d_after, axis=1))) * 1e3,
+         "va_before_um": va(d_before) * 1e3, "va_after_um": va(d_after) * 1e3,
+         "forward_mm": fwd, "forward_rotary_deg": rot_w, "linuxcnc_seconds": round(seconds, 1),
+         "tool_offset_error_mm": offset_seen, "comp_tables": 0, "g43_seconds": round(g43_seconds, 1)}
+    c["ok"] = (c["max_e_after_um"] * 1e-3 <= TOL_POINT_MM and fwd <= TOL_FORWARD_MM and rot_w <= 1e-6
+               and offset_seen <= 1e-9 and c["max_e_before_um"] > 1.0)
+    return c
 
 
 def machine_case(name, spec, workdir):
@@ -122,11 +190,18 @@ def machine_case(name, spec, workdir):
                 tables[j] = (os.path.basename(path), L.read_comp_file(path))
         snippet = {j: {"COMP_FILE": t[0], "COMP_FILE_TYPE": 1} for j, t in tables.items()}
         L.write_config(cfg, name, letters, MODULE, limits, axis_limits, snippet, ["linuxcnc-kins.hal", os.path.basename(tool_hal)],
-                       [os.path.join(out, "linuxcnc-kins.hal"), tool_hal] + [os.path.join(out, t[0]) for t in tables.values()])
+                       [os.path.join(out, "linuxcnc-kins.hal"), tool_hal] + [os.path.join(out, t[0]) for t in tables.values()],
+                       tool_table=G43_TOOL_TABLE if tag == "no-tool" and spec.get("g43") else "")
         moves = [{"target": p, "read": True, "label": "pose%d" % i} for i, (_, p) in enumerate(poses)]
+        segments = g43_segments(src, workdir, letters) if tag == "no-tool" and spec.get("g43") else []
+        for seg in segments:
+            moves += seg["moves"]
         res = L.run_linuxcnc(cfg, {"joints": len(letters), "coordinates": letters, "moves": moves, "feed": 30000})
-        if len(res["readings"]) != len(poses):
-            raise Failure("%s: %d readings for %d poses" % (name, len(res["readings"]), len(poses)))
+        g43_readings = res["readings"][len(poses):]
+        g43_seconds = g43_readings[-1]["seconds"] - res["readings"][len(poses) - 1]["seconds"] if g43_readings else 0.0
+        res["readings"] = res["readings"][:len(poses)]
+        if len(res["readings"]) != len(poses) or len(g43_readings) != sum(len(seg["poses"]) for seg in segments):
+            raise Failure("%s: %d readings for %d poses" % (name, len(res["readings"]) + len(g43_readings), len(moves)))
         # After: the joints LinuxCNC computed; before: the nominal joints of the same poses.
         after = [{l: r["joints"][j]["pos_cmd"] for j, l in enumerate(letters)} for r in res["readings"]]
         before = [q for q, _ in poses]
@@ -168,6 +243,10 @@ def machine_case(name, spec, workdir):
         c["ok"] = (c["max_e_after_um"] * 1e-3 <= TOL_POINT_MM and fwd <= TOL_FORWARD_MM and rot_w <= 1e-6 and c["max_e_before_um"] > 1.0
                    and comp_worst <= L.TOLERANCE_MM and (not tables or (comp_max > 1e-5 and min(comp_cols) > 0)))
         results.append(c)
+        for seg in segments:
+            n = len(seg["poses"])
+            results.append(g43_check(name, seg, g43_readings[:n], letters, workdir, res["seconds"], g43_seconds))
+            g43_readings = g43_readings[n:]
     return results
 
 
@@ -212,7 +291,8 @@ def main():
                     print("PASS %s: %d poses, tool length %g mm: max |e| %.3f -> %.6f um, VA %.3f -> %.6f um; forward %.2g mm, "
                           "rotary %.2g deg; LinuxCNC run %.1f s" % (c["check"], c["poses"], c["tool_length_mm"], c["max_e_before_um"],
                                                                   c["max_e_after_um"], c["va_before_um"], c["va_after_um"],
-                                                                  c["forward_mm"], c["forward_rotary_deg"], c["linuxcnc_seconds"]), flush=True)
+                                                                  c["forward_mm"], c["forward_rotary_deg"], c["linuxcnc_seconds"]) +
+                          ("" if "tool_offset_error_mm" not in c else " (G43: its moves and tool changes %.1f s)" % c["g43_seconds"]), flush=True)
                     if c["comp_tables"]:
                         print("     COMP_FILE type 1 reversal tables on %d joint(s): applied - table %.2g mm (corrections up to %.4f mm; "
                               "forward column %d times, reverse %d)" % (c["comp_tables"], c["comp_worst_mm"], c["comp_max_mm"],

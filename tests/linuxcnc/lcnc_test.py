@@ -265,9 +265,10 @@ def fill(template, fields):
 
 
 def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, snippet, extra_halfiles, comp_files,
-                 speeds=None):
+                 speeds=None, tool_table=""):
     """joint_limits/axis_limits: per coordinate letter (lo, hi). snippet: {joint: {KEY: value}}.
-    speeds: {"linear": (mm/s, mm/s^2), "angular": (deg/s, deg/s^2)}, default 500, 5000 and 3600, 36000."""
+    speeds: {"linear": (mm/s, mm/s^2), "angular": (deg/s, deg/s^2)}, default 500, 5000 and 3600, 36000.
+    tool_table: the text of tool.tbl ([EMCIO]TOOL_TABLE, LinuxCNC's format, machine units); empty by default."""
     os.makedirs(cfg)
     speeds = dict({"linear": (500, 5000), "angular": (3600, 36000)}, **(speeds or {}))
     blocks = []
@@ -304,8 +305,9 @@ def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, 
         f.write(fill("sim.hal.in", {"LOOPBACK": loop}))
     for src in comp_files + [os.path.join(HERE, "driver.py")]:
         shutil.copy(src, cfg)
-    for name in ("tool.tbl", "sim.var"):
-        open(os.path.join(cfg, name), "w").close()
+    with open(os.path.join(cfg, "tool.tbl"), "w") as f:
+        f.write(tool_table)
+    open(os.path.join(cfg, "sim.var"), "w").close()
 
 
 def run_linuxcnc(cfg, plan):

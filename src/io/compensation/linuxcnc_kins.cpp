@@ -1,6 +1,7 @@
 #include "mtcal/io/compensation/linuxcnc_kins.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <numbers>
 #include <variant>
@@ -66,6 +67,8 @@ std::string affine_data(const Affine& a) {
 
 std::string unit_name(const KinsAxis& a) { return a.rotary ? "deg" : "mm"; }
 double to_joint_units(const KinsAxis& a, double v) { return a.rotary ? v * 180.0 / std::numbers::pi : v; }
+// The world letter G43's offset comes on: the machine axis the tool points along at rotary zero.
+char tool_axis_letter(const LinuxcncKins& k) { return "xyz"[std::clamp(k.tool_axis, 0, 2)]; }
 
 }  // namespace
 
@@ -168,16 +171,21 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       " * turns the rotary axes so that the actual tool direction is the commanded one as far as they can\n"
       " * (damped least squares); kinematicsForward is its exact inverse. World coordinates: the tool point in\n"
       " * the workpiece frame and the rotary coordinates (tool-centre-point convention of LinuxCNC's trt kins).\n"
+      " * Tool length as LinuxCNC's trt kins take it: with G43 the world {5} LinuxCNC passes includes the tool length\n"
+      " * offset; the pin tool-offset (motion.tooloffset.{6}) is subtracted from it, and the tip lies tool-length +\n"
+      " * tool-offset from the spindle gauge point along the ACTUAL tool axis (mtk_inverse_offset below).\n"
       " * Real time: no allocation, no file access, at most {4} steps; a non-finite or unconverged result is an\n"
       " * error (motion stops) and never a position. Coefficients are generated into this file: nothing is read\n"
       " * at load time, so the module and the model it was checked against cannot drift apart.\n"
       " * Build: halcompile --install {0}.c (Debian package linuxcnc-uspace-dev). docs/compensation-linuxcnc-kins.md\n"
-      " * Without LinuxCNC (-DMTCAL_KINS_STANDALONE): mtk_inverse() and mtk_forward() as plain C for tests.\n"
+      " * Without LinuxCNC (-DMTCAL_KINS_STANDALONE): mtk_inverse(), mtk_forward() and their _offset forms as plain C\n"
+      " * for tests.\n"
       " */\n"
       "#ifdef MTCAL_KINS_STANDALONE\n#include <math.h>\n#else\n"
       "#include \"rtapi.h\"\n#include \"rtapi_app.h\"\n#include \"rtapi_math.h\"\n#include \"hal.h\"\n"
       "#include \"kinematics.h\"\n#endif\n\n",
-      k.module_name, linuxcnc_c_comment(k.machine_name), linuxcnc_c_comment(k.topology), k.coordinates, k.solver.max_iterations);
+      k.module_name, linuxcnc_c_comment(k.machine_name), linuxcnc_c_comment(k.topology), k.coordinates, k.solver.max_iterations,
+      static_cast<char>(std::toupper(tool_axis_letter(k))), tool_axis_letter(k));
   s += linuxcnc_kins_model_source(k, false);
   // LinuxCNC glue (kinematics.h of LinuxCNC 2.9; modelled on src/emc/kinematics/maxkins.c and trtfuncs.c).
   std::string world_in, world_out;
@@ -190,7 +198,8 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       "\n#ifndef MTCAL_KINS_STANDALONE\n"
       "/* ---- LinuxCNC interface (kinematics.h) ---- */\n"
       "struct mtk_hal_data {{\n"
-      "    hal_float_t *tool_length; /* in: mm from the spindle gauge point */\n"
+      "    hal_float_t *tool_length; /* in: mm from the spindle gauge point that the tool offset does not hold */\n"
+      "    hal_float_t *tool_offset; /* in: G43's tool length offset, motion.tooloffset.{3} */\n"
       "    hal_s32_t *iterations;    /* out: steps of the last inverse */\n"
       "    hal_float_t *residual;    /* out: mm, tool point residual of the last inverse */\n"
       "    hal_u32_t *failures;      /* out: inverses refused (non-finite or unconverged) */\n"
@@ -201,7 +210,7 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       "{{\n"
       "    double w[3 + MTK_NR];\n"
       "    (void)fflags;\n    (void)iflags;\n"
-      "    if (mtk_forward(joints, *(mtk_hal->tool_length), w) != 0) return -1;\n"
+      "    if (mtk_forward_offset(joints, *(mtk_hal->tool_length), *(mtk_hal->tool_offset), w) != 0) return -1;\n"
       "    pos->tran.x = w[0];\n    pos->tran.y = w[1];\n    pos->tran.z = w[2];\n"
       "    pos->a = pos->b = pos->c = 0.0;\n    pos->u = pos->v = pos->w = 0.0;\n"
       "{1}"
@@ -215,7 +224,7 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       "    (void)iflags;\n    (void)fflags;\n"
       "    w[0] = pos->tran.x;\n    w[1] = pos->tran.y;\n    w[2] = pos->tran.z;\n"
       "{2}"
-      "    k = mtk_inverse(w, *(mtk_hal->tool_length), q, &iterations, &residual);\n"
+      "    k = mtk_inverse_offset(w, *(mtk_hal->tool_length), *(mtk_hal->tool_offset), q, &iterations, &residual);\n"
       "    *(mtk_hal->iterations) = iterations;\n"
       "    *(mtk_hal->residual) = residual;\n"
       "    if (k != 0) {{\n        *(mtk_hal->failures) += 1;\n        return -1;\n    }}\n"
@@ -235,18 +244,20 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       "    mtk_hal = hal_malloc(sizeof(struct mtk_hal_data));\n"
       "    if (!mtk_hal) {{\n        hal_exit(mtk_comp_id);\n        return -1;\n    }}\n"
       "    r += hal_pin_float_newf(HAL_IN, &(mtk_hal->tool_length), mtk_comp_id, \"{0}.tool-length\");\n"
+      "    r += hal_pin_float_newf(HAL_IN, &(mtk_hal->tool_offset), mtk_comp_id, \"{0}.tool-offset\");\n"
       "    r += hal_pin_s32_newf(HAL_OUT, &(mtk_hal->iterations), mtk_comp_id, \"{0}.iterations\");\n"
       "    r += hal_pin_float_newf(HAL_OUT, &(mtk_hal->residual), mtk_comp_id, \"{0}.residual\");\n"
       "    r += hal_pin_u32_newf(HAL_OUT, &(mtk_hal->failures), mtk_comp_id, \"{0}.failures\");\n"
       "    if (r != 0) {{\n        hal_exit(mtk_comp_id);\n        return -1;\n    }}\n"
-      "    *(mtk_hal->tool_length) = MTK_TOOL_LENGTH;\n"
+      "    *(mtk_hal->tool_length) = 0.0; /* G49: the gauge point; G43 brings the tool's length (tool-offset) */\n"
+      "    *(mtk_hal->tool_offset) = 0.0;\n"
       "    *(mtk_hal->iterations) = 0;\n    *(mtk_hal->residual) = 0.0;\n    *(mtk_hal->failures) = 0;\n"
       "    hal_ready(mtk_comp_id);\n"
       "    return 0;\n"
       "}}\n\n"
       "void rtapi_app_exit(void)\n{{\n    hal_exit(mtk_comp_id);\n}}\n"
       "#endif\n",
-      k.module_name, world_out, world_in);
+      k.module_name, world_out, world_in, tool_axis_letter(k));
   return s;
 }
 
@@ -276,9 +287,12 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
       "# The kinematics module {} applies the whole error model (docs/compensation-linuxcnc-kins.md);\n"
       "# direction-dependent terms (reversal, forward/backward tables) cannot live in kinematics and are in the\n"
       "# COMP_FILE type 1 tables below (corrections -e added to the motor command).\n"
+      "# Tool length: G43 works as with LinuxCNC's trt-kins; linuxcnc-kins.hal nets motion.tooloffset.{} to\n"
+      "# {}.tool-offset, and the module puts the tool tip on the programmed point along the actual tool axis.\n"
       "# Pre-check: {} configurations of the commanded travel, at most {} steps, tool point residual up to {:.3g} mm.\n"
       "# Largest correction per joint (the margin the joint limits need beyond the commanded travel):\n",
-      linuxcnc_c_comment(k.machine_name), k.module_name, k.checked, k.max_iterations, k.max_point_residual);
+      linuxcnc_c_comment(k.machine_name), k.module_name, tool_axis_letter(k), k.module_name, k.checked, k.max_iterations,
+      k.max_point_residual);
   for (std::size_t j = 0; j < k.coordinates.size(); ++j) {
     const auto& a = *std::find_if(k.axes.begin(), k.axes.end(), [&](const KinsAxis& x) { return x.joint == static_cast<int>(j); });
     ini += fmt::format("#   joint {} ({}): {:.6f} {}\n", j, a.letter, k.largest_correction[j], unit_name(a));
@@ -298,14 +312,27 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
   out.files.push_back(
       {"linuxcnc-kins.hal",
        fmt::format("# Written by mtcal compensate --format linuxcnc-kins. [KINS]KINEMATICS loads {0} (loadrt in the\n"
-                   "# main HAL file). Its tool length (mm from the spindle gauge point, default the machine file's\n"
-                   "# {1:g} mm) is a pin: set it per tool and run with G49 (no tool length offset). Do not connect it to\n"
-                   "# motion.tooloffset.z: with G43 active LinuxCNC already adds that offset to the world Z it passes to\n"
-                   "# the kinematics, and the length would count twice (the tip one length above the program;\n"
-                   "# docs/compensation-linuxcnc-kins.md, \"Tool length and G43\").\n"
-                   "setp {0}.tool-length {1:.9f}\n"
+                   "# main HAL file); load this file after the one that loads motmod.\n"
+                   "#\n"
+                   "# Tool length, as LinuxCNC's own trt-kins and 5axiskins take it (their sim configurations net\n"
+                   "# motion.tooloffset.z to the kinematics): with G43 LinuxCNC adds the tool table's length to the world\n"
+                   "# {2} it passes the kinematics; the module subtracts {0}.tool-offset from it, so the programmed point is\n"
+                   "# the tool tip, and puts that tip tool-length + tool-offset from the spindle gauge point along the\n"
+                   "# ACTUAL tool axis (the model's: table-table, head-head and 3-axis alike). G49 (offset 0) controls\n"
+                   "# the gauge point. The tool table's lengths are taken from the model's spindle gauge point\n"
+                   "# (tool.spindle_point of the machine file); tool-length is what lies between that point and the one\n"
+                   "# the tool table measures from (0 when they agree). Only the {2} component of the tool offset is a\n"
+                   "# length along the tool; keep a tool's other offsets 0 (as trt-kins do, they would shift the point).\n"
+                   "# Change tools (G43, G49) with the rotary axes at 0: elsewhere the new length along the tilted tool\n"
+                   "# moves the joints at once, as with trt-kins. The machine file's tool length ({1:g} mm) is the one\n"
+                   "# the pre-check used. If motion.tooloffset.{3} is already on a signal, add {0}.tool-offset to it.\n"
+                   "net mtcal-kins-tool-offset motion.tooloffset.{3} => {0}.tool-offset\n"
+                   "setp {0}.tool-length 0\n"
+                   "# Without G43 (all programs with G49): leave tool-offset unconnected and set the length per tool:\n"
+                   "#   setp {0}.tool-length {1:.9f}\n"
                    "# Diagnostics: {0}.iterations, {0}.residual (mm), {0}.failures (refused inverses).\n",
-                   k.module_name, k.tool_length)});
+                   k.module_name, k.tool_length, static_cast<char>(std::toupper(tool_axis_letter(k))),
+                   tool_axis_letter(k))});
   for (const auto& t : k.reversal_tables) {
     std::string text;
     for (std::size_t i = 0; i < t.nominal.size(); ++i)
@@ -318,7 +345,7 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
                    "  {}.c               the module (C; the machine's coefficients are in it)\n"
                    "  build.sh           halcompile --install {}.c (needs Debian's linuxcnc-uspace-dev)\n"
                    "  linuxcnc-kins.ini  [KINS], [TRAJ], [JOINT_n] lines; the largest correction per joint\n"
-                   "  linuxcnc-kins.hal  the tool-length pin\n"
+                   "  linuxcnc-kins.hal  the tool-offset pin on motion.tooloffset (G43), tool-length\n"
                    "  joint*-reversal.comp  direction-dependent terms, COMP_FILE type 1 (corrections)\n\n"
                    "What it holds, what it does not, and how to check it on the machine:\n"
                    "docs/compensation-linuxcnc-kins.md in mtcal.\n",

@@ -12,8 +12,13 @@ namespace mtcal {
 // -DMTCAL_KINS_STANDALONE it is plain C with no LinuxCNC header: the functions
 //   int mtk_inverse(const double world[], double tool_length, double joints[], int* iterations, double* residual)
 //   int mtk_forward(const double joints[], double tool_length, double world[])
+//   int mtk_inverse_offset(const double world[], double tool_length, double tool_offset, double joints[], int* iterations, double* residual)
+//   int mtk_forward_offset(const double joints[], double tool_length, double tool_offset, double world[])
 // (world: x y z mm and the rotary coordinates in deg in the order of `coordinates`' rotary letters;
-// joints in LinuxCNC joint order, mm and deg; return 0 on success) for tests and benchmarks.
+// joints in LinuxCNC joint order, mm and deg; return 0 on success) for tests and benchmarks. The
+// _offset forms are what kinematicsInverse/Forward call: LinuxCNC's G43 convention (trt-kins), the
+// tool tip at world - tool_offset along the tool axis letter, the tool tool_length + tool_offset long
+// along the actual tool axis.
 std::string linuxcnc_kins_source(const LinuxcncKins& k);
 
 // The machine part of that source, shared with the simulated probe (io/compensation/linuxcnc_probe.hpp):
