@@ -258,6 +258,7 @@ def check(cmd, name, value, must_fail, argv, other_options):
 def cases_of(cmd, options, bases):
     """Every (name, value, must_fail, argv) case of one command, without running any."""
     out = []
+    positionals = [n for n, _ in options if not n.startswith("--")]
     for name, kind in options:
         if name.startswith("--"):
             base, at = bases[0], None
@@ -278,7 +279,6 @@ def cases_of(cmd, options, bases):
                 out.append((name, value, must_fail, [cmd, *argv]))
         else:
             # Positional: the n-th non-option word of the base invocation.
-            positionals = [n for n, _ in options if not n.startswith("--")]
             index = positionals.index(name)
             base = bases[0]
             words = [i for i, a in enumerate(base) if not a.startswith("-") and (i == 0 or not base[i - 1].startswith("-")

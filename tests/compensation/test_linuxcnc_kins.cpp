@@ -75,6 +75,9 @@ struct ExampleModule {
   Machine machine;
   LinuxcncKins kins;
   fs::path exe;
+  // World rotary order: the rotary letters of the coordinates; joint order: the coordinates.
+  // world_slot[axis index of a rotary axis] = its place among the world's rotary coordinates.
+  std::vector<std::size_t> world_slot;
 };
 const ExampleModule& example_module(const std::string& f) {
   static std::map<std::string, ExampleModule> built;
@@ -83,7 +86,11 @@ const ExampleModule& example_module(const std::string& f) {
     Machine m = example(f.c_str());
     LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
     const fs::path exe = build_harness(linuxcnc_kins_source(k), f.substr(0, 4));
-    it = built.emplace(f, ExampleModule{std::move(m), std::move(k), exe}).first;
+    std::vector<std::size_t> world_slot(m.axes.size(), 0);
+    std::size_t slot = 0;
+    for (const char c : k.coordinates)
+      if (c == 'A' || c == 'B' || c == 'C') world_slot[*m.axis_index(c)] = slot++;
+    it = built.emplace(f, ExampleModule{std::move(m), std::move(k), exe, std::move(world_slot)}).first;
   }
   return it->second;
 }
@@ -113,11 +120,7 @@ TEST(LinuxcncKinsModule, GeneratedCMatchesTheLibraryOnEveryExample) {
     const fs::path& exe = em.exe;
     const CommandedJointSolver s(m);  // the library, with the full model (directions unused)
     const std::size_t n = m.axes.size();
-    // World rotary order: the rotary letters of the coordinates; joint order: the coordinates.
-    std::vector<std::size_t> world_slot(n, 0);
-    std::size_t slot = 0;
-    for (const char c : k.coordinates)
-      if (c == 'A' || c == 'B' || c == 'C') world_slot[*m.axis_index(c)] = slot++;
+    const std::vector<std::size_t>& world_slot = em.world_slot;
     const auto q = mtcal::testing::random_configurations(m, 100, 21);
     std::string input;
     std::vector<CommandedPose> poses;
@@ -182,10 +185,7 @@ TEST(LinuxcncKinsModule, ToolOffsetOfG43PutsTheTipOnTheProgrammedPoint) {
     const std::size_t n = m.axes.size();
     ASSERT_EQ(m.tool.tool_axis, 2) << f;  // the examples' tools point along -z: G43's Z offset is the length
     const Vec3 e_tool = Vec3::UnitZ();
-    std::vector<std::size_t> world_slot(n, 0);
-    std::size_t slot = 0;
-    for (const char c : k.coordinates)
-      if (c == 'A' || c == 'B' || c == 'C') world_slot[*m.axis_index(c)] = slot++;
+    const std::vector<std::size_t>& world_slot = em.world_slot;
     constexpr std::size_t kRows = 48;
     const auto q = mtcal::testing::random_configurations(m, kRows, 33);
     std::string input;
