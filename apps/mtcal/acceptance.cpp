@@ -90,6 +90,20 @@ void load_static_copies(CLI::App& cmd) {
   // Checked before the browser is looked for and before any work. A folder that is not there is
   // made when the images are written, as `compensate --out DIR` makes its folder (and removed
   // again if the command fails); its parent must exist, so that a mistyped path makes nothing.
+  // The PDF's folder likewise: found missing only after the work and the browser's print (5-10 s),
+  // the same error would cost the user that wait for nothing.
+  if (!o.pdf.empty()) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path pdf = fs::path(o.pdf).lexically_normal();
+    const fs::path parent = pdf.has_parent_path() ? pdf.parent_path() : fs::path(".");
+    if (!pdf.has_filename() || fs::is_directory(pdf, ec))
+      throw InputError({"--report-pdf", 0, ""}, "expected a file name for the PDF, found the folder '" + printable(o.pdf) + "'");
+    if (!fs::is_directory(parent, ec))
+      throw InputError({"--report-pdf", 0, ""},
+                       "expected the PDF in an existing folder, found that '" + printable(parent.string()) +
+                           "' is not a folder");
+  }
   if (!o.png_dir.empty()) {
     namespace fs = std::filesystem;
     std::error_code ec;

@@ -42,9 +42,11 @@ expect_error "event note not UTF-8" "field 'note': expected UTF-8 text" -- "$MTC
   --store "$tmp/h.db" --machine VMC --date 2026-11-20 --kind repair --note $'new ball screw \xff'
 
 # --- 2. A refusal caused by an option names it ---------------------------------------------------
-printf 'G21 G90\nG0 X-400 Y-250 Z-500\nG1 X400 Y250 Z0 F1000\nM30\n' >long.nc
-expect_error "toolpath --step" "(--step, --angle-step)" -- "$MTCAL" toolpath -m "$M3" --gcode long.nc --step 1e-6
-grep -qF "long.nc:3: this block would need" "$tmp/err" && ok || bad "located in the block: $(cat "$tmp/err")"
+# The long block first: a block before it would be simulated at this step (a 700 mm rapid is 7e8
+# points, 45 s) before the refusal.
+printf 'G21 G90\nG1 X-400 Y-250 Z-500 F1000\nG0 X400 Y250 Z0\nM30\n' >long.nc
+expect_error "toolpath --step" "(--step, --angle-step)" -- "$MTCAL" toolpath -m "$M3" --gcode long.nc --step 5e-7
+grep -qF "long.nc:2: this block would need" "$tmp/err" && ok || bad "located in the block: $(cat "$tmp/err")"
 expect_error "compensate --points" "expected at most 256 positions per table (the controller's limit), found 300 (--points)" \
   -- "$MTCAL" compensate -m "$M3" --format linuxcnc --points 300 --out comp
 [ ! -e comp ] && ok || bad "comp written"

@@ -6,9 +6,9 @@
 // overlap.
 // Usage: node browser_check.mjs SCREENSHOT_DIR REPORT.html:PLOTS [REPORT.html:PLOTS ...]
 // Exit 77 (ctest SKIPPED) when Chromium or playwright-core is not installed, with the reason.
-import { existsSync, mkdirSync, readFileSync, readdirSync } from 'node:fs';
+import { copyFileSync, existsSync, mkdirSync, readFileSync, readdirSync, rmSync } from 'node:fs';
 import { spawnSync } from 'node:child_process';
-import { basename, resolve } from 'node:path';
+import { basename, dirname, resolve } from 'node:path';
 import { createRequire } from 'node:module';
 import { mkdtempSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -78,19 +78,33 @@ function pixelStats(img) {
   }
   return { other: other / n, coloured: coloured / n };
 }
+// Every report is loaded through one URL per folder (a copy beside it, so relative references
+// resolve alike): V8 then compiles the 3.5 MB of inlined Plotly once, from its cache, instead of
+// once per report (measured 3.5 s -> 0.8 s per report load on the 2-core machine).
+const aliases = new Set();
+function alias(file) {
+  const a = join(dirname(file), `.browser-check-${process.pid}.html`);
+  copyFileSync(file, a);
+  aliases.add(a);
+  return a;
+}
+process.on('exit', () => { for (const a of aliases) rmSync(a, { force: true }); });
+// One page (one renderer process, whose V8 holds that cache) for all reports; its handlers report
+// to the report loaded now.
+const page = await context.newPage();
+let problems = [];
+page.on('pageerror', (e) => problems.push(`JavaScript error: ${e.message}`));
+page.on('console', (m) => { if (m.type() === 'error') problems.push(`console error: ${m.text()}`); });
+page.on('dialog', async (d) => { problems.push(`dialog opened: ${d.message()}`); await d.dismiss(); });
+// blob: URLs are objects of the page itself (Plotly.toImage draws the SVG through one).
+page.on('request', (r) => { if (!/^(file|data|blob):/.test(r.url())) problems.push(`external request: ${r.url()}`); });
 let passed = 0, failed = 0;
 for (const spec of specs) {
   const i = spec.lastIndexOf(':');
   const file = resolve(spec.slice(0, i));
   const expected = Number(spec.slice(i + 1));
-  const page = await context.newPage();
-  const problems = [];
-  page.on('pageerror', (e) => problems.push(`JavaScript error: ${e.message}`));
-  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console error: ${m.text()}`); });
-  page.on('dialog', async (d) => { problems.push(`dialog opened: ${d.message()}`); await d.dismiss(); });
-  // blob: URLs are objects of the page itself (Plotly.toImage draws the SVG through one).
-  page.on('request', (r) => { if (!/^(file|data|blob):/.test(r.url())) problems.push(`external request: ${r.url()}`); });
-  await page.goto('file://' + file, { waitUntil: 'load', timeout: LOAD_MS });
+  problems = [];
+  await page.goto('file://' + alias(file), { waitUntil: 'load', timeout: LOAD_MS });
   // Every plot div must hold a rendered Plotly graph with at least one trace with data.
   await page.waitForFunction((n) => document.querySelectorAll('.plot .main-svg').length >= n || n === 0, expected,
                              { timeout: LOAD_MS }).catch(() => problems.push(`plots did not render in ${LOAD_MS / 1000} s`));
@@ -164,8 +178,8 @@ for (const spec of specs) {
     passed++;
     console.log(`ok   ${basename(file)}: ${plots.length} plots rendered, fit 1280x800, printed to ${pdf}, screenshot ${shot}`);
   }
-  await page.close();
 }
+await page.close();
 // Where scripts do not run (an e-mail reader): the first report with plots, scripts off (CDP
 // Emulation.setScriptExecutionDisabled): the <noscript> note shows and names the static copies,
 // the empty plot boxes are hidden, the tables are there.
@@ -176,7 +190,7 @@ for (const spec of specs) {
     const page = await context.newPage();
     const cdp = await context.newCDPSession(page);
     await cdp.send('Emulation.setScriptExecutionDisabled', { value: true });
-    await page.goto('file://' + file, { waitUntil: 'load', timeout: LOAD_MS });
+    await page.goto('file://' + alias(file), { waitUntil: 'load', timeout: LOAD_MS });
     const st = await page.evaluate(() => {
       const note = document.querySelector('div.noscript');
       return {
