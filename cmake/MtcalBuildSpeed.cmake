@@ -101,10 +101,12 @@ function(mtcal_apply_unity)
   if(NOT MTCAL_UNITY)
     return()
   endif()
-  # The library, the server, the command, the Python module and the benchmarks. Not the tests: their
-  # units reuse short helper names (example(), vmc(), kTol ...) in anonymous namespaces, which
-  # collide in a batch (docs/building.md, "Unity builds").
-  foreach(target mtcal_core mtcal_server mtcal mtcal_python mtcal_bench)
+  # The library, the server, the command, the Python module, the benchmarks and the tests' targets
+  # (tests/CMakeLists.txt; not tests/headers, whose units must each compile alone). A test unit's
+  # helpers in its anonymous namespace carry names of their own (the shared ones are in
+  # tests/testing/examples.hpp): two units of a batch are one translation unit.
+  get_property(test_targets DIRECTORY ${PROJECT_SOURCE_DIR}/tests PROPERTY BUILDSYSTEM_TARGETS)
+  foreach(target mtcal_core mtcal_server mtcal mtcal_python mtcal_bench ${test_targets})
     if(TARGET ${target})
       set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${MTCAL_UNITY_BATCH})
       # GCC 12 inlines across the units of a batch and then reports -Wmaybe-uninitialized on

@@ -18,11 +18,12 @@
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine example(const std::string& name) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + name); }
+using mtcal::testing::example;
 
 // The test's own reader: "[NAME]" blocks, "VALUE = v", "Gridpoints = {" rows "}" ; '//' comments.
 struct TestBlocks {

@@ -14,11 +14,12 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine example(const std::string& name) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + name); }
+using mtcal::testing::example;
 
 struct Listing {
   std::map<int, std::vector<double>> parameter;  // number -> value per axis column
@@ -61,7 +62,7 @@ double absolute_at(const Listing& l, std::size_t col, int n, double unit) {
   return static_cast<double>(sum) * unit * mag;
 }
 
-double mean_error_along(const ErrorModel& model, std::size_t a, double p) {
+double fanuc_mean_error_along(const ErrorModel& model, std::size_t a, double p) {
   std::vector<double> q(model.axis_count(), 0.0);
   q[a] = p;
   const std::vector<std::int8_t> plus(q.size(), 1), minus(q.size(), -1);
@@ -92,7 +93,7 @@ TEST(FanucTarget, CountsRecoverAPositioningErrorOfWholeCountsExactly) {
   const ErrorModel model(m);
   for (int n = lo - 1; n <= hi; ++n) {
     const double p = (n - r) * 16.0;
-    const double c = -(mean_error_along(model, 0, p) - mean_error_along(model, 0, 0.0));
+    const double c = -(fanuc_mean_error_along(model, 0, p) - fanuc_mean_error_along(model, 0, 0.0));
     EXPECT_NEAR(absolute_at(l, 0, n, 0.001), c, 1e-9) << "point " << n;
   }
   for (const auto& [n, v] : l.pitch) EXPECT_EQ(v, -1) << n;  // the error grows, the correction falls
@@ -116,7 +117,7 @@ TEST(FanucTarget, CountsFollowTheModelToHalfACount) {
       EXPECT_LE(std::abs(l.pitch.at(n)), kFanucMaxValue);
       const double p = (n - r) * interval;
       if (p < ax.travel->min - 1e-9 || p > ax.travel->max + 1e-9) continue;  // linear: mm
-      const double e = -(mean_error_along(model, col, p) - mean_error_along(model, col, 0.0));
+      const double e = -(fanuc_mean_error_along(model, col, p) - fanuc_mean_error_along(model, col, 0.0));
       EXPECT_NEAR(absolute_at(l, col, n, 0.001), e, 0.5 * 0.001 * mag + 1e-12) << ax.letter << " point " << n;
       ++checked;
     }

@@ -24,7 +24,7 @@ using namespace mtcal;
 
 namespace {
 
-std::string example(const std::string& name) { return std::string(MTCAL_EXAMPLES_DIR) + "/" + name; }
+std::string gcode_correction_example(const std::string& name) { return std::string(MTCAL_EXAMPLES_DIR) + "/" + name; }
 
 GcodeOptions reader_options(const Machine& m) {
   GcodeOptions o;
@@ -187,7 +187,7 @@ Machine with_lagging_reversals(Machine m) {
 }  // namespace
 
 TEST(GcodeCorrection, ThreeAxisPathWithinOnePercentNoDirection) {
-  const ErrorModel model(load_machine(example("vmc-3axis.yaml")));
+  const ErrorModel model(load_machine(gcode_correction_example("vmc-3axis.yaml")));
   GcodeCorrectionOptions o;
   o.origin = kOrigin3;
   o.directions = false;
@@ -214,7 +214,7 @@ TEST(GcodeCorrection, ThreeAxisPathWithinOnePercentNoDirection) {
 }
 
 TEST(GcodeCorrection, ThreeAxisWithDirectionsAndLaggingReversals) {
-  const ErrorModel model(with_lagging_reversals(load_machine(example("vmc-3axis.yaml"))));
+  const ErrorModel model(with_lagging_reversals(load_machine(gcode_correction_example("vmc-3axis.yaml"))));
   GcodeCorrectionOptions o;
   o.origin = kOrigin3;
   const Corrected r = correct(model, kPart3, o);
@@ -226,7 +226,7 @@ TEST(GcodeCorrection, ThreeAxisWithDirectionsAndLaggingReversals) {
 TEST(GcodeCorrection, PositiveReversalTermsAreReportedAsConflicts) {
   // vmc-3axis has EXX and EZZ reversal terms > 0 (the axis overshoots): a resting axis that the
   // correction moves back and forth cannot be commanded in the direction it was solved for.
-  const ErrorModel model(load_machine(example("vmc-3axis.yaml")));
+  const ErrorModel model(load_machine(gcode_correction_example("vmc-3axis.yaml")));
   GcodeCorrectionOptions o;
   o.origin = kOrigin3;
   const Corrected r = correct(model, kPart3, o);
@@ -236,7 +236,7 @@ TEST(GcodeCorrection, PositiveReversalTermsAreReportedAsConflicts) {
 }
 
 TEST(GcodeCorrection, FiveAxisHeadHeadPathAndOrientation) {
-  const ErrorModel model(load_machine(example("head-head-5axis.yaml")));
+  const ErrorModel model(load_machine(gcode_correction_example("head-head-5axis.yaml")));
   GcodeCorrectionOptions o;
   o.directions = false;
   const Corrected r = correct(model, kPartHeadHead, o);
@@ -252,7 +252,7 @@ TEST(GcodeCorrection, FiveAxisHeadHeadPathAndOrientation) {
 }
 
 TEST(GcodeCorrection, FiveAxisTableTablePathAndOrientation) {
-  const ErrorModel model(load_machine(example("hu40t-wCBXfYZt.yaml")));
+  const ErrorModel model(load_machine(gcode_correction_example("hu40t-wCBXfYZt.yaml")));
   GcodeCorrectionOptions o;
   o.directions = false;
   const Corrected r = correct(model, kPartHu40t, o);
@@ -269,7 +269,7 @@ TEST(GcodeCorrection, FiveAxisWithDirectionsMeetsTheBoundOrReportsConflicts) {
   // and the correction moves it back and forth by fractions of a micrometre. Where the reversal
   // move and the piece after it need opposite directions, the point between them keeps up to
   // twice the reversal term; the correction must then say so.
-  const ErrorModel model(with_lagging_reversals(load_machine(example("hu40t-wCBXfYZt.yaml"))));
+  const ErrorModel model(with_lagging_reversals(load_machine(gcode_correction_example("hu40t-wCBXfYZt.yaml"))));
   GcodeCorrectionOptions o;
   o.orientation = false;
   const Corrected r = correct(model, kPartHu40t, o);
@@ -283,7 +283,7 @@ TEST(GcodeCorrection, FiveAxisWithDirectionsMeetsTheBoundOrReportsConflicts) {
 
 TEST(GcodeCorrection, ZeroErrorMachineGivesTheSameProgram) {
   for (const char* name : {"vmc-3axis.yaml", "head-head-5axis.yaml", "hu40t-wCBXfYZt.yaml"}) {
-    Machine m = load_machine(example(name));
+    Machine m = load_machine(gcode_correction_example(name));
     m.clear_errors();
     const ErrorModel model(m);
     const bool three = m.axes.size() == 3;
@@ -301,7 +301,7 @@ TEST(GcodeCorrection, ZeroErrorMachineGivesTheSameProgram) {
 TEST(GcodeCorrection, TinyErrorsChangeNothingThatCanBeWritten) {
   // Every error a millionth of the example's: corrections of nanometres, below the written
   // resolution (0.5e-6 mm): the text stays the same, the solver still meets its tolerance.
-  Machine m = load_machine(example("vmc-3axis.yaml"));
+  Machine m = load_machine(gcode_correction_example("vmc-3axis.yaml"));
   for (std::size_t i = 0; i < m.parameter_count(); ++i) m.set_parameter(i, m.parameter(i) * 1e-6);
   const ErrorModel model(m);
   GcodeCorrectionOptions o;
@@ -319,7 +319,7 @@ TEST(GcodeCorrection, RandomErrorMagnitudes) {
   std::mt19937 rng(14);
   std::uniform_real_distribution<double> f(-20, 20);
   for (int trial = 0; trial < 3; ++trial) {
-    Machine m = load_machine(example("vmc-3axis.yaml"));
+    Machine m = load_machine(gcode_correction_example("vmc-3axis.yaml"));
     for (std::size_t i = 0; i < m.parameter_count(); ++i) m.set_parameter(i, m.parameter(i) * f(rng));
     const ErrorModel model(m);
     GcodeCorrectionOptions o;
@@ -337,7 +337,7 @@ TEST(GcodeCorrection, SolverAgreesWithANumericFixedPoint) {
   // One move to a point; the command must satisfy actual(q) = nominal(q_target). The reference:
   // the fixed point q <- q_t - A^-1 e(q), with A the (constant) nominal Jacobian of the 3-axis
   // machine taken by differences and e the model's error, iterated to rounding.
-  const Machine m = load_machine(example("vmc-3axis.yaml"));
+  const Machine m = load_machine(gcode_correction_example("vmc-3axis.yaml"));
   const ErrorModel model(m);
   const GcodePosition target{180, 120, -150, 0, 0, 0};
   GcodeProgram p;
@@ -374,7 +374,7 @@ TEST(GcodeCorrection, SolverAgreesWithANumericFixedPoint) {
 }
 
 TEST(GcodeCorrection, BadInput) {
-  const Machine m = load_machine(example("vmc-3axis.yaml"));
+  const Machine m = load_machine(gcode_correction_example("vmc-3axis.yaml"));
   const ErrorModel model(m);
   const GcodeProgram p = parse_gcode("G0 X0 Y0 Z-100\nG1 X10 Y10 Z-100 F100\n", "p.nc", reader_options(m));
   GcodeCorrectionOptions o;

@@ -13,13 +13,14 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine example(const std::string& name) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + name); }
+using mtcal::testing::example;
 
-const TargetFile& file_named(const TargetOutput& out, const std::string& name) {
+const TargetFile& heidenhain_file_named(const TargetOutput& out, const std::string& name) {
   for (const auto& f : out.files)
     if (f.name == name) return f;
   throw std::runtime_error("no file " + name);
@@ -89,15 +90,15 @@ TEST(HeidenhainTarget, TablesRecoverTheModelErrorAlongEachAxisLine) {
   EXPECT_EQ(out.summary.quantity, TableQuantity::Error);
   EXPECT_NE(out.summary.sign_source.find("must be checked on the control"), std::string::npos);
   // config.cma: the active line assigns each table to its argument axis.
-  const auto cma = read_tnc_table(file_named(out, "config.cma").text, "config.cma");
+  const auto cma = read_tnc_table(heidenhain_file_named(out, "config.cma").text, "config.cma");
   EXPECT_EQ(cma.at("ACTIVE").at(0), "*");
   // The control's rule: axis K gets -sum over the tables T(L) of column K interpolated at q_L.
   std::map<char, std::map<std::string, std::vector<std::string>>> tables;
   for (const char l : std::string("XYZ")) {
     const std::string name = cma.at(std::string(1, l)).at(0);
     EXPECT_EQ(name, std::string(1, l) + ".COM");
-    tables[l] = read_tnc_table(file_named(out, name).text, name);
-    EXPECT_NE(file_named(out, name).text.find("MM\n"), std::string::npos);
+    tables[l] = read_tnc_table(heidenhain_file_named(out, name).text, name);
+    EXPECT_NE(heidenhain_file_named(out, name).text.find("MM\n"), std::string::npos);
   }
   auto correction = [&](const std::vector<double>& q, char k) {
     double c = 0.0;

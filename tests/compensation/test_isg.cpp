@@ -12,11 +12,12 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine example(const std::string& name) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + name); }
+using mtcal::testing::example;
 
 struct Block {
   std::vector<std::string> header;

@@ -12,13 +12,14 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine example(const std::string& name) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + name); }
+using mtcal::testing::example;
 
-const TargetFile& file_named(const TargetOutput& out, const std::string& name) {
+const TargetFile& linuxcnc_file_named(const TargetOutput& out, const std::string& name) {
   for (const auto& f : out.files)
     if (f.name == name) return f;
   throw std::runtime_error("no file " + name);
@@ -62,13 +63,13 @@ TEST(LinuxcncTarget, BothTypesRecoverTheModelErrorAtTheNodes) {
     o.points = 21;
     o.comp_file_type = type;
     const TargetOutput out = linuxcnc_output(compensate_linuxcnc(m, o));
-    const std::string ini = file_named(out, "linuxcnc.ini").text;
+    const std::string ini = linuxcnc_file_named(out, "linuxcnc.ini").text;
     for (std::size_t a = 0; a < 3; ++a) {
       const char letter = "XYZ"[a];
       EXPECT_NE(ini.find(fmt::format("[JOINT_{}]\nCOMP_FILE = {}.comp\nCOMP_FILE_TYPE = {}", a, letter, type)),
                 std::string::npos)
           << ini;
-      const Rows r = read_comp(file_named(out, std::string(1, letter) + ".comp").text);
+      const Rows r = read_comp(linuxcnc_file_named(out, std::string(1, letter) + ".comp").text);
       ASSERT_EQ(r.nominal.size(), 21u);
       for (std::size_t i = 0; i < r.nominal.size(); ++i) {
         if (i > 0) {
@@ -119,10 +120,10 @@ TEST(LinuxcncTarget, TrtPinsFromTheRotaryAxisLines) {
   EXPECT_EQ(c.kinematics, "xyzbc-trt-kins");
   EXPECT_EQ(c.coordinates, "XYZBC");
   const TargetOutput out = linuxcnc_output(c);
-  const std::string hal = file_named(out, "linuxcnc-kins.hal").text;
+  const std::string hal = linuxcnc_file_named(out, "linuxcnc-kins.hal").text;
   EXPECT_NE(hal.find("setp xyzbc-trt-kins.x-rot-point 0.003000000\n"), std::string::npos) << hal;
   EXPECT_NE(hal.find("setp xyzbc-trt-kins.y-rot-point -0.004000000\n"), std::string::npos) << hal;
-  const std::string ini = file_named(out, "linuxcnc.ini").text;
+  const std::string ini = linuxcnc_file_named(out, "linuxcnc.ini").text;
   EXPECT_NE(ini.find("HALFILE = linuxcnc-kins.hal"), std::string::npos);
   EXPECT_NE(ini.find("COORDINATES = X Y Z B C"), std::string::npos);
 }

@@ -16,11 +16,12 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine vmc() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml"); }
+using mtcal::testing::vmc;
 
 // The part of vmc-3axis that EEC and CEC hold: positioning, straightness and squareness of X, Y, Z
 // (the tables are sampled on these alone; the angular errors are listed as not held).
@@ -68,7 +69,7 @@ std::map<std::string, EecTable> read_eec(const std::string& text) {
   return out;
 }
 
-double mean_error_along(const ErrorModel& model, std::size_t axis, double q) {
+double siemens_mean_error_along(const ErrorModel& model, std::size_t axis, double q) {
   std::vector<double> qs(model.axis_count(), 0.0);
   std::vector<std::int8_t> d(model.axis_count(), 0);
   qs[axis] = q;
@@ -94,7 +95,7 @@ TEST(SiemensTarget, TablesReadBackGiveTheModelErrorAtThePoints) {
     for (const auto& [i, v] : t.values) {
       const double q = t.min + i * t.step;
       // The value is the error: the control moves the axis by -value.
-      EXPECT_NEAR(v, mean_error_along(model, a, q), 1e-9) << a << " " << q;
+      EXPECT_NEAR(v, siemens_mean_error_along(model, a, q), 1e-9) << a << " " << q;
     }
   }
 }

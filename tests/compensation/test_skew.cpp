@@ -15,11 +15,12 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine vmc() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml"); }
+using mtcal::testing::vmc;
 
 std::string text_of(const TargetOutput& out, const std::string& name) {
   for (const auto& f : out.files)

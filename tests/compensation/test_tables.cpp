@@ -4,11 +4,12 @@
 #include "mtcal/compensation/tables.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine vmc() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml"); }
+using mtcal::testing::vmc;
 
 // vmc-3axis.yaml: EXX = 0.5 + 8 q - 12 q^2 + 4 q^3 (um, q in m), reversal 1.0 um.
 double exx_mm(double x_mm, int dir) {

@@ -9,12 +9,14 @@
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using mtcal::testing::kPi;
+
 constexpr double R = 150.0;
 
 BallbarOptions nominal(double radius) {

@@ -21,7 +21,7 @@ const ParameterComparison& param(const MethodComparison& c, const std::string& n
 }
 
 // The message of the InputError that parsing text throws ("" if none).
-std::string error_of(const std::string& text) {
+std::string compare_error_of(const std::string& text) {
   try {
     parse_comparison_csv(text, "t.csv");
   } catch (const InputError& e) {
@@ -166,10 +166,10 @@ TEST(Compare, AcceptsCommentsBlankLinesQuotesBomAndAnyColumnOrder) {
 
 TEST(Compare, EveryBadInputIsOneLocatedMessage) {
   const std::string h = "method,test,parameter,value\n";
-  struct Case {
+  struct CompareCase {
     std::string text, expected;
   };
-  const Case cases[] = {
+  const CompareCase cases[] = {
       {"method,test,param,value\nA,1,P,1\n", "t.csv:1: expected the header 'method,test,parameter,value'"},
       {"method,test,parameter\nA,1,P\n", "found 'method,test,parameter'"},
       {"method,test,parameter,value,unit\n", "found 'method,test,parameter,value,unit'"},
@@ -194,7 +194,7 @@ TEST(Compare, EveryBadInputIsOneLocatedMessage) {
       {h + "A,1,\"P\"x,1\n", "t.csv:2: unexpected 'x' after a quoted cell"},
   };
   for (const auto& c : cases) {
-    const std::string msg = error_of(c.text);
+    const std::string msg = compare_error_of(c.text);
     EXPECT_NE(msg.find(c.expected), std::string::npos) << "input:\n" << c.text << "message: " << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   }

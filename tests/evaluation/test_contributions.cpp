@@ -7,13 +7,14 @@
 #include "mtcal/io/text/joints.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "synthetic.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-namespace mt = ::mtcal::testing;
+using mtcal::testing::vmc;
 
-Machine vmc() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/vmc-3axis.yaml"); }
+namespace mt = ::mtcal::testing;
 
 TEST(Contributions, SquarenessHandCalculation) {
   // Only EC0Y (squareness of Y to X, rad): a Y move of y shifts the tool along X by -EC0Y * y or

@@ -14,11 +14,12 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-Machine hu40t() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml"); }
+using mtcal::testing::hu40t;
 
 // Every configuration and error of a stream, gathered from its chunks.
 struct Gathered {

@@ -23,7 +23,7 @@ PositioningRuns hand_case() {
   return r;
 }
 
-std::string write_temp(const std::string& name, const std::string& text) {
+std::string iso230_2_write_temp(const std::string& name, const std::string& text) {
   const auto p = std::filesystem::temp_directory_path() / name;
   std::ofstream(p) << text;
   return p.string();
@@ -91,7 +91,7 @@ TEST(Iso230_2, ReadsTheRealDatFiles) {
 }
 
 TEST(Iso230_2, CsvFormMatchesTheRunsItDescribes) {
-  const std::string path = write_temp("mtcal-iso-good.csv",
+  const std::string path = iso230_2_write_temp("mtcal-iso-good.csv",
                                       "# hand case\ntarget,run,direction,measured\n0,1,up,0.001\n0,2,+,0.003\n"
                                       "0,1,down,-0.001\n0,2,-,0.001\n10,1,up,10.004\n10,2,up,10.006\n"
                                       "10,1,down,10.002\n10,2,down,10.002\n");
@@ -118,20 +118,20 @@ TEST(Iso230_2, BadInputsAreNamed) {
   one_target.down.resize(1);
   EXPECT_THROW(evaluate_positioning(one_target), InputError);
 
-  struct Case {
+  struct Iso2302Case {
     const char* text;
     int line;
     const char* field;
   };
-  for (const Case c : {Case{"x,run,dir,measured\n", 1, ""}, Case{"target,run,direction\n", 1, ""},
-                       Case{"target,run,direction,measured\n0,1,sideways,0\n", 2, "direction"},
-                       Case{"target,run,direction,measured\n0,1,up,abc\n", 2, "measured"},
-                       Case{"target,run,direction,measured\n0,1.5,up,0\n", 2, "run"},
-                       Case{"target,run,direction,measured\n0,1,up,0\n0,1,up,0\n", 3, "run"},
-                       Case{"target,run,direction,measured\n0,1,up\n", 2, ""}}) {
+  for (const Iso2302Case c : {Iso2302Case{"x,run,dir,measured\n", 1, ""}, Iso2302Case{"target,run,direction\n", 1, ""},
+                       Iso2302Case{"target,run,direction,measured\n0,1,sideways,0\n", 2, "direction"},
+                       Iso2302Case{"target,run,direction,measured\n0,1,up,abc\n", 2, "measured"},
+                       Iso2302Case{"target,run,direction,measured\n0,1.5,up,0\n", 2, "run"},
+                       Iso2302Case{"target,run,direction,measured\n0,1,up,0\n0,1,up,0\n", 3, "run"},
+                       Iso2302Case{"target,run,direction,measured\n0,1,up\n", 2, ""}}) {
     SCOPED_TRACE(c.text);
     try {
-      read_positioning_csv(write_temp("mtcal-iso-bad.csv", c.text), "mm");
+      read_positioning_csv(iso230_2_write_temp("mtcal-iso-bad.csv", c.text), "mm");
       ADD_FAILURE() << "no error";
     } catch (const InputError& e) {
       EXPECT_EQ(e.where().line, c.line) << e.what();
@@ -141,5 +141,5 @@ TEST(Iso230_2, BadInputsAreNamed) {
   for (const char* text : {"TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=x\n", "FOO=1\n", "TGT_DATA[1]=0\nTGT_DATA[1]=1\n",
                            "TGT_DATA[1,2]=0\n", "REF_DATA_FWD[1]=0\n", "TGT_DATA[1]=0\nA B=1\n", "TGT_DATA[1]\n",
                            "REF_DATA_FWD[2,1]=1\n", "TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=0\nREF_DATA_FWD[1,1]=0\n"})
-    EXPECT_THROW(read_positioning_dat(write_temp("mtcal-iso-bad.dat", text)), InputError) << text;
+    EXPECT_THROW(read_positioning_dat(iso230_2_write_temp("mtcal-iso-bad.dat", text)), InputError) << text;
 }

@@ -11,13 +11,14 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180;
+using mtcal::testing::kDeg;
+using mtcal::testing::kPi;
 
 GcodeProgram program(const Machine& m, const std::string& text) {
   GcodeOptions o;

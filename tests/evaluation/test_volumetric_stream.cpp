@@ -8,13 +8,14 @@
 #include "mtcal/evaluation/volumetric_study.hpp"
 #include "mtcal/io/text/joints.hpp"
 #include "mtcal/io/model/machine_file.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-namespace mt = ::mtcal::testing;
+using mtcal::testing::example;
 
-Machine example(const std::string& file) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + file); }
+namespace mt = ::mtcal::testing;
 
 // A pair of the streamed study (indices into its held map) is the same as the in-memory one's
 // (indices into the whole map): same value, same configurations, same error vectors.
@@ -47,16 +48,16 @@ void expect_same_distribution(const Distribution& a, const Distribution& b, cons
   EXPECT_EQ(a.histogram.counts, b.histogram.counts) << what;
 }
 
-struct Case {
+struct VolumetricStreamCase {
   std::string file, grid, box;
 };
 
 TEST(StreamedVolumetric, EqualsTheInMemoryStudyOnEveryExampleMachine) {
-  for (const Case& c :
-       {Case{"vmc-3axis.yaml", "X=-400:400:23,Y=-250:250:13,Z=-500:0:11", "X=0:400,Z=-300:0"},
-        Case{"hu40t-wCBXfYZt.yaml", "X=-300:300:7,Y=-250:250:5,Z=-300:0:4,B=-90:90:5,C=0:360:9", "X=-100:300,C=0:180"},
-        Case{"head-head-5axis.yaml", "X=0:1000:6,Y=0:800:5,Z=-400:0:4,A=-30:30:5,C=-90:90:7", "A=0:30"},
-        Case{"rrttt-table-table.yaml", "X=-100:100:5,Y=-100:100:6,Z=-100:0:3,A=-30:30:5,C=0:90:4", "X=0:100"}}) {
+  for (const VolumetricStreamCase& c :
+       {VolumetricStreamCase{"vmc-3axis.yaml", "X=-400:400:23,Y=-250:250:13,Z=-500:0:11", "X=0:400,Z=-300:0"},
+        VolumetricStreamCase{"hu40t-wCBXfYZt.yaml", "X=-300:300:7,Y=-250:250:5,Z=-300:0:4,B=-90:90:5,C=0:360:9", "X=-100:300,C=0:180"},
+        VolumetricStreamCase{"head-head-5axis.yaml", "X=0:1000:6,Y=0:800:5,Z=-400:0:4,A=-30:30:5,C=-90:90:7", "A=0:30"},
+        VolumetricStreamCase{"rrttt-table-table.yaml", "X=-100:100:5,Y=-100:100:6,Z=-100:0:3,A=-30:30:5,C=0:90:4", "X=0:100"}}) {
     const Machine m = example(c.file);
     const ErrorModel model(m);
     const GridValues grid = parse_grid(m, c.grid, "test grid");

@@ -12,15 +12,17 @@
 #include <Eigen/Geometry>
 
 #include "mtcal/fitting/fit.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
+using mtcal::testing::kPi;
+
 using Pts = std::vector<Point3>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = std::numbers::pi;
 
 Point3 random_unit(std::mt19937_64& rng) {
   std::normal_distribution<double> g;

@@ -28,7 +28,7 @@ const ParameterChange& change(const CalibrationDiff& d, const std::string& name)
 }
 
 template <class F>
-std::string error_of(F f) {
+std::string history_analysis_error_of(F f) {
   try {
     f();
   } catch (const InputError& e) {
@@ -57,7 +57,7 @@ TEST(HistoryTime, ParsesDatesDateTimesAndOffsets) {
   EXPECT_EQ(format_history_time(parse_history_time("2024-02-29T23:59:59+00:00")), "2024-02-29T23:59:59Z");
   EXPECT_EQ(format_history_date(parse_history_time("1969-12-31T12:00:00Z")), "1969-12-31");
   for (const char* bad : {"", "2026-13-01", "2025-02-29", "24.11.2026", "2026-11-24 10:30", "2026-11-24T25:00"}) {
-    const std::string m = error_of([&] { parse_history_time(bad, "record 7"); });
+    const std::string m = history_analysis_error_of([&] { parse_history_time(bad, "record 7"); });
     EXPECT_NE(m.find("ISO 8601"), std::string::npos) << bad;
     EXPECT_NE(m.find("record 7"), std::string::npos) << m;
   }
@@ -142,17 +142,17 @@ TEST(HistoryDiff, IdenticalCalibrationsAreNotSignificantAndEmptyIsEmpty) {
 
 TEST(HistoryDiff, BadInputNamesRecordAndParameter) {
   const double nan = std::nan("");
-  auto m = error_of([&] { diff_calibrations({{"EXX", nan, 1.0, "um"}}, {}, {}, "record 4", "record 5"); });
+  auto m = history_analysis_error_of([&] { diff_calibrations({{"EXX", nan, 1.0, "um"}}, {}, {}, "record 4", "record 5"); });
   EXPECT_NE(m.find("record 4"), std::string::npos) << m;
   EXPECT_NE(m.find("EXX"), std::string::npos) << m;
-  m = error_of([&] { diff_calibrations({}, {{"EC0Y", 1, -1.0, "urad"}}, {}, "record 4", "record 5"); });
+  m = history_analysis_error_of([&] { diff_calibrations({}, {{"EC0Y", 1, -1.0, "urad"}}, {}, "record 4", "record 5"); });
   EXPECT_NE(m.find("record 5"), std::string::npos) << m;
   EXPECT_NE(m.find("uncertainty"), std::string::npos) << m;
-  m = error_of([&] { diff_calibrations({{"EXX", 1, 1.0, "um"}, {"EXX", 2, 1.0, "um"}}, {}); });
+  m = history_analysis_error_of([&] { diff_calibrations({{"EXX", 1, 1.0, "um"}, {"EXX", 2, 1.0, "um"}}, {}); });
   EXPECT_NE(m.find("twice"), std::string::npos) << m;
   DiffOptions o;
   o.coverage_factor = 0;
-  EXPECT_FALSE(error_of([&] { diff_calibrations({}, {}, o); }).empty());
+  EXPECT_FALSE(history_analysis_error_of([&] { diff_calibrations({}, {}, o); }).empty());
 }
 
 TEST(HistoryDiff, RecordsGiveParameterAndFigureDiffs) {
@@ -322,16 +322,16 @@ TEST(HistoryTrend, CrossingCases) {
 }
 
 TEST(HistoryTrend, BadInputs) {
-  auto m = error_of([] { fit_trend({sample(0, std::nan("")), sample(1, 1)}, std::nullopt, {}, "EC0Y"); });
+  auto m = history_analysis_error_of([] { fit_trend({sample(0, std::nan("")), sample(1, 1)}, std::nullopt, {}, "EC0Y"); });
   EXPECT_NE(m.find("EC0Y"), std::string::npos) << m;
   EXPECT_NE(m.find("r0"), std::string::npos) << m;
-  m = error_of([] { fit_trend({sample(0, 1, -0.5)}, std::nullopt, {}, "EC0Y"); });
+  m = history_analysis_error_of([] { fit_trend({sample(0, 1, -0.5)}, std::nullopt, {}, "EC0Y"); });
   EXPECT_NE(m.find("uncertainty"), std::string::npos) << m;
-  m = error_of([] { fit_trend({sample(0, 1)}, ToleranceBand{5, 1}, {}, "A_X"); });
+  m = history_analysis_error_of([] { fit_trend({sample(0, 1)}, ToleranceBand{5, 1}, {}, "A_X"); });
   EXPECT_NE(m.find("A_X"), std::string::npos) << m;
-  m = error_of([] { fit_trend({sample(0, 1)}, ToleranceBand::at_most(0), {}, "A_X"); });
+  m = history_analysis_error_of([] { fit_trend({sample(0, 1)}, ToleranceBand::at_most(0), {}, "A_X"); });
   EXPECT_NE(m.find("> 0"), std::string::npos) << m;
-  m = error_of([] { fit_trend({sample(0, 1)}, ToleranceBand{0, std::numeric_limits<double>::infinity()}, {}, "A_X"); });
+  m = history_analysis_error_of([] { fit_trend({sample(0, 1)}, ToleranceBand{0, std::numeric_limits<double>::infinity()}, {}, "A_X"); });
   EXPECT_NE(m.find("upper limit"), std::string::npos) << m;
 }
 
@@ -429,7 +429,7 @@ TEST(HistoryTrend, StoreSeriesBecomeSamples) {
   EXPECT_EQ(format_history_time(s[1].at), "2024-07-01T12:00:00Z");
   EXPECT_EQ(*s[0].u, 0.5);
   EXPECT_EQ(s[1].record, "a2");
-  const auto m = error_of([] { trend_samples({{"1.1.2024", 1.0, {}, "a9", "um"}}); });
+  const auto m = history_analysis_error_of([] { trend_samples({{"1.1.2024", 1.0, {}, "a9", "um"}}); });
   EXPECT_NE(m.find("record a9"), std::string::npos) << m;
 }
 
@@ -494,11 +494,11 @@ TEST(HistoryRank, TiesAndBadSeries) {
   EXPECT_EQ(r.machines[1].machine, "M1");
   EXPECT_EQ(r.machines[2].machine, "M2");
   RankSeries empty{"M9", "EC0Y", "urad", {}, ToleranceBand::symmetric(10)};
-  auto m = error_of([&] { rank_fleet({a, empty}); });
+  auto m = history_analysis_error_of([&] { rank_fleet({a, empty}); });
   EXPECT_NE(m.find("M9"), std::string::npos) << m;
   EXPECT_NE(m.find("EC0Y"), std::string::npos) << m;
   RankSeries nan_value{"M8", "EXX", "um", {sample(0, std::nan(""))}, ToleranceBand::symmetric(10)};
-  m = error_of([&] { rank_fleet({nan_value}); });
+  m = history_analysis_error_of([&] { rank_fleet({nan_value}); });
   EXPECT_NE(m.find("M8"), std::string::npos) << m;
   EXPECT_TRUE(rank_fleet({}).machines.empty());
 }

@@ -12,15 +12,16 @@
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-const std::string kPlanPath = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/hu40t-samba-tango.csv";
+using mtcal::testing::hu40t;
+
+const std::string identification_kPlanPath = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/hu40t-samba-tango.csv";
 const std::vector<std::string> kLocation{"EC0Y", "EB0Z", "EA0Z", "EX0C", "EY0C",  "EA0C",  "EB0C",
                                          "EX0B", "EZ0B", "EA0B", "EC0B", "EXX.1", "EYY.1", "EZZ.1"};
-
-Machine hu40t() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml"); }
 
 // The example machine with the estimated parameters zeroed: every other error is known.
 Machine prior_of(const Machine& truth, const std::vector<std::string>& names) {
@@ -38,7 +39,7 @@ IdentificationOptions options(const std::vector<std::string>& names) {
 
 TEST(ProbingPlan, ReadsTheHu40tPlan) {
   const Machine m = hu40t();
-  const ProbingPlan p = read_probing_csv(m, kPlanPath);
+  const ProbingPlan p = read_probing_csv(m, identification_kPlanPath);
   EXPECT_EQ(p.records.size(), 76u);  // Mohammed 3.2: "76 points have probed"
   EXPECT_EQ(p.features.size(), 7u);
   EXPECT_FALSE(p.measured);
@@ -95,7 +96,7 @@ TEST(ProbingPlan, BadFilesGiveLocatedErrors) {
 
 TEST(VirtualMachine, ReadingsPutTheActualProbeOnTheTrueFeatures) {
   const Machine truth = hu40t();
-  const ProbingPlan plan = read_probing_csv(truth, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(truth, identification_kPlanPath);
   SimulationOptions so;
   so.artefact_error = 0.05;
   so.scale_bars = {{"1", "2", 304.8}};
@@ -142,7 +143,7 @@ TEST(Identification, NoiseFreeRecoveryOfEveryIdentifiableParameter) {
     const double size = p.unit == "mm" ? 3e-3 : p.unit == "rad" ? 2e-5 : p.unit == "mm/mm" ? 1e-5 : 1e-8;
     truth.set_parameter(n, size * u(rng) * (rng() % 2 ? 1 : -1));
   }
-  const ProbingPlan plan = read_probing_csv(truth, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(truth, identification_kPlanPath);
   SimulationOptions so;
   so.artefact_error = 0.05;
   so.scale_bars = {{"1", "2", 304.8}};
@@ -171,7 +172,7 @@ TEST(Identification, NoiseFreeRecoveryOfEveryIdentifiableParameter) {
 
 TEST(Identification, UnidentifiableRequestsAreReportedAndExcluded) {
   const Machine m = hu40t();
-  const ProbingPlan plan = read_probing_csv(m, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(m, identification_kPlanPath);
   // The X zero position together with the tool offset along x: one effect, two names; and the
   // workpiece position, which the uncalibrated balls' positions absorb.
   IdentificationOptions o = options({"EX0X", "EXt", "EXw"});
@@ -205,7 +206,7 @@ TEST(Identification, UnidentifiableRequestsAreReportedAndExcluded) {
 TEST(Identification, UncertaintiesCoverTheTruth) {
   // 200 simulations with 1 um noise: each estimate within its reported 2u about 95 % of the time.
   const Machine truth = hu40t();
-  const ProbingPlan plan = read_probing_csv(truth, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(truth, identification_kPlanPath);
   const Machine prior = prior_of(truth, kLocation);
   std::size_t inside = 0, total = 0;
   for (std::uint64_t seed = 1; seed <= 200; ++seed) {
@@ -228,7 +229,7 @@ TEST(Identification, UncertaintiesCoverTheTruth) {
 TEST(Identification, CovarianceIsTheOneTheUncertaintiesComeFrom) {
   // The parameters' covariance block: u is the root of its diagonal, the correlation its scaled form.
   const Machine truth = hu40t();
-  const ProbingPlan plan = read_probing_csv(truth, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(truth, identification_kPlanPath);
   SimulationOptions so;
   so.noise = 1e-3;
   so.artefact_error = 0.02;
@@ -254,7 +255,7 @@ TEST(Identification, CovarianceIsTheOneTheUncertaintiesComeFrom) {
 
 TEST(Identification, MonteCarloSpreadAgreesWithTheCovariance) {
   const Machine truth = hu40t();
-  const ProbingPlan plan = read_probing_csv(truth, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(truth, identification_kPlanPath);
   SimulationOptions so;
   so.noise = 1e-3;
   so.seed = 11;
@@ -289,7 +290,7 @@ TEST(Identification, MonteCarloSpreadAgreesWithTheCovariance) {
 
 TEST(Identification, BadInput) {
   const Machine m = hu40t();
-  const ProbingPlan plan = read_probing_csv(m, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(m, identification_kPlanPath);
   EXPECT_THROW(identify(m, plan, options({"EX0C"})), InputError);  // a plan has no readings
   const Simulation sim = simulate_probing(m, plan, {});
   EXPECT_THROW(identify(m, sim.measurements, options({"EQQ"})), InputError);
@@ -316,7 +317,7 @@ TEST(Identification, BadInput) {
 TEST(Subsets, CountEqualsBruteForce) {
   // Every 4-subset of 10 candidates, against a rank test of each subset on its own.
   const Machine m = hu40t();
-  const ProbingPlan plan = read_probing_csv(m, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(m, identification_kPlanPath);
   const std::vector<std::string> cand{"EX0C", "EY0C", "EA0C", "EB0C", "EC0C", "EX0X", "EY0Y", "EC0Y", "EXt", "EYt"};
   SubsetOptions so;
   so.candidates = cand;
@@ -348,7 +349,7 @@ TEST(Subsets, CountEqualsBruteForce) {
 TEST(Subsets, ResidueIsTheLeastSquaresResidue) {
   // With measurements, each subset's residue equals the norm left by a linear least-squares fit.
   Machine truth = hu40t();
-  const ProbingPlan plan = read_probing_csv(truth, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(truth, identification_kPlanPath);
   SimulationOptions so;
   so.noise = 1e-3;
   so.scale_bars = {{"1", "2", 304.8}};

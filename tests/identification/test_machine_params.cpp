@@ -13,12 +13,13 @@
 #include "mtcal/io/model/estimated_parameters_file.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using mtcal::testing::kPi;
 
 // Runs of one axis whose deviation (um) is f(q, dir) plus Gaussian noise sigma (um), targets in mm.
 template <class F>
@@ -203,15 +204,15 @@ TEST(BallbarParams, DiagnosticsOfAPredictedTraceGiveBackTheModelsErrors) {
       "  EYY: {unit: um, argument_unit: m, polynomial: [0, -4], reversal: -1}\n"
       "  EZZ: {unit: um, argument_unit: m, polynomial: [0, 6], reversal: 1.5}\n",
       "bb.yaml");
-  struct Case {
+  struct MachineParamsCase {
     const char* plane;
     const char* squareness;
     double value;
     double slope1, slope2;  // the two axes' scales, um/m
     double rev1, rev2;      // um
   };
-  for (const Case c : {Case{"XY", "EC0Y", 20e-6, 10, -4, 2, -1}, Case{"YZ", "EA0Z", -12e-6, -4, 6, -1, 1.5},
-                       Case{"ZX", "EB0Z", 15e-6, 6, 10, 1.5, 2}}) {
+  for (const MachineParamsCase c : {MachineParamsCase{"XY", "EC0Y", 20e-6, 10, -4, 2, -1}, MachineParamsCase{"YZ", "EA0Z", -12e-6, -4, 6, -1, 1.5},
+                       MachineParamsCase{"ZX", "EB0Z", 15e-6, 6, 10, 1.5, 2}}) {
     SCOPED_TRACE(c.plane);
     BallbarOptions bo;
     bo.nominal_radius = 150;

@@ -14,13 +14,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
+fs::path compensation_output_fresh_dir(const std::string& name) {
   const fs::path p = fs::temp_directory_path() / ("mtcal-comp-" + name + "-" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p;
 }
 
-std::string slurp(const fs::path& p) {
+std::string compensation_output_slurp(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream s;
   s << in.rdbuf();
@@ -28,39 +28,39 @@ std::string slurp(const fs::path& p) {
 }
 
 TEST(CompensationOutput, WritesEveryFile) {
-  const fs::path dir = fresh_dir("ok");
+  const fs::path dir = compensation_output_fresh_dir("ok");
   TargetOutput out;
   out.files = {{"X.comp", "0 0 0\n"}, {"load.ini", "[JOINT_0]\n"}};
   write_target_output(dir.string(), out);
-  EXPECT_EQ(slurp(dir / "X.comp"), "0 0 0\n");
-  EXPECT_EQ(slurp(dir / "load.ini"), "[JOINT_0]\n");
+  EXPECT_EQ(compensation_output_slurp(dir / "X.comp"), "0 0 0\n");
+  EXPECT_EQ(compensation_output_slurp(dir / "load.ini"), "[JOINT_0]\n");
   // An existing, non-empty directory is refused and left as it is.
   EXPECT_THROW(write_target_output(dir.string(), out), Error);
-  EXPECT_EQ(slurp(dir / "X.comp"), "0 0 0\n");
+  EXPECT_EQ(compensation_output_slurp(dir / "X.comp"), "0 0 0\n");
   fs::remove_all(dir);
 }
 
 TEST(CompensationOutput, TrailingSlashNamesTheDirectory) {
-  const fs::path dir = fresh_dir("slash");
+  const fs::path dir = compensation_output_fresh_dir("slash");
   TargetOutput out;
   out.files = {{"a.txt", "a"}};
   write_target_output(dir.string() + "/", out);
-  EXPECT_EQ(slurp(dir / "a.txt"), "a");
+  EXPECT_EQ(compensation_output_slurp(dir / "a.txt"), "a");
   fs::remove_all(dir);
 }
 
 TEST(CompensationOutput, EmptyDirectoryIsFilled) {
-  const fs::path dir = fresh_dir("empty");
+  const fs::path dir = compensation_output_fresh_dir("empty");
   fs::create_directories(dir);
   TargetOutput out;
   out.files = {{"a.txt", "a"}};
   write_target_output(dir.string(), out);
-  EXPECT_EQ(slurp(dir / "a.txt"), "a");
+  EXPECT_EQ(compensation_output_slurp(dir / "a.txt"), "a");
   fs::remove_all(dir);
 }
 
 TEST(CompensationOutput, BadFileNameLeavesNothing) {
-  const fs::path dir = fresh_dir("bad");
+  const fs::path dir = compensation_output_fresh_dir("bad");
   TargetOutput out;
   out.files = {{"ok.txt", "a"}, {"../escape.txt", "b"}};
   EXPECT_THROW(write_target_output(dir.string(), out), Error);

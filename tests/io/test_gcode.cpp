@@ -7,15 +7,17 @@
 
 #include "mtcal/io/gcode/reader.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kTol = 1e-12;
+using mtcal::testing::kPi;
 
-GcodeProgram parse(const std::string& text, const std::string& axes = "XYZABC") {
+constexpr double gcode_kTol = 1e-12;
+
+GcodeProgram gcode_parse(const std::string& text, const std::string& axes = "XYZABC") {
   GcodeOptions o;
   o.axes = axes;
   return parse_gcode(text, "t.nc", o);
@@ -24,7 +26,7 @@ GcodeProgram parse(const std::string& text, const std::string& axes = "XYZABC") 
 void expect_position(const GcodePosition& p, std::initializer_list<double> xyzabc) {
   std::size_t i = 0;
   for (double v : xyzabc) {
-    EXPECT_NEAR(p[i], v, kTol) << "axis " << kGcodeAxes[i];
+    EXPECT_NEAR(p[i], v, gcode_kTol) << "axis " << kGcodeAxes[i];
     ++i;
   }
 }
@@ -32,7 +34,7 @@ void expect_position(const GcodePosition& p, std::initializer_list<double> xyzab
 }  // namespace
 
 TEST(Gcode, StraightMovesFeedAndNumbers) {
-  const auto p = parse("G0 X10 Y20 Z5\nN7 G1 X15 F200\nX-.5 Y1. Z+2\n");
+  const auto p = gcode_parse("G0 X10 Y20 Z5\nN7 G1 X15 F200\nX-.5 Y1. Z+2\n");
   ASSERT_EQ(p.moves.size(), 3u);
   EXPECT_EQ(p.moves[0].motion, GcodeMotion::Rapid);
   expect_position(p.moves[0].start, {0, 0, 0, 0, 0, 0});
@@ -52,7 +54,7 @@ TEST(Gcode, StraightMovesFeedAndNumbers) {
   expect_position(p.moves[2].end, {-0.5, 1, 2, 0, 0, 0});
   EXPECT_EQ(p.counts.blocks, 3u);
   EXPECT_EQ(p.counts.moves, 3u);
-  EXPECT_NEAR(path_length(p.moves[1]), 5.0, kTol);
+  EXPECT_NEAR(path_length(p.moves[1]), 5.0, gcode_kTol);
 }
 
 TEST(Gcode, CommentsLowercaseSpacesPercentAndIgnoredWords) {
@@ -66,7 +68,7 @@ TEST(Gcode, CommentsLowercaseSpacesPercentAndIgnoredWords) {
       "N30 G0 a 90\r\n"
       "%\r\n"
       "\r\n";
-  const auto p = parse(text);
+  const auto p = gcode_parse(text);
   ASSERT_EQ(p.moves.size(), 2u);
   EXPECT_EQ(p.moves[0].n, 10);
   EXPECT_EQ(p.moves[0].line, 4);
@@ -82,7 +84,7 @@ TEST(Gcode, CommentsLowercaseSpacesPercentAndIgnoredWords) {
 }
 
 TEST(Gcode, IncrementalAndAbsoluteModes) {
-  const auto p = parse("G0 X1 Y2 Z3 A10\nG91 G1 X10 Y5\nX-3 A15 C-20\nG90 X1\nB7\n");
+  const auto p = gcode_parse("G0 X1 Y2 Z3 A10\nG91 G1 X10 Y5\nX-3 A15 C-20\nG90 X1\nB7\n");
   ASSERT_EQ(p.moves.size(), 5u);
   expect_position(p.moves[1].end, {11, 7, 3, 10, 0, 0});
   expect_position(p.moves[2].end, {8, 7, 3, 25, 0, -20});
@@ -92,45 +94,45 @@ TEST(Gcode, IncrementalAndAbsoluteModes) {
 
 TEST(Gcode, InchAndMillimetreUnits) {
   // 1 in = 25.4 mm; feeds in in/min become mm/min; A B C stay degrees; I J K and R scale too.
-  const auto p = parse("G20 G1 X1 Y0.5 A30 F10\nG21 X2\nG20 G91 Y1\nG90 G0 X0 Y0\nG2 X1 Y0 I0.5\nG3 X0 Y0 R0.5\n");
+  const auto p = gcode_parse("G20 G1 X1 Y0.5 A30 F10\nG21 X2\nG20 G91 Y1\nG90 G0 X0 Y0\nG2 X1 Y0 I0.5\nG3 X0 Y0 R0.5\n");
   ASSERT_EQ(p.moves.size(), 6u);
   expect_position(p.moves[0].end, {25.4, 12.7, 0, 30, 0, 0});
-  EXPECT_NEAR(p.moves[0].feed, 254.0, kTol);
+  EXPECT_NEAR(p.moves[0].feed, 254.0, gcode_kTol);
   expect_position(p.moves[1].end, {2, 12.7, 0, 30, 0, 0});
-  EXPECT_NEAR(p.moves[1].feed, 254.0, kTol);  // modal F was converted when it was read
+  EXPECT_NEAR(p.moves[1].feed, 254.0, gcode_kTol);  // modal F was converted when it was read
   expect_position(p.moves[2].end, {2, 38.1, 0, 30, 0, 0});
   // Semicircles of 0.5 in = 12.7 mm radius about (12.7, 0), by I and by R.
-  EXPECT_NEAR(p.moves[4].centre[0], 12.7, kTol);
-  EXPECT_NEAR(p.moves[4].centre[1], 0, kTol);
-  EXPECT_NEAR(p.moves[4].sweep, -kPi, kTol);
+  EXPECT_NEAR(p.moves[4].centre[0], 12.7, gcode_kTol);
+  EXPECT_NEAR(p.moves[4].centre[1], 0, gcode_kTol);
+  EXPECT_NEAR(p.moves[4].sweep, -kPi, gcode_kTol);
   expect_position(p.moves[4].end, {25.4, 0, 0, 30, 0, 0});
-  EXPECT_NEAR(p.moves[5].centre[0], 12.7, kTol);
-  EXPECT_NEAR(p.moves[5].centre[1], 0, kTol);
-  EXPECT_NEAR(p.moves[5].sweep, kPi, kTol);
+  EXPECT_NEAR(p.moves[5].centre[0], 12.7, gcode_kTol);
+  EXPECT_NEAR(p.moves[5].centre[1], 0, gcode_kTol);
+  EXPECT_NEAR(p.moves[5].sweep, kPi, gcode_kTol);
   EXPECT_NEAR(path_length(p.moves[5]), 12.7 * kPi, 1e-11);
 }
 
 TEST(Gcode, ArcsInXYWithCentreOffsets) {
-  const auto p = parse("G0 X10 Y0 Z0\nG3 X0 Y10 I-10 J0\nG0 X10 Y0\nG2 X0 Y10 I-10\n");
+  const auto p = gcode_parse("G0 X10 Y0 Z0\nG3 X0 Y10 I-10 J0\nG0 X10 Y0\nG2 X0 Y10 I-10\n");
   ASSERT_EQ(p.moves.size(), 4u);
   const auto& ccw = p.moves[1];
   EXPECT_EQ(ccw.motion, GcodeMotion::ArcCCW);
   EXPECT_EQ(ccw.plane, GcodePlane::XY);
-  EXPECT_NEAR(ccw.centre[0], 0, kTol);
-  EXPECT_NEAR(ccw.centre[1], 0, kTol);
-  EXPECT_NEAR(ccw.sweep, kPi / 2, kTol);
+  EXPECT_NEAR(ccw.centre[0], 0, gcode_kTol);
+  EXPECT_NEAR(ccw.centre[1], 0, gcode_kTol);
+  EXPECT_NEAR(ccw.sweep, kPi / 2, gcode_kTol);
   EXPECT_NEAR(path_length(ccw), 10 * kPi / 2, 1e-11);
   // Half way: 45 deg on the circle of radius 10.
   expect_position(position_at(ccw, 0.5), {10 / std::sqrt(2.0), 10 / std::sqrt(2.0), 0, 0, 0, 0});
   // Clockwise to the same end: the long way round, 270 deg.
-  EXPECT_NEAR(p.moves[3].sweep, -3 * kPi / 2, kTol);
+  EXPECT_NEAR(p.moves[3].sweep, -3 * kPi / 2, gcode_kTol);
   expect_position(position_at(p.moves[3], 1.0 / 3.0), {0, -10, 0, 0, 0, 0});
 }
 
 TEST(Gcode, ArcsWithRadius) {
   // From (0, 0) to (10, 10) with |R| = 10: the centre is (0, 10) for the short G3 arc (left
   // of the chord) and (10, 0) for the long one (R < 0).
-  const auto p = parse(
+  const auto p = gcode_parse(
       "G0 X0 Y0\nG3 X10 Y10 R10\nG0 X0 Y0\nG3 X10 Y10 R-10\nG0 X0 Y0\nG2 X10 Y10 R10\n"
       "G0 X0 Y0\nG2 X10 Y0 R5\n");
   ASSERT_EQ(p.moves.size(), 8u);
@@ -151,25 +153,25 @@ TEST(Gcode, ArcsWithRadius) {
   // Clockwise from (0, 0) round (5, 0): through (5, 5).
   expect_position(position_at(p.moves[7], 0.5), {5, 5, 0, 0, 0, 0});
   // R short of half the chord by less than the tolerance: a semicircle all the same.
-  const auto q = parse("G0 X0 Y0\nG2 X10 Y0 R4.999\n");
+  const auto q = gcode_parse("G0 X0 Y0\nG2 X10 Y0 R4.999\n");
   EXPECT_NEAR(q.moves[1].centre[0], 5, 1e-12);
   EXPECT_NEAR(std::abs(q.moves[1].sweep), kPi, 1e-12);
 }
 
 TEST(Gcode, ArcsInZXAndYZPlanes) {
   // G18: positive turn about +Y takes +X to -Z, so G3 from X10 Z0 to X0 Z10 is 270 deg and G2 90.
-  const auto p = parse("G0 X10 Y0 Z0\nG18 G3 X0 Z10 I-10 K0\nG0 X10 Z0\nG2 X0 Z10 I-10\n");
+  const auto p = gcode_parse("G0 X10 Y0 Z0\nG18 G3 X0 Z10 I-10 K0\nG0 X10 Z0\nG2 X0 Z10 I-10\n");
   ASSERT_EQ(p.moves.size(), 4u);
   EXPECT_EQ(p.moves[1].plane, GcodePlane::ZX);
-  EXPECT_NEAR(p.moves[1].sweep, 3 * kPi / 2, kTol);
+  EXPECT_NEAR(p.moves[1].sweep, 3 * kPi / 2, gcode_kTol);
   expect_position(position_at(p.moves[1], 1.0 / 3.0), {0, 0, -10, 0, 0, 0});
-  EXPECT_NEAR(p.moves[3].sweep, -kPi / 2, kTol);
+  EXPECT_NEAR(p.moves[3].sweep, -kPi / 2, gcode_kTol);
   expect_position(position_at(p.moves[3], 0.5), {10 / std::sqrt(2.0), 0, 10 / std::sqrt(2.0), 0, 0, 0});
   // G19: positive turn about +X takes +Y to +Z, so G3 from Y10 Z0 to Y0 Z10 is 90 deg.
-  const auto q = parse("G0 X0 Y10 Z0\nG19 G3 Y0 Z10 J-10\nG0 Y10 Z0\nG19 G2 Y0 Z10 R10\n");
+  const auto q = gcode_parse("G0 X0 Y10 Z0\nG19 G3 Y0 Z10 J-10\nG0 Y10 Z0\nG19 G2 Y0 Z10 R10\n");
   ASSERT_EQ(q.moves.size(), 4u);
   EXPECT_EQ(q.moves[1].plane, GcodePlane::YZ);
-  EXPECT_NEAR(q.moves[1].sweep, kPi / 2, kTol);
+  EXPECT_NEAR(q.moves[1].sweep, kPi / 2, gcode_kTol);
   expect_position(position_at(q.moves[1], 0.5), {0, 10 / std::sqrt(2.0), 10 / std::sqrt(2.0), 0, 0, 0});
   // The short clockwise arc of radius 10 from (Y, Z) = (10, 0) to (0, 10) turns about (10, 10).
   EXPECT_NEAR(q.moves[3].centre[1], 10, 1e-12);
@@ -178,31 +180,31 @@ TEST(Gcode, ArcsInZXAndYZPlanes) {
 }
 
 TEST(Gcode, FullCirclesAndHelices) {
-  const auto p = parse("G0 X10 Y0 Z0\nG2 X10 Y0 I-5\nG3 I-5 J0\nG3 X10 Y0 Z-6 I-10 J0 A90\n");
+  const auto p = gcode_parse("G0 X10 Y0 Z0\nG2 X10 Y0 I-5\nG3 I-5 J0\nG3 X10 Y0 Z-6 I-10 J0 A90\n");
   ASSERT_EQ(p.moves.size(), 4u);
-  EXPECT_NEAR(p.moves[1].sweep, -2 * kPi, kTol);
-  EXPECT_NEAR(p.moves[1].centre[0], 5, kTol);
+  EXPECT_NEAR(p.moves[1].sweep, -2 * kPi, gcode_kTol);
+  EXPECT_NEAR(p.moves[1].centre[0], 5, gcode_kTol);
   EXPECT_NEAR(path_length(p.moves[1]), 2 * kPi * 5, 1e-11);
   // No axis word: a full circle from where the tool is.
-  EXPECT_NEAR(p.moves[2].sweep, 2 * kPi, kTol);
+  EXPECT_NEAR(p.moves[2].sweep, 2 * kPi, gcode_kTol);
   expect_position(p.moves[2].end, {10, 0, 0, 0, 0, 0});
   // Helix: one turn of radius 10 down 6 mm; length sqrt((2 pi 10)^2 + 6^2); A turns with it.
   const auto& h = p.moves[3];
-  EXPECT_NEAR(h.sweep, 2 * kPi, kTol);
+  EXPECT_NEAR(h.sweep, 2 * kPi, gcode_kTol);
   EXPECT_NEAR(path_length(h), std::sqrt(std::pow(2 * kPi * 10, 2) + 36), 1e-11);
   expect_position(position_at(h, 0.25), {0, 10, -1.5, 22.5, 0, 0});
   expect_position(position_at(h, 0.5), {-10, 0, -3, 45, 0, 0});
   // A helix in G18 rises along Y.
-  const auto q = parse("G0 X10 Y0 Z0\nG18 G2 X0 Z10 Y4 I-10\n");
+  const auto q = gcode_parse("G0 X10 Y0 Z0\nG18 G2 X0 Z10 Y4 I-10\n");
   expect_position(position_at(q.moves[1], 0.5), {10 / std::sqrt(2.0), 2, 10 / std::sqrt(2.0), 0, 0, 0});
   EXPECT_NEAR(path_length(q.moves[1]), std::hypot(10 * kPi / 2, 4), 1e-11);
 }
 
 TEST(Gcode, ArcEndRadiusTolerance) {
   // 0.001 mm off the circle is inside 0.002 mm; 0.1 mm is not, and the message names both radii.
-  EXPECT_NO_THROW(parse("G0 X10\nG3 X0 Y10.001 I-10\n"));
+  EXPECT_NO_THROW(gcode_parse("G0 X10\nG3 X0 Y10.001 I-10\n"));
   try {
-    parse("G0 X10\nG3 X0 Y10.1 I-10\n");
+    gcode_parse("G0 X10\nG3 X0 Y10.1 I-10\n");
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     const std::string m = e.what();
@@ -212,23 +214,23 @@ TEST(Gcode, ArcEndRadiusTolerance) {
     EXPECT_NE(m.find("column 13"), std::string::npos) << m;
   }
   // Relative tolerance: at r = 100 m, 1e-4 r = 10 mm.
-  EXPECT_NO_THROW(parse("G0 X100000\nG3 X0 Y100005 I-100000\n"));
+  EXPECT_NO_THROW(gcode_parse("G0 X100000\nG3 X0 Y100005 I-100000\n"));
 }
 
 TEST(Gcode, MachineAxesOnly) {
-  EXPECT_NO_THROW(parse("G1 X1 Y2 Z3\n", "XYZ"));
-  EXPECT_NO_THROW(parse("G1 X1 B2 C3\n", "CBXYZ"));
+  EXPECT_NO_THROW(gcode_parse("G1 X1 Y2 Z3\n", "XYZ"));
+  EXPECT_NO_THROW(gcode_parse("G1 X1 B2 C3\n", "CBXYZ"));
 }
 
 TEST(Gcode, MalformedLinesNameLineAndColumn) {
-  struct Case {
+  struct GcodeCase {
     std::string text;
     int line;
     int column;
     const char* message;
     std::string axes = "XYZABC";
   };
-  const Case cases[] = {
+  const GcodeCase cases[] = {
       {"G1 X1\nG5 X2\n", 2, 1, "G5 spline"},
       {"G1 X1 & Y2\n", 1, 7, "found '&'"},
       {"G0 G1 X1\n", 1, 4, "two motion codes"},
@@ -267,7 +269,7 @@ TEST(Gcode, MalformedLinesNameLineAndColumn) {
   for (const auto& c : cases) {
     SCOPED_TRACE(c.text.substr(0, 40));
     try {
-      parse(c.text, c.axes);
+      gcode_parse(c.text, c.axes);
       ADD_FAILURE() << "no error";
     } catch (const InputError& e) {
       const std::string m = e.what();
@@ -289,6 +291,6 @@ TEST(Gcode, StreamingReaderMatchesWholeProgram) {
   EXPECT_EQ(count, 3);
   EXPECT_EQ(r.counts().moves, 3u);
   EXPECT_EQ(r.counts().ignored_words, 1u);
-  EXPECT_EQ(parse(text).moves.size(), 3u);
+  EXPECT_EQ(gcode_parse(text).moves.size(), 3u);
   EXPECT_THROW(read_gcode("/nonexistent/p.nc"), InputError);
 }

@@ -14,9 +14,9 @@ using namespace mtcal;
 
 namespace {
 
-constexpr double kTol = 1e-12;
+constexpr double gcode_iso_kTol = 1e-12;
 
-GcodeProgram parse(const std::string& text, GcodeSetup setup = {}, const std::string& axes = "XYZABC") {
+GcodeProgram gcode_iso_parse(const std::string& text, GcodeSetup setup = {}, const std::string& axes = "XYZABC") {
   GcodeOptions o;
   o.axes = axes;
   o.setup = std::move(setup);
@@ -45,9 +45,9 @@ void expect_steps(const GcodeProgram& p, std::size_t first, const std::vector<St
 }
 
 template <class E>
-std::string error_of(const std::string& text, GcodeSetup setup = {}) {
+std::string gcode_iso_error_of(const std::string& text, GcodeSetup setup = {}) {
   try {
-    parse(text, std::move(setup));
+    gcode_iso_parse(text, std::move(setup));
   } catch (const E& e) {
     return e.what();
   } catch (const std::exception& e) {
@@ -61,7 +61,7 @@ std::string error_of(const std::string& text, GcodeSetup setup = {}) {
 // G81 from Z10 to holes at (1,2) and (5,2): R2, bottom -3. G99 goes back to R between holes;
 // G98 to the level the series of cycles began at (10). LinuxCNC G-code reference, G81 and G98/G99.
 TEST(GcodeIso, G81WithG99ThenG98) {
-  const auto p = parse("G21 G90 F100\nG0 X0 Y0 Z10\nG99 G81 X1 Y2 Z-3 R2\nX5\nG98 X1\nG80\nM2\n");
+  const auto p = gcode_iso_parse("G21 G90 F100\nG0 X0 Y0 Z10\nG99 G81 X1 Y2 Z-3 R2\nX5\nG98 X1\nG80\nM2\n");
   expect_steps(p, 0,
                {{'r', 0, 0, 10},
                 {'r', 1, 2, 10},  // over the hole at the present level
@@ -85,7 +85,7 @@ TEST(GcodeIso, G81WithG99ThenG98) {
 // Below R at the start: first up to R (LinuxCNC: "if the current Z is below R, Z moves to R"),
 // and G98 then returns to R, not to the lower start level.
 TEST(GcodeIso, CycleStartingBelowR) {
-  const auto p = parse("G0 X0 Y0 Z1\nG98 G81 X1 Y2 Z-3 R2 F50\nG80\n");
+  const auto p = gcode_iso_parse("G0 X0 Y0 Z1\nG98 G81 X1 Y2 Z-3 R2 F50\nG80\n");
   expect_steps(p, 1, {{'r', 0, 0, 2}, {'r', 1, 2, 2}, {'f', 1, 2, -3}, {'r', 1, 2, 2}});
   EXPECT_EQ(p.moves.size(), 5u);
 }
@@ -93,7 +93,7 @@ TEST(GcodeIso, CycleStartingBelowR) {
 // G83 peck drilling, Q2 from R2 to -3: pecks to 0, -2, -3; after each peck out to R, then back
 // down to 0.254 mm above the last bottom. G73: back off 0.254 mm only.
 TEST(GcodeIso, G83AndG73Pecks) {
-  const auto p = parse("G21 F100\nG0 X0 Y0 Z10\nG98 G83 X1 Y2 Z-3 R2 Q2\nG73 X4\nG80\n");
+  const auto p = gcode_iso_parse("G21 F100\nG0 X0 Y0 Z10\nG98 G83 X1 Y2 Z-3 R2 Q2\nG73 X4\nG80\n");
   expect_steps(p, 1,
                {{'r', 1, 2, 10},
                 {'r', 1, 2, 2},
@@ -119,7 +119,7 @@ TEST(GcodeIso, G83AndG73Pecks) {
 
 // G91 with L3: X10 steps repeated, R-8 from the level 10 (R at 2), Z-5 from R (bottom -3).
 TEST(GcodeIso, IncrementalCycleWithRepeats) {
-  const auto p = parse("G0 X0 Y0 Z10\nG91 G98 G81 X10 Z-5 R-8 L3 F100\nG90 G80\n");
+  const auto p = gcode_iso_parse("G0 X0 Y0 Z10\nG91 G98 G81 X10 Z-5 R-8 L3 F100\nG90 G80\n");
   expect_steps(p, 1,
                {{'r', 10, 0, 10},
                 {'r', 10, 0, 2},
@@ -140,45 +140,45 @@ TEST(GcodeIso, IncrementalCycleWithRepeats) {
 // out to the clearance, G85 feed to R then rapid, G86 rapid, G89 feed out.
 TEST(GcodeIso, CycleRetracts) {
   const std::string start = "G0 X0 Y0 Z10\nG98 ";
-  EXPECT_EQ(parse(start + "G82 X1 Y2 Z-3 R2 P1.5 F100\n").moves.back().motion, GcodeMotion::Rapid);
-  const auto g84 = parse(start + "G84 X1 Y2 Z-3 R2 F100\n");
+  EXPECT_EQ(gcode_iso_parse(start + "G82 X1 Y2 Z-3 R2 P1.5 F100\n").moves.back().motion, GcodeMotion::Rapid);
+  const auto g84 = gcode_iso_parse(start + "G84 X1 Y2 Z-3 R2 F100\n");
   expect_steps(g84, 1, {{'r', 1, 2, 10}, {'r', 1, 2, 2}, {'f', 1, 2, -3}, {'f', 1, 2, 10}});
-  const auto g85 = parse(start + "G85 X1 Y2 Z-3 R2 F100\n");
+  const auto g85 = gcode_iso_parse(start + "G85 X1 Y2 Z-3 R2 F100\n");
   expect_steps(g85, 3, {{'f', 1, 2, -3}, {'f', 1, 2, 2}, {'r', 1, 2, 10}});
-  const auto g86 = parse(start + "G86 X1 Y2 Z-3 R2 P1 F100\n");
+  const auto g86 = gcode_iso_parse(start + "G86 X1 Y2 Z-3 R2 P1 F100\n");
   expect_steps(g86, 3, {{'f', 1, 2, -3}, {'r', 1, 2, 10}});
-  const auto g89 = parse(start + "G89 X1 Y2 Z-3 R2 P2 F100\n");
+  const auto g89 = gcode_iso_parse(start + "G89 X1 Y2 Z-3 R2 P2 F100\n");
   expect_steps(g89, 3, {{'f', 1, 2, -3}, {'f', 1, 2, 10}});
   // G88: the operator retracts by hand; the path stays at the bottom, with a warning.
-  const auto g88 = parse(start + "G88 X1 Y2 Z-3 R2 P1 F100\n");
+  const auto g88 = gcode_iso_parse(start + "G88 X1 Y2 Z-3 R2 P1 F100\n");
   EXPECT_EQ(g88.moves.size(), 4u);
-  EXPECT_NEAR(g88.moves.back().end[2], -3, kTol);
+  EXPECT_NEAR(g88.moves.back().end[2], -3, gcode_iso_kTol);
   ASSERT_EQ(g88.warnings.size(), 1u);
   EXPECT_NE(g88.warnings[0].find("by hand"), std::string::npos) << g88.warnings[0];
 }
 
 // G18: the drilling axis is Y, the hole's position X and Z.
 TEST(GcodeIso, CycleInG18DrillsAlongY) {
-  const auto p = parse("G18 G0 X0 Y10 Z0\nG99 G81 X5 Z7 Y-4 R1 F80\n");
+  const auto p = gcode_iso_parse("G18 G0 X0 Y10 Z0\nG99 G81 X5 Z7 Y-4 R1 F80\n");
   expect_steps(p, 1, {{'r', 5, 10, 7}, {'r', 5, 1, 7}, {'f', 5, -4, 7}, {'r', 5, 1, 7}});
 }
 
 TEST(GcodeIso, CycleErrors) {
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG81 X1 Y1 Z-3\n").find("without R"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG81 X1 Y1 R2\n").find("without Z"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG83 X1 Z-3 R2\n").find("peck Q > 0"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG81 X1 Z5 R2\n").find("lies above R"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG81 X1 Z-3 R2 A5\n").find("rotary axis word 'A'"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG87 X1 Z-3 R2\n").find("G87"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG81 X1 Z-3 R2 L1.5\n").find("repeats"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG91 G81 X1 Z-3 R2 L10001\n").find("repeats from 0 to 10000"),
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG81 X1 Y1 Z-3\n").find("without R"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG81 X1 Y1 R2\n").find("without Z"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG83 X1 Z-3 R2\n").find("peck Q > 0"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG81 X1 Z5 R2\n").find("lies above R"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG81 X1 Z-3 R2 A5\n").find("rotary axis word 'A'"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG87 X1 Z-3 R2\n").find("G87"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG81 X1 Z-3 R2 L1.5\n").find("repeats"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG91 G81 X1 Z-3 R2 L10001\n").find("repeats from 0 to 10000"),
             std::string::npos);
-  EXPECT_NE(error_of<InputError>("G0 Z10\nG83 X1 Z-300 R2 Q0.01\n").find("more than 10000 pecks"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G80 X1\n").find("G80"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G0 Z10\nG83 X1 Z-300 R2 Q0.01\n").find("more than 10000 pecks"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G80 X1\n").find("G80"), std::string::npos);
   // Each bound alone (10000 repeats, 10000 pecks a hole) let one block expand into 10^8 pecks,
   // gigabytes of moves (fuzz_gcode, out of memory): the pecks of a block are bounded in all, and
   // the message points at L.
-  const std::string many = error_of<InputError>("G0 Z10\nG91 G73 X1 Z-2000 R2 Q0.25 L20\n");
+  const std::string many = gcode_iso_error_of<InputError>("G0 Z10\nG91 G73 X1 Z-2000 R2 Q0.25 L20\n");
   EXPECT_NE(many.find("column 28: G73: L 20 holes of 8000 pecks each give more than 100000 pecks in one block"),
             std::string::npos)
       << many;
@@ -192,7 +192,7 @@ TEST(GcodeIso, WorkOffsetsAndToolLength) {
   setup.work_offsets[8] = {1, 2, 3, 0, 0, 0};        // G59.3
   setup.tools = parse_tool_table("T1 P1 Z50.5 D6 ;end mill\nT2 P2 Z-10\n", "tools.tbl");
   setup.has_tool_table = true;
-  const auto p = parse(
+  const auto p = gcode_iso_parse(
       "G0 X1 Y1 Z1\n"        // G54 (all 0)
       "G55 X1 Y1 Z1\n"       // 100 + 1, 50 + 1, -200 + 1
       "T1 M6\nG43 H1 Z1\n"   // Z: -200 + 50.5 + 1
@@ -217,8 +217,8 @@ TEST(GcodeIso, WorkOffsetsAndToolLength) {
   EXPECT_EQ(p.moves[2].tool, 1);
   EXPECT_EQ(p.counts.tool_changes, 1u);
   EXPECT_EQ(p.counts.offset_blocks, 7u);  // every move but the first and the G53 and G54 ones
-  EXPECT_NE(error_of<InputError>("G43 H3 Z0\n", setup).find("tool 3, which the tool table has not"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G43 H3 Z0\n").find("expected a tool table"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G43 H3 Z0\n", setup).find("tool 3, which the tool table has not"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G43 H3 Z0\n").find("expected a tool table"), std::string::npos);
 }
 
 // G28/G30: by way of the point the axis words give (in the work coordinates), then the named axes
@@ -227,7 +227,7 @@ TEST(GcodeIso, G28AndG30) {
   GcodeSetup setup;
   setup.g28 = {-10, -20, 0, 0, 0, 0};
   setup.g30 = {5, 5, 5, 0, 0, 0};
-  const auto p = parse("G0 X1 Y2 Z3\nG91 G28 Z2\nG90 G28\nG0 X7 Y7 Z7\nG30.1\nG0 X0\nG30 X1\n", setup);
+  const auto p = gcode_iso_parse("G0 X1 Y2 Z3\nG91 G28 Z2\nG90 G28\nG0 X7 Y7 Z7\nG30.1\nG0 X0\nG30 X1\n", setup);
   expect_steps(p, 1,
                {{'r', 1, 2, 5},      // G91: Z2 is a step, the intermediate point
                 {'r', 1, 2, 0},      // Z only to the stored 0
@@ -241,9 +241,9 @@ TEST(GcodeIso, G28AndG30) {
 
 // G20: lengths in inches, 25.4 mm each (cycle R, depth and Q too); A B C stay degrees.
 TEST(GcodeIso, InchesInMovesAndCycles) {
-  const auto p = parse("G20 G0 X1 Y0 Z1 A10\nG99 G83 X2 Z-0.5 R0.1 Q0.4 F10\n");
-  EXPECT_NEAR(p.moves[0].end[0], 25.4, kTol);
-  EXPECT_NEAR(p.moves[0].end[3], 10, kTol);
+  const auto p = gcode_iso_parse("G20 G0 X1 Y0 Z1 A10\nG99 G83 X2 Z-0.5 R0.1 Q0.4 F10\n");
+  EXPECT_NEAR(p.moves[0].end[0], 25.4, gcode_iso_kTol);
+  EXPECT_NEAR(p.moves[0].end[3], 10, gcode_iso_kTol);
   expect_steps(p, 1,
                {{'r', 50.8, 0, 25.4},
                 {'r', 50.8, 0, 2.54},
@@ -252,12 +252,12 @@ TEST(GcodeIso, InchesInMovesAndCycles) {
                 {'r', 50.8, 0, 2.54 - 10.16 + 0.254},
                 {'f', 50.8, 0, -12.7},
                 {'r', 50.8, 0, 2.54}});
-  EXPECT_NEAR(p.moves[1].feed, 254, kTol);
+  EXPECT_NEAR(p.moves[1].feed, 254, gcode_iso_kTol);
 }
 
 // O numbers (ISO 6983-1 program numbers) and ':' open a program; M S T kept and counted.
 TEST(GcodeIso, ProgramNumbersAndWordsKept) {
-  const auto p = parse(":100\nO1234 (part)\nN5 T3 M6\nS1200 M3 M8\nG1 X1 F100\nM30\n");
+  const auto p = gcode_iso_parse(":100\nO1234 (part)\nN5 T3 M6\nS1200 M3 M8\nG1 X1 F100\nM30\n");
   ASSERT_EQ(p.moves.size(), 1u);
   EXPECT_EQ(p.moves[0].tool, 3);
   EXPECT_EQ(p.moves[0].spindle, 1200);
@@ -266,12 +266,12 @@ TEST(GcodeIso, ProgramNumbersAndWordsKept) {
   EXPECT_EQ(p.counts.t_words, 1u);
   EXPECT_EQ(p.counts.tool_changes, 1u);
   EXPECT_TRUE(p.warnings.empty());
-  EXPECT_NE(error_of<InputError>("G1 X1 O5\n").find("must open its line"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G1 X1 O5\n").find("must open its line"), std::string::npos);
 }
 
 // What is read but not simulated: a warning naming file, line, column and word, never silence.
 TEST(GcodeIso, WarningsNameFileLineAndWord) {
-  const auto p = parse("G64 P0.01\nG1 X1 E5 F100\nG17.1\nG93\n/G1 X9\nG1 X2 L3\nM2\nG1 X50\nG1 X60\n");
+  const auto p = gcode_iso_parse("G64 P0.01\nG1 X1 E5 F100\nG17.1\nG93\n/G1 X9\nG1 X2 L3\nM2\nG1 X50\nG1 X60\n");
   ASSERT_EQ(p.warnings.size(), 7u);
   EXPECT_EQ(p.counts.warnings, 7u);
   EXPECT_EQ(p.warnings[0],
@@ -285,25 +285,25 @@ TEST(GcodeIso, WarningsNameFileLineAndWord) {
   EXPECT_NE(p.warnings[6].find("t.nc:8: column 1: 'G' after the program's end (M2/M30 at line 7)"), std::string::npos)
       << p.warnings[6];
   ASSERT_EQ(p.moves.size(), 2u);  // the lines after M2 are not run
-  EXPECT_NEAR(p.moves.back().end[0], 2, kTol);
+  EXPECT_NEAR(p.moves.back().end[0], 2, gcode_iso_kTol);
 }
 
 // Programs only LinuxCNC's interpreter reads, and lathe programs: typed errors naming line and column.
 TEST(GcodeIso, NeedsInterpreterOrLathe) {
-  EXPECT_NE(error_of<GcodeNeedsInterpreter>("G0 X1\n#1 = 5\n").find("t.nc:2: column 1: '#' parameter"),
+  EXPECT_NE(gcode_iso_error_of<GcodeNeedsInterpreter>("G0 X1\n#1 = 5\n").find("t.nc:2: column 1: '#' parameter"),
             std::string::npos);
-  EXPECT_NE(error_of<GcodeNeedsInterpreter>("G0 X[1+2]\n").find("column 5: 'X' computed by a '[' expression"),
+  EXPECT_NE(gcode_iso_error_of<GcodeNeedsInterpreter>("G0 X[1+2]\n").find("column 5: 'X' computed by a '[' expression"),
             std::string::npos);
-  EXPECT_NE(error_of<GcodeNeedsInterpreter>("G0 X#1\n").find("computed by a '#' parameter"), std::string::npos);
-  EXPECT_NE(error_of<GcodeNeedsInterpreter>("o100 sub\n").find("O-word 'sub'"), std::string::npos);
-  EXPECT_NE(error_of<GcodeNeedsInterpreter>("O<probe> call\n").find("named O-word"), std::string::npos);
-  EXPECT_NE(error_of<GcodeNeedsInterpreter>("G41 D3\n").find("cutter radius compensation"), std::string::npos);
-  EXPECT_NE(error_of<GcodeNeedsInterpreter>("G92 X0\n").find("coordinate system offset"), std::string::npos);
-  EXPECT_NE(error_of<GcodeLatheProgram>("G18 G7\n").find("column 5: G7 (diameter or radius mode): a lathe program"),
+  EXPECT_NE(gcode_iso_error_of<GcodeNeedsInterpreter>("G0 X#1\n").find("computed by a '#' parameter"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<GcodeNeedsInterpreter>("o100 sub\n").find("O-word 'sub'"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<GcodeNeedsInterpreter>("O<probe> call\n").find("named O-word"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<GcodeNeedsInterpreter>("G41 D3\n").find("cutter radius compensation"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<GcodeNeedsInterpreter>("G92 X0\n").find("coordinate system offset"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<GcodeLatheProgram>("G18 G7\n").find("column 5: G7 (diameter or radius mode): a lathe program"),
             std::string::npos);
-  EXPECT_NE(error_of<InputError>("G38.2 Z-5 F10\n").find("probing"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("M98 P100\n").find("M98"), std::string::npos);
-  EXPECT_NE(error_of<InputError>("G1 U5\n").find("axis word 'U'"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G38.2 Z-5 F10\n").find("probing"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("M98 P100\n").find("M98"), std::string::npos);
+  EXPECT_NE(gcode_iso_error_of<InputError>("G1 U5\n").find("axis word 'U'"), std::string::npos);
   EXPECT_FALSE(gcode_needs_interpreter("G0 X1\nG1 Y2\n", "t.nc"));
   const auto need = gcode_needs_interpreter("G0 X1\n#<depth> = 2\n", "t.nc");
   ASSERT_TRUE(need);
@@ -326,9 +326,9 @@ TEST(GcodeIso, ToolTable) {
   const auto t =
       parse_tool_table("T1 P1 D0.125 Z+0.511 ;1/8 end mill\n\n; comment only\nT99999 P123 Z+0.1\n", "tool.tbl", 25.4);
   ASSERT_EQ(t.size(), 2u);
-  EXPECT_NEAR(t.at(1).offset[2], 0.511 * 25.4, kTol);
-  EXPECT_NEAR(t.at(1).diameter, 0.125 * 25.4, kTol);
-  EXPECT_NEAR(t.at(99999).offset[2], 2.54, kTol);
+  EXPECT_NEAR(t.at(1).offset[2], 0.511 * 25.4, gcode_iso_kTol);
+  EXPECT_NEAR(t.at(1).diameter, 0.125 * 25.4, gcode_iso_kTol);
+  EXPECT_NEAR(t.at(99999).offset[2], 2.54, gcode_iso_kTol);
   auto bad = [](const std::string& text) {
     try {
       parse_tool_table(text, "tool.tbl");
@@ -375,7 +375,7 @@ TEST(GcodeIso, ParameterFile) {
 TEST(GcodeIso, ExpandedProgramReadsBackAsTheSameMoves) {
   GcodeSetup setup;
   setup.work_offsets[1] = {100, 50, -200, 0, 0, 0};
-  const auto p = parse(
+  const auto p = gcode_iso_parse(
       "G20 G55 G0 X0 Y0 Z1\nG99 G83 X1 Y1 Z-0.5 R0.1 Q0.2 F10\nG80\nG18 G2 X1.5 Z0.1 I0.25 K-0.5\nG17 G3 X1 Y1 R0.5\n",
       setup);
   std::vector<CorrectedMove> moves;

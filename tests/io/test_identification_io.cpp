@@ -16,14 +16,16 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-const std::string kPlanPath = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/hu40t-samba-tango.csv";
-Machine hu40t() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml"); }
+using mtcal::testing::hu40t;
 
-std::string temp_path(const std::string& name) {
+const std::string identification_io_kPlanPath = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/hu40t-samba-tango.csv";
+
+std::string identification_io_temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("mtcal-test-" + std::to_string(::getpid()) + "-" + name)).string();
 }
 
@@ -31,12 +33,12 @@ std::string temp_path(const std::string& name) {
 // readings bit for bit, the same features and directions.
 TEST(ProbingPlanFile, MeasurementsRoundTripThroughAFile) {
   const Machine m = hu40t();
-  const ProbingPlan plan = read_probing_csv(m, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(m, identification_io_kPlanPath);
   SimulationOptions so;
   so.noise = 1e-3;
   so.seed = 3;
   const Simulation sim = simulate_probing(m, plan, so);
-  const std::string path = temp_path("meas.csv");
+  const std::string path = identification_io_temp_path("meas.csv");
   write_probing_csv(path, m, sim.measurements, "simulated for a test");
   const std::string text = read_text_file(path);
   EXPECT_EQ(text.rfind("# simulated for a test\nindexation,C,B,feature,kind", 0), 0u) << text.substr(0, 80);
@@ -92,7 +94,7 @@ TEST(IdentifiedParametersFile, ReadsBackWithItsProvenance) {
   const Machine truth = hu40t();
   Machine prior = truth;
   prior.set_parameter("EX0C", 0.0);
-  const ProbingPlan plan = read_probing_csv(truth, kPlanPath);
+  const ProbingPlan plan = read_probing_csv(truth, identification_io_kPlanPath);
   SimulationOptions so;
   so.seed = 1;
   const Simulation sim = simulate_probing(truth, plan, so);
@@ -103,7 +105,7 @@ TEST(IdentifiedParametersFile, ReadsBackWithItsProvenance) {
   const std::string yaml = identified_parameters_yaml(prior, r, "meas.csv");
   EXPECT_NE(yaml.find("Identified by mtcal identify from meas.csv"), std::string::npos) << yaml;
   EXPECT_NE(yaml.find("EX0C = "), std::string::npos) << yaml;
-  const std::string path = temp_path("identified.yaml");
+  const std::string path = identification_io_temp_path("identified.yaml");
   write_identified_parameters(path, prior, r, "meas.csv");
   Machine back = prior;
   load_parameters(back, path);

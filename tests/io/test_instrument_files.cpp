@@ -19,7 +19,7 @@ using namespace mtcal;
 
 namespace {
 
-std::string write_temp(const std::string& name, const std::string& text) {
+std::string instrument_files_write_temp(const std::string& name, const std::string& text) {
   const auto p = std::filesystem::temp_directory_path() / name;
   std::ofstream(p, std::ios::binary) << text;
   return p.string();
@@ -92,8 +92,8 @@ TEST(InstrumentFiles, DatKeepsUnknownKeysAsMetadataAndEvaluatesAsWithout) {
   const std::string extra =
       "REF_PV=IOC:m1-Enc\nTEST_PV=IOC:m1.RBV\nTGT_SET_PV=IOC:m1.VAL\nDEC=3\nTEST_DATA[1,1]=0.0012\nTEST_DATA[1,2]=0."
       "0031\n";
-  const auto plain = read_positioning_dat(write_temp("mtcal-inst-plain.dat", core));
-  const auto tagged = read_positioning_dat(write_temp("mtcal-inst-tagged.dat", extra + core));
+  const auto plain = read_positioning_dat(instrument_files_write_temp("mtcal-inst-plain.dat", core));
+  const auto tagged = read_positioning_dat(instrument_files_write_temp("mtcal-inst-tagged.dat", extra + core));
   EXPECT_TRUE(plain.warnings.empty());
   ASSERT_EQ(tagged.metadata.size(), 6u);
   EXPECT_EQ(tagged.metadata[0].first, "REF_PV");
@@ -119,7 +119,7 @@ TEST(InstrumentFiles, RealDatFilesWithOtherToolsKeysEvaluateExactlyAsTheFilesThe
     EXPECT_TRUE(as_published.warnings.empty());
     EXPECT_TRUE(as_published.metadata.empty());
     const auto with_keys =
-        read_positioning_dat(write_temp("mtcal-inst-real.dat", "REF_PV=X\nDEC=4\n" + text.str() + "TEST_PV=Y\n"));
+        read_positioning_dat(instrument_files_write_temp("mtcal-inst-real.dat", "REF_PV=X\nDEC=4\n" + text.str() + "TEST_PV=Y\n"));
     const auto a = evaluate_positioning(as_published), b = evaluate_positioning(with_keys);
     EXPECT_EQ(a.runs, 5u);
     EXPECT_TRUE(a.notes.empty());
@@ -254,11 +254,11 @@ TEST(InstrumentFiles, RenishawLinearExportReadsRunsMetadataAndDirections) {
   EXPECT_EQ(meta("EQUIPMENT/Laser"), "XL-80 s/n 123456");
   expect_hand_case_um(evaluate_positioning(f.runs));
   // The same through the file readers (extension decides).
-  const auto path = write_temp("mtcal-inst.rtl", kRtl);
+  const auto path = instrument_files_write_temp("mtcal-inst.rtl", kRtl);
   EXPECT_TRUE(looks_like_laser(path));
   expect_hand_case_um(evaluate_positioning(read_positioning_file(path, "auto", "mm")));
   // Without the extension the HEADER:: line decides.
-  const auto txt = write_temp("mtcal-inst-laser.txt", kRtl);
+  const auto txt = instrument_files_write_temp("mtcal-inst-laser.txt", kRtl);
   const auto by_content = read_positioning_file(txt, "auto", "mm");
   EXPECT_TRUE(by_content.deviations);
   EXPECT_EQ(by_content.unit, "um");
@@ -285,12 +285,12 @@ TEST(InstrumentFiles, RenishawTargetsListedDownwardsAndRotaryExports) {
 }
 
 TEST(InstrumentFiles, RenishawBadInputsAreLocated) {
-  struct Case {
+  struct InstrumentFilesCase {
     std::string from, to;
     int line;
     const char* field;
   };
-  const std::vector<Case> cases = {
+  const std::vector<InstrumentFilesCase> cases = {
       {"Target-count: 2\n", "", 0, "Target-count"},
       {"Run-count: 4\n", "", 0, "Run-count"},
       {"Target-count: 2\n", "Target-count: 3\n", 6, "Targets"},
@@ -332,17 +332,17 @@ TEST(InstrumentFiles, RenishawBadInputsAreLocated) {
 }
 
 TEST(InstrumentFiles, TableBadInputsAreLocated) {
-  struct Case {
+  struct InstrumentFilesCase {
     const char* text;
     int line;
     const char* field;
   };
-  for (const Case c :
-       {Case{"target;run;direction;deviation [um]\n0;1;sideways;1\n", 2, "direction"},
-        Case{"target;run;direction;deviation\n0;1;up;1,2,3\n", 2, "deviation"},
-        Case{"target [mm],measured [um]\n0,1\n", 1, "target [mm]"},                     // mixed units
-        Case{"target,measured,deviation\n", 1, ""}, Case{"target,dir,error\n", 1, ""},  // no rows
-        Case{"target,position,error\n0,0,1\n", 1, "position"}, Case{"target,dir,error\n0,up,1\n0,up\n", 3, ""}}) {
+  for (const InstrumentFilesCase c :
+       {InstrumentFilesCase{"target;run;direction;deviation [um]\n0;1;sideways;1\n", 2, "direction"},
+        InstrumentFilesCase{"target;run;direction;deviation\n0;1;up;1,2,3\n", 2, "deviation"},
+        InstrumentFilesCase{"target [mm],measured [um]\n0,1\n", 1, "target [mm]"},                     // mixed units
+        InstrumentFilesCase{"target,measured,deviation\n", 1, ""}, InstrumentFilesCase{"target,dir,error\n", 1, ""},  // no rows
+        InstrumentFilesCase{"target,position,error\n0,0,1\n", 1, "position"}, InstrumentFilesCase{"target,dir,error\n0,up,1\n0,up\n", 3, ""}}) {
     SCOPED_TRACE(c.text);
     const auto w = error_at([&] { parse_positioning_csv(c.text, "t.csv", "um"); });
     EXPECT_EQ(w.line, c.line);

@@ -20,7 +20,7 @@
 namespace mtcal {
 namespace {
 
-std::string temp_path(const std::string& name) {
+std::string prediction_io_temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("mtcal-test-" + std::to_string(::getpid()) + "-" + name)).string();
 }
 
@@ -77,7 +77,7 @@ TEST(PredictionPoints, FromGcodeTimesAndDistances) {
 }
 
 TEST(PredictionPoints, EmptyPointsFileIsRefused) {
-  const std::string path = temp_path("points.csv");
+  const std::string path = prediction_io_temp_path("points.csv");
   write_file_atomically(path, "t,S\n");
   try {
     read_prediction_points(path);

@@ -14,17 +14,18 @@
 #include "mtcal/util/errors.hpp"
 
 #include "input_errors.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 using mtcal::testing::error_at;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mtcal::testing::kDeg;
 
 std::string temp(const std::string& name) { return (std::filesystem::temp_directory_path() / name).string(); }
 
-std::string write_temp(const std::string& name, const std::string& text) {
+std::string probing_files_write_temp(const std::string& name, const std::string& text) {
   const auto p = temp(name);
   std::ofstream(p) << text;
   return p;
@@ -99,19 +100,19 @@ TEST(ProbingFiles, RotaryParametersReadBackAsAParameterFile) {
 }
 
 TEST(ProbingFiles, BadContactsAndCentresAreLocated) {
-  const auto unk = write_temp("mtcal-contacts-unk.csv", "C,x,y,z,q\n0,1,2,3,4\n");
+  const auto unk = probing_files_write_temp("mtcal-contacts-unk.csv", "C,x,y,z,q\n0,1,2,3,4\n");
   auto w = error_at([&] { read_contacts_csv(unk, 'C'); });
   EXPECT_EQ(w.file, unk);
   EXPECT_EQ(w.line, 1);
   EXPECT_EQ(w.field, "q");
-  const auto zero = write_temp("mtcal-contacts-zero.csv",
+  const auto zero = probing_files_write_temp("mtcal-contacts-zero.csv",
                                "C,x,y,z,approach_x,approach_y,approach_z\n0,1,2,3,0,0,-1\n0,1,2,3,0,0,0\n");
   w = error_at([&] { read_contacts_csv(zero, 'C'); });
   EXPECT_EQ(w.line, 3);
   EXPECT_EQ(w.field, "approach_x");
   // An angle given twice (or a turn apart) is one position measured twice: read as given, then
   // averaged into one centre with a note.
-  const auto dup = write_temp("mtcal-centres-dup.csv", "A,x,y,z\n0,1,2,3\n5,1,2,3\n0,1,2,5\n360,1,2,4\n");
+  const auto dup = probing_files_write_temp("mtcal-centres-dup.csv", "A,x,y,z\n0,1,2,3\n5,1,2,3\n0,1,2,5\n360,1,2,4\n");
   IndexedCentres c = read_centres_csv(dup, 'A');
   ASSERT_EQ(c.centres.size(), 4u);
   const auto notes = merge_wrapped_centres(c);
@@ -120,7 +121,7 @@ TEST(ProbingFiles, BadContactsAndCentresAreLocated) {
   EXPECT_NEAR(c.centres[0].angle, 0.0, 1e-15);
   ASSERT_EQ(notes.size(), 1u);
   EXPECT_NE(notes[0].find("0, 0, 360 deg"), std::string::npos) << notes[0];
-  const auto good = read_centres_csv(write_temp("mtcal-centres.csv", "A,x,y,z\n90,1,2,3\n"), 'A');
+  const auto good = read_centres_csv(probing_files_write_temp("mtcal-centres.csv", "A,x,y,z\n90,1,2,3\n"), 'A');
   EXPECT_EQ(good.method, "given");
   ASSERT_EQ(good.centres.size(), 1u);
   EXPECT_NEAR(good.centres[0].angle, 90 * kDeg, 1e-15);

@@ -8,14 +8,15 @@
 
 #include "mtcal/io/gcode/rs274.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using mtcal::testing::kPi;
 
-std::string error_of(const std::string& calls, const std::string& axes = "XYZABC") {
+std::string rs274_error_of(const std::string& calls, const std::string& axes = "XYZABC") {
   GcodeOptions o;
   o.axes = axes;
   try {
@@ -91,28 +92,28 @@ TEST(Rs274, ZeroRadiusHelixIsAStraightFeed) {
 }
 
 TEST(Rs274, RefusalsAndBadInput) {
-  EXPECT_NE(error_of("   29 N35    STRAIGHT_PROBE(0.0000, 0.0000, -0.5000, 0.0000, 0.0000, 0.0000)\n")
+  EXPECT_NE(rs274_error_of("   29 N35    STRAIGHT_PROBE(0.0000, 0.0000, -0.5000, 0.0000, 0.0000, 0.0000)\n")
                 .find("p.ngc:35: (call 1 of LinuxCNC's interpreter) STRAIGHT_PROBE: probing"),
             std::string::npos);
-  EXPECT_NE(error_of("1 N1 START_SPEED_FEED_SYNC(0.050000,0)\n").find("synchronised with the spindle"),
+  EXPECT_NE(rs274_error_of("1 N1 START_SPEED_FEED_SYNC(0.050000,0)\n").find("synchronised with the spindle"),
             std::string::npos);
-  EXPECT_NE(error_of("1 N1 NURBS_FEED(3, ...)\n").find("spline"), std::string::npos);
-  EXPECT_NE(error_of("1 N1 SET_XY_ROTATION(30.0000)\n").find("rotated"), std::string::npos);
-  EXPECT_NE(error_of("1 N1 STRAIGHT_FEED(1.0000, 2.0000)\n").find("with 2 arguments (expected 6 or 9)"),
+  EXPECT_NE(rs274_error_of("1 N1 NURBS_FEED(3, ...)\n").find("spline"), std::string::npos);
+  EXPECT_NE(rs274_error_of("1 N1 SET_XY_ROTATION(30.0000)\n").find("rotated"), std::string::npos);
+  EXPECT_NE(rs274_error_of("1 N1 STRAIGHT_FEED(1.0000, 2.0000)\n").find("with 2 arguments (expected 6 or 9)"),
             std::string::npos);
-  EXPECT_NE(error_of("1 N1 STRAIGHT_FEED(1.0000, x, 0, 0, 0, 0)\n").find("argument 2 of STRAIGHT_FEED, found 'x'"),
+  EXPECT_NE(rs274_error_of("1 N1 STRAIGHT_FEED(1.0000, x, 0, 0, 0, 0)\n").find("argument 2 of STRAIGHT_FEED, found 'x'"),
             std::string::npos);
-  EXPECT_NE(error_of("1 N1 STRAIGHT_FEED(0, 0, 0, 0, 0, 0, 1, 0, 0)\n").find("U, V or W"), std::string::npos);
+  EXPECT_NE(rs274_error_of("1 N1 STRAIGHT_FEED(0, 0, 0, 0, 0, 0, 1, 0, 0)\n").find("U, V or W"), std::string::npos);
   EXPECT_NE(
-      error_of("1 N1 STRAIGHT_FEED(0, 0, 0, 0, 5, 0)\n", "XYZ").find("moves B, an axis this machine does not have"),
+      rs274_error_of("1 N1 STRAIGHT_FEED(0, 0, 0, 0, 5, 0)\n", "XYZ").find("moves B, an axis this machine does not have"),
       std::string::npos);
-  EXPECT_NE(error_of("STRAIGHT_FEED(0, 0, 0, 0, 0, 0)\n").find("expected a call's number"), std::string::npos);
-  EXPECT_NE(error_of("1 N1 STRAIGHT_FEED(0, 0, 0, 0, 0, 0\n").find("NAME(arguments)"), std::string::npos);
-  EXPECT_NE(error_of("1 Nx STRAIGHT_FEED(0, 0, 0, 0, 0, 0)\n").find("after 'N'"), std::string::npos);
-  EXPECT_NE(error_of("1 N1 USE_LENGTH_UNITS(CANON_UNITS_FURLONG)\n").find("CANON_UNITS_MM"), std::string::npos);
-  EXPECT_NE(error_of("1 N1 ARC_FEED(1, 0, 0, 0, 0, 0, 0, 0, 0)\n").find("rotation 0"), std::string::npos);
+  EXPECT_NE(rs274_error_of("STRAIGHT_FEED(0, 0, 0, 0, 0, 0)\n").find("expected a call's number"), std::string::npos);
+  EXPECT_NE(rs274_error_of("1 N1 STRAIGHT_FEED(0, 0, 0, 0, 0, 0\n").find("NAME(arguments)"), std::string::npos);
+  EXPECT_NE(rs274_error_of("1 Nx STRAIGHT_FEED(0, 0, 0, 0, 0, 0)\n").find("after 'N'"), std::string::npos);
+  EXPECT_NE(rs274_error_of("1 N1 USE_LENGTH_UNITS(CANON_UNITS_FURLONG)\n").find("CANON_UNITS_MM"), std::string::npos);
+  EXPECT_NE(rs274_error_of("1 N1 ARC_FEED(1, 0, 0, 0, 0, 0, 0, 0, 0)\n").find("rotation 0"), std::string::npos);
   EXPECT_NE(
-      error_of("1 N1 STRAIGHT_FEED(1, 0, 0, 0, 0, 0)\n2 N2 ARC_FEED(5, 0, 0, 0, 1, 0, 0, 0, 0)\n").find("end radius"),
+      rs274_error_of("1 N1 STRAIGHT_FEED(1, 0, 0, 0, 0, 0)\n2 N2 ARC_FEED(5, 0, 0, 0, 1, 0, 0, 0, 0)\n").find("end radius"),
       std::string::npos);
   // An unknown call that moves nothing: a warning naming it, not silence.
   const auto p = parse_canon("1 N4 SOMETHING_NEW(1)\n", "p.ngc");

@@ -11,12 +11,13 @@
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mtcal::testing::kDeg;
 
 // 3-axis wXYfZt, tool length 100 mm along -z, everything else at the origin.
 Machine mill() {

@@ -17,13 +17,13 @@ TEST(Csv, ReadsHeaderRowsCommentsAndLineNumbers) {
 }
 
 TEST(Csv, RejectsBadInputWithLocation) {
-  struct Case {
+  struct CsvCase {
     const char* text;
     int line;
     const char* field;
     const char* message;
   };
-  const Case cases[] = {
+  const CsvCase cases[] = {
       {"", 0, "", "no header"},
       {"# only a comment\n", 0, "", "no header"},
       {"X,,Y\n", 1, "", "empty column name"},

@@ -14,7 +14,7 @@ using namespace mtcal;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path fresh_dir(const char* name) {
+fs::path files_fresh_dir(const char* name) {
   const fs::path d = fs::temp_directory_path() / (std::string("mtcal-test-") + name + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
@@ -23,7 +23,7 @@ fs::path fresh_dir(const char* name) {
 }  // namespace
 
 TEST(Files, AtomicFileAppearsOnlyOnCommit) {
-  const fs::path d = fresh_dir("atomic");
+  const fs::path d = files_fresh_dir("atomic");
   const std::string target = (d / "out.csv").string();
   {
     AtomicFile f(target);
@@ -37,7 +37,7 @@ TEST(Files, AtomicFileAppearsOnlyOnCommit) {
 }
 
 TEST(Files, AbandonedAtomicFileLeavesNothingAndKeepsTheOldFile) {
-  const fs::path d = fresh_dir("abandon");
+  const fs::path d = files_fresh_dir("abandon");
   const std::string target = (d / "out.csv").string();
   std::ofstream(target) << "old\n";
   {
@@ -51,7 +51,7 @@ TEST(Files, AbandonedAtomicFileLeavesNothingAndKeepsTheOldFile) {
 }
 
 TEST(Files, RefusesDirectoriesAndMissingFolders) {
-  const fs::path d = fresh_dir("dirs");
+  const fs::path d = files_fresh_dir("dirs");
   EXPECT_THROW(AtomicFile(d.string()), Error);
   EXPECT_THROW(AtomicFile((d / "").string()), Error);
   EXPECT_THROW(AtomicFile((d / "no" / "such" / "x.csv").string()), Error);
@@ -65,7 +65,7 @@ TEST(Files, RefusesDirectoriesAndMissingFolders) {
 TEST(Files, RefusesDevicesAndFifosAndFollowsSymlinks) {
   EXPECT_THROW(AtomicFile("/dev/null"), Error);
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
-  const fs::path d = fresh_dir("special");
+  const fs::path d = files_fresh_dir("special");
   const fs::path fifo = d / "pipe";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   EXPECT_THROW(AtomicFile(fifo.string()), Error);
@@ -85,7 +85,7 @@ TEST(Files, RefusesDevicesAndFifosAndFollowsSymlinks) {
 
 // A new output gets 0666 & ~umask, as any file the user creates (mkstemp alone gives 0600).
 TEST(Files, OutputPermissionsFollowTheUmask) {
-  const fs::path d = fresh_dir("umask");
+  const fs::path d = files_fresh_dir("umask");
   const mode_t old = ::umask(022);
   write_file_atomically((d / "a.csv").string(), "x");
   ::umask(027);
@@ -104,7 +104,7 @@ std::string content(const fs::path& p) {
 }  // namespace
 
 TEST(Files, OutputGroupWritesAllOrNothing) {
-  const fs::path d = fresh_dir("group");
+  const fs::path d = files_fresh_dir("group");
   const fs::path a = d / "a.csv", b = d / "b.html";
   // Committed files of a group appear only when the group commits.
   {
@@ -129,7 +129,7 @@ TEST(Files, OutputGroupWritesAllOrNothing) {
 }
 
 TEST(Files, OutputGroupRestoresReplacedTargetsWhenALaterRenameFails) {
-  const fs::path d = fresh_dir("group-undo"), other = fresh_dir("group-undo-b");
+  const fs::path d = files_fresh_dir("group-undo"), other = files_fresh_dir("group-undo-b");
   const fs::path a = d / "a.csv", b = other / "b.csv", fresh = d / "new.csv";
   std::ofstream(a) << "old A\n";
   {
@@ -156,7 +156,7 @@ TEST(Files, OutputGroupRestoresReplacedTargetsWhenALaterRenameFails) {
 // it stays with its files when the group commits and goes with them when it does not, also when
 // a rename fails; without a group it stays.
 TEST(Files, OutputDirectoryBelongsToTheGroup) {
-  const fs::path d = fresh_dir("group-dir");
+  const fs::path d = files_fresh_dir("group-dir");
   const fs::path made = d / "png", file = made / "r-plot-1.png";
   {
     OutputGroup g;
@@ -173,7 +173,7 @@ TEST(Files, OutputDirectoryBelongsToTheGroup) {
   }
   EXPECT_EQ(content(file), "png\n");
   fs::remove_all(made);
-  const fs::path other = fresh_dir("group-dir-b");
+  const fs::path other = files_fresh_dir("group-dir-b");
   {
     OutputGroup g;
     create_output_directory(made.string());
@@ -190,7 +190,7 @@ TEST(Files, OutputDirectoryBelongsToTheGroup) {
 }
 
 TEST(Files, InputLimitIsALimitError) {
-  const fs::path d = fresh_dir("limit");
+  const fs::path d = files_fresh_dir("limit");
   const fs::path p = d / "big.csv";
   std::ofstream(p) << std::string(5000, 'x');
   const auto saved = input_limits();

@@ -20,7 +20,7 @@ namespace {
 
 const char* kExamples[] = {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"};
 
-std::string example(const char* name) { return std::string(MTCAL_EXAMPLES_DIR) + "/" + name; }
+std::string machine_file_example(const char* name) { return std::string(MTCAL_EXAMPLES_DIR) + "/" + name; }
 
 const char* kGood = R"(mtcal_machine: 1
 name: test
@@ -75,7 +75,7 @@ TEST(MachineFile, GoodFileLoadsWithUnitsConverted) {
 TEST(MachineFile, ExamplesLoadAndRoundTrip) {
   for (const char* name : kExamples) {
     SCOPED_TRACE(name);
-    const Machine m = load_machine(example(name));
+    const Machine m = load_machine(machine_file_example(name));
     EXPECT_FALSE(m.name.empty());
     const Machine back = parse_machine(to_yaml(m), "roundtrip");
     const auto a = m.parameters(), b = back.parameters();
@@ -105,13 +105,13 @@ TEST(MachineFile, ExamplesLoadAndRoundTrip) {
 
 TEST(MachineFile, ExampleMachinesHaveTheErrorsTheyPromise) {
   // The 3-axis example has all 21 errors non-zero: 18 motion errors and 3 squareness errors.
-  const Machine m = load_machine(example("vmc-3axis.yaml"));
+  const Machine m = load_machine(machine_file_example("vmc-3axis.yaml"));
   std::set<std::string> nonzero;
   for (const auto& p : m.parameters())
     if (p.value != 0.0) nonzero.insert(p.error.str());
   EXPECT_EQ(nonzero.size(), 21u);
   // The RRTTT example carries Viprey's 61 parameters: 30 motion, 19 location, 12 mounting.
-  const Machine v = load_machine(example("rrttt-table-table.yaml"));
+  const Machine v = load_machine(machine_file_example("rrttt-table-table.yaml"));
   std::map<ErrorKind, std::set<std::string>> by_kind;
   for (const auto& p : v.parameters())
     if (p.value != 0.0) by_kind[p.error.kind].insert(p.error.str());
@@ -246,7 +246,7 @@ InputError bad_params(const std::string& text) {
 
 TEST(ParameterFile, ReplacesExactlyTheNamedErrors) {
   // Every one of the 61 errors of this example is non-zero, so an accidental change shows.
-  Machine m = load_machine(example("rrttt-table-table.yaml"));
+  Machine m = load_machine(machine_file_example("rrttt-table-table.yaml"));
   const auto before = parameter_map(m);
   const std::string name = m.name, chain = m.topology.chain;
   apply_parameters(m,
@@ -383,7 +383,7 @@ TEST(ParameterFile, BadInputsNameFileLineAndField) {
 }
 
 TEST(ParameterFile, AllOrNothing) {
-  const Machine original = load_machine(example("rrttt-table-table.yaml"));
+  const Machine original = load_machine(machine_file_example("rrttt-table-table.yaml"));
   const std::string yaml = to_yaml(original);
   const auto params = parameter_map(original);
   // Each has good errors before the bad one; the machine must keep none of them.

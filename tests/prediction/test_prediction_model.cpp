@@ -252,7 +252,7 @@ TEST(PredictionModelTest, EvaluateComponentIsThePredictPath) {
 }
 
 // The error message names the file, the line and the key.
-std::string error_of(const std::string& text) {
+std::string prediction_model_error_of(const std::string& text) {
   try {
     parse_prediction_model(text, "m.yaml");
   } catch (const InputError& e) {
@@ -263,32 +263,32 @@ std::string error_of(const std::string& text) {
 
 TEST(PredictionModelTest, BadModelFilesAreRefused) {
   const std::string head = "mtcal_prediction_model: 1\ncomponents:\n";
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: cubic, coefficients: [1]}\n")
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: x, variable: t, form: cubic, coefficients: [1]}\n")
                 .find("unknown model form 'cubic'"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: cubic}\n").find("m.yaml:3"), std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1}}\n")
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: x, variable: t, form: cubic}\n").find("m.yaml:3"), std::string::npos);
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1}}\n")
                 .find("missing parameter 'b'"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: w, variable: t, form: power, parameters: {a: 1, b: 1}}\n")
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: w, variable: t, form: power, parameters: {a: 1, b: 1}}\n")
                 .find("expected x, y, z or none"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, of: b}\n").find("'b' is not a component defined above"),
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: x, of: b}\n").find("'b' is not a component defined above"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: 1}}\n"
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: 1}}\n"
                             "  - {name: a, axis: y, variable: t, form: power, parameters: {a: 1, b: 1}}\n")
                 .find("defined twice"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - name: a\n    axis: x\n    variable: t\n    stages:\n"
+  EXPECT_NE(prediction_model_error_of(head + "  - name: a\n    axis: x\n    variable: t\n    stages:\n"
                             "      - {speed: 3500, form: power, parameters: {a: 1, b: 1}}\n"
                             "      - {speed: 1000, form: power, parameters: {a: 1, b: 1}}\n")
                 .find("increasing speed"),
             std::string::npos);
-  EXPECT_NE(error_of("mtcal_prediction_model: 2\ncomponents: []\n").find("format version"), std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: 1}, bogus: 1}\n")
+  EXPECT_NE(prediction_model_error_of("mtcal_prediction_model: 2\ncomponents: []\n").find("format version"), std::string::npos);
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: 1}, bogus: 1}\n")
                 .find("unknown key 'bogus'"),
             std::string::npos);
-  EXPECT_NE(error_of("mtcal_prediction_model: 1\nunits: {time: s}\ncomponents: []\n").find("expected 'min'"),
+  EXPECT_NE(prediction_model_error_of("mtcal_prediction_model: 1\nunits: {time: s}\ncomponents: []\n").find("expected 'min'"),
             std::string::npos);
   EXPECT_THROW(read_prediction_model("/nonexistent/model.yaml"), InputError);
 }
@@ -297,32 +297,32 @@ TEST(PredictionModelTest, BadModelFilesAreRefused) {
 // is the constant a, also at x = 0.
 TEST(PredictionModelTest, ParametersOutsideTheDomainAreRefused) {
   const std::string head = "mtcal_prediction_model: 1\ncomponents:\n";
-  const std::string logistic = error_of(
+  const std::string logistic = prediction_model_error_of(
       head + "  - {name: a, axis: x, variable: t, form: logistic_ln, parameters: {a: 1, b: 1, k: 2, x0: -3}}\n");
   EXPECT_NE(logistic.find("m.yaml:3"), std::string::npos) << logistic;
   EXPECT_NE(logistic.find("a.parameters"), std::string::npos) << logistic;
   EXPECT_NE(logistic.find("x0 > 0"), std::string::npos) << logistic;
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}}\n")
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}}\n")
                 .find("undefined at x = 0"),
             std::string::npos);
-  EXPECT_NE(error_of(
+  EXPECT_NE(prediction_model_error_of(
                 head +
                 "  - {name: a, axis: x, variable: t, form: stretched_exp, parameters: {a: 1, b: 1, c: 1, d: -1}}\n")
                 .find("d > 0"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1, b: -28}}\n")
+  EXPECT_NE(prediction_model_error_of(head + "  - {name: a, axis: x, variable: t, form: saturation, parameters: {a: 1, b: -28}}\n")
                 .find("b > 0"),
             std::string::npos);
   // A stage's parameters name the stage.
   const std::string stage =
-      error_of(head +
+      prediction_model_error_of(head +
                "  - name: a\n    axis: x\n    variable: t\n    stages:\n"
                "      - {speed: 1000, form: power, parameters: {a: 1, b: 1}}\n"
                "      - {speed: 3500, form: logistic_ln, parameters: {a: 1, b: 1, k: 2, x0: 0}}\n");
   EXPECT_NE(stage.find("m.yaml:8"), std::string::npos) << stage;
   EXPECT_NE(stage.find("a.stages.1.parameters"), std::string::npos) << stage;
   // b < 0 with a validity range above 0 is accepted.
-  EXPECT_EQ(error_of(head +
+  EXPECT_EQ(prediction_model_error_of(head +
                      "  - {name: a, axis: x, variable: t, form: power, parameters: {a: 1, b: -0.5}, valid: [1, 10]}\n"),
             "no error");
   const PredictionModel m =

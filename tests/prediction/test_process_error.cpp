@@ -7,11 +7,12 @@
 
 #include "mtcal/prediction/process_error.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using mtcal::testing::kPi;
 
 // Mean Fy over a tooth period by hand: (N ap / 2 pi) integral over the immersion of
 // [(Ktc fz sin + Kte) sin - (Krc fz sin + Kre) cos] dphi.

@@ -19,7 +19,7 @@ std::vector<double> linspace(double a, double b, int n) {
   return v;
 }
 
-struct Case {
+struct RegressionCase {
   ModelSpec spec;
   std::vector<double> truth;
   double x0, x1;
@@ -28,7 +28,7 @@ struct Case {
 // Exact synthetic data of every form with parameters of the size the thesis prints: the fit
 // must give them back from its own starts.
 TEST(RegressionTest, EachFormRecoversItsOwnParameters) {
-  const std::vector<Case> cases = {
+  const std::vector<RegressionCase> cases = {
       {{ModelForm::Polynomial, 2, 0.0}, {0.000249252, -9.57162e-7}, 0, 100},                                // eq. 5.1
       {{ModelForm::Polynomial, 1, std::nullopt}, {-0.001933, 0.00002}, 0, 40},                              // eq. 5.3
       {{ModelForm::Polynomial, 3, 0.0}, {-2.6e-5, 8.93558e-7, -7.20972e-9}, 0, 130},                        // eq. 5.8

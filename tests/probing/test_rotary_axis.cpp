@@ -16,12 +16,13 @@
 #include "mtcal/probing/sphere_probing.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mtcal::testing::kDeg;
 
 std::vector<double> steps(double from_deg, double to_deg, double step_deg) {
   std::vector<double> a;
@@ -31,12 +32,12 @@ std::vector<double> steps(double from_deg, double to_deg, double step_deg) {
 
 // Simulated probing of one axis of a table-table machine that has only that axis's location
 // errors, and the sphere centres of the 5-point protocol.
-struct Case {
+struct RotaryAxisCase {
   Machine machine;
   std::vector<MeasuredCentre> centres;
 };
 
-Case probe(char axis, const std::vector<std::pair<const char*, double>>& errors, const std::vector<double>& angles,
+RotaryAxisCase probe(char axis, const std::vector<std::pair<const char*, double>>& errors, const std::vector<double>& angles,
            double noise = 0.0, std::uint64_t seed = 1, double bias = 0.0, const char* topology = "wCAYXfZt") {
   Machine m = mtcal::testing::nominal_machine(topology);
   for (const auto& [name, v] : errors) m.set_parameter(name, v);
@@ -47,7 +48,7 @@ Case probe(char axis, const std::vector<std::pair<const char*, double>>& errors,
   sim.noise = noise;
   sim.trigger_bias = bias;
   sim.seed = seed;
-  Case c{m, {}};
+  RotaryAxisCase c{m, {}};
   for (const auto& ix : simulate_probing(m, sim)) {
     const auto sc = sphere_centre(ix.contacts, sim.probing, "sim");
     EXPECT_TRUE(sc.five_point.has_value());
@@ -83,7 +84,7 @@ namespace {
 void expect_recovered(char letter, const std::vector<std::pair<const char*, double>>& truth,
                       const std::vector<double>& angles, std::size_t expected_triples,
                       const char* topology = "wCAYXfZt") {
-  const Case c = probe(letter, truth, angles, 0.0, 1, 0.0, topology);
+  const RotaryAxisCase c = probe(letter, truth, angles, 0.0, 1, 0.0, topology);
   ASSERT_EQ(c.centres.size(), angles.size());
   const auto axis = NominalRotaryAxis::from(c.machine.axis(letter));
   const auto tri = estimate_by_triples(axis, c.centres);
@@ -124,7 +125,7 @@ TEST(RotaryAxis, UncertaintiesCoverTheTruthWithNoise) {
   int inside_tri = 0, inside_lsq = 0, total = 0;
   std::array<double, 4> z2_tri{}, z2_lsq{};  // mean squared normalised error per quantity
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
-    const Case c = probe('C', truth, steps(0, 350, 10), 0.001, seed);
+    const RotaryAxisCase c = probe('C', truth, steps(0, 350, 10), 0.001, seed);
     const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
     const auto tri = estimate_by_triples(axis, c.centres);
     const auto lsq = estimate_by_least_squares(axis, c.centres);
@@ -151,7 +152,7 @@ TEST(RotaryAxis, UncertaintiesCoverTheTruthWithNoise) {
 }
 
 TEST(RotaryAxis, TriplesGiveTheSameBitsWithAnyThreadCount) {
-  const Case c = probe('C', {{"EX0C", 0.01}}, steps(0, 350, 10), 0.001, 9);
+  const RotaryAxisCase c = probe('C', {{"EX0C", 0.01}}, steps(0, 350, 10), 0.001, 9);
   const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
   const auto a = estimate_by_triples(axis, c.centres, TriplesOptions{2.0, 40, 1});
   const auto b = estimate_by_triples(axis, c.centres, TriplesOptions{2.0, 40, 3});
@@ -177,7 +178,7 @@ TEST(RotaryAxis, LocationFromLineAnglesEqualTheLibraryFunctions) {
 }
 
 TEST(RotaryAxis, TriplesReportProgressOverBothPasses) {
-  const Case c = probe('C', {{"EX0C", 0.01}}, steps(0, 350, 10), 0.001, 9);
+  const RotaryAxisCase c = probe('C', {{"EX0C", 0.01}}, steps(0, 350, 10), 0.001, 9);
   const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
   std::vector<std::size_t> seen;
   TriplesOptions o{2.0, 40, 2};
@@ -196,7 +197,7 @@ TEST(RotaryAxis, AnOutlierIsRejectedByTheSigmaRule) {
                                                              {"EY0C", 0.0},
                                                              {"EA0C", 0.0},
                                                              {"EB0C", 0.0}};
-  Case c = probe('C', truth, steps(0, 350, 10), 0.0005, 3);
+  RotaryAxisCase c = probe('C', truth, steps(0, 350, 10), 0.0005, 3);
   c.centres[7].centre += Point3(0.08, -0.05, 0.03);  // one bad centre (a chip on the sphere)
   const auto axis = NominalRotaryAxis::from(c.machine.axis('C'));
   const auto with = estimate_by_triples(axis, c.centres, TriplesOptions{2.0, 40, 0});

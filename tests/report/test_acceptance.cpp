@@ -19,14 +19,14 @@
 using namespace mtcal;
 
 namespace {
-std::string slurp(const std::string& path) {
+std::string acceptance_slurp(const std::string& path) {
   std::ifstream in(path);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
 }
 template <class F>
-std::string error_of(F&& f) {
+std::string acceptance_error_of(F&& f) {
   try {
     f();
   } catch (const InputError& e) {
@@ -47,9 +47,9 @@ TEST(Metadata, KeepsFieldOrderRefusesUnknownKeysAndEmptyValues) {
   EXPECT_EQ(m.entries()[0].second, "HU40T-2");
   EXPECT_EQ(m.entries()[1].first, "serial");
   EXPECT_EQ(m.entries()[2].first, "date");
-  EXPECT_NE(error_of([&] { m.set("sreial", "1", "--meta"); }).find("unknown metadata field 'sreial'"),
+  EXPECT_NE(acceptance_error_of([&] { m.set("sreial", "1", "--meta"); }).find("unknown metadata field 'sreial'"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { m.set("owner", "  ", "f.yaml", 3); }).find("f.yaml:3"), std::string::npos);
+  EXPECT_NE(acceptance_error_of([&] { m.set("owner", "  ", "f.yaml", 3); }).find("f.yaml:3"), std::string::npos);
   // A laser file's header fills only what the user did not type.
   ReportMetadata from_file;
   from_file.set("machine", "from file");
@@ -78,12 +78,12 @@ TEST(MetadataFile, ReadsKnownKeysAndLocatesErrors) {
   const ReportMetadata m = parse_report_metadata("machine: HU40T\nserial: 4711\ndate: 2026-11-24\n", "m.yaml");
   EXPECT_EQ(*m.get("serial"), "4711");
   EXPECT_EQ(to_json(m).dump(), R"({"machine":"HU40T","serial":"4711","date":"2026-11-24"})");
-  EXPECT_NE(error_of([] { parse_report_metadata("machine: M\nopertor: A\n", "m.yaml"); }).find("m.yaml:2"),
+  EXPECT_NE(acceptance_error_of([] { parse_report_metadata("machine: M\nopertor: A\n", "m.yaml"); }).find("m.yaml:2"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_report_metadata("machine: {a: 1}\n", "m.yaml"); }).find("expected text"),
+  EXPECT_NE(acceptance_error_of([] { parse_report_metadata("machine: {a: 1}\n", "m.yaml"); }).find("expected text"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_report_metadata("", "m.yaml"); }).find("found nothing"), std::string::npos);
-  EXPECT_NE(error_of([] { parse_report_metadata("machine: [\n", "m.yaml"); }).find("not valid YAML"),
+  EXPECT_NE(acceptance_error_of([] { parse_report_metadata("", "m.yaml"); }).find("found nothing"), std::string::npos);
+  EXPECT_NE(acceptance_error_of([] { parse_report_metadata("machine: [\n", "m.yaml"); }).find("not valid YAML"),
             std::string::npos);
 }
 
@@ -101,12 +101,12 @@ TEST(ToleranceFile, ConvertsToMicrometresAndPicksTheAxis) {
   EXPECT_DOUBLE_EQ(f.volumetric.limits.at(0).second, 30.0);
   EXPECT_DOUBLE_EQ(parse_tolerance_file("iso230-4: {F: 7}\n", "t.yaml").iso230_4.limits.at(0).second,
                    7.0);  // µm default
-  EXPECT_NE(error_of([] { parse_tolerance_file("iso230-2:\n  X: {Q: 3}\n", "t.yaml"); }).find("t.yaml:2"),
+  EXPECT_NE(acceptance_error_of([] { parse_tolerance_file("iso230-2:\n  X: {Q: 3}\n", "t.yaml"); }).find("t.yaml:2"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_tolerance_file("iso230-4: {G: -1}\n", "t.yaml"); }).find(">= 0"), std::string::npos);
-  EXPECT_NE(error_of([] { parse_tolerance_file("unit: inch\n", "t.yaml"); }).find("expected um or mm"),
+  EXPECT_NE(acceptance_error_of([] { parse_tolerance_file("iso230-4: {G: -1}\n", "t.yaml"); }).find(">= 0"), std::string::npos);
+  EXPECT_NE(acceptance_error_of([] { parse_tolerance_file("unit: inch\n", "t.yaml"); }).find("expected um or mm"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_tolerance_file("iso230-3: {}\n", "t.yaml"); }).find("unknown key 'iso230-3'"),
+  EXPECT_NE(acceptance_error_of([] { parse_tolerance_file("iso230-3: {}\n", "t.yaml"); }).find("unknown key 'iso230-3'"),
             std::string::npos);
 }
 
@@ -125,7 +125,7 @@ TEST(Tolerance, PassesAtOrBelowTheLimit) {
   EXPECT_FALSE(ToleranceVerdict{}.pass());  // nothing checked is no pass
   Tolerances z;
   z.set("Z", 1);
-  EXPECT_NE(error_of([&] { check_tolerances({{"A", 1}}, z, "--tolerance"); }).find("it gives A"), std::string::npos);
+  EXPECT_NE(acceptance_error_of([&] { check_tolerances({{"A", 1}}, z, "--tolerance"); }).find("it gives A"), std::string::npos);
   EXPECT_EQ(micrometres_per("mm"), 1000.0);
   EXPECT_EQ(micrometres_per("in"), 25400.0);
   EXPECT_FALSE(micrometres_per("furlong"));
@@ -154,7 +154,7 @@ TEST(AcceptanceReport, ShowsMetadataVerdictAndIso230_2InMicrometres) {
   const std::string path = (dir / "mtcal-acceptance-test.html").string();
   write_positioning_report(path, "mtcal iso230-2 p.csv", runs, e, v);
   set_session_metadata({});
-  const std::string html = slurp(path);
+  const std::string html = acceptance_slurp(path);
   std::remove(path.c_str());
   std::remove(runs.source.c_str());
   EXPECT_NE(html.find("<div class=\"verdict fail\">FAIL"), std::string::npos);
@@ -238,7 +238,7 @@ TEST(AcceptanceReport, Iso230_2TablePerTargetInTheStandardsLayout) {
   std::ofstream(runs.source) << "(the report hashes its input)\n";
   const std::string path = (dir / "mtcal-acceptance-table.html").string();
   write_positioning_report(path, "mtcal iso230-2 p.csv", runs, e);
-  const std::string html = slurp(path);
+  const std::string html = acceptance_slurp(path);
   std::remove(path.c_str());
   std::remove(runs.source.c_str());
   EXPECT_NE(html.find("<tr><td>B_i = x̄_i↑ − x̄_i↓ reversal</td><td>2.0</td><td>3.0</td><td>3.0</td></tr>"),

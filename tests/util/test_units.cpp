@@ -13,17 +13,18 @@
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/suggest.hpp"
 #include "mtcal/util/units.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mtcal::testing::kDeg;
 
 double length(const std::string& s) { return parse_quantity(s, Dimension::Length, 1.0, false, {"test", 0, ""}); }
 double angle(const std::string& s, bool slopes = true) {
   return parse_quantity(s, Dimension::Angle, 1.0, slopes, {"test", 0, ""});
 }
-std::string error_of(auto&& f) {
+std::string units_error_of(auto&& f) {
   try {
     f();
   } catch (const InputError& e) {
@@ -60,19 +61,19 @@ TEST(TypedValue, EveryAngleSuffix) {
 }
 
 TEST(TypedValue, BadSuffixesNameTheAcceptedUnits) {
-  const auto e = error_of([] { length("5 furlong"); });
+  const auto e = units_error_of([] { length("5 furlong"); });
   EXPECT_NE(e.find("test: unknown unit 'furlong' in '5 furlong'"), std::string::npos) << e;
   EXPECT_NE(e.find("mm, um, nm, m, in"), std::string::npos) << e;
-  EXPECT_NE(error_of([] { length("5deg"); }).find("'deg' is an angle; expected a length unit"), std::string::npos);
-  EXPECT_NE(error_of([] { angle("5mm"); }).find("'mm' is a length; expected an angle unit"), std::string::npos);
+  EXPECT_NE(units_error_of([] { length("5deg"); }).find("'deg' is an angle; expected a length unit"), std::string::npos);
+  EXPECT_NE(units_error_of([] { angle("5mm"); }).find("'mm' is a length; expected an angle unit"), std::string::npos);
   // A slope is no position.
-  EXPECT_NE(error_of([] { angle("5um/m", false); }).find("'um/m' is a slope"), std::string::npos);
-  EXPECT_NE(error_of([] { length("mm"); }).find("expected a number with an optional unit, found 'mm'"),
+  EXPECT_NE(units_error_of([] { angle("5um/m", false); }).find("'um/m' is a slope"), std::string::npos);
+  EXPECT_NE(units_error_of([] { length("mm"); }).find("expected a number with an optional unit, found 'mm'"),
             std::string::npos);
-  EXPECT_NE(error_of([] { length(""); }).find("expected a number"), std::string::npos);
-  EXPECT_NE(error_of([] { length("5 mm mm"); }).find("unknown unit 'mm mm'"), std::string::npos);
-  EXPECT_NE(error_of([] { length("1e308m"); }).find("beyond the range"), std::string::npos);
-  EXPECT_NE(error_of([] { length("nan mm"); }).find("expected a number"), std::string::npos);
+  EXPECT_NE(units_error_of([] { length(""); }).find("expected a number"), std::string::npos);
+  EXPECT_NE(units_error_of([] { length("5 mm mm"); }).find("unknown unit 'mm mm'"), std::string::npos);
+  EXPECT_NE(units_error_of([] { length("1e308m"); }).find("beyond the range"), std::string::npos);
+  EXPECT_NE(units_error_of([] { length("nan mm"); }).find("expected a number"), std::string::npos);
 }
 
 TEST(TypedValue, ParameterUnits) {
@@ -86,10 +87,10 @@ TEST(TypedValue, ParameterUnits) {
   EXPECT_DOUBLE_EQ(in("5e-6", "mm/mm"), 5e-6);
   EXPECT_DOUBLE_EQ(in("2e-9 rad/mm^2", "rad/mm^2"), 2e-9);  // its own unit as suffix
   EXPECT_DOUBLE_EQ(in("2e-9", "rad/mm^2"), 2e-9);
-  EXPECT_NE(error_of([&] { in("3um", "rad"); }).find("--set: field 'P': 'um' is a length"), std::string::npos);
-  EXPECT_NE(error_of([&] { in("3urad", "mm"); }).find("'urad' is an angle"), std::string::npos);
-  EXPECT_NE(error_of([&] { in("3mm", "mm/mm"); }).find("does not fit a value in mm/mm"), std::string::npos);
-  EXPECT_NE(error_of([&] { in("3um", "rad/mm^2"); }).find("expected a number in rad/mm^2"), std::string::npos);
+  EXPECT_NE(units_error_of([&] { in("3um", "rad"); }).find("--set: field 'P': 'um' is a length"), std::string::npos);
+  EXPECT_NE(units_error_of([&] { in("3urad", "mm"); }).find("'urad' is an angle"), std::string::npos);
+  EXPECT_NE(units_error_of([&] { in("3mm", "mm/mm"); }).find("does not fit a value in mm/mm"), std::string::npos);
+  EXPECT_NE(units_error_of([&] { in("3um", "rad/mm^2"); }).find("expected a number in rad/mm^2"), std::string::npos);
 }
 
 // Issue 29, item 3: a decimal unit converts the number as written, rounded once, so the value is
