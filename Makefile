@@ -5,6 +5,10 @@
 BUILD ?= build
 JOBS ?= 2
 CMAKE_EXTRA_FLAGS ?=
+# Unity batches (MTCAL_UNITY, docs/building.md "Unity builds"): the fastest build from nothing (a fresh
+# clone, CI: 43 % less CPU for the library and command), but touching one unit recompiles its batch of 8. A contributor who
+# rebuilds after every edit sets UNITY=OFF (`make test UNITY=OFF`): one unit rebuilds alone.
+UNITY ?= ON
 # The compilers: `make test CXX=clang++ CC=clang BUILD=build-clang` builds with Debian's clang
 # (scripts/install-deps installs it when CXX names clang). Without CXX/CC, CMake picks its default.
 COMPILERS = $(if $(filter default,$(origin CXX)),,-DCMAKE_CXX_COMPILER=$(CXX)) \
@@ -19,7 +23,7 @@ deps:
 	CXX="$(CXX)" scripts/install-deps $(DEPS_FLAGS)
 
 configure: deps
-	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release $(COMPILERS) $(CMAKE_EXTRA_FLAGS)
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DMTCAL_UNITY=$(UNITY) $(COMPILERS) $(CMAKE_EXTRA_FLAGS)
 
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)

@@ -19,16 +19,16 @@ const std::vector<std::string> kLocation{"EC0Y", "EB0Z", "EA0Z", "EX0C", "EY0C",
 const std::vector<std::string> kNineteen{"EX0C", "EY0C", "EA0C", "EB0C", "EC0C", "EX0B", "EZ0B", "EA0B", "EB0B", "EC0B",
                                          "EX0X", "EB0X", "EC0X", "EY0Y", "EA0Y", "EC0Y", "EZ0Z", "EA0Z", "EB0Z"};
 
-struct Setup {
+struct IdentificationSetup {
   Machine truth, prior;
   ProbingPlan plan;
   ProbingPlan measurements;
   IdentificationOptions options;
 };
 
-const Setup& setup() {
-  static const Setup s = [] {
-    Setup t;
+const IdentificationSetup& setup() {
+  static const IdentificationSetup s = [] {
+    IdentificationSetup t;
     t.truth = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml");
     t.prior = t.truth;
     for (const auto& n : kLocation) t.prior.set_parameter(n, 0.0);
@@ -48,14 +48,14 @@ const Setup& setup() {
 
 // 189 residuals, 33 unknowns (14 parameters, 6 balls, 1 facet), from the prior with them at zero.
 void BM_Identify_Hu40t(benchmark::State& state) {
-  const Setup& s = setup();
+  const IdentificationSetup& s = setup();
   for (auto _ : state) benchmark::DoNotOptimize(identify(s.prior, s.measurements, s.options).final_cost);
 }
 BENCHMARK(BM_Identify_Hu40t)->Unit(benchmark::kMillisecond);
 
 // Every 8-subset of the 19 location errors with the tool offsets always in (Viprey section 4).
 void BM_Subsets_19choose8(benchmark::State& state) {
-  const Setup& s = setup();
+  const IdentificationSetup& s = setup();
   SubsetOptions so;
   so.candidates = kNineteen;
   so.always = {"EXt", "EYt", "EZt"};
@@ -71,7 +71,7 @@ BENCHMARK(BM_Subsets_19choose8)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->
 // Baseline in the same run: one SVD rank test per subset, on 1/100 of the subsets (the first
 // 756 in lexicographic order), reported per subset for the ratio.
 void BM_Subsets_SvdPerSubset_Baseline(benchmark::State& state) {
-  const Setup& s = setup();
+  const IdentificationSetup& s = setup();
   std::size_t done = 0;
   for (auto _ : state) {
     std::size_t count = 0, full = 0;
@@ -97,7 +97,7 @@ BENCHMARK(BM_Subsets_SvdPerSubset_Baseline)->Unit(benchmark::kMillisecond)->Iter
 
 // 1,000 runs of re-drawn noise, each identified again; argument: threads.
 void BM_MonteCarlo_1000(benchmark::State& state) {
-  const Setup& s = setup();
+  const IdentificationSetup& s = setup();
   const IdentificationResult r = identify(s.prior, s.measurements, s.options);
   MonteCarloOptions mc;
   mc.runs = 1000;

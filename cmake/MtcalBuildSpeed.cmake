@@ -112,8 +112,11 @@ function(mtcal_apply_unity)
       # GCC 12 inlines across the units of a batch and then reports -Wmaybe-uninitialized on
       # std::string members of default-constructed records (history/analysis.cpp's ParameterChange
       # in a batch): a false positive the separate units do not give. The default build keeps the
-      # warning.
-      target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wno-maybe-uninitialized>)
+      # warning. -Wsubobject-linkage is for headers (a class of a header with a member of a type from
+      # an anonymous namespace differs in every unit that includes it); in a batch every unit is an
+      # included file, and a unit's own class with a member of its own anonymous type (server.cpp's
+      # Impl) is what it warns of.
+      target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wno-maybe-uninitialized -Wno-subobject-linkage>)
     endif()
   endforeach()
   mtcal_own_option_sources(own)

@@ -15,7 +15,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::vector<double> config(const ErrorMap& map, std::size_t i) {
+std::vector<double> configuration_at(const ErrorMap& map, std::size_t i) {
   const auto q = map.configuration(i);
   return {q.begin(), q.end()};
 }
@@ -114,8 +114,8 @@ ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& 
   ContributionStudy s;
   s.mode = "critical_pair";
   s.va = volumetric_accuracy(map.error);
-  s.b = config(map, s.va->va.i);
-  s.a = config(map, s.va->va.j);
+  s.b = configuration_at(map, s.va->va.i);
+  s.a = configuration_at(map, s.va->va.j);
   s.dir_b.assign(map.direction(s.va->va.i).begin(), map.direction(s.va->va.i).end());
   s.dir_a.assign(map.direction(s.va->va.j).begin(), map.direction(s.va->va.j).end());
   s.what_if_asked = what_if;
@@ -129,8 +129,8 @@ ContributionStudy critical_pair_contributions(const Machine& m, const ErrorMap& 
       WhatIf w;
       w.error = e;
       w.va = va.value;
-      w.from = config(map, va.i);
-      w.to = config(map, va.j);
+      w.from = configuration_at(map, va.i);
+      w.to = configuration_at(map, va.j);
       for (const auto& c : s.analysis.items)
         if (c.error == e) w.share = c.share;
       const double full = s.va->va.value;

@@ -24,15 +24,16 @@
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mtcal::testing::example;
 
-Machine example(const char* f) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + f); }
+constexpr double kDeg = std::numbers::pi / 180.0;
 
 CompensationOptions quick() {
   CompensationOptions o;

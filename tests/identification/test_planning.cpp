@@ -17,15 +17,17 @@
 #include "mtcal/kinematics/error_model.hpp"
 #include "input_errors.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-const std::string kPlans = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/";
+using mtcal::testing::hu40t;
+using mtcal::testing::kPlans;
+
 const std::vector<std::string> kLocation{"EC0Y", "EB0Z", "EA0Z", "EX0C", "EY0C",  "EA0C",  "EB0C",
                                          "EX0B", "EZ0B", "EA0B", "EC0B", "EXX.1", "EYY.1", "EZZ.1"};
 
-Machine hu40t() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml"); }
 // The example with Z's travel opened to -500 mm: the paper's plan within reach.
 Machine hu40t_long_z() {
   Machine m = hu40t();

@@ -33,7 +33,7 @@ void expect_steps(const GcodeProgram& p, std::size_t first, const std::vector<St
   ASSERT_GE(p.moves.size(), first + steps.size());
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const GcodeMove& m = p.moves[first + k];
-    SCOPED_TRACE(testing::Message() << "move " << first + k << " (line " << m.line << ")");
+    SCOPED_TRACE(::testing::Message() << "move " << first + k << " (line " << m.line << ")");
     EXPECT_EQ(m.motion, steps[k].kind == 'r' ? GcodeMotion::Rapid : GcodeMotion::Linear);
     EXPECT_NEAR(m.end[0], steps[k].x, 1e-9);
     EXPECT_NEAR(m.end[1], steps[k].y, 1e-9);
@@ -398,7 +398,7 @@ TEST(GcodeIso, ExpandedProgramReadsBackAsTheSameMoves) {
   const auto back = parse_gcode(text, "expanded.nc", o);
   ASSERT_EQ(back.moves.size(), p.moves.size()) << text;
   for (std::size_t k = 0; k < p.moves.size(); ++k) {
-    SCOPED_TRACE(testing::Message() << "move " << k);
+    SCOPED_TRACE(::testing::Message() << "move " << k);
     EXPECT_EQ(back.moves[k].motion, p.moves[k].motion);
     for (std::size_t s = 0; s < 3; ++s) EXPECT_NEAR(back.moves[k].end[s], p.moves[k].end[s], 1e-9);
     EXPECT_NEAR(back.moves[k].sweep, p.moves[k].sweep, 1e-9);

@@ -14,6 +14,7 @@
 #include "mtcal/io/instruments/laser_files.hpp"
 #include "mtcal/report/evaluation.hpp"
 #include "mtcal/util/errors.hpp"
+#include "input_errors.hpp"
 
 using namespace mtcal;
 
@@ -25,15 +26,7 @@ std::string instrument_files_write_temp(const std::string& name, const std::stri
   return p.string();
 }
 
-SourceLocation error_at(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.where();
-  }
-  ADD_FAILURE() << "no InputError";
-  return {};
-}
+using mtcal::testing::error_at;
 
 // The hand case of test_iso230_2.cpp in um: targets 0 and 10 mm, deviations up {1, 3} {4, 6},
 // down {-1, 1} {2, 2}. Hand figures (PRODUCT.md formulas): s = sqrt(2) for the spread pairs,

@@ -24,13 +24,13 @@
 #include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "input_errors.hpp"
 #include "mtcal/util/errors.hpp"
+#include "examples.hpp"
 
 namespace mtcal {
 namespace {
 
-const std::string kPlans = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/";
-
-Machine hu40t() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/hu40t-wCBXfYZt.yaml"); }
+using mtcal::testing::hu40t;
+using mtcal::testing::kPlans;
 
 // A small plan: the paper's first six ball probings and four facet touches of indexation 17.
 ProbingPlan small_plan(const Machine& m) {

@@ -11,14 +11,15 @@
 #include "mtcal/kinematics/commanded_joints.hpp"
 #include "mtcal/util/errors.hpp"
 #include "synthetic.hpp"
+#include "examples.hpp"
 
 using namespace mtcal;
 
 namespace {
 
-const char* kExamples[] = {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"};
+using mtcal::testing::example;
 
-Machine example(const char* f) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + f); }
+const char* kExamples[] = {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"};
 
 Vec3 axis_unit(const Machine& m) {
   Vec3 a = Vec3::Zero();

@@ -16,5 +16,7 @@ inline constexpr double kDeg = std::numbers::pi / 180.0;
 inline Machine example(const std::string& name) { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/" + name); }
 inline Machine vmc() { return example("vmc-3axis.yaml"); }
 inline Machine hu40t() { return example("hu40t-wCBXfYZt.yaml"); }
+// The probing plans and their artefacts (examples/plans/), with the trailing '/'.
+inline const std::string kPlans = std::string(MTCAL_EXAMPLES_DIR) + "/../plans/";
 
 }  // namespace mtcal::testing
