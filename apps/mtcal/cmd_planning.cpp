@@ -570,7 +570,8 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
                 "--locate, probe-log --locate: each ball's centre lies within this distance of its rough position, mm "
                 "(at most (ball + tip) / 4)")
       ->check(CLI::PositiveNumber & kFinite)
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(locate);
   c->add_option("--locate-at", o->locate_at,
                 "--locate: the rotary axes' values where the balls are located, e.g. \"A=0,C=90\" (deg; default 0)")
       ->needs(locate);
@@ -613,11 +614,13 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       ->check(CLI::IsMember({"axes", "tool-point"}))
       ->capture_default_str();
   add_cycle_options(lc, l->cycle);
-  lc->add_flag("--locate", l->locate,
-               "The log of plan --locate's program (--plan: its --out): the located balls, written for plan --artefact");
+  auto* locate_log = lc->add_flag(
+      "--locate", l->locate,
+      "The log of plan --locate's program (--plan: its --out): the located balls, written for plan --artefact");
   lc->add_option("--locate-within", l->locate_within, "As given to plan --locate, mm")
       ->check(CLI::PositiveNumber & kFinite)
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(locate_log);
   lc->add_option("--out", l->out,
                  "Measurement CSV to write (mtcal identify --measurements); with --locate the located balls (plan "
                  "--artefact)")
