@@ -192,7 +192,8 @@ std::vector<Command> add_campaign_commands(CLI::App& app) {
         "Examples:\n"
         "  mtcal campaign -m examples/machines/hu40t-wCBXfYZt.yaml --before before.csv --after after.csv \\\n"
         "      --identified identified.json --truth truth.yaml --noise-um 0.5 --report campaign.html\n"
-        "  mtcal campaign ... --record=sqlite:history.db   # the campaign in the history (its parameters with u)\n");
+        "  mtcal campaign -m examples/machines/hu40t-wCBXfYZt.yaml --before before.csv --after after.csv \\\n"
+        "      --identified identified.json --truth truth.yaml --noise-um 0.5 --json --record=sqlite:history.db\n");
     out.push_back({c, [o] { return run_campaign(*o); }});
   }
   return out;

@@ -593,7 +593,8 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       "      --estimate EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --poses 20 --rotary-step-deg 30\n"
       "  mtcal plan -m examples/loop/rrttt-nominal.yaml --artefact examples/plans/rrttt-viprey-sphere.csv \\\n"
       "      --estimate EX0C,EY0C,EY0A,EZ0A --poses 8 --gcode probe.ngc --program-coordinates tool-point\n"
-      "  mtcal plan -m examples/loop/rrttt-nominal.yaml --artefact rough-sphere.csv --locate --locate-within 3 \\\n"
+      "  mtcal plan -m examples/loop/rrttt-nominal.yaml --artefact examples/plans/rrttt-viprey-sphere.csv --locate \\\n"
+      "      --locate-within 3 --program-coordinates tool-point \\\n"
       "      --out locate-plan.csv --gcode locate.ngc   # then LinuxCNC, then probe-log --locate\n");
   std::vector<Command> out{{c, [o] { return run_plan(*o); }}};
   auto l = std::make_shared<ProbeLogOptions>();
