@@ -8,6 +8,7 @@
 
 #include "acceptance.hpp"
 #include "common.hpp"
+#include "history.hpp"
 #include "mtcal/evaluation/pose_check.hpp"
 #include "mtcal/identification/campaign.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
@@ -42,11 +43,10 @@ int run_pose_check(const PoseCheckCliOptions& o) {
   const Machine m = load(o.model);
   const auto poses = read_reached_poses(m, o.poses);
   const PoseCheck c = check_reached_poses(m, poses, {}, o.poses);
-  if (o.json_out) {
+  if (o.json_out || recording()) {
     Json j = to_json(c, poses, o.per_pose);
     j["machine"] = m.name;
-    print_json(j);
-    return 0;
+    if (emit_json(std::move(j), o.json_out)) return 0;
   }
   print_pose_check(c, o.poses);
   return 0;
@@ -98,11 +98,10 @@ int run_campaign(const CampaignCliOptions& o) {
                           o.poses_after},
                          command_line())
         .write(o.report);
-  if (o.json_out) {
+  if (o.json_out || recording()) {
     Json j = to_json(r, m);
     if (!o.report.empty()) j["report"] = o.report;
-    print_json(j);
-    return 0;
+    if (emit_json(std::move(j), o.json_out)) return 0;
   }
   std::cout << fmt::format("probed centres ({} ball records, deviations from the {} centres): before max {:.3f} um, "
                            "RMS {:.3f} um; after max {:.3f} um, RMS {:.3f} um (per coordinate {:.3f} um)\n",
@@ -157,7 +156,9 @@ std::vector<Command> add_campaign_commands(CLI::App& app) {
     c->footer(
         "Examples:\n"
         "  mtcal pose-check -m examples/machines/hu40t-wCBXfYZt.yaml --params truth.yaml \\\n"
-        "      --poses examples/campaign/hu40t-reached-nominal.csv --json\n");
+        "      --poses examples/campaign/hu40t-reached-nominal.csv --json\n"
+        "  mtcal pose-check -m examples/machines/hu40t-wCBXfYZt.yaml --params truth.yaml \\\n"
+        "      --poses examples/campaign/hu40t-reached-nominal.csv --record=sqlite:history.db   # max_um rms_um va_um\n");
     out.push_back({c, [o] { return run_pose_check(*o); }});
   }
   {
@@ -190,7 +191,9 @@ std::vector<Command> add_campaign_commands(CLI::App& app) {
     c->footer(
         "Examples:\n"
         "  mtcal campaign -m examples/machines/hu40t-wCBXfYZt.yaml --before before.csv --after after.csv \\\n"
-        "      --identified identified.json --truth truth.yaml --noise-um 0.5 --report campaign.html\n");
+        "      --identified identified.json --truth truth.yaml --noise-um 0.5 --report campaign.html\n"
+        "  mtcal campaign -m examples/machines/hu40t-wCBXfYZt.yaml --before before.csv --after after.csv \\\n"
+        "      --identified identified.json --truth truth.yaml --noise-um 0.5 --json --record=sqlite:history.db\n");
     out.push_back({c, [o] { return run_campaign(*o); }});
   }
   return out;

@@ -90,6 +90,9 @@ void print_summary(const TargetOutput& out, const std::string& dir) {
   std::cout << fmt::format("per axis     max |e| x y z before {:.3f} {:.3f} {:.3f} um, after {:.3f} {:.3f} {:.3f} um\n",
                            r.max_before[0] * 1e3, r.max_before[1] * 1e3, r.max_before[2] * 1e3, r.max_after[0] * 1e3,
                            r.max_after[1] * 1e3, r.max_after[2] * 1e3);
+  for (const auto& c : s.commanded)
+    std::cout << fmt::format("range        {} {:g}:{:g} {} ({})\n", c.axis, c.lo, c.hi, c.unit,
+                             c.given ? "--range" : c.why);
   for (const auto& n : s.not_compensated)
     std::cout << fmt::format("not held     {} (alone up to {:.3f} um)\n", n.what, n.max_error * 1e3);
   for (const auto& w : s.warnings) std::cout << "warning      " << w << "\n";
@@ -145,7 +148,9 @@ std::vector<Command> add_compensation_commands(CLI::App& app) {
   c->add_option("--points", o->points, "Positions per table (default: the target's, e.g. 51 for LinuxCNC)")
       ->check(CLI::Range(2, 100000));
   c->add_option("--range", o->range,
-                "Table ranges, e.g. \"X=-300:300,Y=-200:200\" (mm, deg; default: each axis's travel)");
+                "Table ranges, e.g. \"X=-300:300,Y=-200:200\" (mm, deg; default: each axis's travel). "
+                "linuxcnc-kins: the commanded travel of the module (default: each travel less the room its "
+                "corrections need, computed and stated)");
   c->add_option("--reference", o->reference,
                 "Where the other axes stand while one axis's table is sampled, e.g. \"Z=-250\" (default all 0)");
   c->add_option("--linuxcnc-type", o->linuxcnc_type,

@@ -13,12 +13,14 @@
 #include "planning_command.hpp"
 #include "history.hpp"
 #include "mtcal/identification/plan_study.hpp"
+#include "mtcal/identification/sphere_locate.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/gcode/probe_program.hpp"
 #include "mtcal/io/instruments/probe_log.hpp"
 #include "mtcal/io/json/planning_json.hpp"
 #include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
+#include "mtcal/io/text/joints.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/units.hpp"
 
@@ -41,6 +43,9 @@ struct PlanOptions {
   std::string gcode, dialect = "linuxcnc", log = "mtcal-contacts.txt", program_coordinates = "axes";
   int threads = 0;
   bool json_out = false;
+  bool locate = false;
+  double locate_within = 3.0;
+  std::string locate_at;
 };
 
 // --program-coordinates tool-point needs a machine with a tool-centre-point world: refused before anything
@@ -151,7 +156,74 @@ void print_prediction(const PlanPrediction& p, const PlanPrediction* against, co
   }
 }
 
+ProbeProgramOptions program_options(const PlanOptions& o) {
+  ProbeProgramOptions po;
+  po.dialect = o.dialect == "iso" ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
+  po.probe_feed = o.timing.probe_feed;
+  po.feed = o.timing.move_feed;
+  po.log = o.log;
+  po.coordinates = o.program_coordinates == "tool-point" ? ProbeCoordinates::ToolPoint : ProbeCoordinates::Axes;
+  return po;
+}
+
+// plan --locate: the locating program of the artefact's balls at their rough positions, and its plan
+// (what probe-log --locate reads the log against).
+int run_locate_plan(const PlanOptions& o) {
+  auto inputs = model_inputs(o.model);
+  inputs.push_back(o.artefact);
+  check_outputs(inputs, {o.out, o.gcode});
+  if (o.artefact.empty())
+    throw InputError({"--artefact", 0, ""}, "expected the balls' rough positions to locate: --artefact PLAN.csv");
+  if (o.gcode.empty()) throw InputError({"--gcode", 0, ""}, "expected the locating program to write: --gcode FILE");
+  if (o.out.empty())
+    throw InputError({"--out", 0, ""}, "expected the locating plan to write (probe-log --locate --plan reads it): --out FILE");
+  const Machine m = load(o.model);
+  check_tool_point_coordinates(m, o.program_coordinates);
+  const std::vector<double> at = o.locate_at.empty() ? std::vector<double>(m.axes.size(), 0.0)
+                                                     : parse_joint_values(m, o.locate_at, "--locate-at");
+  check_joints(m, at, "--locate-at", true);
+  LocateOptions lo;
+  lo.within = o.locate_within;
+  ProbingPlan plan;
+  std::vector<ProbeTouch> touches;
+  std::string program;
+  try {
+    plan = locate_plan(m, read_probing_csv(m, o.artefact), at);
+    touches = locate_touches(m, plan, o.cycle, lo);
+    ProbeProgramOptions po = program_options(o);
+    po.header = fmt::format("machine {}: {} ball{} located from rough positions by mtcal plan --locate", m.name,
+                            plan.records.size(), plan.records.size() == 1 ? "" : "s");
+    program = locate_program(m, plan, o.cycle, lo, po);
+  } catch (const InputError& e) {
+    rethrow_for_options(e, {{"locating distance", "--locate-within"}});
+  }
+  // Both appear or neither (the command's output group, main.cpp).
+  write_probing_csv(o.out, m, plan,
+                    fmt::format("Locating plan of mtcal plan --locate: machine {}, {} balls at their rough positions, "
+                                "within {:g} mm",
+                                o.model.machine, plan.records.size(), lo.within));
+  write_file_atomically(o.gcode, program);
+  if (o.json_out) {
+    Json balls = Json::array();
+    for (const auto& r : plan.records) {
+      const auto& f = plan.features[r.feature];
+      balls.push_back({{"id", f.id}, {"rough", {f.position.x(), f.position.y(), f.position.z()}}});
+    }
+    print_json(Json{{"locate", {{"balls", balls}, {"touches", touches.size()}, {"within_mm", lo.within},
+                                {"at", format_joint_values(m, at)}}},
+                    {"out", o.out},
+                    {"gcode", o.gcode}});
+    return 0;
+  }
+  std::cout << fmt::format("locating program: {} ball{} at {}, {} touches, each centre within {:g} mm of its rough "
+                           "position\nwrote {}\nwrote {}\n",
+                           plan.records.size(), plan.records.size() == 1 ? "" : "s", format_joint_values(m, at),
+                           touches.size(), lo.within, o.out, o.gcode);
+  return 0;
+}
+
 int run_plan(const PlanOptions& o) {
+  if (o.locate) return run_locate_plan(o);
   auto inputs = model_inputs(o.model);
   inputs.push_back(o.artefact);
   inputs.push_back(o.against);
@@ -251,12 +323,7 @@ int run_plan(const PlanOptions& o) {
   }
   if (!o.gcode.empty()) {
     report.gcode = o.gcode;
-    ProbeProgramOptions po;
-    po.dialect = o.dialect == "iso" ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
-    po.probe_feed = o.timing.probe_feed;
-    po.feed = o.timing.move_feed;
-    po.log = o.log;
-    po.coordinates = o.program_coordinates == "tool-point" ? ProbeCoordinates::ToolPoint : ProbeCoordinates::Axes;
+    ProbeProgramOptions po = program_options(o);
     po.header = fmt::format("machine {}: {} poses designed by mtcal plan", m.name, design.plan.records.size());
     write_probe_program(o.gcode, m, design.plan, o.cycle, po);
   }
@@ -315,7 +382,47 @@ struct ProbeLogOptions {
   double approach = 3.0;
   int touches = 5;
   bool json_out = false;
+  bool locate = false;
+  double locate_within = 3.0;
 };
+
+// probe-log --locate: the spheres of the locating program's log, written as the artefact plan takes.
+int run_locate_log(const ProbeLogOptions& o, const Machine& m, const std::vector<LoggedContact>& contacts) {
+  ProbeCycle cycle = o.cycle;
+  cycle.approach = o.approach;
+  LocateOptions lo;
+  lo.within = o.locate_within;
+  std::optional<LocateResult> found;
+  try {
+    found = locate_spheres(m, plan_targets(m, read_probing_csv(m, o.plan)), cycle, lo, contacts, o.log);
+  } catch (const InputError& e) {
+    rethrow_for_options(e, {{"locating distance", "--locate-within"}});
+  }
+  std::string comment = "Located by mtcal probe-log --locate (plan " + o.plan + ", log " + o.log + "):";
+  for (const auto& s : found->spheres)
+    comment += fmt::format(" ball {} diameter {:.4f} mm, RMS {:.2f} um;", s.id, s.ball_diameter, s.rms * 1e3);
+  write_probing_csv(o.out, m, found->artefact, comment);
+  if (o.json_out) {
+    Json j = to_json(*found);
+    j["contacts"] = contacts.size();
+    j["within_mm"] = lo.within;
+    j["out"] = o.out;
+    print_json(j);
+    return 0;
+  }
+  for (const auto& s : found->spheres) {
+    std::cout << fmt::format("ball {}: centre {:.4f} {:.4f} {:.4f} mm, {:.3f} mm from its rough position; diameter "
+                             "{:.4f} mm; RMS {:.2f} um over {} contacts\n",
+                             s.id, s.centre.x(), s.centre.y(), s.centre.z(), s.offset, s.ball_diameter, s.rms * 1e3,
+                             s.contacts);
+    if (s.beyond)
+      std::cout << fmt::format("note         ball {} lies farther than --locate-within ({:g} mm) from its rough "
+                               "position: its touches were laid out for less; locate it again from the centre found\n",
+                               s.id, lo.within);
+  }
+  std::cout << fmt::format("wrote {} (plan --artefact)\n", o.out);
+  return 0;
+}
 
 int run_probe_log(const ProbeLogOptions& o) {
   auto inputs = model_inputs(o.model);
@@ -324,13 +431,14 @@ int run_probe_log(const ProbeLogOptions& o) {
   check_outputs(inputs, {o.out});
   const Machine m = load(o.model);
   check_tool_point_coordinates(m, o.program_coordinates);
-  const ProbingPlan plan = plan_targets(m, read_probing_csv(m, o.plan));
   auto contacts = read_probe_log(m, o.log, o.dialect == "iso" ? ProbeLogFormat::IsoCsv : ProbeLogFormat::LinuxCNC);
   if (o.program_coordinates == "tool-point") contacts = contacts_from_tool_points(m, std::move(contacts));
+  if (o.locate) return run_locate_log(o, m, contacts);
   ProbeCycle cycle = o.cycle;
   cycle.approach = o.approach;
   cycle.touches_per_ball = o.touches;
-  const ProbingPlan meas = measurements_from_contacts(m, plan, cycle, contacts, o.log);
+  const ProbingPlan meas =
+      measurements_from_contacts(m, plan_targets(m, read_probing_csv(m, o.plan)), cycle, contacts, o.log);
   write_probing_csv(o.out, m, meas,
                     fmt::format("Measured: plan {}, probe log {} ({} contacts)", o.plan, o.log, contacts.size()));
   if (o.json_out) {
@@ -454,6 +562,22 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       ->check(CLI::IsMember({"axes", "tool-point"}))
       ->capture_default_str();
   add_cycle_options(c, o->cycle);
+  auto* locate = c->add_flag("--locate", o->locate,
+                             "Write the locating program instead (--gcode) and its plan (--out): a first coarse touch "
+                             "of each --artefact ball from its rough position (9 touches); LinuxCNC runs it, then "
+                             "probe-log --locate writes the located balls for --artefact");
+  c->add_option("--locate-within", o->locate_within,
+                "--locate, probe-log --locate: each ball's centre lies within this distance of its rough position, mm "
+                "(at most (ball + tip) / 4)")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str()
+      ->needs(locate);
+  c->add_option("--locate-at", o->locate_at,
+                "--locate: the rotary axes' values where the balls are located, e.g. \"A=0,C=90\" (deg; default 0)")
+      ->needs(locate);
+  for (const char* design : {"--estimate", "--candidates", "--against", "--poses", "--target-u", "--target-va-u",
+                             "--ball-region", "--monte-carlo"})
+    locate->excludes(c->get_option(design));
   c->add_flag("--json", o->json_out, "Machine-readable output: poses predicted{parameters{u}} time against ...");
   c->footer(
       "Examples:\n"
@@ -468,7 +592,10 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       "  mtcal plan -m examples/machines/rrttt-table-table.yaml --ball-region -100:100,-100:100,50 --ball-spacing 100 \\\n"
       "      --estimate EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --poses 20 --rotary-step-deg 30\n"
       "  mtcal plan -m examples/loop/rrttt-nominal.yaml --artefact examples/plans/rrttt-viprey-sphere.csv \\\n"
-      "      --estimate EX0C,EY0C,EY0A,EZ0A --poses 8 --gcode probe.ngc --program-coordinates tool-point\n");
+      "      --estimate EX0C,EY0C,EY0A,EZ0A --poses 8 --gcode probe.ngc --program-coordinates tool-point\n"
+      "  mtcal plan -m examples/loop/rrttt-nominal.yaml --artefact examples/plans/rrttt-viprey-sphere.csv --locate \\\n"
+      "      --locate-within 3 --program-coordinates tool-point \\\n"
+      "      --out locate-plan.csv --gcode locate.ngc   # then LinuxCNC, then probe-log --locate\n");
   std::vector<Command> out{{c, [o] { return run_plan(*o); }}};
   auto l = std::make_shared<ProbeLogOptions>();
   auto* lc = app.add_subcommand("probe-log",
@@ -488,12 +615,26 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       ->check(CLI::IsMember({"axes", "tool-point"}))
       ->capture_default_str();
   add_cycle_options(lc, l->cycle);
-  lc->add_option("--out", l->out, "Measurement CSV to write (mtcal identify --measurements)")->required();
-  lc->add_flag("--json", l->json_out, "Machine-readable output: records contacts out");
+  auto* locate_log = lc->add_flag(
+      "--locate", l->locate,
+      "The log of plan --locate's program (--plan: its --out): the located balls, written for plan --artefact");
+  lc->add_option("--locate-within", l->locate_within, "As given to plan --locate, mm")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str()
+      ->needs(locate_log);
+  lc->add_option("--out", l->out,
+                 "Measurement CSV to write (mtcal identify --measurements); with --locate the located balls (plan "
+                 "--artefact)")
+      ->required();
+  lc->add_flag("--json", l->json_out,
+               "Machine-readable output: records contacts out; with --locate spheres{id centre rough offset_mm "
+               "ball_diameter_mm rms_um} out");
   lc->footer(
       "Examples:\n"
       "  mtcal probe-log -m examples/machines/hu40t-wCBXfYZt.yaml --plan plan.csv --log mtcal-contacts.txt \\\n"
-      "      --out measured.csv && mtcal identify -m ... --measurements measured.csv --estimate ...\n");
+      "      --out measured.csv && mtcal identify -m ... --measurements measured.csv --estimate ...\n"
+      "  mtcal probe-log -m examples/loop/rrttt-nominal.yaml --locate --plan locate-plan.csv --log mtcal-contacts.txt \\\n"
+      "      --out located-sphere.csv && mtcal plan ... --artefact located-sphere.csv ...\n");
   out.push_back({lc, [l] { return run_probe_log(*l); }});
   return out;
 }

@@ -6,6 +6,7 @@
 #include "common.hpp"
 #include "mtcal/evaluation/error_stream.hpp"
 #include "mtcal/identification/plan_study.hpp"
+#include "mtcal/identification/sphere_locate.hpp"
 #include "mtcal/io/gcode/probe_program.hpp"
 #include "mtcal/io/instruments/probe_log.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
@@ -46,6 +47,12 @@ ProbeLogFormat log_format(const std::string& dialect) {
   if (dialect == "linuxcnc") return ProbeLogFormat::LinuxCNC;
   if (dialect == "iso") return ProbeLogFormat::IsoCsv;
   throw py::value_error("dialect: expected 'linuxcnc' or 'iso', found '" + dialect + "'");
+}
+
+ProbeCoordinates coordinates_of(const std::string& c) {
+  if (c == "axes") return ProbeCoordinates::Axes;
+  if (c == "tool-point") return ProbeCoordinates::ToolPoint;
+  throw py::value_error("program_coordinates: expected 'axes' or 'tool-point', found '" + c + "'");
 }
 
 CommandedPose pose_of(const CommandedJointSolver& s, const double* point, const double* rotary) {
@@ -265,6 +272,74 @@ touches). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict
       "tip_diameter"_a = 3.0, "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5,
       "The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan "
       "for identify (write_probing_csv writes the command's --out). The cycle as given to the program.");
+
+  // ---------------------------------------------------------------- the first coarse touch (plan --locate, probe-log --locate)
+  py::class_<LocateResult>(m, "LocateResult", "Spheres located by the first coarse touch (mtcal probe-log --locate).")
+      .def_readonly("artefact", &LocateResult::artefact,
+                    "The artefact with its balls at their located centres (one record each at the locating "
+                    "configuration): what design_plan takes as its artefact")
+      .def(
+          "to_dict", [](const LocateResult& r) { return to_py(to_json(r)); },
+          "As `mtcal probe-log --locate --json`: spheres [{id centre rough offset_mm beyond ball_diameter_mm "
+          "contact_radius_mm rms_um contacts}] (mm, workpiece frame)")
+      .def(
+          "write",
+          [](const LocateResult& r, const Machine& mm, const std::string& path) {
+            write_probing_csv(path, mm, r.artefact, "Located by mtcal locate_spheres");
+          },
+          "machine"_a, "path"_a, "Writes the located artefact as probe-log --locate --out (complete or not at all).");
+  m.def(
+      "locate_plan",
+      [](const Machine& mm, const ProbingPlan& artefact, py::handle at) {
+        const std::vector<double> q =
+            at.is_none() ? std::vector<double>(mm.axes.size(), 0.0) : configuration(mm, at, "at");
+        return locate_plan(mm, artefact, q);
+      },
+      "machine"_a, "artefact"_a, py::kw_only(), "at"_a = py::none(),
+      "The locating plan of an artefact's balls at their rough positions, as `mtcal plan --locate --out`: one "
+      "record per ball at the configuration `at` (k joint values, internal units; the rotary ones are used; "
+      "default all 0).");
+  m.def(
+      "locate_program",
+      [](const Machine& mm, const ProbingPlan& plan, double within, const std::string& dialect, double probe_feed,
+         double move_feed, const std::string& log, const std::string& header, const std::string& program_coordinates,
+         double ball_diameter, double tip_diameter, double approach, double overtravel, double clearance) {
+        ProbeProgramOptions po;
+        po.dialect = log_format(dialect) == ProbeLogFormat::IsoCsv ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
+        po.probe_feed = probe_feed;
+        po.feed = move_feed;
+        po.log = log;
+        po.header = header;
+        po.coordinates = coordinates_of(program_coordinates);
+        LocateOptions lo;
+        lo.within = within;
+        return locate_program(mm, plan, cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, 5), lo,
+                              po);
+      },
+      "machine"_a, "plan"_a, py::kw_only(), "within"_a = 3.0, "dialect"_a = "linuxcnc", "probe_feed"_a = 200.0,
+      "move_feed"_a = 2000.0, "log"_a = "mtcal-contacts.txt", "header"_a = "", "program_coordinates"_a = "axes",
+      "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0, "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0,
+      "The locating program of a locate_plan, as `mtcal plan --locate --gcode`: 9 touches a ball laid out for a "
+      "centre within `within` mm of its rough position; program_coordinates 'axes' or 'tool-point'. Text.");
+  m.def(
+      "locate_spheres",
+      [](const Machine& mm, const ProbingPlan& plan, const std::string& log, double within, const std::string& dialect,
+         const std::string& program_coordinates, double ball_diameter, double tip_diameter, double approach,
+         double overtravel, double clearance) {
+        auto contacts = read_probe_log(mm, log, log_format(dialect));
+        if (coordinates_of(program_coordinates) == ProbeCoordinates::ToolPoint)
+          contacts = contacts_from_tool_points(mm, std::move(contacts));
+        LocateOptions lo;
+        lo.within = within;
+        return locate_spheres(mm, plan_targets(mm, plan),
+                              cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, 5), lo, contacts,
+                              log);
+      },
+      "machine"_a, "plan"_a, "log"_a, py::kw_only(), "within"_a = 3.0, "dialect"_a = "linuxcnc",
+      "program_coordinates"_a = "axes", "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0, "approach"_a = 3.0,
+      "overtravel"_a = 2.0, "clearance"_a = 10.0,
+      "The spheres the locating program's log (path) gives, as `mtcal probe-log --locate`: LocateResult "
+      "(artefact, to_dict(), write()). The cycle and `within` as given to the program.");
 
   // ---------------------------------------------------------------- commanded joints (the inverse with errors)
   py::class_<CommandedJointSolver>(m, "CommandedJointSolver", R"(Inverse kinematics with the full error model

@@ -392,6 +392,10 @@ void bind_prediction_compensation(py::module_& m) {
           "quantity", [](const TargetOutput& o) { return std::string(to_string(o.summary.quantity)); },
           "What the numbers are: error, correction or actual position")
       .def_property_readonly("warnings", [](const TargetOutput& o) { return o.summary.warnings; })
+      .def_property_readonly(
+          "commanded_range", [](const TargetOutput& o) { return to_py(to_json(o)["commanded_range"]); },
+          "linuxcnc-kins: per axis the commanded travel its pre-check holds (axis lo hi unit given margin "
+          "largest_correction why), as `compensate --json`'s commanded_range; [] for the other targets")
       .def(
           "write", [](const TargetOutput& o, const std::string& dir) { write_target_output(dir, o); }, "dir"_a,
           "Writes the files into dir (new or empty): all of them or none.")

@@ -107,6 +107,57 @@ def test_probe_program_and_log_match_cli(tmp_path, rrttt):
     assert e.value.line == 2
 
 
+def test_locate_program_and_spheres_match_cli(tmp_path):
+    # plan --locate / probe-log --locate (the first coarse touch): the same program and the same sphere.
+    loop = EXAMPLES / "loop" / "rrttt-nominal.yaml"
+    m = mtcal.Machine.load(str(loop))
+    rough = tmp_path / "rough.csv"
+    rough.write_text("indexation,A,C,feature,kind,x,y,z,nx,ny,nz,dirX,dirY,dirZ\n1,0,0,S,ball,121,-79,60.5,,,,,,\n")
+    cli("plan", "-m", loop, "--artefact", rough, "--locate", "--locate-within", 2.5, "--program-coordinates", "tool-point",
+        "--out", tmp_path / "lp.csv", "--gcode", tmp_path / "locate.ngc")
+    plan = mtcal.locate_plan(m, mtcal.read_probing_plan(m, str(rough)))
+    text = mtcal.locate_program(m, plan, within=2.5, program_coordinates="tool-point",
+                                header=f"machine {m.name}: 1 ball located from rough positions by mtcal plan --locate")
+    assert text == (tmp_path / "locate.ngc").read_text()
+    # The log of a sphere at 120.5,-79.5,60 (tool-point coordinates: the program's X Y Z are the tool point
+    # in the workpiece frame): where each G38.2 move first comes (25.4 + 3) / 2 from it.
+    centre, rho, at, log = np.array([120.5, -79.5, 60.0]), 14.2, {}, []
+    for line in text.splitlines():
+        words = {k: float(v) for k, v in re.findall(r"([XYZAC])(-?[\d.]+)", line.split("(")[0])}
+        if line.startswith("G38.2"):
+            a = np.array([at[k] for k in "XYZ"])
+            d = np.array([words[k] for k in "XYZ"]) - a
+            f = a - centre
+            A, B, C = d @ d, 2 * f @ d, f @ f - rho * rho
+            p = a + (-B - np.sqrt(B * B - 4 * A * C)) / (2 * A) * d
+            log.append(" ".join(f"{v:.6f}" for v in p) + " 0 0 0 0 0 0")
+        at.update(words)
+    (tmp_path / "log.txt").write_text("\n".join(log) + "\n")
+    ref = cli_json("probe-log", "-m", loop, "--locate", "--locate-within", 2.5, "--plan", tmp_path / "lp.csv",
+                   "--log", tmp_path / "log.txt", "--program-coordinates", "tool-point", "--out", tmp_path / "cli-located.csv")
+    got = mtcal.locate_spheres(m, mtcal.read_probing_plan(m, str(tmp_path / "lp.csv")), str(tmp_path / "log.txt"),
+                               within=2.5, program_coordinates="tool-point")
+    assert got.to_dict()["spheres"] == ref["spheres"]
+    assert np.allclose(ref["spheres"][0]["centre"], centre, atol=1e-5)
+    got.write(m, str(tmp_path / "py-located.csv"))
+    data = lambda p: [l for l in p.read_text().splitlines() if not l.startswith("#")]  # noqa: E731
+    assert data(tmp_path / "py-located.csv") == data(tmp_path / "cli-located.csv")
+    (tmp_path / "short.txt").write_text("\n".join(log[:3]) + "\n")
+    with pytest.raises(mtcal.InputError, match="contact 4 is missing"):
+        mtcal.locate_spheres(m, plan, str(tmp_path / "short.txt"), within=2.5, program_coordinates="tool-point")
+
+
+def test_compensate_states_its_commanded_range(tmp_path, vmc):
+    # compensate --format linuxcnc-kins chooses the module's commanded travel (issue 33): as the command says.
+    out = mtcal.compensate(vmc, "linuxcnc-kins", residual_points=3)
+    ref = cli_json("compensate", "-m", MACHINES / "vmc-3axis.yaml", "--format", "linuxcnc-kins", "--residual-points", 3,
+                   "--out", tmp_path / "lk")
+    rows = out.commanded_range
+    assert [r["axis"] for r in rows] == ["X", "Y", "Z"] and rows == ref["commanded_range"]
+    assert all(not r["given"] and r["margin"] >= 1.25 * r["largest_correction"] for r in rows), rows
+    assert mtcal.compensate(vmc, "linuxcnc", residual_points=3).commanded_range == []
+
+
 def test_commanded_joints_put_the_actual_tool_on_the_commanded_point(hu40t):
     """inverse() against the exact model: the model's actual tool point at the joints found is the
     commanded point (to the solver's tolerance), and forward() gives it back."""

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <variant>
 
 #include <fmt/format.h>
@@ -16,10 +17,20 @@ namespace {
 
 constexpr const char* kKinsTarget = "linuxcnc-kins";
 constexpr std::size_t kTablePoints = 51;
-// Default room left between the commanded travel and the joint limits (each end): the
-// corrections of the example machines are below 0.1 mm and 0.1 deg (largest_correction).
-constexpr double kLinearMargin = 0.1;   // mm
-constexpr double kRotaryMargin = 0.1;   // deg
+// The room left between the commanded travel and the joint limits at each end, where the caller
+// gives no range: kRoomFactor x the largest correction met on the pre-check grid over the whole
+// travel (the grid has check_points values an axis: between its nodes a correction can be larger)
+// plus kRoomFloor (the solver's tolerance and the words' decimals), rounded up to kRoomStep; widened
+// up to kRoomAttempts times where the pre-check of the commanded grid still meets a corrected joint
+// outside the travel. mm for linear axes, deg for rotary ones.
+constexpr double kRoomFactor = 1.25;
+constexpr double kRoomFloor = 0.01;
+constexpr double kRoomStep = 0.001;
+constexpr int kRoomAttempts = 4;
+
+double room_for(double correction) {
+  return std::ceil((kRoomFactor * correction + kRoomFloor) / kRoomStep - 1e-9) * kRoomStep;
+}
 
 // The motion function with its direction-dependent part removed: what kinematics can hold.
 MotionFunction without_direction(const MotionFunction& f) {
@@ -59,6 +70,61 @@ std::string joint_string(const Machine& m, std::span<const double> q) {
   for (std::size_t k = 0; k < m.axes.size(); ++k)
     s += fmt::format("{}{}={:.6g}", k ? "," : "", m.axes[k].letter, to_user_units(m.axes[k], q[k]));
   return s;
+}
+
+// The inverse on every configuration of a grid (chain order, internal units) with the machine
+// file's tool length: the largest |corrected - commanded| per axis (internal units), and with
+// check_travel the first configuration whose corrected joint leaves its travel. Not converging
+// is an error (the configuration named).
+struct PrecheckResult {
+  struct Outside {
+    std::size_t axis = 0;
+    double value = 0.0;  // the corrected joint, internal units
+    std::vector<double> q;
+  };
+  std::vector<double> largest;
+  std::optional<Outside> outside;
+  std::size_t checked = 0;
+  int max_iterations = 0;
+  double max_point_residual = 0.0;
+};
+
+PrecheckResult precheck(const Machine& m, const CommandedJointSolver& solver, const std::vector<std::vector<double>>& grid,
+                        bool check_travel) {
+  const std::size_t n = m.axes.size();
+  PrecheckResult out;
+  out.largest.assign(n, 0.0);
+  std::vector<std::size_t> idx(n, 0);
+  std::vector<double> q(n);
+  for (bool more = true; more;) {
+    for (std::size_t a = 0; a < n; ++a) q[a] = grid[a][idx[a]];
+    const auto r = solver.inverse(solver.nominal_forward(q, m.tool.length), m.tool.length);
+    if (!r.converged)
+      throw InputError({m.source, 0, ""},
+                       fmt::format("the kinematics module's inverse does not converge at {} (tool point residual "
+                                   "{:.3g} mm after {} steps, cap {}): the model's errors are too large or "
+                                   "ill-conditioned there",
+                                   joint_string(m, q), r.point_residual, r.iterations, solver.options().max_iterations));
+    for (std::size_t a = 0; a < n; ++a) {
+      const Axis& ax = m.axes[a];
+      const double slack = 1e-12 * std::max(1.0, ax.travel->max - ax.travel->min);
+      if (check_travel && !out.outside && (r.q[a] < ax.travel->min - slack || r.q[a] > ax.travel->max + slack))
+        out.outside = PrecheckResult::Outside{a, r.q[a], q};
+      out.largest[a] = std::max(out.largest[a], std::abs(r.q[a] - q[a]));
+    }
+    out.max_iterations = std::max(out.max_iterations, r.iterations);
+    out.max_point_residual = std::max(out.max_point_residual, r.point_residual);
+    ++out.checked;
+    more = false;
+    for (std::size_t a = n; a-- > 0;) {
+      if (++idx[a] < grid[a].size()) {
+        more = true;
+        break;
+      }
+      idx[a] = 0;
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -166,61 +232,88 @@ LinuxcncKins compensate_linuxcnc_kins(const Machine& m, const CompensationOption
   std::sort(out.reversal_tables.begin(), out.reversal_tables.end(),
             [](const auto& a, const auto& b) { return a.joint < b.joint; });
 
-  // The commanded travel: each axis's travel less a margin for the correction (or --range).
-  CompensationOptions so = o;
-  for (const auto& ax : m.axes) {
-    if (std::any_of(so.sampling.begin(), so.sampling.end(), [&](const AxisSampling& s) { return s.axis == ax.letter; }))
-      continue;
-    const double margin = ax.kind == AxisKind::Linear ? kLinearMargin : kRotaryMargin;
-    so.sampling.push_back({ax.letter, to_user_units(ax, ax.travel->min) + margin,
-                           to_user_units(ax, ax.travel->max) - margin, k.check_points});
-  }
-  for (auto& s : so.sampling) s.points = std::max<std::size_t>(2, k.check_points);
-  so.points = k.check_points;
-  const auto sampling = resolve_sampling(m, so, k.check_points, 1000, kKinsTarget);
-
-  // Pre-check: the inverse on every configuration of the grid over the commanded travel, with the
-  // machine file's tool length; converged, and the corrected joints inside the travel.
+  // The commanded travel: the caller's range of an axis where given (--range), elsewhere the travel
+  // less the room the corrections need (kRoomFactor above); then the pre-check on its grid.
   const CommandedJointSolver solver(still, k.solver);
-  const auto grid = residual_grid(m, sampling, k.check_points);
   const std::size_t n = m.axes.size();
-  out.largest_correction.assign(out.coordinates.size(), 0.0);
-  std::vector<std::size_t> idx(n, 0);
-  std::vector<double> q(n);
-  for (bool more = true; more;) {
-    for (std::size_t a = 0; a < n; ++a) q[a] = grid[a][idx[a]];
-    const auto r = solver.inverse(solver.nominal_forward(q, m.tool.length), m.tool.length);
-    if (!r.converged)
-      throw InputError({m.source, 0, ""},
-                       fmt::format("the kinematics module's inverse does not converge at {} (tool point residual "
-                                   "{:.3g} mm after {} steps, cap {}): the model's errors are too large or "
-                                   "ill-conditioned there",
-                                   joint_string(m, q), r.point_residual, r.iterations, k.solver.max_iterations));
+  std::vector<bool> given(n, false);
+  for (std::size_t a = 0; a < n; ++a)
+    given[a] = std::any_of(o.sampling.begin(), o.sampling.end(), [&](const AxisSampling& s) { return s.axis == m.axes[a].letter; });
+  auto sampling_with = [&](const std::vector<double>& margin) {
+    CompensationOptions so = o;
     for (std::size_t a = 0; a < n; ++a) {
+      if (given[a]) continue;
       const Axis& ax = m.axes[a];
-      const double slack = 1e-12 * std::max(1.0, ax.travel->max - ax.travel->min);
-      if (r.q[a] < ax.travel->min - slack || r.q[a] > ax.travel->max + slack)
-        throw InputError(
-            {m.source, 0, std::string(1, ax.letter)},
-            fmt::format("the corrected joint {} leaves its travel [{:g}, {:g}] {}: {:.6f} at {} (commanded travel "
-                        "[{:g}, {:g}]); leave room for the correction (a smaller range)",
-                        ax.letter, to_user_units(ax, ax.travel->min), to_user_units(ax, ax.travel->max),
-                        joint_unit_name(ax), to_user_units(ax, r.q[a]), joint_string(m, q),
-                        to_user_units(ax, grid[a].front()), to_user_units(ax, grid[a].back())));
-      const auto j = out.coordinates.find(ax.letter);
-      out.largest_correction[j] = std::max(out.largest_correction[j], std::abs(r.q[a] - q[a]) / joint_unit_factor(ax));
+      const double lo = to_user_units(ax, ax.travel->min) + margin[a], hi = to_user_units(ax, ax.travel->max) - margin[a];
+      if (!(lo < hi))
+        throw InputError({m.source, 0, std::string(1, ax.letter)},
+                         fmt::format("the corrections along {} need {:g} {} of room at each end of its travel [{:g}, "
+                                     "{:g}]: no commanded travel is left; the model's errors are too large for the "
+                                     "travel",
+                                     ax.letter, margin[a], joint_unit_name(ax), to_user_units(ax, ax.travel->min),
+                                     to_user_units(ax, ax.travel->max)));
+      so.sampling.push_back({ax.letter, lo, hi, k.check_points});
     }
-    out.max_iterations = std::max(out.max_iterations, r.iterations);
-    out.max_point_residual = std::max(out.max_point_residual, r.point_residual);
-    ++out.checked;
-    more = false;
-    for (std::size_t a = n; a-- > 0;) {
-      if (++idx[a] < grid[a].size()) {
-        more = true;
-        break;
-      }
-      idx[a] = 0;
+    for (auto& s : so.sampling) s.points = std::max<std::size_t>(2, k.check_points);
+    so.points = k.check_points;
+    return resolve_sampling(m, so, k.check_points, 1000, kKinsTarget);
+  };
+  // The first guess of the room: the largest correction over the grid of the whole travel, with
+  // kRoomFactor for what lies between the grid's nodes, and at least kRoomFloor.
+  std::vector<double> margin(n, 0.0), travel_correction(n, 0.0);
+  if (std::find(given.begin(), given.end(), false) != given.end()) {
+    const PrecheckResult whole = precheck(m, solver, residual_grid(m, sampling_with(margin), k.check_points), false);
+    for (std::size_t a = 0; a < n; ++a) {
+      travel_correction[a] = whole.largest[a] / joint_unit_factor(m.axes[a]);
+      margin[a] = room_for(travel_correction[a]);
     }
+  }
+  std::vector<AxisSampling> sampling;
+  PrecheckResult check;
+  for (int attempt = 0;; ++attempt) {
+    sampling = sampling_with(margin);
+    check = precheck(m, solver, residual_grid(m, sampling, k.check_points), true);
+    if (!check.outside) break;
+    const std::size_t a = check.outside->axis;
+    const Axis& ax = m.axes[a];
+    const std::vector<double> grid = residual_grid(m, sampling, k.check_points)[a];
+    if (given[a] || attempt == kRoomAttempts)
+      throw InputError(
+          {m.source, 0, std::string(1, ax.letter)},
+          fmt::format("the corrected joint {} leaves its travel [{:g}, {:g}] {}: {:.6f} at {} (commanded travel "
+                      "[{:g}, {:g}]{}); leave room for the correction (a smaller range)",
+                      ax.letter, to_user_units(ax, ax.travel->min), to_user_units(ax, ax.travel->max),
+                      joint_unit_name(ax), to_user_units(ax, check.outside->value), joint_string(m, check.outside->q),
+                      to_user_units(ax, grid.front()), to_user_units(ax, grid.back()),
+                      given[a] ? "" : fmt::format(", {} tries to make room", attempt + 1)));
+    // The corrections near the new ends reach farther than over the whole travel: room for what was seen.
+    const double past = std::max(ax.travel->min - check.outside->value, check.outside->value - ax.travel->max);
+    margin[a] = room_for(margin[a] + past / joint_unit_factor(ax));
+  }
+  out.largest_correction.assign(out.coordinates.size(), 0.0);
+  for (std::size_t a = 0; a < n; ++a)
+    out.largest_correction[out.coordinates.find(m.axes[a].letter)] = check.largest[a] / joint_unit_factor(m.axes[a]);
+  out.max_iterations = check.max_iterations;
+  out.max_point_residual = check.max_point_residual;
+  out.checked = check.checked;
+  for (std::size_t a = 0; a < n; ++a) {
+    const Axis& ax = m.axes[a];
+    CommandedRange r;
+    r.axis = ax.letter;
+    r.lo = sampling[a].start;
+    r.hi = sampling[a].end;
+    r.unit = std::string(joint_unit_name(ax));
+    r.given = given[a];
+    r.margin = given[a] ? std::max(r.lo - to_user_units(ax, ax.travel->min), to_user_units(ax, ax.travel->max) - r.hi)
+                        : margin[a];
+    r.largest_correction = given[a] ? check.largest[a] / joint_unit_factor(ax) : travel_correction[a];
+    r.why = given[a] ? "given"
+                     : fmt::format("the travel less {:g} {} each end: {:g} x the largest correction over the travel "
+                                   "({:.6f} {}) + {:g} {}{}",
+                                   r.margin, r.unit, kRoomFactor, r.largest_correction, r.unit, kRoomFloor, r.unit,
+                                   margin[a] > room_for(travel_correction[a]) + 1e-12 ? ", widened where the pre-check met more"
+                                                                              : "");
+    out.summary.commanded.push_back(std::move(r));
   }
 
   // The residual by the module's rule: the inverse (machine file's tool length) and the tables.

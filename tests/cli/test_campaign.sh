@@ -97,4 +97,37 @@ expect_error "campaign: poses without truth" "--truth" -- "$MTCAL" campaign -m "
 echo '{"converged": true}' >"$tmp/bad.json"
 expect_error "campaign: not identify's JSON" "bad.json" -- "$MTCAL" campaign -m "$tmp/long-z.yaml" --before "$tmp/before.csv" --after "$tmp/after.csv" --identified "$tmp/bad.json" --report "$tmp/bad.html"
 [ ! -e "$tmp/bad.html" ] && ok || bad "a failed campaign wrote its report"
+
+# --record (issue 33): pose-check and campaign in the history, with their kind; list and show them.
+store="sqlite:$tmp/history.db"
+"$MTCAL" pose-check -m "$H" --params "$tmp/truth.yaml" --poses "$R" --record="$store" >"$tmp/out" 2>"$tmp/err" \
+  && grep -q "^mtcal: recorded [0-9a-f]* in " "$tmp/err" && ok || bad "pose-check --record: $(cat "$tmp/err")"
+pc=$(sed -n 's/^mtcal: recorded \([0-9a-f]*\) in .*/\1/p' "$tmp/err")
+grep -q "^max |e| " "$tmp/out" && ok || bad "pose-check --record still prints its text"
+"$MTCAL" campaign -m "$tmp/long-z.yaml" --before "$tmp/before.csv" --after "$tmp/after.csv" --identified "$tmp/identified.json" \
+  --truth "$tmp/truth.yaml" --noise-um 0.3 --record="$store" --json >"$tmp/out" 2>"$tmp/err" \
+  && grep -q "^mtcal: recorded [0-9a-f]* in " "$tmp/err" && ok || bad "campaign --record: $(cat "$tmp/err")"
+cp=$(sed -n 's/^mtcal: recorded \([0-9a-f]*\) in .*/\1/p' "$tmp/err")
+expect_exit 0 "history list" -- "$MTCAL" history list --store "$store" --json
+python3 - "$tmp/out" "$pc" "$cp" <<'PY' && ok || bad "history list: the pose-check and campaign records with their kinds"
+import json, sys
+d = json.load(open(sys.argv[1]))
+rows = d["records"] if isinstance(d, dict) else d
+kinds = {r["id"]: r["command"] for r in rows}
+assert kinds[sys.argv[2]] == "pose-check" and kinds[sys.argv[3]] == "campaign", kinds
+PY
+expect_exit 0 "history show pose-check" -- "$MTCAL" history show "$pc" --store "$store" --json
+python3 - "$tmp/out" <<'PY' && ok || bad "history show: pose-check's figures max_um rms_um va_um in um"
+import json, sys
+d = json.load(open(sys.argv[1]))
+f = {x["name"]: x for x in d["figures"]}
+assert set(f) == {"max_um", "rms_um", "va_um"} and all(x["unit"] == "um" for x in f.values()), f
+assert f["max_um"]["value"] > 1, f
+PY
+expect_exit 0 "history show campaign" -- "$MTCAL" history show "$cp" --store "$store" --json
+python3 - "$tmp/out" <<'PY' && ok || bad "history show: the campaign's identified parameters with u"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["command"] == "campaign" and len(d["parameters"]) == 7 and all(p["uncertainty"] is not None for p in d["parameters"]), d
+PY
 summary_and_exit

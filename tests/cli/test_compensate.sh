@@ -148,4 +148,23 @@ expect_error "linuxcnc-kins no room" "leaves its travel" -- "$MTCAL" compensate 
   && bad "linuxcnc-kins not converging: exit 0" || { grep -q "error: .*does not converge at X=" "$tmp/err" && ok \
   || bad "linuxcnc-kins not converging: $(cat "$tmp/err")"; }
 [ ! -e "$tmp/x32" ] && ok || bad "output left when the inverse does not converge"
+# Its commanded travel (issue 33): without --range the travel less the room the corrections need, said in
+# the summary, the JSON and the INI; a squareness of 1 mm/m corrects X by 0.25 mm, more than the old fixed 0.1 mm.
+expect_exit 0 "linuxcnc-kins chooses its range" -- "$MTCAL" compensate -m "$M3" --format linuxcnc-kins --set EC0Y=1e-3rad \
+  --residual-points 3 --out "$tmp/lk-room" --json
+python3 - "$tmp/out" <<'PY' && ok || bad "linuxcnc-kins: commanded_range computed, X's room >= 1.25 x its correction > 0.2 mm"
+import json, sys
+d = json.load(open(sys.argv[1]))
+r = {c["axis"]: c for c in d["commanded_range"]}
+assert set(r) == {"X", "Y", "Z"} and not any(c["given"] for c in r.values()), r
+x = r["X"]
+assert x["largest_correction"] > 0.2 and x["margin"] >= 1.25 * x["largest_correction"], x
+assert abs(x["lo"] - (-400 + x["margin"])) < 1e-9 and abs(x["hi"] - (400 - x["margin"])) < 1e-9, x
+assert "largest correction over the travel" in x["why"] and x["unit"] == "mm", x
+PY
+grep -q "^#   X -399\.[0-9]* to 399\.[0-9]* mm (the travel less " "$tmp/lk-room/linuxcnc-kins.ini" && ok || bad "INI: the commanded travel"
+expect_exit 0 "linuxcnc-kins --range given" -- "$MTCAL" compensate -m "$M3" --format linuxcnc-kins --set EC0Y=1e-3rad \
+  --range "Y=-200:200" --residual-points 3 --out "$tmp/lk-given"
+grep -q "^range        Y -200:200 mm (--range)$" "$tmp/out" && grep -q "^range        X -399.* mm (the travel less" "$tmp/out" \
+  && ok || bad "linuxcnc-kins summary: the range given and the ranges computed"
 summary_and_exit

@@ -145,4 +145,84 @@ expect_error "bad log line" "bad.txt:2" -- "$MTCAL" probe-log -m "$H" --plan "$t
 printf '1 2 3 0 0 0 0 0 0\n' >"$tmp/short.txt"
 expect_error "short log" "contacts" -- "$MTCAL" probe-log -m "$H" --plan "$tmp/plan.csv" --log "$tmp/short.txt" --out "$tmp/no5.csv"
 
+# plan --locate, probe-log --locate: the first coarse touch (docs/planning.md, "Locating the sphere").
+# The loop's RRTTT, its program in tool-point coordinates; the log a perfect machine writes is
+# computed here from the program's text: each G38.2 move trips where the tool point first comes
+# (ball + tip) / 2 from the real centre.
+L="$EXAMPLES/loop/rrttt-nominal.yaml"
+printf 'indexation,A,C,feature,kind,x,y,z,nx,ny,nz,dirX,dirY,dirZ\n1,0,0,S,ball,121,-79,60.5,,,,,,\n' >"$tmp/rough.csv"
+expect_exit 0 "plan --locate" -- "$MTCAL" plan -m "$L" --artefact "$tmp/rough.csv" --locate --locate-within 3 --approach 0.5 \
+  --program-coordinates tool-point --out "$tmp/locate-plan.csv" --gcode "$tmp/locate.ngc" --json
+python3 - "$tmp/out" <<'PY' && ok || bad "plan --locate JSON: locate{balls touches within_mm at} out gcode"
+import json, sys
+d = json.load(open(sys.argv[1]))
+l = d["locate"]
+assert l["balls"] == [{"id": "S", "rough": [121, -79, 60.5]}] and l["touches"] == 9 and l["within_mm"] == 3, l
+assert "A=0" in l["at"] and "C=0" in l["at"], l
+PY
+[ "$(grep -c '^G38.2 ' "$tmp/locate.ngc")" = 9 ] && grep -q '(PROBEOPEN ' "$tmp/locate.ngc" && ok || bad "the locating program probes 9 times and logs"
+cat >"$tmp/trip.py" <<'PY'
+import math, re, sys
+centre = [float(v) for v in sys.argv[2].split(",")]
+rho = (float(sys.argv[3]) + 3.0) / 2
+pos = {}
+for line in open(sys.argv[1]):
+    if not line.startswith("G"):
+        continue
+    w = {m.group(1): float(m.group(2)) for m in re.finditer(r"([XYZAC])(-?[0-9.]+)", line)}
+    if line.startswith("G38.2"):
+        a = [pos[k] for k in "XYZ"]
+        d = [w[k] - pos[k] for k in "XYZ"]
+        f = [ai - ci for ai, ci in zip(a, centre)]
+        A, B, C = sum(x * x for x in d), 2 * sum(x * y for x, y in zip(f, d)), sum(x * x for x in f) - rho * rho
+        if B * B - 4 * A * C < 0:
+            break  # no contact: LinuxCNC stops the program
+        t = (-B - math.sqrt(B * B - 4 * A * C)) / (2 * A)
+        if not 0 <= t <= 1:
+            break
+        p = [ai + t * di for ai, di in zip(a, d)]
+        print("%.6f %.6f %.6f %.6f 0 %.6f 0 0 0" % (p[0], p[1], p[2], w.get("A", pos.get("A", 0)), w.get("C", pos.get("C", 0))))
+    pos.update(w)
+PY
+python3 "$tmp/trip.py" "$tmp/locate.ngc" 120.035,-80.042,60.021 25.4 >"$tmp/locate-log.txt"
+[ "$(wc -l <"$tmp/locate-log.txt")" = 9 ] && ok || bad "the simulated locating log has 9 contacts"
+expect_exit 0 "probe-log --locate" -- "$MTCAL" probe-log -m "$L" --locate --plan "$tmp/locate-plan.csv" --log "$tmp/locate-log.txt" \
+  --approach 0.5 --program-coordinates tool-point --out "$tmp/located.csv" --json
+python3 - "$tmp/out" <<'PY' && ok || bad "probe-log --locate: the sphere's centre and diameter (to the log's decimals)"
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+s = d["spheres"][0]
+assert s["id"] == "S" and s["contacts"] == 9 and not s["beyond"], s
+assert max(abs(a - b) for a, b in zip(s["centre"], [120.035, -80.042, 60.021])) < 1e-5, s["centre"]
+assert abs(s["ball_diameter_mm"] - 25.4) < 1e-5 and s["rms_um"] < 0.01, s
+assert abs(s["offset_mm"] - math.dist(s["centre"], [121, -79, 60.5])) < 1e-9, s
+PY
+grep -q '^1,0,0,S,ball,120.03' "$tmp/located.csv" && ok || bad "located.csv: the ball at its located centre"
+expect_exit 0 "plan --artefact located" -- "$MTCAL" plan -m "$L" --artefact "$tmp/located.csv" --estimate EX0C,EY0C --poses 4 \
+  --rotary-step-deg 45 --out "$tmp/located-plan.csv"
+python3 - "$tmp/located-plan.csv" <<'PY' && ok || bad "the plan puts the ball where it was located"
+import csv, sys
+rows = [r for r in csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#"))]
+assert rows and all(max(abs(float(r[k]) - v) for k, v in zip("xyz", (120.035, -80.042, 60.021))) < 1e-5 for r in rows), rows[0]
+PY
+# Bad inputs, nothing written: a log cut short (the probe did not trip), a sphere of another diameter,
+# a sphere beyond reach, the design options with --locate, a distance over the limit.
+head -n 4 "$tmp/locate-log.txt" >"$tmp/cut-log.txt"
+expect_error "locate: log cut short" "contact 5 is missing (touch 5 of 9 locating ball S)" -- "$MTCAL" probe-log -m "$L" --locate \
+  --plan "$tmp/locate-plan.csv" --log "$tmp/cut-log.txt" --approach 0.5 --program-coordinates tool-point --out "$tmp/no-l1.csv"
+[ ! -e "$tmp/no-l1.csv" ] && ok || bad "nothing written for a short locating log"
+python3 "$tmp/trip.py" "$tmp/locate.ngc" 120.035,-80.042,60.021 20 >"$tmp/small-log.txt"
+expect_error "locate: another diameter" "no sphere of the ball's diameter found" -- "$MTCAL" probe-log -m "$L" --locate \
+  --plan "$tmp/locate-plan.csv" --log "$tmp/small-log.txt" --approach 0.5 --program-coordinates tool-point --out "$tmp/no-l2.csv"
+[ ! -e "$tmp/no-l2.csv" ] && ok || bad "nothing written when no sphere is found"
+python3 "$tmp/trip.py" "$tmp/locate.ngc" 127,-79,60.5 25.4 >"$tmp/far-log.txt"
+expect_error "locate: sphere not within reach" "no sphere found within 3 mm" -- "$MTCAL" probe-log -m "$L" --locate \
+  --plan "$tmp/locate-plan.csv" --log "$tmp/far-log.txt" --approach 0.5 --program-coordinates tool-point --out "$tmp/no-l3.csv"
+expect_error "locate with --estimate" "excludes" -- "$MTCAL" plan -m "$L" --artefact "$tmp/rough.csv" --locate --estimate EX0C \
+  --out "$tmp/no-l4.csv" --gcode "$tmp/no-l4.ngc"
+expect_error "locate too far" "--locate-within" -- "$MTCAL" plan -m "$L" --artefact "$tmp/rough.csv" --locate --locate-within 8 \
+  --out "$tmp/no-l5.csv" --gcode "$tmp/no-l5.ngc"
+[ ! -e "$tmp/no-l5.csv" ] && [ ! -e "$tmp/no-l5.ngc" ] && ok || bad "nothing written for a locating distance over the limit"
+expect_error "locate without --gcode" "--gcode" -- "$MTCAL" plan -m "$L" --artefact "$tmp/rough.csv" --locate --out "$tmp/no-l6.csv"
+
 summary_and_exit

@@ -12,12 +12,14 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <random>
 #include <sstream>
 #include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "mtcal/compensation/linuxcnc_kins.hpp"
+#include "mtcal/identification/error_draw.hpp"
 #include "mtcal/io/compensation/linuxcnc_kins.hpp"
 #include "mtcal/io/compensation/linuxcnc_probe.hpp"
 #include "mtcal/io/model/machine_file.hpp"
@@ -412,4 +414,104 @@ TEST(LinuxcncProbeComponent, TripsOnTheSurfaceAndRefusesNonFiniteJoints) {
   LinuxcncProbeOptions zero;
   zero.spheres = {{Vec3::Zero(), 0.0}};
   EXPECT_THROW(linuxcnc_probe_source(linuxcnc_kins_model(m, "mtcal_probe"), zero), InputError);
+}
+
+// Every corrected joint inside its travel at `count` random configurations of the commanded travel
+// the summary states (a denser check than the 5-point pre-check grid it was chosen on); returns the
+// largest |corrected - commanded| met per axis (user units).
+std::vector<double> check_commanded_travel(const Machine& m, const CompensationSummary& s, std::size_t count) {
+  const CommandedJointSolver solver(m);
+  std::mt19937_64 rng(7);
+  std::vector<double> largest(m.axes.size(), 0.0);
+  EXPECT_EQ(s.commanded.size(), m.axes.size());
+  for (std::size_t i = 0; i < count; ++i) {
+    std::vector<double> q(m.axes.size());
+    for (std::size_t a = 0; a < m.axes.size(); ++a) {
+      const auto& r = s.commanded[a];
+      EXPECT_EQ(r.axis, m.axes[a].letter);
+      // The corners too: every 8th configuration takes the ends.
+      const double u = i % 8 == 0 ? static_cast<double>((i / 8 + a) % 2) : std::uniform_real_distribution<double>(0, 1)(rng);
+      q[a] = (r.lo + u * (r.hi - r.lo)) * joint_unit_factor(m.axes[a]);
+    }
+    const auto res = solver.inverse(solver.nominal_forward(q, m.tool.length), m.tool.length);
+    EXPECT_TRUE(res.converged);
+    for (std::size_t a = 0; a < m.axes.size(); ++a) {
+      const Axis& ax = m.axes[a];
+      EXPECT_GE(res.q[a], ax.travel->min) << ax.letter << " at configuration " << i;
+      EXPECT_LE(res.q[a], ax.travel->max) << ax.letter << " at configuration " << i;
+      largest[a] = std::max(largest[a], std::abs(res.q[a] - q[a]) / joint_unit_factor(ax));
+    }
+  }
+  return largest;
+}
+
+TEST(LinuxcncKinsModule, CompensateChoosesTheRoomItsCorrectionsNeed) {
+  // The vmc with a squareness of 1 mm/m: X is corrected by up to 0.25 mm at the Y travel's ends,
+  // more than the 0.1 mm the commanded travel used to keep from the joint limits.
+  Machine m = example("vmc-3axis.yaml");
+  m.set_parameter("EC0Y", 1e-3);
+  const LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
+  const auto& x = k.summary.commanded[*m.axis_index('X')];
+  EXPECT_FALSE(x.given);
+  EXPECT_GT(x.largest_correction, 0.2);
+  EXPECT_GE(x.margin, 1.25 * x.largest_correction);
+  EXPECT_NEAR(x.lo, -400 + x.margin, 1e-9);
+  EXPECT_NEAR(x.hi, 400 - x.margin, 1e-9);
+  EXPECT_NE(x.why.find("largest correction over the travel"), std::string::npos) << x.why;
+  const auto largest = check_commanded_travel(m, k.summary, 2000);
+  EXPECT_GT(largest[*m.axis_index('X')], 0.2);
+  // The old fixed room (0.1 mm) has a corrected X outside the travel: refused, as before.
+  CompensationOptions old = quick();
+  for (const auto& ax : m.axes) old.sampling.push_back({ax.letter, ax.travel->min + 0.1, ax.travel->max - 0.1, 3});
+  try {
+    compensate_linuxcnc_kins(m, old);
+    FAIL() << "expected a refusal";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the corrected joint X leaves its travel"), std::string::npos) << e.what();
+  }
+  // A range given for an axis (--range) is the commanded travel there, said to be given; the others computed.
+  CompensationOptions one = quick();
+  one.sampling.push_back({'Y', -200, 150, 3});
+  const LinuxcncKins g = compensate_linuxcnc_kins(m, one);
+  const auto& y = g.summary.commanded[*m.axis_index('Y')];
+  EXPECT_TRUE(y.given);
+  EXPECT_EQ(y.lo, -200);
+  EXPECT_EQ(y.hi, 150);
+  EXPECT_EQ(y.why, "given");
+  EXPECT_FALSE(g.summary.commanded[*m.axis_index('X')].given);
+  // Errors whose corrections need more room than the travel has: said, nothing chosen.
+  Machine huge = example("vmc-3axis.yaml");
+  huge.set_parameter("EC0Y", 3.5);  // 3.5 rad: X corrected by far more than its travel
+  EXPECT_THROW(compensate_linuxcnc_kins(huge, quick()), InputError);
+}
+
+TEST(LinuxcncKinsModule, CompensateChoosesTheRoomOnTheLoopsMachines) {
+  // The loop's machines (examples/loop) with their drawn truths (errors --draw 1 --draw-only the
+  // estimated location errors): without --range every corrected joint of the commanded travel stays
+  // inside the travel, and the commanded travel is wider than the loop's hand-given one (5 mm / 5 deg
+  // inside; tests/linuxcnc/loop_test.py).
+  struct Case {
+    const char* file;
+    const char* estimate;
+    double hand_room;
+  };
+  for (const Case& c : {Case{"rrttt-nominal.yaml", "EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A", 5.0},
+                        Case{"hu40t-nominal.yaml", "EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B", 5.0}}) {
+    const Machine nominal = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/../loop/" + c.file);
+    ErrorDrawOptions d;
+    d.seed = 1;
+    for (std::string s = c.estimate; !s.empty();) {
+      const auto comma = s.find(',');
+      d.only.push_back(s.substr(0, comma));
+      s = comma == std::string::npos ? "" : s.substr(comma + 1);
+    }
+    const Machine truth = draw_errors(nominal, d).truth;
+    const LinuxcncKins k = compensate_linuxcnc_kins(truth, quick());
+    check_commanded_travel(truth, k.summary, 500);
+    for (const auto& r : k.summary.commanded) {
+      EXPECT_FALSE(r.given);
+      EXPECT_LT(r.margin, c.hand_room) << c.file << " " << r.axis;
+      EXPECT_GE(r.margin, 1.25 * r.largest_correction) << c.file << " " << r.axis;
+    }
+  }
 }

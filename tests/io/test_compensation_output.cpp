@@ -90,7 +90,8 @@ TEST(CompensationOutput, JsonKeys) {
   std::vector<std::string> keys;
   for (const auto& [k, v] : j.items()) keys.push_back(k);
   EXPECT_EQ(keys, (std::vector<std::string>{"target", "quantity", "sign_source", "files", "not_compensated", "warnings",
-                                            "residual"}));
+                                            "residual", "commanded_range"}));
+  EXPECT_TRUE(j["commanded_range"].is_array() && j["commanded_range"].empty());  // a target that chooses none
   EXPECT_EQ(j["quantity"], "actual position");
   EXPECT_EQ(j["files"][0], "X.comp");
   EXPECT_DOUBLE_EQ(j["not_compensated"][0]["max_error"].get<double>(), 0.004);

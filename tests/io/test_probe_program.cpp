@@ -2,7 +2,9 @@
 // read back into measurements that identify reads, and the log reader's bad inputs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -11,15 +13,19 @@
 #include <regex>
 #include <sstream>
 
+#include <Eigen/LU>
 #include <fmt/format.h>
 
 #include "mtcal/identification/planning.hpp"
+#include "mtcal/identification/sphere_locate.hpp"
+#include "mtcal/identification/error_draw.hpp"
 #include "mtcal/io/gcode/reader.hpp"
 #include "mtcal/io/gcode/probe_program.hpp"
 #include "mtcal/io/instruments/probe_log.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/io/gcode/rs274.hpp"
+#include "mtcal/io/text/joints.hpp"
 #include "mtcal/kinematics/error_model.hpp"
 #include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "input_errors.hpp"
@@ -432,6 +438,319 @@ TEST(ProbeLog, BadLogsSayFileAndLine) {
   msg = error_message([&] { parse_probe_log(m, "#5061,#5062,#5063\n1,2\n", "probe.csv", ProbeLogFormat::IsoCsv); });
   EXPECT_NE(msg.find("probe.csv:2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("expected 3 to 6 numbers"), std::string::npos) << msg;
+}
+
+// ---- The first coarse touch: plan --locate's program and probe-log --locate ----
+
+Machine rrttt_loop() { return load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/../loop/rrttt-nominal.yaml"); }
+
+// The loop's artefact: one ball at its rough position (the workpiece frame).
+ProbingPlan rough_ball(const Machine& m, const Vec3& at) {
+  return parse_probing_csv(m,
+                           fmt::format("indexation,A,C,feature,kind,x,y,z,nx,ny,nz,dirX,dirY,dirZ\n"
+                                       "1,0,0,S,ball,{},{},{},,,,,,\n",
+                                       at.x(), at.y(), at.z()),
+                           "rough.csv");
+}
+
+Vec3 xyz(const Machine& m, const std::vector<double>& q) {
+  return Vec3(q[*m.axis_index('X')], q[*m.axis_index('Y')], q[*m.axis_index('Z')]);
+}
+
+// Distance from point c to the segment a-b.
+double segment_distance(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 d = b - a;
+  const double t = d.squaredNorm() > 0 ? std::clamp((c - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (a + t * d - c).norm();
+}
+
+TEST(LocateProgram, EveryMoveMeetsASphereWithinReachAndNoOtherMoveTouchesIt) {
+  // The RRTTT at A = C = 0: axis space is the workpiece frame shifted. For 300 sphere centres within
+  // `within` of the rough one (on its bounding sphere too), read from the program's text: every
+  // probing move starts outside the sphere and passes through it, every other move after the first
+  // (G0 over the ball at the safe level, the G1 change-overs) stays clear of it.
+  const Machine m = rrttt_loop();
+  const ProbingPlan plan = locate_plan(m, rough_ball(m, Vec3(120, -80, 60)), std::vector<double>(m.axes.size(), 0.0));
+  ASSERT_EQ(plan.records.size(), 1u);
+  ProbeCycle c;
+  c.approach = 0.5;
+  LocateOptions lo;
+  lo.within = 3;
+  const auto touches = locate_touches(m, plan, c, lo);
+  ASSERT_EQ(touches.size(), 9u);
+  const double rho = (c.ball_diameter + c.tip_diameter) / 2;
+  const Vec3 c0 = xyz(m, plan.records[0].q);
+  // The pole and the equator start rho + within + approach from the rough centre, the upper ring as far
+  // from its axis (the tool axis, Z here) at the ring's height (rho - within) / 2.
+  for (std::size_t i = 0; i < touches.size(); ++i) {
+    const Vec3 d = xyz(m, touches[i].start) - c0;
+    const double h = i < 5 ? 0.0 : (rho - lo.within) / 2;
+    EXPECT_NEAR(i < 5 ? d.norm() : d.head<2>().norm(), rho + lo.within + c.approach, 1e-9) << i;
+    EXPECT_NEAR(i == 0 ? 0.0 : d.z(), h, 1e-9) << i;
+  }
+  const std::string prog = locate_program(m, plan, c, lo, {});
+  EXPECT_NE(prog.find("(mtcal locating program, LinuxCNC dialect: 1 records, 9 probing moves)"), std::string::npos);
+  EXPECT_NE(prog.find("within 3 mm of its rough position"), std::string::npos);
+  struct Segment {
+    Vec3 a, b;
+    bool probe;
+  };
+  std::vector<Segment> moves;
+  std::optional<Vec3> at;
+  std::istringstream lines(prog);
+  for (std::string line; std::getline(lines, line);) {
+    const auto w = block_words(line);
+    if (!w.count('X') && !w.count('Z')) continue;
+    Vec3 next = at.value_or(Vec3::Zero());
+    for (int k = 0; k < 3; ++k)
+      if (w.count("XYZ"[k])) next[k] = w.at("XYZ"[k]);
+    if (at) moves.push_back({*at, next, line.rfind("G38.2", 0) == 0});
+    at = next;
+  }
+  // A probing move stops where it trips and the next move goes back out along it: checked with the
+  // probing move (it starts outside the sphere), not as a move of its own.
+  ASSERT_EQ(std::count_if(moves.begin(), moves.end(), [](const Segment& s) { return s.probe; }), 9);
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int i = 0; i < 300; ++i) {
+    Vec3 d(g(rng), g(rng), g(rng));
+    d *= lo.within * (i % 3 == 0 ? 1.0 : std::cbrt(std::uniform_real_distribution<double>(0, 1)(rng))) / d.norm();
+    const Vec3 centre = c0 + d;
+    for (std::size_t k = 0; k < moves.size(); ++k) {
+      const Segment& s = moves[k];
+      if (k > 0 && moves[k - 1].probe) {
+        EXPECT_NEAR((s.b - moves[k - 1].a).norm(), 0.0, 1e-9);  // back to the probing move's start
+        continue;
+      }
+      if (s.probe) {
+        EXPECT_GT((s.a - centre).norm(), rho + c.approach - 1e-6);
+        EXPECT_LT(segment_distance(s.a, s.b, centre), rho - 0.1) << "a probing move misses the sphere at offset "
+                                                                 << d.transpose();
+      } else {
+        EXPECT_GT(segment_distance(s.a, s.b, centre), rho) << "a move touches the sphere at offset " << d.transpose();
+      }
+    }
+  }
+  // Farther than half the contact radius: refused, with the limit.
+  lo.within = 7.5;
+  const std::string msg = error_message([&] { locate_touches(m, plan, c, lo); });
+  EXPECT_NE(msg.find("expected the sphere within (0, 7.1] mm of its rough position"), std::string::npos) << msg;
+  // No ball: nothing to locate.
+  ProbingPlan facets = plan;
+  facets.features[0].kind = ProbeFeature::Kind::Facet;
+  facets.features[0].normal = Vec3(0, 0, 1);
+  EXPECT_NE(error_message([&] { locate_plan(m, facets, std::vector<double>(m.axes.size(), 0.0)); })
+                .find("expected a ball to locate"),
+            std::string::npos);
+}
+
+TEST(LocateProgram, MtcalsReaderAndLinuxcncsInterpreterFollowIt) {
+  const Machine m = rrttt_loop();
+  const ProbingPlan plan = locate_plan(m, rough_ball(m, Vec3(120, -80, 60)), std::vector<double>(m.axes.size(), 0.0));
+  const ProbeCycle c;
+  const LocateOptions lo;
+  const auto touches = locate_touches(m, plan, c, lo);
+  for (const auto coords : {ProbeCoordinates::Axes, ProbeCoordinates::ToolPoint}) {
+    ProbeProgramOptions o;
+    o.coordinates = coords;
+    const std::string prog = locate_program(m, plan, c, lo, o);
+    // mtcal's reader, each probing move read as the feed to its end (it simulates no trip).
+    GcodeOptions go;
+    go.axes = "XYZAC";
+    const GcodeProgram g = parse_gcode(std::regex_replace(prog, std::regex("G38\\.2"), "G1"), "locate.ngc", go);
+    std::vector<int> probe_lines;
+    std::istringstream lines(prog);
+    std::string line;
+    for (int n = 1; std::getline(lines, line); ++n)
+      if (line.rfind("G38.2", 0) == 0) probe_lines.push_back(n);
+    ASSERT_EQ(probe_lines.size(), touches.size());
+    const ErrorModel model(m);
+    std::size_t i = 0;
+    for (const auto& mv : g.moves)
+      if (i < probe_lines.size() && mv.line == probe_lines[i]) {
+        const Vec3 want = coords == ProbeCoordinates::Axes ? xyz(m, touches[i].end) : model.nominal_pose(touches[i].end).t;
+        for (int a = 0; a < 3; ++a) EXPECT_NEAR(mv.end[static_cast<std::size_t>(a)], want[a], 2e-6) << "probe " << i;
+        ++i;
+      }
+    EXPECT_EQ(i, touches.size());
+  }
+  if (find_rs274().empty()) GTEST_SKIP() << "LinuxCNC's rs274 is not installed (linuxcnc-uspace)";
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("mtcal-locate-{}", ::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "locate.ngc").string();
+  write_locate_program(path, m, plan, c, lo, {});
+  const Rs274Output out = run_rs274(path, GcodeSetup{});
+  std::filesystem::remove_all(dir);
+  EXPECT_FALSE(out.missing_end);
+  const std::regex call(R"(STRAIGHT_PROBE\(\s*([-0-9.]+),\s*([-0-9.]+),\s*([-0-9.]+))");
+  std::size_t i = 0;
+  for (auto it = std::sregex_iterator(out.calls.begin(), out.calls.end(), call); it != std::sregex_iterator(); ++it, ++i) {
+    ASSERT_LT(i, touches.size());
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(std::stod((*it)[a + 1]), touches[i].end[*m.axis_index("XYZ"[a])], 1e-3);
+  }
+  EXPECT_EQ(i, touches.size());
+}
+
+// The log a machine `truth` writes running the locating program (axes coordinates) against a sphere
+// at `centre` (workpiece frame) of contact radius rho: on each probing move, where the truth's tool
+// point first comes rho from the centre (bisection along the move), plus Gaussian noise on X Y Z;
+// "%.6f", nine columns. Stops at a move that never meets it (as LinuxCNC stops the program).
+std::string simulated_locate_log(const Machine& truth, const std::vector<ProbeTouch>& touches, const Vec3& centre,
+                                 double rho, double noise, std::uint64_t seed) {
+  const ErrorModel model(truth);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  auto gap = [&](const ProbeTouch& t, double s) {
+    std::vector<double> q(t.start.size());
+    for (std::size_t k = 0; k < q.size(); ++k) q[k] = t.start[k] + s * (t.end[k] - t.start[k]);
+    return std::make_pair((model.actual_pose(q).t - centre).norm() - rho, q);
+  };
+  std::string log;
+  for (const auto& t : touches) {
+    // A move that starts inside the sphere (the approach ran into it) or ends outside it (G38.2 move
+    // finished without making contact): LinuxCNC stops the program there.
+    if (gap(t, 0.0).first <= 0 || gap(t, 1.0).first > 0) break;
+    double lo = 0, hi = 1;
+    for (int i = 0; i < 60; ++i) (gap(t, (lo + hi) / 2).first > 0 ? lo : hi) = (lo + hi) / 2;
+    const auto q = gap(t, hi).second;
+    std::array<double, 9> v{};
+    for (std::size_t c = 0; c < 6; ++c)
+      if (const auto k = truth.axis_index("XYZABC"[c]))
+        v[c] = truth.axes[*k].kind == AxisKind::Rotary ? q[*k] * 180 / std::numbers::pi : q[*k] + noise * g(rng);
+    log += fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} 0 0 0\n", v[0], v[1], v[2], v[3], v[4], v[5]);
+  }
+  return log;
+}
+
+// The axis values whose actual tool point on `truth` is p, the rotary ones as in q0 (Newton steps
+// on the linear axes): where the machine really stands over a sphere centre.
+std::vector<double> actual_at(const Machine& truth, std::vector<double> q, const Vec3& p) {
+  const ErrorModel model(truth);
+  const std::size_t X = *truth.axis_index('X'), Y = *truth.axis_index('Y'), Z = *truth.axis_index('Z');
+  for (int it = 0; it < 20; ++it) {
+    Eigen::Matrix3d J;
+    const Vec3 f = model.actual_pose(q).t - p;
+    for (int a = 0; a < 3; ++a) {
+      auto h = q;
+      h[std::array{X, Y, Z}[static_cast<std::size_t>(a)]] += 1e-3;
+      J.col(a) = (model.actual_pose(h).t - model.actual_pose(q).t) / 1e-3;
+    }
+    const Vec3 step = J.lu().solve(f);
+    q[X] -= step[0], q[Y] -= step[1], q[Z] -= step[2];
+  }
+  return q;
+}
+
+TEST(LocateLog, FindsTheSphereWithinTheProbeNoise) {
+  // The loop's RRTTT with its drawn truth (errors --draw 1, the 8 location errors), located at A = 20,
+  // C = 40 deg (at A = C = 0 the rotary axes' location errors move nothing): the sphere 2.9 mm from
+  // its rough position; contacts with 0.6 um of noise. The located centre is where the nominal
+  // machine sees the truth's sphere (the axis values the truth stands at over it, through the nominal
+  // chain): within 1.5 um (9 contacts: the centre's u is about 0.6 um / sqrt(3)); the diameter within 5 um.
+  const Machine nominal = rrttt_loop();
+  ErrorDrawOptions d;
+  d.only = {"EX0C", "EY0C", "EA0C", "EB0C", "EY0A", "EZ0A", "EB0A", "EC0A"};
+  const Machine truth = draw_errors(nominal, d).truth;
+  const Vec3 rough(120, -80, 60), real = rough + Vec3(1.7, -2.1, 0.9);
+  const ProbingPlan plan = locate_plan(nominal, rough_ball(nominal, rough), parse_joint_values(nominal, "A=20,C=40", "at"));
+  ProbeCycle c;
+  c.approach = 0.5;
+  const LocateOptions lo;
+  const auto touches = locate_touches(nominal, plan, c, lo);
+  const double rho = (c.ball_diameter + c.tip_diameter) / 2;
+  const std::string log = simulated_locate_log(truth, touches, real, rho, 0.6e-3, 5);
+  const LocateResult r =
+      locate_spheres(nominal, plan, c, lo, parse_probe_log(nominal, log, "locate.txt", ProbeLogFormat::LinuxCNC));
+  ASSERT_EQ(r.spheres.size(), 1u);
+  const auto& s = r.spheres[0];
+  const Vec3 seen = ErrorModel(nominal).nominal_pose(actual_at(truth, plan.records[0].q, real)).t;
+  EXPECT_GT((seen - real).norm(), 5e-3);  // the truth's errors move it by more than the noise
+  EXPECT_LT((s.centre - seen).norm(), 1.5e-3) << (s.centre - seen).transpose();
+  EXPECT_NEAR(s.ball_diameter, c.ball_diameter, 5e-3);
+  EXPECT_LT(s.rms, 2e-3);
+  EXPECT_EQ(s.contacts, 9u);
+  EXPECT_FALSE(s.beyond);
+  EXPECT_NEAR(s.offset, (s.centre - rough).norm(), 1e-12);
+  // The artefact written for plan --artefact: the ball at the located centre.
+  const ProbingPlan again = parse_probing_csv(nominal, probing_csv(nominal, r.artefact), "located.csv");
+  EXPECT_LT((again.features[0].position - s.centre).norm(), 1e-6);
+  // A machine without errors: the located centre is the sphere's, within the noise.
+  const std::string clean = simulated_locate_log(nominal, touches, real, rho, 0.6e-3, 6);
+  const LocateResult rc =
+      locate_spheres(nominal, plan, c, lo, parse_probe_log(nominal, clean, "locate.txt", ProbeLogFormat::LinuxCNC));
+  EXPECT_LT((rc.spheres[0].centre - real).norm(), 1.5e-3);
+}
+
+TEST(LocateLog, BadLogsAndNoSphereAreSaidWithNothingFound) {
+  const Machine m = rrttt_loop();
+  const Vec3 rough(120, -80, 60);
+  const ProbingPlan plan = locate_plan(m, rough_ball(m, rough), std::vector<double>(m.axes.size(), 0.0));
+  ProbeCycle c;
+  c.approach = 0.5;
+  const LocateOptions lo;
+  const auto touches = locate_touches(m, plan, c, lo);
+  const double rho = (c.ball_diameter + c.tip_diameter) / 2;
+  auto locate = [&](const std::string& log) {
+    return locate_spheres(m, plan, c, lo, parse_probe_log(m, log, "locate.txt", ProbeLogFormat::LinuxCNC), "locate.txt");
+  };
+  // The sphere 5 mm off (more than --locate-within 3): a probing move finds nothing and LinuxCNC
+  // stops there: the log is short, the missing contact named.
+  const std::string far = simulated_locate_log(m, touches, rough + Vec3(5, 0, 0), rho, 0.0, 1);
+  std::size_t logged = static_cast<std::size_t>(std::count(far.begin(), far.end(), '\n'));
+  ASSERT_LT(logged, 9u);
+  std::string msg = error_message([&] { locate(far); });
+  EXPECT_NE(msg.find(fmt::format("expected 9 contacts, found {}: contact {} is missing (touch {} of 9 locating ball S)",
+                                 logged, logged + 1, logged + 1)),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("no sphere found within 3 mm of the rough position 120,-80,60"), std::string::npos) << msg;
+  // Too few contacts: an empty log, and one cut after 4.
+  msg = error_message([&] { locate("\n"); });
+  EXPECT_NE(msg.find("locate.txt: expected 9 contacts, found 0: contact 1 is missing"), std::string::npos) << msg;
+  const std::string good = simulated_locate_log(m, touches, rough + Vec3(1, 1, -1), rho, 0.0, 1);
+  std::vector<std::string> lines;
+  std::istringstream in(good);
+  for (std::string l; std::getline(in, l);) lines.push_back(l + "\n");
+  ASSERT_EQ(lines.size(), 9u);
+  msg = error_message([&] { locate(lines[0] + lines[1] + lines[2] + lines[3]); });
+  EXPECT_NE(msg.find("locate.txt:4"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("contact 5 is missing (touch 5 of 9"), std::string::npos) << msg;
+  // An extra contact, and two swapped (each off its own move).
+  std::string all;
+  for (const auto& l : lines) all += l;
+  msg = error_message([&] { locate(all + lines[8]); });
+  EXPECT_NE(msg.find("locate.txt:10"), std::string::npos) << msg;
+  std::string swapped;
+  for (std::size_t i : {0, 2, 1, 3, 4, 5, 6, 7, 8}) swapped += lines[i];
+  msg = error_message([&] { locate(swapped); });
+  EXPECT_NE(msg.find("locate.txt:2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("off its probing move (touch 2 of 9 locating ball S)"), std::string::npos) << msg;
+  // Not the ball of the cycle's diameter: a 20 mm sphere where 25.4 mm was said.
+  const std::string small = simulated_locate_log(m, touches, rough, (20.0 + c.tip_diameter) / 2, 0.0, 1);
+  msg = error_message([&] { locate(small); });
+  EXPECT_NE(msg.find("fit a sphere of diameter 20.0000 mm"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("no sphere of the ball's diameter found"), std::string::npos) << msg;
+  // Contacts not on one sphere (one of them 0.5 mm early along its move): said with the RMS.
+  std::istringstream l5(lines[5]);
+  std::string bumped;
+  {
+    std::array<double, 9> v{};
+    for (double& x : v) l5 >> x;
+    const Vec3 dir = (xyz(m, touches[5].end) - xyz(m, touches[5].start)).normalized();
+    for (int k = 0; k < 3; ++k) v[static_cast<std::size_t>(k)] -= 0.5 * dir[k];
+    bumped = fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} 0 0 0\n", v[0], v[1], v[2], v[3], v[4], v[5]);
+  }
+  std::string bad;
+  for (std::size_t i = 0; i < 9; ++i) bad += i == 5 ? bumped : lines[i];
+  msg = error_message([&] { locate(bad); });
+  EXPECT_TRUE(msg.find("are not on one sphere") != std::string::npos ||
+              msg.find("no sphere of the ball's diameter found") != std::string::npos)
+      << msg;
+  // Found, but farther than it was laid out for (3.3 mm, every move still meets it): located, flagged.
+  const std::string beyond = simulated_locate_log(m, touches, rough + Vec3(0, 0, 3.3), rho, 0.0, 1);
+  const LocateResult rb = locate(beyond);
+  EXPECT_TRUE(rb.spheres[0].beyond);
+  EXPECT_NEAR(rb.spheres[0].offset, 3.3, 1e-5);
 }
 
 }  // namespace

@@ -80,6 +80,19 @@ struct ResidualSummary {
   double va_after = 0.0;
 };
 
+// Where a target lets the machine be commanded, for a target that chooses it (linuxcnc-kins: the
+// commanded travel of its kinematics module, inside each joint's travel by the room its corrections
+// need there). Positions in the axis's user unit (mm, deg).
+struct CommandedRange {
+  char axis = 'X';
+  double lo = 0.0, hi = 0.0;
+  std::string unit;                 // "mm" or "deg"
+  bool given = false;               // the caller's range (CompensationOptions::sampling), not computed
+  double margin = 0.0;              // room left inside the travel, the larger of both ends
+  double largest_correction = 0.0;  // max |corrected - commanded joint| over the grid the margin came from
+  std::string why;                  // how the range was found, in words
+};
+
 // What every target reports besides its files: the quantity its numbers are, where that rule is
 // documented, what it leaves, and the residual it predicts.
 struct CompensationSummary {
@@ -89,6 +102,7 @@ struct CompensationSummary {
   std::vector<NotCompensated> not_compensated;
   std::vector<std::string> warnings;
   ResidualSummary residual;
+  std::vector<CommandedRange> commanded;  // chain order; empty for a target that does not choose one
 };
 
 // What the caller asks of every target. Empty sampling: each axis over its travel

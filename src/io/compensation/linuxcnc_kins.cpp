@@ -297,6 +297,9 @@ TargetOutput linuxcnc_kins_output(const LinuxcncKins& k) {
     const auto& a = *std::find_if(k.axes.begin(), k.axes.end(), [&](const KinsAxis& x) { return x.joint == static_cast<int>(j); });
     ini += fmt::format("#   joint {} ({}): {:.6f} {}\n", j, a.letter, k.largest_correction[j], unit_name(a));
   }
+  ini += "# Commanded travel (the pre-check's range; keep the programs inside it):\n";
+  for (const auto& c : k.summary.commanded)
+    ini += fmt::format("#   {} {:.6f} to {:.6f} {} ({})\n", c.axis, c.lo, c.hi, c.unit, c.given ? "given" : c.why);
   ini += fmt::format("\n[KINS]\nKINEMATICS = {}\nJOINTS = {}\n\n[TRAJ]\nCOORDINATES = {}\nLINEAR_UNITS = mm\n"
                      "ANGULAR_UNITS = degree\n\n[HAL]\nHALFILE = linuxcnc-kins.hal\n",
                      k.module_name, k.coordinates.size(), coords);

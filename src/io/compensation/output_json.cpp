@@ -24,6 +24,17 @@ Json to_json(const TargetOutput& output) {
                    {"max_norm_after_mm", r.max_norm_after},
                    {"va_before_mm", r.va_before},
                    {"va_after_mm", r.va_after}};
+  Json commanded = Json::array();
+  for (const auto& c : s.commanded)
+    commanded.push_back({{"axis", std::string(1, c.axis)},
+                         {"lo", c.lo},
+                         {"hi", c.hi},
+                         {"unit", c.unit},
+                         {"given", c.given},
+                         {"margin", c.margin},
+                         {"largest_correction", c.largest_correction},
+                         {"why", c.why}});
+  j["commanded_range"] = commanded;
   return j;
 }
 

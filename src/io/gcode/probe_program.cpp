@@ -1,6 +1,7 @@
 #include "mtcal/io/gcode/probe_program.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -26,10 +27,17 @@ std::string words(const Machine& m, const std::vector<double>& q, bool rotary) {
   return out;
 }
 
-}  // namespace
+// What differs between the plan's program and the locating one: its title and cycle comment lines
+// (functions of the safe retract's axis letter and level), and how far above a ball's target its
+// touches change over (along the tool axis).
+struct ProgramKind {
+  std::string title;  // "probing program", "locating program"
+  std::function<std::string(char, double)> cycle_line;
+  double top_above = 0.0;
+};
 
-std::string probe_program(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
-                          const ProbeProgramOptions& o) {
+std::string program_text(const Machine& m, const ProbingPlan& plan, const std::vector<ProbeTouch>& touches,
+                         const ProgramKind& kind, const ProbeProgramOptions& o) {
   for (const auto& [name, v] : {std::pair{"probing feed", o.probe_feed}, std::pair{"feed", o.feed}})
     if (!(v > 0) || !std::isfinite(v)) throw InputError({name, 0, ""}, fmt::format("expected > 0 mm/min, found {:g}", v));
   if (o.log.find_first_of("()\n\r") != std::string::npos)
@@ -48,7 +56,6 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
   // The words of a position: the axis values themselves, or their tool point's world position.
   const auto at = [&](const std::vector<double>& q, bool rotary) { return words(m, tcp ? world->world(q) : q, rotary); };
   const auto full = [&](const std::vector<double>& q) { return at(q, false) + (tcp ? " " + at(q, true) : ""); };
-  const std::vector<ProbeTouch> touches = probe_touches(m, plan, cycle);
   const bool lcnc = o.dialect == ProbeDialect::LinuxCNC;
   // The tool-axis linear axis and its safe end: where the tool is farthest from the workpiece.
   std::size_t tz = m.axes.size();
@@ -59,11 +66,10 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
   const Axis& zax = m.axes[tz];
   const double safe = zax.direction_sign > 0 ? zax.travel->max : zax.travel->min;
   const char zl = zax.letter;
-  const double rho = (cycle.ball_diameter + cycle.tip_diameter) / 2;
 
   std::string s;
   if (!lcnc) s += "%\n";
-  s += fmt::format("(mtcal probing program, {} dialect: {} records, {} probing moves)\n", lcnc ? "LinuxCNC" : "ISO",
+  s += fmt::format("(mtcal {}, {} dialect: {} records, {} probing moves)\n", kind.title, lcnc ? "LinuxCNC" : "ISO",
                    plan.records.size(), touches.size());
   if (!o.header.empty()) {
     // A comment ends at the first ')' and LinuxCNC refuses a '(' inside one ("Nested comment found",
@@ -80,10 +86,7 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
     s += "(Coordinates: the machine's axis values of mtcal's model, mm and deg; the tool length is in the model.)\n";
   }
   s += "(Run with the G54 work offsets zero and no tool length offset: G54 G49 below.)\n";
-  s += fmt::format("(Cycle: ball diameter {:g} mm, tip diameter {:g} mm, approach {:g} mm, overtravel {:g} mm, "
-                   "clearance {:g} mm, {} touches a ball; safe retract {}{:g})\n",
-                   cycle.ball_diameter, cycle.tip_diameter, cycle.approach, cycle.overtravel, cycle.clearance,
-                   cycle.touches_per_ball, zl, safe);
+  s += kind.cycle_line(zl, safe);
   if (lcnc)
     s += "(Each G38.2 contact is logged by LinuxCNC to the PROBEOPEN file: X Y Z A B C U V W a line.)\n";
   else
@@ -132,7 +135,7 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
     } else if (ball) {
       // Between a ball's touches: up to the clearance level above the ball, over, down.
       std::vector<double> lift = touches[i - 1].start, over = t.start;
-      const double top = r.q[tz] + zax.direction_sign * (rho + cycle.clearance);
+      const double top = r.q[tz] + zax.direction_sign * kind.top_above;
       lift[tz] = top;
       over[tz] = top;
       s += fmt::format("G1 {} F{:g}\n", at(lift, false), o.feed);
@@ -153,6 +156,43 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
   s += "M2\n";
   if (!lcnc) s += "%\n";
   return s;
+}
+
+}  // namespace
+
+std::string probe_program(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                          const ProbeProgramOptions& o) {
+  ProgramKind kind;
+  kind.title = "probing program";
+  kind.cycle_line = [&](char zl, double safe) {
+    return fmt::format("(Cycle: ball diameter {:g} mm, tip diameter {:g} mm, approach {:g} mm, overtravel {:g} mm, "
+                       "clearance {:g} mm, {} touches a ball; safe retract {}{:g})\n",
+                       cycle.ball_diameter, cycle.tip_diameter, cycle.approach, cycle.overtravel, cycle.clearance,
+                       cycle.touches_per_ball, zl, safe);
+  };
+  kind.top_above = (cycle.ball_diameter + cycle.tip_diameter) / 2 + cycle.clearance;
+  return program_text(m, plan, probe_touches(m, plan, cycle), kind, o);
+}
+
+std::string locate_program(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                           const LocateOptions& locate, const ProbeProgramOptions& o) {
+  const auto touches = locate_touches(m, plan, cycle, locate);
+  ProgramKind kind;
+  kind.title = "locating program";
+  kind.cycle_line = [&](char zl, double safe) {
+    return fmt::format("(Locating cycle: each ball's centre within {:g} mm of its rough position; ball diameter {:g} "
+                       "mm, tip diameter {:g} mm, approach {:g} mm, overtravel {:g} mm, clearance {:g} mm; {} touches "
+                       "a ball - the pole, 4 on the equator, 4 above it; safe retract {}{:g})\n",
+                       locate.within, cycle.ball_diameter, cycle.tip_diameter, cycle.approach, cycle.overtravel,
+                       cycle.clearance, plan.records.empty() ? 0 : touches.size() / plan.records.size(), zl, safe);
+  };
+  kind.top_above = (cycle.ball_diameter + cycle.tip_diameter) / 2 + locate.within + cycle.clearance;
+  return program_text(m, plan, touches, kind, o);
+}
+
+void write_locate_program(const std::string& path, const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                          const LocateOptions& locate, const ProbeProgramOptions& options) {
+  write_file_atomically(path, locate_program(m, plan, cycle, locate, options));
 }
 
 void write_probe_program(const std::string& path, const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,

@@ -224,6 +224,7 @@ namespace {
 struct FigureKeys {
   const char* command;
   std::vector<const char*> keys;
+  const char* unit = nullptr;  // the keys' unit where the result has no "unit" key (default mm)
 };
 const std::vector<FigureKeys>& figure_keys() {
   static const std::vector<FigureKeys> kKeys{
@@ -232,6 +233,8 @@ const std::vector<FigureKeys>& figure_keys() {
       // ISO 230-4:2005: circular deviation G per direction and bidirectional, hysteresis H, F.
       {"ballbar", {"G_cw", "G_ccw", "G_b", "H", "F_max", "F_min"}},
       {"volumetric", {"va", "va_x", "va_y", "va_z"}},
+      // The tool point a controller reached (docs/campaign.md): max |e|, RMS |e|, VA over the poses.
+      {"pose-check", {"max_um", "rms_um", "va_um"}, "um"},
   };
   return kKeys;
 }
@@ -314,7 +317,8 @@ CalibrationRecord record_from_result(const std::string& command, const std::stri
     for (const char* key : fk.keys)
       if (j.contains(key) && j[key].is_number() && std::isfinite(j[key].get<double>()))
         r.figures.push_back(
-            {std::string(key) + suffix, j[key].get<double>(), unit.empty() ? "mm" : unit, std::nullopt});
+            {std::string(key) + suffix, j[key].get<double>(), !unit.empty() ? unit : fk.unit ? fk.unit : "mm",
+             std::nullopt});
   }
   return r;
 }

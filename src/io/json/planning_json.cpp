@@ -102,4 +102,19 @@ Json to_json(const PlanReport& r) {
   return j;
 }
 
+Json to_json(const LocateResult& r) {
+  Json spheres = Json::array();
+  for (const auto& s : r.spheres)
+    spheres.push_back({{"id", s.id},
+                       {"centre", {s.centre.x(), s.centre.y(), s.centre.z()}},
+                       {"rough", {s.rough.x(), s.rough.y(), s.rough.z()}},
+                       {"offset_mm", s.offset},
+                       {"beyond", s.beyond},
+                       {"ball_diameter_mm", s.ball_diameter},
+                       {"contact_radius_mm", s.contact_radius},
+                       {"rms_um", s.rms * 1e3},
+                       {"contacts", s.contacts}});
+  return Json{{"spheres", spheres}};
+}
+
 }  // namespace mtcal

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mtcal/identification/planning.hpp"
+#include "mtcal/identification/sphere_locate.hpp"
 
 namespace mtcal {
 
@@ -45,5 +46,15 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
 // probe_program written to path (complete or not at all).
 void write_probe_program(const std::string& path, const Machine& m, const ProbingPlan& plan,
                          const ProbeCycle& cycle, const ProbeProgramOptions& options);
+
+// The locating program (docs/planning.md, "Locating the sphere"): the same program frame as
+// probe_program (header, coordinates, PROBEOPEN log or ISO skip positions, safe retract, indexing)
+// with the touches of locate_touches for each record of a locate_plan; between a ball's touches the
+// probe changes over (rho + within + clearance) above the rough centre, where no sphere within
+// `within` can be.
+std::string locate_program(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                           const LocateOptions& locate, const ProbeProgramOptions& options);
+void write_locate_program(const std::string& path, const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
+                          const LocateOptions& locate, const ProbeProgramOptions& options);
 
 }  // namespace mtcal

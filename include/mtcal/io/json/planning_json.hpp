@@ -6,6 +6,7 @@
 
 #include "mtcal/identification/plan_study.hpp"
 #include "mtcal/identification/planning.hpp"
+#include "mtcal/identification/sphere_locate.hpp"
 #include "mtcal/io/json/json.hpp"
 
 namespace mtcal {
@@ -46,5 +47,9 @@ Json to_json(const PlanReport& r);
 PlanReport plan_report(const PlanStudy& s);
 // The words of PlanReport::workspace for the default workspace (travel_grid, 5 values an axis).
 inline constexpr const char* kPlanTravelWorkspace = "the travels, 5 values an axis";
+
+// The located spheres (probe-log --locate --json): spheres [{id, centre [x y z], rough [x y z],
+// offset_mm, beyond, ball_diameter_mm, contact_radius_mm, rms_um, contacts}] (mm, workpiece frame).
+Json to_json(const LocateResult& r);
 
 }  // namespace mtcal
