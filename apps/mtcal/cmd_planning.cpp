@@ -213,6 +213,7 @@ int run_plan(const PlanOptions& o) {
   so.rotary_step = o.rotary_step_deg * std::numbers::pi / 180;
   so.reach = o.reach;
   so.timing = o.timing;
+  so.timing.tool_point = o.program_coordinates == "tool-point";  // the time of the program written
   so.cycle = o.cycle;
   so.monte_carlo = o.monte_carlo;
   so.seed = o.seed;
