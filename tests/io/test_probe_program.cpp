@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "mtcal/identification/plan_study.hpp"
 #include "mtcal/identification/planning.hpp"
 #include "mtcal/io/gcode/reader.hpp"
 #include "mtcal/io/gcode/probe_program.hpp"
@@ -257,6 +258,28 @@ TEST(ProbeProgram, TimeEstimateFollowsTheProgram) {
   EXPECT_NEAR(got.moves + got.probing, est_tp.moves + est_tp.probing, 1e-5);
   // The blocks of a turn move the linear world axes too: the estimate is not the axes program's.
   EXPECT_GT(std::abs(est_tp.total - est.total), 1.0);
+}
+
+TEST(ProbeProgram, AgainstPlansTimeIsItsProgramsTime) {
+  // plan --against FILE: a plan file gives the features and indexations, not the linear axes'
+  // values; its time is that of the program written at its nominal targets (it was once estimated
+  // at linear values 0: the RRTTT's Viprey plan 792 s instead of 971 s).
+  const Machine m = hu40t();
+  const ProbingPlan raw = read_probing_csv(m, kPlans + "hu40t-samba-tango.csv");
+  PlanStudyOptions so;
+  so.model.estimate = {"EX0C", "EY0C"};
+  so.poses = 6;
+  so.rotary_step = std::numbers::pi / 2;
+  so.threads = 1;
+  const PlanStudy s = plan_study(m, raw, raw, so);
+  ASSERT_TRUE(s.against_time);
+  ProbeProgramOptions po;
+  po.feed = so.timing.move_feed;
+  po.probe_feed = so.timing.probe_feed;
+  const TimeEstimate got =
+      time_of_program(probe_program(m, plan_targets(m, raw), so.cycle, po), "G38.2", so.timing, so.cycle.approach);
+  EXPECT_EQ(got.touches, s.against_time->touches);
+  EXPECT_NEAR(got.total, s.against_time->total, 1e-5);
 }
 
 TEST(ProbeProgram, LinuxcncInterpreterReadsTheProgram) {
