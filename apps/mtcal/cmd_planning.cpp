@@ -62,7 +62,8 @@ void check_tool_point_coordinates(const Machine& m, const std::string& coordinat
 const char* const kProgramCoordinatesHelp =
     "What the program's X Y Z mean: axes (the machine's axis values, a controller without tool-centre-point "
     "kinematics, LinuxCNC trivkins) or tool-point (the world of a tool-centre-point kinematics such as the module of "
-    "compensate --format linuxcnc-kins: the nominal tool point in the workpiece frame and the rotary axes)";
+    "compensate --format linuxcnc-kins: the nominal tool point in the workpiece frame and the rotary axes); the time "
+    "estimate follows the program so written";
 
 // The probing cycle's options, shared by plan --gcode and probe-log (they must be the same).
 void add_cycle_options(CLI::App* c, ProbeCycle& cycle) {
@@ -285,6 +286,7 @@ int run_plan(const PlanOptions& o) {
   so.rotary_step = o.rotary_step_deg * std::numbers::pi / 180;
   so.reach = o.reach;
   so.timing = o.timing;
+  so.timing.tool_point = o.program_coordinates == "tool-point";  // the time of the program written
   so.cycle = o.cycle;
   so.monte_carlo = o.monte_carlo;
   so.seed = o.seed;

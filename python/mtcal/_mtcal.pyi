@@ -855,16 +855,6 @@ class LinuxcncProbe:
     def write(self, dir: str) -> None:
         """Writes the files into dir (new or empty): all of them or none, as --out."""
 
-class LocateResult:
-    """Spheres located by the first coarse touch (mtcal probe-log --locate)."""
-    @property
-    def artefact(self) -> ProbingPlan:
-        """The artefact with its balls at their located centres (one record each at the locating configuration): what design_plan takes as its artefact"""
-    def to_dict(self) -> dict[str, Any]:
-        """As `mtcal probe-log --locate --json`: spheres [{id centre rough offset_mm beyond ball_diameter_mm contact_radius_mm rms_um contacts}] (mm, workpiece frame)"""
-    def write(self, machine: Machine, path: str) -> None:
-        """Writes the located artefact as probe-log --locate --out (complete or not at all)."""
-
 class Machine:
     """A machine model: topology, axes, tool and workpiece set-up, and every ISO 230 error parameter by name. Values in internal units (mm, rad). Machine.load reads a machine file; MachineBuilder builds one from Python values; with_params returns a modified copy."""
     def __copy__(self) -> Machine:
@@ -1454,9 +1444,6 @@ class SubsetAnalysis:
 class TargetOutput:
     """A compensation target's files and summary."""
     @property
-    def commanded_range(self) -> Any:
-        """linuxcnc-kins: per axis the commanded travel its pre-check holds (axis lo hi unit given margin largest_correction why), as `compensate --json`'s commanded_range; [] for the other targets"""
-    @property
     def files(self) -> dict[str, Any]:
         """file name -> text"""
     @property
@@ -1642,7 +1629,7 @@ def correct_gcode(machine: Machine, program: str, *, max_deviation: float = ...,
     expanded, warnings, write(path), to_dict(out).
     """
 
-def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str] = ..., candidates: list[str] = ..., choose: int = ..., scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., target_va_u: float = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., va_tie: float = ..., criterion: str = ..., ball_region: tuple[float, float, float, float, float] | None = ..., ball_spacing: float = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., move_feed: float = ..., approach: float = ..., touches: int = ..., ball_diameter: float = ..., tip_diameter: float = ..., overtravel: float = ..., clearance: float = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ...) -> PlanResult:
+def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str] = ..., candidates: list[str] = ..., choose: int = ..., scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., target_va_u: float = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., va_tie: float = ..., criterion: str = ..., ball_region: tuple[float, float, float, float, float] | None = ..., ball_spacing: float = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., move_feed: float = ..., approach: float = ..., touches: int = ..., ball_diameter: float = ..., tip_diameter: float = ..., overtravel: float = ..., clearance: float = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ..., program_coordinates: str = ...) -> PlanResult:
     """Designs a probing plan, as `mtcal plan` (docs/planning.md): the fewest poses (indexations x
     balls and facets of artefact, a ProbingPlan, and of ball_region) that identify `estimate` (and,
     with candidates and choose, the best conditioned full-rank subset of choose of the candidates) to
@@ -1655,7 +1642,7 @@ def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against
     rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length, holder_radius,
     table_z in mm); the time of the program (rapid, probe_feed, move_feed mm/min, rotary_speed
     deg/min) with its cycle (approach, ball_diameter, tip_diameter, overtravel, clearance mm,
-    touches). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict()).
+    touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes it). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict()).
     """
 
 def diagonals(machine: Machine, box: str | Mapping[str, tuple[float, float]] | None, *, points: int = ..., face: bool = ..., travel_check: bool = ...) -> DiagonalsResult:
@@ -1801,17 +1788,8 @@ def linuxcnc_probe(machine: Machine, spheres: npt.ArrayLike, *, sphere_diameter:
     docs/planning.md.
     """
 
-def locate_plan(machine: Machine, artefact: ProbingPlan, *, at: npt.ArrayLike | None = ...) -> ProbingPlan:
-    """The locating plan of an artefact's balls at their rough positions, as `mtcal plan --locate --out`: one record per ball at the configuration `at` (k joint values, internal units; the rotary ones are used; default all 0)."""
-
-def locate_program(machine: Machine, plan: ProbingPlan, *, within: float = ..., dialect: str = ..., probe_feed: float = ..., move_feed: float = ..., log: str = ..., header: str = ..., program_coordinates: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ...) -> str:
-    """The locating program of a locate_plan, as `mtcal plan --locate --gcode`: 9 touches a ball laid out for a centre within `within` mm of its rough position; program_coordinates 'axes' or 'tool-point'. Text."""
-
-def locate_spheres(machine: Machine, plan: ProbingPlan, log: str, *, within: float = ..., dialect: str = ..., program_coordinates: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ...) -> LocateResult:
-    """The spheres the locating program's log (path) gives, as `mtcal probe-log --locate`: LocateResult (artefact, to_dict(), write()). The cycle and `within` as given to the program."""
-
-def measurements_from_contacts(machine: Machine, plan: ProbingPlan, log: str, *, dialect: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ...) -> ProbingPlan:
-    """The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan for identify (write_probing_csv writes the command's --out). The cycle as given to the program."""
+def measurements_from_contacts(machine: Machine, plan: ProbingPlan, log: str, *, dialect: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ..., coordinates: str = ...) -> ProbingPlan:
+    """The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan for identify (write_probing_csv writes the command's --out). The cycle and coordinates ('axes' or 'tool-point', --program-coordinates) as given to the program."""
 
 def metadata_fields() -> dict[str, Any]:
     """The test metadata an acceptance report may carry: key -> label, in the order a report lists them (the keys of --meta and of metadata= arguments)."""
@@ -1852,8 +1830,8 @@ def predict(model: PredictionModel, points: PredictionPoints | Mapping[str, npt.
 def predict_ballbar(machine: Machine, plane: str, centre: npt.ArrayLike | None, *, radius: float, step: float = ...) -> BallbarTrace:
     """The trace a ballbar would record on the model: circle of radius mm (required) in plane 'XY'/'YZ'/'ZX' about the centre configuration (internal units), both directions, one sample every step rad."""
 
-def probe_program(machine: Machine, plan: ProbingPlan, *, dialect: str = ..., probe_feed: float = ..., move_feed: float = ..., log: str = ..., header: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ...) -> str:
-    """The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or 'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min). Text."""
+def probe_program(machine: Machine, plan: ProbingPlan, *, dialect: str = ..., probe_feed: float = ..., move_feed: float = ..., log: str = ..., header: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ..., coordinates: str = ...) -> str:
+    """The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or 'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min); coordinates (--program-coordinates): 'axes' (the machine's axis values) or 'tool-point' (the world of a tool-centre-point kinematics). Text."""
 
 def probing_csv(machine: Machine, plan: ProbingPlan, comment: str = ...) -> str:
     """The plan's CSV text."""

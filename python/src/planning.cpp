@@ -12,6 +12,7 @@
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/io/json/planning_json.hpp"
 #include "mtcal/kinematics/commanded_joints.hpp"
+#include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::python {
@@ -41,6 +42,23 @@ ProbeCycle cycle_of(double ball_diameter, double tip_diameter, double approach, 
   c.clearance = clearance;
   c.touches_per_ball = touches;
   return c;
+}
+
+// What a probing program's X Y Z mean (--program-coordinates): 'axes' or 'tool-point'.
+ProbeCoordinates coordinates_of(const std::string& v, const char* name) {
+  if (v == "axes") return ProbeCoordinates::Axes;
+  if (v == "tool-point") return ProbeCoordinates::ToolPoint;
+  throw py::value_error(std::string(name) + ": expected 'axes' or 'tool-point', found '" + v + "'");
+}
+
+// Tool-point coordinates need a machine with a tool-centre-point world: refused before any work, as
+// the command does.
+void check_tool_point(const Machine& m) {
+  try {
+    ToolPointCoordinates check(m);
+  } catch (const ModelError& e) {
+    throw InputError({m.source, 0, ""}, std::string("no tool-point coordinates for this machine: ") + e.what());
+  }
 }
 
 ProbeLogFormat log_format(const std::string& dialect) {
@@ -107,7 +125,8 @@ void bind_planning(py::module_& m) {
          double rotary_step, double max_tilt_deg, double stylus_length, double holder_radius, double table_z,
          double rapid, double rotary_speed, double probe_feed, double move_feed, double approach, int touches,
          double ball_diameter, double tip_diameter, double overtravel, double clearance, std::size_t monte_carlo,
-         std::uint64_t seed, int threads) {
+         std::uint64_t seed, int threads, const std::string& program_coordinates) {
+        const ProbeCoordinates coordinates = coordinates_of(program_coordinates, "program_coordinates");
         if (artefact.is_none() && against.is_none() && ball_region.is_none())
           throw py::value_error(
               "artefact: expected the artefact's balls and facets (a ProbingPlan), against, or ball_region");
@@ -187,6 +206,7 @@ void bind_planning(py::module_& m) {
         o.timing.rotary_speed = rotary_speed;
         o.timing.probe_feed = probe_feed;
         o.timing.move_feed = move_feed;
+        o.timing.tool_point = coordinates == ProbeCoordinates::ToolPoint;  // the time of that program
         o.cycle = cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, touches);
         o.monte_carlo = monte_carlo;
         o.seed = seed;
@@ -196,6 +216,7 @@ void bind_planning(py::module_& m) {
         std::optional<ProbingPlan> given;
         if (!against.is_none()) given = against.cast<ProbingPlan>();
         const ProbingPlan art = !artefact.is_none() ? artefact.cast<ProbingPlan>() : given ? *given : ProbingPlan{};
+        if (o.timing.tool_point) check_tool_point(mm);
         PlanResult r{mm, {}, given ? given->source : std::string(), workspace_text};
         LongCall release;  // without the GIL, stoppable with Ctrl-C
         r.study = plan_study(mm, art, given, o);
@@ -210,7 +231,7 @@ void bind_planning(py::module_& m) {
       "holder_radius"_a = 20.0, "table_z"_a = 0.0, "rapid"_a = 10000.0, "rotary_speed"_a = 5400.0,
       "probe_feed"_a = 200.0, "move_feed"_a = 2000.0, "approach"_a = 3.0, "touches"_a = 5,
       "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0,
-      "monte_carlo"_a = std::size_t{0}, "seed"_a = std::uint64_t{1}, "threads"_a = 0,
+      "monte_carlo"_a = std::size_t{0}, "seed"_a = std::uint64_t{1}, "threads"_a = 0, "program_coordinates"_a = "axes",
       R"(Designs a probing plan, as `mtcal plan` (docs/planning.md): the fewest poses (indexations x
 balls and facets of artefact, a ProbingPlan, and of ball_region) that identify `estimate` (and,
 with candidates and choose, the best conditioned full-rank subset of choose of the candidates) to
@@ -223,15 +244,17 @@ frame, ball positions every ball_spacing. sigma: standard deviation of a reading
 rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length, holder_radius,
 table_z in mm); the time of the program (rapid, probe_feed, move_feed mm/min, rotary_speed
 deg/min) with its cycle (approach, ball_diameter, tip_diameter, overtravel, clearance mm,
-touches). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict()).)");
+touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes it). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict()).)");
 
   // ---------------------------------------------------------------- probe programs and logs (mtcal plan --gcode, probe-log)
   m.def(
       "probe_program",
       [](const Machine& mm, const ProbingPlan& plan, const std::string& dialect, double probe_feed, double move_feed,
          const std::string& log, const std::string& header, double ball_diameter, double tip_diameter,
-         double approach, double overtravel, double clearance, int touches) {
+         double approach, double overtravel, double clearance, int touches, const std::string& coordinates) {
         ProbeProgramOptions po;
+        po.coordinates = coordinates_of(coordinates, "coordinates");
+        if (po.coordinates == ProbeCoordinates::ToolPoint) check_tool_point(mm);
         po.dialect = log_format(dialect) == ProbeLogFormat::IsoCsv ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
         po.probe_feed = probe_feed;
         po.feed = move_feed;
@@ -242,9 +265,11 @@ touches). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict
       },
       "machine"_a, "plan"_a, py::kw_only(), "dialect"_a = "linuxcnc", "probe_feed"_a = 200.0,
       "move_feed"_a = 2000.0, "log"_a = "mtcal-contacts.txt", "header"_a = "", "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0,
-      "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5,
+      "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5, "coordinates"_a = "axes",
       "The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or "
-      "'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min). Text.");
+      "'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min); coordinates "
+      "(--program-coordinates): 'axes' (the machine's axis values) or 'tool-point' (the world of a "
+      "tool-centre-point kinematics). Text.");
   m.def(
       "read_probe_log",
       [](const Machine& mm, const std::string& path, const std::string& dialect) {
@@ -263,15 +288,20 @@ touches). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict
       "measurements_from_contacts",
       [](const Machine& mm, const ProbingPlan& plan, const std::string& log, const std::string& dialect,
          double ball_diameter, double tip_diameter, double approach, double overtravel, double clearance,
-         int touches) {
+         int touches, const std::string& coordinates) {
+        const bool tcp = coordinates_of(coordinates, "coordinates") == ProbeCoordinates::ToolPoint;
+        if (tcp) check_tool_point(mm);
         const ProbeCycle cycle = cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, touches);
-        const auto contacts = read_probe_log(mm, log, log_format(dialect));
+        auto contacts = read_probe_log(mm, log, log_format(dialect));
+        if (tcp) contacts = contacts_from_tool_points(mm, std::move(contacts));
         return measurements_from_contacts(mm, plan_targets(mm, plan), cycle, contacts);
       },
       "machine"_a, "plan"_a, "log"_a, py::kw_only(), "dialect"_a = "linuxcnc", "ball_diameter"_a = 25.4,
       "tip_diameter"_a = 3.0, "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5,
+      "coordinates"_a = "axes",
       "The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan "
-      "for identify (write_probing_csv writes the command's --out). The cycle as given to the program.");
+      "for identify (write_probing_csv writes the command's --out). The cycle and coordinates ('axes' or "
+      "'tool-point', --program-coordinates) as given to the program.");
 
   // ---------------------------------------------------------------- the first coarse touch (plan --locate, probe-log --locate)
   py::class_<LocateResult>(m, "LocateResult", "Spheres located by the first coarse touch (mtcal probe-log --locate).")

@@ -82,6 +82,35 @@ def test_probe_program_and_log_match_cli(tmp_path, rrttt):
                                header=f"machine {rrttt.name}: 12 poses designed by mtcal plan") == \
         (tmp_path / "slow.ngc").read_text()
     assert text == (tmp_path / "probe.ngc").read_text()
+    # --program-coordinates tool-point: the program, and the time of that program in the design.
+    ref = cli_json("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", "EY0C,EZ0A", "--poses", 12,
+                   "--gcode", tmp_path / "tp.ngc", "--program-coordinates", "tool-point")
+    tp = mtcal.design_plan(rrttt, mtcal.read_probing_plan(rrttt, str(SPHERE)), estimate=["EY0C", "EZ0A"], poses=12,
+                           program_coordinates="tool-point")
+    assert_same(tp.to_dict(gcode=str(tmp_path / "tp.ngc")), ref, tol=0)
+    assert ref["time"]["total_s"] != designed.to_dict()["time"]["total_s"]
+    assert mtcal.probe_program(rrttt, tp.plan, coordinates="tool-point",
+                               header=f"machine {rrttt.name}: 12 poses designed by mtcal plan") == \
+        (tmp_path / "tp.ngc").read_text()
+    with pytest.raises(ValueError, match="'axes' or 'tool-point'"):
+        mtcal.probe_program(rrttt, tp.plan, coordinates="world")
+    # Its log (world positions) back to measurements, as probe-log --program-coordinates tool-point.
+    at, tp_log = {}, []
+    for line in (tmp_path / "tp.ngc").read_text().splitlines():
+        words = {k: float(v) for k, v in re.findall(r"([XYZABC])(-?[\d.]+)", line.split("(")[0])}
+        if line.startswith("G38.2"):
+            p = {**at, **words}
+            tp_log.append(" ".join(f"{p.get(a, 0.0):.6f}" for a in "XYZABC") + " 0 0 0")
+        at.update(words)
+    (tmp_path / "tp-log.txt").write_text("\n".join(tp_log) + "\n")
+    mtcal.write_probing_csv(str(tmp_path / "tp-plan.csv"), rrttt, tp.plan)
+    cli("probe-log", "-m", RRTTT, "--plan", tmp_path / "tp-plan.csv", "--log", tmp_path / "tp-log.txt",
+        "--program-coordinates", "tool-point", "--out", tmp_path / "tp-cli-meas.csv")
+    tp_meas = mtcal.measurements_from_contacts(rrttt, mtcal.read_probing_plan(rrttt, str(tmp_path / "tp-plan.csv")),
+                                               str(tmp_path / "tp-log.txt"), coordinates="tool-point")
+    mtcal.write_probing_csv(str(tmp_path / "tp-py-meas.csv"), rrttt, tp_meas)
+    data = lambda p: [l for l in p.read_text().splitlines() if not l.startswith("#")]  # noqa: E731
+    assert data(tmp_path / "tp-py-meas.csv") == data(tmp_path / "tp-cli-meas.csv")
     # A LinuxCNC probe log of that program: each G38.2 move's end (as tests/cli/test_option_errors.py makes it).
     at, log = {}, []
     for line in text.splitlines():

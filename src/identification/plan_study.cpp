@@ -36,7 +36,9 @@ PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::o
   }
   if (against) {
     s.against = predict_plan(m, *against, s.model);
-    s.against_time = estimate_time(m, *against, o.cycle, o.timing);
+    // The time of its program: at its nominal targets (a plan file gives the features, not the
+    // linear axes' values; predict_plan sets them too).
+    s.against_time = estimate_time(m, plan_targets(m, *against), o.cycle, o.timing);
   }
   DesignOptions d;
   d.model = s.model;

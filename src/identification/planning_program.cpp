@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <set>
 #include <tuple>
@@ -19,6 +20,7 @@
 #include "mtcal/fitting/fit.hpp"
 #include "mtcal/fitting/least_squares.hpp"
 #include "mtcal/kinematics/error_model.hpp"
+#include "mtcal/kinematics/tool_point_coordinates.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parallel.hpp"
 #include "probing_model.hpp"
@@ -187,34 +189,52 @@ TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const Prob
       throw InputError({name, 0, ""}, fmt::format("expected a speed > 0, found {:g}", v));
   if (!(o.settle >= 0) || !std::isfinite(o.settle))
     throw InputError({"settle", 0, ""}, fmt::format("expected a time >= 0 s, found {:g}", o.settle));
+  if (o.tool_point && !(o.index_step > 0 && std::isfinite(o.index_step)))
+    throw InputError({"indexing step", 0, ""}, fmt::format("expected > 0 rad, found {:g}", o.index_step));
   TimeEstimate t;
   if (plan.records.empty()) return t;
   const std::vector<ProbeTouch> touches = probe_touches(m, plan, cycle);
   const auto [tz, safe] = probe_safe_retract(m);
   const auto rot = rotary_axes(m);
   const auto lin = linear_axes(m);
+  std::optional<ToolPointCoordinates> world;
+  if (o.tool_point) {
+    try {
+      world.emplace(m);
+    } catch (const ModelError& e) {
+      throw InputError({m.source, 0, ""}, std::string("no tool-point coordinates for this machine: ") + e.what());
+    }
+  }
   const double rapid = o.rapid / 60.0, feed = o.move_feed / 60.0, probe = o.probe_feed / 60.0;  // mm/s
   const double rotary = o.rotary_speed / 60.0 * std::numbers::pi / 180.0;                      // rad/s
-  // G0: every axis at its rapid, the largest change sets the time; G1 and the probing move: the
-  // feed along the path of the linear axes (RS274/NGC feed rate mode G94, LinuxCNC's G1).
+  // The program's coordinates of axis values q: the axis values, or (tool-point) the world position
+  // of their nominal tool point (the words probe_program writes).
+  auto pos = [&](const std::vector<double>& q) { return world ? world->world(q) : q; };
+  // G0: every axis at its rapid (the rotary ones at rotary_speed), the largest change sets the time;
+  // G1 and the probing move: the feed along the path of the linear axes (RS274/NGC feed rate mode
+  // G94, LinuxCNC's G1). Both in the program's coordinates, as the controller plans them.
   auto g0 = [&](const std::vector<double>& a, const std::vector<double>& b) {
-    double d = 0.0;
-    for (std::size_t k : lin) d = std::max(d, std::abs(b[k] - a[k]));
-    return d / rapid;
+    const auto pa = pos(a), pb = pos(b);
+    double d = 0.0, r = 0.0;
+    for (std::size_t k : lin) d = std::max(d, std::abs(pb[k] - pa[k]));
+    for (std::size_t k : rot) r = std::max(r, std::abs(pb[k] - pa[k]));
+    return std::max(d / rapid, r / rotary);
   };
   auto path = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    const auto pa = pos(a), pb = pos(b);
     double d = 0.0;
-    for (std::size_t k : lin) d += (b[k] - a[k]) * (b[k] - a[k]);
+    for (std::size_t k : lin) d += (pb[k] - pa[k]) * (pb[k] - pa[k]);
     return std::sqrt(d);
   };
   const double rho = (cycle.ball_diameter + cycle.tip_diameter) / 2;
-  const double top_offset = m.axes[tz].direction_sign * (rho + cycle.clearance);
-  std::vector<double> at;  // the linear axes' position (chain order); empty before the first record
+  const double sign = m.axes[tz].direction_sign;
+  std::vector<double> at;  // the axes' position (chain order); empty before the first record
   std::size_t current = plan.records.size();
   const ProbingRecord* last = nullptr;
   for (std::size_t i = 0; i < touches.size(); ++i) {
     const ProbeTouch& tt = touches[i];
     const ProbingRecord& r = plan.records[tt.record];
+    const bool ball = plan.features[r.feature].kind == ProbeFeature::Kind::Ball;
     std::vector<double> over = tt.start;
     over[tz] = safe;
     if (tt.record != current) {
@@ -226,19 +246,40 @@ TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const Prob
         double index = 0.0;
         for (std::size_t k : rot) index = std::max(index, std::abs(r.q[k] - last->q[k]));
         if (index > 0) {
-          t.indexing += index / rotary + o.settle;
+          if (world) {
+            // Blocks of at most index_step that hold the linear axes at the safe level: each a G0
+            // whose world words swing with the rotary ones.
+            const auto steps = static_cast<std::size_t>(std::ceil(index / o.index_step - 1e-9));
+            std::vector<double> from = up;
+            for (std::size_t j = 1; j <= steps; ++j) {
+              std::vector<double> q = up;
+              for (std::size_t k : rot)
+                q[k] = up[k] + (r.q[k] - up[k]) * static_cast<double>(j) / static_cast<double>(steps);
+              t.indexing += g0(from, q);
+              from = q;
+            }
+            t.indexing += o.settle;
+          } else {
+            t.indexing += index / rotary + o.settle;
+          }
           ++t.indexations;
         }
+        for (std::size_t k : rot) up[k] = r.q[k];
         t.moves += g0(up, over);
       } else {
         ++t.indexations;
       }
       last = &r;
-      at = over;
-    } else if (plan.features[r.feature].kind == ProbeFeature::Kind::Ball) {
+      // A G0 down to the clearance level (above the ball, or clearance above a facet's start),
+      // then G1 for the last of the approach.
+      std::vector<double> down = tt.start;
+      down[tz] = probe_clearance_level(m, plan, r, tt, cycle);
+      t.moves += g0(over, down);
+      at = down;
+    } else if (ball) {
       // Between a ball's touches: up to the clearance level above it, over the next start.
       std::vector<double> lift = at, above = tt.start;
-      lift[tz] = above[tz] = r.q[tz] + top_offset;
+      lift[tz] = above[tz] = r.q[tz] + sign * (rho + cycle.clearance);
       t.moves += (path(at, lift) + path(lift, above)) / feed;
       at = above;
     }
@@ -253,6 +294,18 @@ TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const Prob
   t.moves += g0(at, up);
   t.total = t.moves + t.probing + t.indexing;
   return t;
+}
+
+double probe_clearance_level(const Machine& m, const ProbingPlan& plan, const ProbingRecord& r, const ProbeTouch& first,
+                             const ProbeCycle& cycle) {
+  const auto [tz, safe] = probe_safe_retract(m);
+  const double sign = m.axes[tz].direction_sign;
+  const double rho = (cycle.ball_diameter + cycle.tip_diameter) / 2;
+  const double level = plan.features[r.feature].kind == ProbeFeature::Kind::Ball
+                           ? r.q[tz] + sign * (rho + cycle.clearance)
+                           : first.start[tz] + sign * cycle.clearance;
+  // Never beyond the safe end, never below the start (a start above the clearance level: no G0 down).
+  return sign * (level - safe) > 0 ? safe : sign * (level - first.start[tz]) < 0 ? first.start[tz] : level;
 }
 
 }  // namespace mtcal

@@ -522,23 +522,25 @@ TEST(Planning, TimeByHand) {
   // C 0 -> 90 deg at 60 deg/s, and the settle.
   EXPECT_NEAR(t.indexing, 1.5 + 1.0, 1e-12);
   EXPECT_EQ(t.indexations, 2u);
-  // G1 at 10 mm/s, from the first record's G0 over its pole at Z 0:
-  //   record 1: down to the pole's start Z -300+13: 287 mm;
+  // From the first record's G0 over its pole at Z 0: G0 down to the clearance level Z -300+16
+  // (284 mm at 100 mm/s), then G1 at 10 mm/s:
+  //   record 1: down to the pole's start Z -300+13: 3 mm;
   //   touch +X: up 3 mm to Z -284, over 13 mm, down 16 mm: 32 mm;
   //   touch -X: up 16, over 26, down 16: 58 mm;
   //   touch +Y: up 16, over sqrt(13^2 + 13^2), down 16;
   //   touch -Y: up 16, over 26, down 16: 58 mm.
   const double ball = 32 + 58 + (32 + std::sqrt(338.0)) + 58;
-  double moves = (287 + ball) / 10;
+  double moves = 284.0 / 100 + (3 + ball) / 10;
   // Record 2: G0 up to Z 0 from Z -300 (300 mm at 100 mm/s), G0 over the pole from Y -3 to Y 10
-  // (13 mm), G1 down to Z -290+13 (277 mm), the same four touches; the final G0 up from Z -290.
-  moves += 300.0 / 100 + 13.0 / 100 + (277 + ball) / 10 + 290.0 / 100;
+  // (13 mm), G0 down to Z -290+16 (274 mm), G1 down 3 mm, the same four touches; the final G0 up
+  // from Z -290.
+  moves += 300.0 / 100 + 13.0 / 100 + 274.0 / 100 + (3 + ball) / 10 + 290.0 / 100;
   EXPECT_NEAR(t.moves, moves, 1e-9);
   EXPECT_NEAR(t.total, t.moves + t.probing + t.indexing, 1e-12);
   // The moves at the move feed: ten times slower G1 moves take ten times longer.
   o.move_feed = 60;
   const TimeEstimate slow = estimate_time(m, p, c, o);
-  EXPECT_NEAR(slow.moves, (287 + 277 + 2 * ball) / 1 + 3.0 + 0.13 + 2.9, 1e-9);
+  EXPECT_NEAR(slow.moves, (3 + 3 + 2 * ball) / 1 + 2.84 + 3.0 + 0.13 + 2.74 + 2.9, 1e-9);
   EXPECT_NEAR(slow.probing, 10 * (2.0 + 2.0), 1e-12);
   o.move_feed = 0;
   EXPECT_NE(error_message([&] { estimate_time(m, p, c, o); }).find("move feed"), std::string::npos);

@@ -16,6 +16,7 @@
 #include <Eigen/LU>
 #include <fmt/format.h>
 
+#include "mtcal/identification/plan_study.hpp"
 #include "mtcal/identification/planning.hpp"
 #include "mtcal/identification/sphere_locate.hpp"
 #include "mtcal/identification/error_draw.hpp"
@@ -156,46 +157,65 @@ TEST(ProbeProgram, MtcalsReaderFollowsTheProgram) {
   }
 }
 
-// The program's time from its text: G0 at the rapid of each axis (the largest change sets it;
-// the rotary axes at the indexing speed, then the settle), G1 and the probing move at their F along
-// the X Y Z path, a probing move stopping `approach` along its way (where a machine without errors
-// trips). From the first G1 on: the moves before it start from wherever the machine is.
+// The program's time from its text: G0 at the rapid of each axis and the rotary axes at the
+// indexing speed (the largest time sets it; a run of rotary blocks, one indexation, then the
+// settle), G1 and the probing move at their F along the X Y Z path, a probing move stopping
+// `approach` along its way (where a machine without errors trips). From the block before the first
+// G1 on (the first record's G0 down): the moves before it start from wherever the machine is.
 TimeEstimate time_of_program(const std::string& prog, const char* probe_word, const TimingOptions& o, double approach) {
-  TimeEstimate t;
+  struct Block {
+    std::string code;
+    std::map<char, double> to;
+    double f = 0;
+  };
+  std::vector<Block> blocks;
   std::map<char, double> at;
-  bool started = false;
   std::istringstream lines(prog);
   const std::regex word(R"(([XYZBCF])(-?[0-9.]+))");
   for (std::string line; std::getline(lines, line);) {
     const std::string code = line.substr(0, line.find(' '));
     if (code != "G0" && code != "G1" && code != probe_word) continue;
-    std::map<char, double> to = at;
-    double f = 0;
+    Block b{code, at, 0};
     for (auto it = std::sregex_iterator(line.begin(), line.end(), word); it != std::sregex_iterator(); ++it) {
       const char a = (*it)[1].str()[0];
-      (a == 'F' ? f : to[a]) = std::stod((*it)[2]);
+      (a == 'F' ? b.f : b.to[a]) = std::stod((*it)[2]);
     }
-    double lin = 0, largest = 0, rot = 0;
+    at = b.to;
+    blocks.push_back(b);
+  }
+  std::size_t first = 0;
+  while (first < blocks.size() && blocks[first].code != "G1") ++first;
+  EXPECT_GT(first, 0u);
+  EXPECT_EQ(blocks[first - 1].code, "G0");
+  auto rot_of = [&](std::size_t i) {
+    double rot = 0;
+    for (char a : {'B', 'C'}) rot = std::max(rot, std::abs(blocks[i].to[a] - blocks[i - 1].to[a]));
+    return rot;
+  };
+  TimeEstimate t;
+  for (std::size_t i = first - 1; i < blocks.size(); ++i) {
+    auto& to = blocks[i].to;
+    const auto& from = blocks[i - 1].to;
+    double lin = 0, largest = 0;
     for (char a : {'X', 'Y', 'Z'}) {
-      const double d = to[a] - at[a];
+      const double d = to[a] - from.at(a);
       lin += d * d;
       largest = std::max(largest, std::abs(d));
     }
     lin = std::sqrt(lin);
-    for (char a : {'B', 'C'}) rot = std::max(rot, std::abs(to[a] - at[a]));
-    if (code == "G1") started = true;
-    if (code == probe_word) {
+    const double f = blocks[i].f, rot = rot_of(i);
+    if (blocks[i].code == probe_word) {
       t.probing += approach / (f / 60);
-      for (char a : {'X', 'Y', 'Z'}) to[a] = at[a] + (to[a] - at[a]) * approach / lin;
+      for (char a : {'X', 'Y', 'Z'}) to[a] = from.at(a) + (to[a] - from.at(a)) * approach / lin;
       ++t.touches;
-    } else if (started && code == "G1") {
+    } else if (blocks[i].code == "G1") {
       t.moves += lin / (f / 60);  // the retracts too (estimate_time counts them with the probing)
-    } else if (started && rot > 0) {
-      t.indexing += rot / (o.rotary_speed / 60) + o.settle;
-    } else if (started) {
+    } else if (rot > 0) {
+      t.indexing += std::max(largest / (o.rapid / 60), rot / (o.rotary_speed / 60));
+      if (i + 1 == blocks.size() || blocks[i + 1].code != "G0" || rot_of(i + 1) == 0) t.indexing += o.settle;
+    } else {
       t.moves += largest / (o.rapid / 60);
     }
-    at = to;
   }
   t.total = t.moves + t.probing + t.indexing;
   return t;
@@ -227,6 +247,45 @@ TEST(ProbeProgram, TimeEstimateFollowsTheProgram) {
     EXPECT_NEAR(got.total, est.total, 1e-5) << got.moves << " " << est.moves << " " << got.probing << " " << est.probing;
     EXPECT_NEAR(got.moves + got.probing, est.moves + est.probing, 1e-5);
   }
+  // The tool-point program (--program-coordinates tool-point): world X Y Z, indexations in blocks of
+  // at most 5 deg with the linear axes at the safe level, whose world words swing with the turn.
+  TimingOptions tp = o;
+  tp.tool_point = true;
+  const TimeEstimate est_tp = estimate_time(m, p, c, tp);
+  ProbeProgramOptions po;
+  po.feed = o.move_feed;
+  po.probe_feed = o.probe_feed;
+  po.coordinates = ProbeCoordinates::ToolPoint;
+  const TimeEstimate got = time_of_program(probe_program(m, p, c, po), "G38.2", tp, c.approach);
+  EXPECT_EQ(got.touches, est_tp.touches);
+  // 6 decimals of mm and deg in the words: a few 1e-6 s.
+  EXPECT_NEAR(got.indexing, est_tp.indexing, 1e-5);
+  EXPECT_NEAR(got.total, est_tp.total, 1e-5) << got.moves << " " << est_tp.moves;
+  EXPECT_NEAR(got.moves + got.probing, est_tp.moves + est_tp.probing, 1e-5);
+  // The blocks of a turn move the linear world axes too: the estimate is not the axes program's.
+  EXPECT_GT(std::abs(est_tp.total - est.total), 1.0);
+}
+
+TEST(ProbeProgram, AgainstPlansTimeIsItsProgramsTime) {
+  // plan --against FILE: a plan file gives the features and indexations, not the linear axes'
+  // values; its time is that of the program written at its nominal targets (it was once estimated
+  // at linear values 0: the RRTTT's Viprey plan 792 s instead of 971 s).
+  const Machine m = hu40t();
+  const ProbingPlan raw = read_probing_csv(m, kPlans + "hu40t-samba-tango.csv");
+  PlanStudyOptions so;
+  so.model.estimate = {"EX0C", "EY0C"};
+  so.poses = 6;
+  so.rotary_step = std::numbers::pi / 2;
+  so.threads = 1;
+  const PlanStudy s = plan_study(m, raw, raw, so);
+  ASSERT_TRUE(s.against_time);
+  ProbeProgramOptions po;
+  po.feed = so.timing.move_feed;
+  po.probe_feed = so.timing.probe_feed;
+  const TimeEstimate got =
+      time_of_program(probe_program(m, plan_targets(m, raw), so.cycle, po), "G38.2", so.timing, so.cycle.approach);
+  EXPECT_EQ(got.touches, s.against_time->touches);
+  EXPECT_NEAR(got.total, s.against_time->total, 1e-5);
 }
 
 TEST(ProbeProgram, LinuxcncInterpreterReadsTheProgram) {

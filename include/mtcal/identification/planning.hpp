@@ -269,6 +269,12 @@ struct TimingOptions {
   double probe_feed = 200.0;     // mm/min, the probing move (G38.2 / G31)
   double move_feed = 2000.0;     // mm/min, the program's G1 moves near the artefact (ProbeProgramOptions::feed)
   double settle = 0.5;           // s, dwell after each indexing (clamping)
+  // The program's coordinates (ProbeProgramOptions::coordinates): false the machine's axis values,
+  // true the world of a tool-centre-point kinematics, where the controller plans every move in
+  // world X Y Z and an indexation is written as blocks of at most index_step (rad) with the linear
+  // axes held at the safe level.
+  bool tool_point = false;
+  double index_step = 5.0 * 3.14159265358979323846 / 180.0;
 };
 struct TimeEstimate {
   double total = 0.0, moves = 0.0, probing = 0.0, indexing = 0.0;  // s
@@ -276,17 +282,26 @@ struct TimeEstimate {
 };
 // The time of the probing program of the plan (io/gcode/probe_program.hpp) with the cycle, move
 // by move as the program makes them: per record a G0 retract of the tool-axis linear axis to its
-// safe travel end, the indexing when the rotary values change (G0: the largest rotary change at
-// rotary_speed, plus settle), a G0 over the first touch's start at the safe level (G0: the largest
-// linear axis change at rapid), then per touch (probe_touches) the G1 moves at move_feed (down to
-// the start; between a ball's touches up to the clearance level, over and down: path length over
-// the feed), the probing move from the start to the expected contact at probe_feed and the G1
-// retract to the start at move_feed; at the end the G0 retract. "probing" is the probing moves
-// and their retracts, "indexing" the rotary moves and settles, "moves" the rest. The moves before
-// the first record's G0 over its start (from wherever the machine is) are not counted, nor
-// accelerations. Throws InputError for a speed that is not > 0 or a cycle that probe_touches refuses.
+// safe travel end, the indexing when the rotary values change (axis values: one G0 of the largest
+// rotary change at rotary_speed; tool-point: the blocks of at most index_step, each a G0 whose time
+// is the largest of its world X Y Z changes at rapid and its rotary change at rotary_speed; plus
+// settle), a G0 over the first touch's start at the safe level and a G0 down to the clearance level
+// (probe_clearance_level), then per touch (probe_touches) the G1 moves at move_feed (down to the
+// start; between a ball's touches up to the clearance level, over and down: path length over the
+// feed), the probing move from the start to the expected contact at probe_feed and the G1 retract
+// to the start at move_feed; at the end the G0 retract. Lengths in the program's coordinates.
+// "probing" is the probing moves and their retracts, "indexing" the rotary moves and settles,
+// "moves" the rest. The moves before the first record's G0 down (from wherever the machine is)
+// are not counted, nor accelerations. Throws InputError for a speed that is not > 0, a cycle that
+// probe_touches refuses, or (tool_point) a machine without tool-point coordinates.
 TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
                            const TimingOptions& options);
+// Where the program's G0 down before a record's first touch ends, on the tool-axis linear axis:
+// above a ball the clearance level of its touches (centre + ball and tip radii + clearance), at a
+// facet clearance above the start; never beyond the safe end nor below the start. From there the
+// last of the approach is a G1 at the move feed.
+double probe_clearance_level(const Machine& m, const ProbingPlan& plan, const ProbingRecord& r, const ProbeTouch& first,
+                             const ProbeCycle& cycle);
 // The probing program's safe retract: the linear axis along the tool (chain index) and its travel
 // end where the tool is farthest from the workpiece. Throws InputError when that axis has no travel.
 std::pair<std::size_t, double> probe_safe_retract(const Machine& m);

@@ -104,7 +104,7 @@ std::string program_text(const Machine& m, const ProbingPlan& plan, const std::v
       current = t.record;
       s += fmt::format("(record {}: indexation {}, {} {}, plan line {})\n", t.record + 1, r.indexation,
                        ball ? "ball" : "facet", plan.features[r.feature].id, r.line);
-      // Over the start at the safe level, then down to it.
+      // Over the start at the safe level, down at rapid to the clearance level, then the rest at the feed.
       std::vector<double> over = t.start;
       over[tz] = safe;
       if (!tcp) {
@@ -132,6 +132,10 @@ std::string program_text(const Machine& m, const ProbingPlan& plan, const std::v
       }
       last_rotary = r.q;
       s += "G0 " + at(over, false) + "\n";
+      // Down at rapid to the clearance level; only the last of the approach at the move feed.
+      std::vector<double> down = t.start;
+      down[tz] = probe_clearance_level(m, plan, r, t, cycle);
+      s += "G0 " + at(down, false) + "\n";
     } else if (ball) {
       // Between a ball's touches: up to the clearance level above the ball, over, down.
       std::vector<double> lift = touches[i - 1].start, over = t.start;

@@ -33,9 +33,10 @@ struct ProbeProgramOptions {
 
 // The program: a header that states the coordinates (the machine's axis values of mtcal's model,
 // mm and deg: G54 offsets zero, no tool length offset, G49) and the cycle; per record a retract of
-// the tool-axis linear axis to its travel end, the indexation (G0 of the rotary axes), then per
-// touch a move over the start, down, the probing move (G38.2 / G31 at probe_feed) and the
-// retract. LinuxCNC: (PROBEOPEN log) ... (PROBECLOSE) around the touches, which makes LinuxCNC
+// the tool-axis linear axis to its travel end, the indexation (G0 of the rotary axes), a G0 over the
+// first touch's start at the safe level and a G0 down to the clearance level (probe_clearance_level);
+// then per touch the G1 moves to its start (between a ball's touches over the clearance level), the
+// probing move (G38.2 / G31 at probe_feed) and the G1 retract. estimate_time sums these blocks. LinuxCNC: (PROBEOPEN log) ... (PROBECLOSE) around the touches, which makes LinuxCNC
 // write one line of the 9 probed coordinates per G38.2 (LinuxCNC G-code overview, "Probe
 // Logging"). ISO: the skip position #5061-#5063 after each G31 is to be written as one CSV line
 // (read_probe_log, ProbeLogFormat::IsoCsv). Every move is a full-word absolute block (G90).
