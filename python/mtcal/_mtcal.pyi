@@ -855,6 +855,16 @@ class LinuxcncProbe:
     def write(self, dir: str) -> None:
         """Writes the files into dir (new or empty): all of them or none, as --out."""
 
+class LocateResult:
+    """Spheres located by the first coarse touch (mtcal probe-log --locate)."""
+    @property
+    def artefact(self) -> ProbingPlan:
+        """The artefact with its balls at their located centres (one record each at the locating configuration): what design_plan takes as its artefact"""
+    def to_dict(self) -> dict[str, Any]:
+        """As `mtcal probe-log --locate --json`: spheres [{id centre rough offset_mm beyond ball_diameter_mm contact_radius_mm rms_um contacts}] (mm, workpiece frame)"""
+    def write(self, machine: Machine, path: str) -> None:
+        """Writes the located artefact as probe-log --locate --out (complete or not at all)."""
+
 class Machine:
     """A machine model: topology, axes, tool and workpiece set-up, and every ISO 230 error parameter by name. Values in internal units (mm, rad). Machine.load reads a machine file; MachineBuilder builds one from Python values; with_params returns a modified copy."""
     def __copy__(self) -> Machine:
@@ -1444,6 +1454,9 @@ class SubsetAnalysis:
 class TargetOutput:
     """A compensation target's files and summary."""
     @property
+    def commanded_range(self) -> Any:
+        """linuxcnc-kins: per axis the commanded travel its pre-check holds (axis lo hi unit given margin largest_correction why), as `compensate --json`'s commanded_range; [] for the other targets"""
+    @property
     def files(self) -> dict[str, Any]:
         """file name -> text"""
     @property
@@ -1787,6 +1800,15 @@ def linuxcnc_probe(machine: Machine, spheres: npt.ArrayLike, *, sphere_diameter:
     workpiece frame (1 to 16); diameters in mm. Returns LinuxcncProbe: files, write(dir), to_dict().
     docs/planning.md.
     """
+
+def locate_plan(machine: Machine, artefact: ProbingPlan, *, at: npt.ArrayLike | None = ...) -> ProbingPlan:
+    """The locating plan of an artefact's balls at their rough positions, as `mtcal plan --locate --out`: one record per ball at the configuration `at` (k joint values, internal units; the rotary ones are used; default all 0)."""
+
+def locate_program(machine: Machine, plan: ProbingPlan, *, within: float = ..., dialect: str = ..., probe_feed: float = ..., move_feed: float = ..., log: str = ..., header: str = ..., program_coordinates: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ...) -> str:
+    """The locating program of a locate_plan, as `mtcal plan --locate --gcode`: 9 touches a ball laid out for a centre within `within` mm of its rough position; program_coordinates 'axes' or 'tool-point'. Text."""
+
+def locate_spheres(machine: Machine, plan: ProbingPlan, log: str, *, within: float = ..., dialect: str = ..., program_coordinates: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ...) -> LocateResult:
+    """The spheres the locating program's log (path) gives, as `mtcal probe-log --locate`: LocateResult (artefact, to_dict(), write()). The cycle and `within` as given to the program."""
 
 def measurements_from_contacts(machine: Machine, plan: ProbingPlan, log: str, *, dialect: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ..., coordinates: str = ...) -> ProbingPlan:
     """The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan for identify (write_probing_csv writes the command's --out). The cycle and coordinates ('axes' or 'tool-point', --program-coordinates) as given to the program."""

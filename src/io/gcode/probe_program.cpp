@@ -34,6 +34,9 @@ struct ProgramKind {
   std::string title;  // "probing program", "locating program"
   std::function<std::string(char, double)> cycle_line;
   double top_above = 0.0;
+  // The cycle whose clearance level the G0 down before a record's first touch stops at
+  // (probe_clearance_level); the locating program's clearance includes its search distance.
+  ProbeCycle cycle;
 };
 
 std::string program_text(const Machine& m, const ProbingPlan& plan, const std::vector<ProbeTouch>& touches,
@@ -134,7 +137,7 @@ std::string program_text(const Machine& m, const ProbingPlan& plan, const std::v
       s += "G0 " + at(over, false) + "\n";
       // Down at rapid to the clearance level; only the last of the approach at the move feed.
       std::vector<double> down = t.start;
-      down[tz] = probe_clearance_level(m, plan, r, t, cycle);
+      down[tz] = probe_clearance_level(m, plan, r, t, kind.cycle);
       s += "G0 " + at(down, false) + "\n";
     } else if (ball) {
       // Between a ball's touches: up to the clearance level above the ball, over, down.
@@ -175,6 +178,7 @@ std::string probe_program(const Machine& m, const ProbingPlan& plan, const Probe
                        cycle.touches_per_ball, zl, safe);
   };
   kind.top_above = (cycle.ball_diameter + cycle.tip_diameter) / 2 + cycle.clearance;
+  kind.cycle = cycle;
   return program_text(m, plan, probe_touches(m, plan, cycle), kind, o);
 }
 
@@ -191,6 +195,8 @@ std::string locate_program(const Machine& m, const ProbingPlan& plan, const Prob
                        cycle.clearance, plan.records.empty() ? 0 : touches.size() / plan.records.size(), zl, safe);
   };
   kind.top_above = (cycle.ball_diameter + cycle.tip_diameter) / 2 + locate.within + cycle.clearance;
+  kind.cycle = cycle;
+  kind.cycle.clearance += locate.within;
   return program_text(m, plan, touches, kind, o);
 }
 
