@@ -31,10 +31,12 @@ PROBE_FEED=${PROBE_FEED:-120}
 SIGMA_UM=${SIGMA_UM:-0.645}
 APPROACH=${APPROACH:-0.5}
 RANDOM_POSES=${RANDOM_POSES:-200}
-# The module's commanded travel: 5 mm (5 deg) inside each axis's travel, room for the corrections
-# (compensate's default room is 0.1 mm; near the pole the rotary axes' damped turn that corrects the
-# tool direction moves the linear joints by up to about 1 mm: 0.86 mm on the HU40T's drawn truth).
-RANGE=${RANGE:-X=-350:350,Y=-270:270,Z=-495:-5,A=-95:95,C=-175:175}
+# The module's commanded travel: compensate chooses the room its corrections need at each end of
+# every axis (docs/compensation-linuxcnc-kins.md, "The commanded travel"); RANGE (compensate's
+# --range, e.g. X=-350:350,...) overrides it.
+RANGE=${RANGE:-}
+range=()
+[ -n "$RANGE" ] && range=(--range "$RANGE")
 SEED=${SEED:-1}
 OUT=${OUT:-loop-out}
 # The simulation's secret: the machine's true errors (TRUTH: a parameter file; default, drawn with
@@ -66,7 +68,7 @@ run "$MTCAL" plan -m "$MACHINE" --artefact "$ARTEFACT" --estimate "$ESTIMATE" --
     --program-coordinates tool-point --out "$OUT/plan.csv" --gcode "$OUT/probe.ngc"
 
 step "2. LinuxCNC on the nominal machine's kinematics runs the probing program"
-run "$MTCAL" compensate -m "$MACHINE" --format linuxcnc-kins --range "$RANGE" --out "$OUT/kins-nominal"
+run "$MTCAL" compensate -m "$MACHINE" --format linuxcnc-kins "${range[@]}" --out "$OUT/kins-nominal"
 lcnc_status=0
 run "$here/lcnc-sim" --machine "$MACHINE" --kins "$OUT/kins-nominal" --probe "$OUT/probe" --program "$OUT/probe.ngc" \
     --out "$OUT/before" || lcnc_status=$?
@@ -89,7 +91,7 @@ cat "$OUT/identify-before.log" >&2
 first=$(sed -n 's/^mtcal: recorded \([0-9a-f]*\) in .*/\1/p' "$OUT/identify-before.log")
 
 step "4. The compensation: a kinematics module of the identified machine"
-run "$MTCAL" compensate -m "$MACHINE" --params "$OUT/identified.yaml" --format linuxcnc-kins --range "$RANGE" \
+run "$MTCAL" compensate -m "$MACHINE" --params "$OUT/identified.yaml" --format linuxcnc-kins "${range[@]}" \
     --out "$OUT/kins-identified"
 
 step "5. LinuxCNC restarted with the module runs the same probing program, then $RANDOM_POSES random poses"
@@ -113,4 +115,4 @@ run "$MTCAL" campaign -m "$MACHINE" --before "$OUT/measured-before.csv" --after 
     --poses-after "$OUT/after/poses.csv" --noise-um "$SIGMA_UM" --reference mean --report "$OUT/campaign.html"
 run "$MTCAL" campaign -m "$MACHINE" --before "$OUT/measured-before.csv" --after "$OUT/measured-after.csv" \
     --identified "$OUT/identify-before.json" --truth "$TRUTH" --poses-before "$OUT/after/poses-nominal.csv" \
-    --poses-after "$OUT/after/poses.csv" --noise-um "$SIGMA_UM" --reference mean --json >"$OUT/campaign.json"
+    --poses-after "$OUT/after/poses.csv" --noise-um "$SIGMA_UM" --reference mean --json --record="$store" >"$OUT/campaign.json"
