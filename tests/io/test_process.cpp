@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
+#include <string>
 
 #include "mtcal/io/system/process.hpp"
 #include "mtcal/report/report.hpp"
@@ -25,6 +27,30 @@ TEST(Process, KeepsOutputAndExitStatusWithoutAShell) {
   const ProgramRun killed = run_program({*sh, "-c", "kill -TERM $$"}, 10);
   EXPECT_EQ(killed.signal, SIGTERM);
   EXPECT_EQ(killed.exit_status, -1);
+}
+
+// NAME=value entries replace the inherited variable or add one; the rest is inherited; a malformed entry is refused.
+TEST(Process, EnvironmentEntriesReplaceOrAdd) {
+  const auto sh = find_program({"sh"});
+  ASSERT_TRUE(sh);
+  ::setenv("MTCAL_TEST_KEPT", "kept", 1);
+  ::setenv("MTCAL_TEST_REPLACED", "old", 1);
+  const ProgramRun r = run_program(
+      {*sh, "-c", "printf '%s|%s|%s|%s' \"$MTCAL_TEST_KEPT\" \"$MTCAL_TEST_REPLACED\" \"$MTCAL_TEST_NEW\" "
+                  "\"$(env | grep -c '^MTCAL_TEST_REPLACED=')\""},
+      10, std::size_t{1} << 20, {}, {"MTCAL_TEST_REPLACED=new=1", "MTCAL_TEST_NEW="});
+  EXPECT_EQ(r.out, "kept|new=1||1");
+  EXPECT_EQ(run_program({*sh, "-c", "printf %s \"$MTCAL_TEST_REPLACED\""}, 10).out, "old");
+  for (const std::string bad : {"NOEQUALS", "=value", ""}) {
+    try {
+      run_program({*sh, "-c", "exit 0"}, 10, std::size_t{1} << 20, {}, {bad});
+      ADD_FAILURE() << "no error for '" << bad << "'";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("is not NAME=value"), std::string::npos) << e.what();
+    }
+  }
+  ::unsetenv("MTCAL_TEST_KEPT");
+  ::unsetenv("MTCAL_TEST_REPLACED");
 }
 
 TEST(Process, TimeLimitKillsTheProgramAndItsHelpers) {

@@ -1,12 +1,21 @@
 // Reading LinuxCNC's canonical calls (the print format of src/emc/sai/saicanon.cc, as rs274 -g prints them) and the
 // numbered copy of a program that gives moves their lines; bad input of every kind. The interpreter itself is run by
-// the linuxcnc ctest label (tests/linuxcnc/), not here.
+// the linuxcnc ctest label (tests/linuxcnc/); here only where installed, to show that runs at once keep their own
+// tool tables.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
+#include <thread>
+
+#include <fmt/format.h>
+#include <unistd.h>
 
 #include "mtcal/io/gcode/rs274.hpp"
+#include "mtcal/io/system/process.hpp"
 #include "mtcal/util/errors.hpp"
 #include "examples.hpp"
 
@@ -125,4 +134,47 @@ TEST(Rs274, RefusalsAndBadInput) {
 TEST(Rs274, NumberedProgram) {
   EXPECT_EQ(number_gcode_lines("%\nG0 X1\n  /N0010 G1 X2\n\n(comment)\nn 5 o100 sub\n%"),
             "%\nN2 G0 X1\n  /N3  G1 X2\nN4 \nN5 (comment)\nN6  o100 sub\n%");
+}
+
+// LinuxCNC 2.9 keeps the loaded tool table in $HOME/.tool.mmap, shared by every interpreter of the user: a program
+// interpreted while another run loads a table with tool 1 found that tool although its own table was empty
+// (rough_edges_cli failed so in CI beside gcode_linuxcnc_examples). Reproduced here: another interpreter, with the
+// test's HOME, loads tool 1 again and again while mtcal's run interprets a long program that ends in T1 M6.
+TEST(Rs274, RunsAtOnceKeepTheirOwnToolTables) {
+  const std::string exe = find_rs274();
+  if (exe.empty()) GTEST_SKIP() << "LinuxCNC's rs274 is not installed (linuxcnc-uspace)";
+  const auto sh = find_program({"sh"});
+  ASSERT_TRUE(sh);
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("mtcal-rs274-tools-{}", ::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string home = std::getenv("HOME") != nullptr ? std::getenv("HOME") : dir.string();
+  {
+    std::ofstream(dir / "t1.tbl") << "T1 P1 Z1.5 D0.25\n";
+    std::ofstream(dir / "other.ngc") << "G20\nM2\n";
+    std::ofstream program(dir / "long.ngc");
+    program << "G21 G90\n";
+    for (int i = 0; i < 30000; ++i) program << "G1 X" << i % 100 << " F100\n";
+    program << "T1 M6\nM2\n";
+  }
+  std::atomic<bool> done{false};
+  int other_runs = 0;
+  std::thread other([&] {
+    while (!done) {
+      run_program({*sh, "-c", "HOME=\"$0\" exec \"$1\" -g -t \"$2\" \"$3\"", home, exe, (dir / "t1.tbl").string(),
+                   (dir / "other.ngc").string()},
+                  20);
+      ++other_runs;
+    }
+  });
+  std::string error = "no error";
+  try {
+    run_rs274((dir / "long.ngc").string(), GcodeSetup{});
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  done = true;
+  other.join();
+  std::filesystem::remove_all(dir);
+  EXPECT_GT(other_runs, 0);
+  EXPECT_NE(error.find("Requested tool 1 not found in the tool table"), std::string::npos) << error;
 }

@@ -149,9 +149,12 @@ Rs274Output run_rs274(const std::string& program_path, const GcodeSetup& setup, 
   std::error_code ec;
   std::string dir = std::filesystem::absolute(program, ec).parent_path().string();
   if (ec || dir.empty()) dir = ".";
+  // HOME is the temporary folder: LinuxCNC 2.9 keeps the loaded tool table in $HOME/.tool.mmap
+  // (tooldata_mmap.cc), one file shared by every interpreter and controller the user runs, so two
+  // programs interpreted at once (or a running LinuxCNC) would see each other's tools.
   const ProgramRun r =
       run_program({exe, "-g", "-t", tmp.path() + "/tools.tbl", "-v", tmp.path() + "/parameters.var", copy},
-                  options.timeout, options.max_output, dir);
+                  options.timeout, options.max_output, dir, {"HOME=" + tmp.path()});
   if (r.timed_out) throw Error(fmt::format("{} was stopped after {} s on {}", exe, options.timeout, program_path));
   if (r.signal != 0) throw Error(fmt::format("{} stopped by signal {} on {}", exe, r.signal, program_path));
   if (r.out.size() >= options.max_output)

@@ -1,11 +1,13 @@
 // Running another program without a shell, with a time limit (io/system/process.hpp).
 #include "mtcal/io/system/process.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <string_view>
 #include <utility>
 
 #include <fcntl.h>
@@ -61,8 +63,23 @@ std::optional<std::string> find_program(const std::vector<std::string>& names) {
 }
 
 ProgramRun run_program(const std::vector<std::string>& argv, double timeout_s, std::size_t max_output,
-                       const std::string& working_dir) {
+                       const std::string& working_dir, const std::vector<std::string>& environment) {
   if (argv.empty()) throw Error("run_program: no program given");
+  for (const auto& v : environment)
+    if (v.empty() || v.front() == '=' || v.find('=') == std::string::npos)
+      throw Error("run_program: environment entry '" + v + "' is not NAME=value");
+  // The inherited environment less the variables environment sets, then environment's.
+  std::vector<char*> envp;
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string_view var(*e);
+    const bool replaced = std::any_of(environment.begin(), environment.end(), [&](const std::string& v) {
+      const auto eq = v.find('=');
+      return var.size() > eq && var.substr(0, eq + 1) == std::string_view(v).substr(0, eq + 1);
+    });
+    if (!replaced) envp.push_back(*e);
+  }
+  for (const auto& v : environment) envp.push_back(const_cast<char*>(v.c_str()));
+  envp.push_back(nullptr);
   int out_pipe[2], err_pipe[2];
   if (::pipe2(out_pipe, O_CLOEXEC) != 0) throw Error("cannot start " + argv[0] + ": pipe: " + std::strerror(errno));
   Fd out_r{out_pipe[0]}, out_w{out_pipe[1]};
@@ -94,7 +111,7 @@ ProgramRun run_program(const std::vector<std::string>& argv, double timeout_s, s
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   pid_t pid = -1;
-  const int rc = ::posix_spawn(&pid, argv[0].c_str(), &actions, &attr, args.data(), environ);
+  const int rc = ::posix_spawn(&pid, argv[0].c_str(), &actions, &attr, args.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attr);
   if (rc != 0) throw Error("cannot start " + argv[0] + ": " + std::strerror(rc));

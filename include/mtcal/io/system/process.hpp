@@ -26,8 +26,10 @@ std::optional<std::string> find_program(const std::vector<std::string>& names);
 // its group are killed too. Output beyond max_output bytes per stream is dropped. Throws Error
 // when the program cannot be started (naming it and the reason). A non-empty working_dir is the
 // program's working directory (LinuxCNC's interpreter finds the subroutine files a program calls
-// there); the caller's stays as it is.
+// there); the caller's stays as it is. Each "NAME=value" in environment replaces (or adds) that
+// variable in the program's environment; the rest is inherited.
 ProgramRun run_program(const std::vector<std::string>& argv, double timeout_s,
-                       std::size_t max_output = std::size_t{256} << 20, const std::string& working_dir = {});
+                       std::size_t max_output = std::size_t{256} << 20, const std::string& working_dir = {},
+                       const std::vector<std::string>& environment = {});
 
 }  // namespace mtcal
