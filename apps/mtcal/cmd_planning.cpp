@@ -46,6 +46,7 @@ struct PlanOptions {
   bool locate = false;
   double locate_within = 3.0;
   std::string locate_at;
+  InstrumentCandidates instruments;
 };
 
 // --program-coordinates tool-point needs a machine with a tool-centre-point world: refused before anything
@@ -231,9 +232,11 @@ int run_plan(const PlanOptions& o) {
   check_outputs(inputs, {o.out});
   const Machine m = load(o.model);
   check_tool_point_coordinates(m, o.program_coordinates);
-  if (o.artefact.empty() && o.against.empty() && o.ball_region.empty())
+  const bool instruments = !o.instruments.ballbar_radii.empty() || !o.instruments.laser_axes.empty();
+  if (o.artefact.empty() && o.against.empty() && o.ball_region.empty() && !instruments)
     throw InputError({"--artefact", 0, ""},
-                     "expected the artefact's balls and facets: --artefact PLAN.csv, --against PLAN.csv or --ball-region");
+                     "expected the artefact's balls and facets: --artefact PLAN.csv, --against PLAN.csv or --ball-region "
+                     "(or --ballbar, --laser)");
   if (o.estimate.empty() && o.candidates.empty())
     throw InputError({"--estimate", 0, ""}, "expected the parameters to identify: --estimate, or --candidates with --choose");
   if (!o.candidates.empty() && o.choose == 0) throw InputError({"--candidates", 0, ""}, "--candidates needs --choose K");
@@ -246,6 +249,9 @@ int run_plan(const PlanOptions& o) {
     artefact = *against;
   PlanStudyOptions so;
   if (!o.ball_region.empty()) so.ball_region = parse_region(o.ball_region, o.ball_spacing);
+  so.instruments = o.instruments;
+  so.instruments.ballbar_source = "--ballbar";
+  so.instruments.laser_source = "--laser";
   so.model.estimate = o.estimate;
   so.model.estimate_source = "--estimate";
   for (const auto& s : o.scale_bars) so.model.scale_bars.push_back(parse_scale_bar(s, "--scale-bar"));
@@ -319,15 +325,26 @@ int run_plan(const PlanOptions& o) {
   if (!o.out.empty()) {
     report.out = o.out;
     write_probing_csv(o.out, m, design.plan,
-                      fmt::format("Designed by mtcal plan: machine {}, {} poses, criterion {}, {} candidates",
-                                  o.model.machine, design.plan.records.size(), design.criterion,
-                                  cands.plan.records.size()));
+                      fmt::format("Designed by mtcal plan: machine {}, {} poses, criterion {}, {} candidates{}",
+                                  o.model.machine, design.poses, design.criterion, plan_poses(cands.plan),
+                                  study.by_hand.empty()
+                                      ? ""
+                                      : fmt::format(" ({} ballbar circles and laser lines, by hand)", study.by_hand.size())));
   }
   if (!o.gcode.empty()) {
     report.gcode = o.gcode;
     ProbeProgramOptions po = program_options(o);
-    po.header = fmt::format("machine {}: {} poses designed by mtcal plan", m.name, design.plan.records.size());
-    write_probe_program(o.gcode, m, design.plan, o.cycle, po);
+    const ProbingPlan probing = probing_part(design.plan);
+    po.header = fmt::format("machine {}: {} poses designed by mtcal plan", m.name, design.poses);
+    // The circles and lines are not in the program: it says which remain to be done by hand.
+    if (!study.by_hand.empty()) {
+      po.notes.push_back(fmt::format("This program probes {} of the plan's {} poses; by hand, beside it (ISO 230-4 "
+                                     "ballbar, ISO 230-2 laser; their readings go into the measurement file's "
+                                     "reading column):",
+                                     probing.records.size(), design.poses));
+      for (const auto& setup : study.by_hand) po.notes.push_back("  " + describe_setup(setup));
+    }
+    write_probe_program(o.gcode, m, probing, o.cycle, po);
   }
   if ((o.json_out || recording()) && emit_json(to_json(report), o.json_out)) return 0;
 
@@ -338,22 +355,26 @@ int run_plan(const PlanOptions& o) {
                              "candidate; condition {:.4g}): {}\n",
                              fmt::join(choice->chosen, ","), choice->full_rank, choice->examined, o.choose,
                              choice->condition, fmt::join(choice->estimate, ","));
-  std::cout << fmt::format("candidates: {} considered, {} kept;", cands.considered, cands.plan.records.size());
+  std::cout << fmt::format("candidates: {} considered, {} kept;", cands.considered, plan_poses(cands.plan));
   for (const auto& [name, n] : cands.removed) std::cout << fmt::format(" {} removed by {}", n, name) << ";";
   std::cout << "\n";
   if (report.region.positions > 0)
     std::cout << fmt::format("ball region: {} positions, {} with a candidate left, {} used by the design\n",
                              report.region.positions, report.region.reachable, report.region.used);
   std::cout << fmt::format("designed plan: {} poses at {} indexations (criterion {}, {} after elimination, {} exchanges in {} passes){}\n",
-                           design.plan.records.size(), report.time.indexations, design.criterion, design.greedy_poses,
+                           design.poses, report.time.indexations, design.criterion, design.greedy_poses,
                            design.exchanges, design.passes, design.target_met ? "" : "; TARGET NOT MET");
-  std::cout << fmt::format("estimated time: {:.0f} s (moves {:.0f} s, probing {:.0f} s, indexing {:.0f} s; {} touches)\n",
+  std::cout << fmt::format("estimated time: {:.0f} s (moves {:.0f} s, probing {:.0f} s, indexing {:.0f} s; {} touches{})\n",
                            report.time.total, report.time.moves, report.time.probing, report.time.indexing,
-                           report.time.touches);
+                           report.time.touches,
+                           report.time.circles + report.time.lines > 0
+                               ? fmt::format("; ballbar circles and laser lines {:.0f} s", report.time.instruments)
+                               : "");
+  for (const auto& setup : study.by_hand) std::cout << "by hand: " << describe_setup(setup) << "\n";
   if (against_pred)
     std::cout << fmt::format("against {}: {} poses, {:.0f} s; the designed plan has {:.0f} % fewer poses\n", o.against,
                              against_pred->poses, against_time->total,
-                             100.0 * (static_cast<double>(against_pred->poses) - static_cast<double>(design.plan.records.size())) /
+                             100.0 * (static_cast<double>(against_pred->poses) - static_cast<double>(design.poses)) /
                                  static_cast<double>(against_pred->poses));
   print_prediction(design.prediction, against_pred ? &*against_pred : nullptr,
                    report.monte_carlo ? &*report.monte_carlo : nullptr);
@@ -439,16 +460,29 @@ int run_probe_log(const ProbeLogOptions& o) {
   ProbeCycle cycle = o.cycle;
   cycle.approach = o.approach;
   cycle.touches_per_ball = o.touches;
-  const ProbingPlan meas =
-      measurements_from_contacts(m, plan_targets(m, read_probing_csv(m, o.plan)), cycle, contacts, o.log);
+  // A plan's ballbar and laser records are not in its program (plan --gcode): the log holds the
+  // probing records' contacts, their readings are taken by hand.
+  const ProbingPlan whole = read_probing_csv(m, o.plan);
+  const ProbingPlan probing = probing_part(whole);
+  const std::size_t by_hand = whole.records.size() - probing.records.size();
+  const ProbingPlan meas = measurements_from_contacts(m, plan_targets(m, probing), cycle, contacts, o.log);
   write_probing_csv(o.out, m, meas,
-                    fmt::format("Measured: plan {}, probe log {} ({} contacts)", o.plan, o.log, contacts.size()));
+                    fmt::format("Measured: plan {}, probe log {} ({} contacts){}", o.plan, o.log, contacts.size(),
+                                by_hand > 0 ? fmt::format("; the plan's {} ballbar and laser records are not in it "
+                                                          "(by hand)",
+                                                          by_hand)
+                                            : ""));
   if (o.json_out) {
-    print_json(Json{{"records", meas.records.size()}, {"contacts", contacts.size()}, {"out", o.out}});
+    print_json(Json{{"records", meas.records.size()}, {"contacts", contacts.size()}, {"by_hand_records", by_hand},
+                    {"out", o.out}});
     return 0;
   }
   std::cout << fmt::format("{} contacts of {} -> {} measurement records; wrote {}\n", contacts.size(), o.log,
                            meas.records.size(), o.out);
+  if (by_hand > 0)
+    std::cout << fmt::format("note: the plan's {} ballbar and laser records are not in the probing program: their "
+                             "readings are taken by hand (ISO 230-4, ISO 230-2) and added to {} (column reading)\n",
+                             by_hand, o.out);
   return 0;
 }
 
@@ -505,6 +539,36 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
                 "height), candidate positions every --ball-spacing");
   c->add_option("--ball-spacing", o->ball_spacing, "Spacing of the --ball-region positions, mm")
       ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--ballbar", o->instruments.ballbar_radii,
+                "Offer ballbar circles (ISO 230-4) of these radii, mm: in the XY, YZ and ZX planes that hold them, "
+                "pivots on a 3 x 3 grid within the tool point's travel, the rotary axes at 0; each circle one pose "
+                "(its pivot and length offset its own unknowns); done by hand, not in --gcode")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber & kFinite);
+  c->add_option("--ballbar-points", o->instruments.ballbar_points, "Readings of a --ballbar circle, evenly in angle")
+      ->check(CLI::Range(4, 3600))
+      ->capture_default_str();
+  c->add_option("--ballbar-feed", o->timing.ballbar_feed, "Feed of a --ballbar circle (the time: 2 x 2 pi R a circle), mm/min")
+      ->check(CLI::PositiveNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--ballbar-setup-s", o->timing.ballbar_setup, "Setup time of a --ballbar circle (pivot, bar, centring), s")
+      ->check(CLI::NonNegativeNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--laser", o->instruments.laser_axes,
+                "Offer laser lines (ISO 230-2) along these linear axes, e.g. X,Y: through the middle of the tool "
+                "point's travel, the rotary axes at 0; each line one pose (its offset its own unknown); done by hand, "
+                "not in --gcode")
+      ->delimiter(',');
+  c->add_option("--laser-points", o->instruments.laser_points, "Targets of a --laser line, evenly over the axis' travel")
+      ->check(CLI::Range(2, 1000))
+      ->capture_default_str();
+  c->add_option("--laser-setup-s", o->timing.laser_setup, "Setup time of a --laser line (aligning the beam), s")
+      ->check(CLI::NonNegativeNumber & kFinite)
+      ->capture_default_str();
+  c->add_option("--laser-dwell-s", o->timing.laser_dwell,
+                "Dwell at each --laser target (the time: per target the step at --rapid and the dwell), s")
+      ->check(CLI::NonNegativeNumber & kFinite)
       ->capture_default_str();
   c->add_option("--rotary-step-deg", o->rotary_step_deg, "Candidate grid step of every rotary axis over its travel, deg")
       ->check(CLI::Range(0.01, 360.0))
@@ -578,7 +642,7 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
                 "--locate: the rotary axes' values where the balls are located, e.g. \"A=0,C=90\" (deg; default 0)")
       ->needs(locate);
   for (const char* design : {"--estimate", "--candidates", "--against", "--poses", "--target-u", "--target-va-u",
-                             "--ball-region", "--monte-carlo"})
+                             "--ball-region", "--monte-carlo", "--ballbar", "--laser"})
     locate->excludes(c->get_option(design));
   c->add_flag("--json", o->json_out, "Machine-readable output: poses predicted{parameters{u}} time against ...");
   c->footer(
@@ -595,6 +659,8 @@ std::vector<Command> add_planning_commands(CLI::App& app) {
       "      --estimate EX0C,EY0C,EA0C,EB0C,EY0A,EZ0A,EB0A,EC0A --poses 20 --rotary-step-deg 30\n"
       "  mtcal plan -m examples/loop/rrttt-nominal.yaml --artefact examples/plans/rrttt-viprey-sphere.csv \\\n"
       "      --estimate EX0C,EY0C,EY0A,EZ0A --poses 8 --gcode probe.ngc --program-coordinates tool-point\n"
+      "  mtcal plan -m examples/machines/vmc-3axis.yaml --estimate EC0Y,EA0Z,EB0Z,EXX.1,EZZ.1 --ballbar 150 \\\n"
+      "      --laser X,Z --poses 5 --out plan.csv   # circles and lines by hand\n"
       "  mtcal plan -m examples/loop/rrttt-nominal.yaml --artefact examples/plans/rrttt-viprey-sphere.csv --locate \\\n"
       "      --locate-within 3 --program-coordinates tool-point \\\n"
       "      --out locate-plan.csv --gcode locate.ngc   # then LinuxCNC, then probe-log --locate\n");

@@ -45,10 +45,10 @@ ProbeCycle cycle_of(double ball_diameter, double tip_diameter, double approach, 
 }
 
 // What a probing program's X Y Z mean (--program-coordinates): 'axes' or 'tool-point'.
-ProbeCoordinates coordinates_of(const std::string& v, const char* name) {
+ProbeCoordinates coordinates_of(const std::string& v) {
   if (v == "axes") return ProbeCoordinates::Axes;
   if (v == "tool-point") return ProbeCoordinates::ToolPoint;
-  throw py::value_error(std::string(name) + ": expected 'axes' or 'tool-point', found '" + v + "'");
+  throw py::value_error("program_coordinates: expected 'axes' or 'tool-point', found '" + v + "'");
 }
 
 // Tool-point coordinates need a machine with a tool-centre-point world: refused before any work, as
@@ -67,12 +67,6 @@ ProbeLogFormat log_format(const std::string& dialect) {
   throw py::value_error("dialect: expected 'linuxcnc' or 'iso', found '" + dialect + "'");
 }
 
-ProbeCoordinates coordinates_of(const std::string& c) {
-  if (c == "axes") return ProbeCoordinates::Axes;
-  if (c == "tool-point") return ProbeCoordinates::ToolPoint;
-  throw py::value_error("program_coordinates: expected 'axes' or 'tool-point', found '" + c + "'");
-}
-
 CommandedPose pose_of(const CommandedJointSolver& s, const double* point, const double* rotary) {
   CommandedPose p;
   p.point = Vec3(point[0], point[1], point[2]);
@@ -87,7 +81,8 @@ void bind_planning(py::module_& m) {
   py::class_<PlanResult>(m, "PlanResult", "A designed probing plan: the poses, predicted uncertainties, time.")
       .def_property_readonly("plan", [](const PlanResult& r) { return r.study.design.plan; },
                              "ProbingPlan of the selected poses (write_probing_csv writes it)")
-      .def_property_readonly("poses", [](const PlanResult& r) { return r.study.design.plan.records.size(); })
+      .def_property_readonly("poses", [](const PlanResult& r) { return r.study.design.poses; },
+                             "Poses of the design (a ballbar circle or a laser line is one)")
       .def_property_readonly("criterion", [](const PlanResult& r) { return r.study.design.criterion; })
       .def_property_readonly("target_met", [](const PlanResult& r) { return r.study.design.target_met; })
       .def_property_readonly(
@@ -125,11 +120,14 @@ void bind_planning(py::module_& m) {
          double rotary_step, double max_tilt_deg, double stylus_length, double holder_radius, double table_z,
          double rapid, double rotary_speed, double probe_feed, double move_feed, double approach, int touches,
          double ball_diameter, double tip_diameter, double overtravel, double clearance, std::size_t monte_carlo,
-         std::uint64_t seed, int threads, const std::string& program_coordinates) {
-        const ProbeCoordinates coordinates = coordinates_of(program_coordinates, "program_coordinates");
-        if (artefact.is_none() && against.is_none() && ball_region.is_none())
+         std::uint64_t seed, int threads, const std::string& program_coordinates,
+         const std::vector<double>& ballbar, std::size_t ballbar_points, double ballbar_feed, double ballbar_setup,
+         const std::vector<std::string>& laser, std::size_t laser_points, double laser_setup, double laser_dwell) {
+        const ProbeCoordinates coordinates = coordinates_of(program_coordinates);
+        if (artefact.is_none() && against.is_none() && ball_region.is_none() && ballbar.empty() && laser.empty())
           throw py::value_error(
-              "artefact: expected the artefact's balls and facets (a ProbingPlan), against, or ball_region");
+              "artefact: expected the artefact's balls and facets (a ProbingPlan), against, ball_region, ballbar or "
+              "laser");
         if (estimate.empty() && candidates.empty())
           throw py::value_error("estimate: expected the parameters to identify, or candidates with choose");
         if (!candidates.empty() && choose == 0) throw py::value_error("choose: candidates needs choose (how many)");
@@ -207,6 +205,16 @@ void bind_planning(py::module_& m) {
         o.timing.probe_feed = probe_feed;
         o.timing.move_feed = move_feed;
         o.timing.tool_point = coordinates == ProbeCoordinates::ToolPoint;  // the time of that program
+        o.instruments.ballbar_radii = ballbar;
+        o.instruments.ballbar_points = ballbar_points;
+        o.instruments.laser_axes = laser;
+        o.instruments.laser_points = laser_points;
+        o.instruments.ballbar_source = "ballbar";
+        o.instruments.laser_source = "laser";
+        o.timing.ballbar_feed = ballbar_feed;
+        o.timing.ballbar_setup = ballbar_setup;
+        o.timing.laser_setup = laser_setup;
+        o.timing.laser_dwell = laser_dwell;
         o.cycle = cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, touches);
         o.monte_carlo = monte_carlo;
         o.seed = seed;
@@ -232,6 +240,9 @@ void bind_planning(py::module_& m) {
       "probe_feed"_a = 200.0, "move_feed"_a = 2000.0, "approach"_a = 3.0, "touches"_a = 5,
       "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0,
       "monte_carlo"_a = std::size_t{0}, "seed"_a = std::uint64_t{1}, "threads"_a = 0, "program_coordinates"_a = "axes",
+      "ballbar"_a = std::vector<double>{}, "ballbar_points"_a = std::size_t{36}, "ballbar_feed"_a = 1000.0,
+      "ballbar_setup"_a = 300.0, "laser"_a = std::vector<std::string>{}, "laser_points"_a = std::size_t{11},
+      "laser_setup"_a = 900.0, "laser_dwell"_a = 4.0,
       R"(Designs a probing plan, as `mtcal plan` (docs/planning.md): the fewest poses (indexations x
 balls and facets of artefact, a ProbingPlan, and of ball_region) that identify `estimate` (and,
 with candidates and choose, the best conditioned full-rank subset of choose of the candidates) to
@@ -244,16 +255,24 @@ frame, ball positions every ball_spacing. sigma: standard deviation of a reading
 rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length, holder_radius,
 table_z in mm); the time of the program (rapid, probe_feed, move_feed mm/min, rotary_speed
 deg/min) with its cycle (approach, ball_diameter, tip_diameter, overtravel, clearance mm,
-touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes it). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict()).)");
+touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes it). ballbar: radii (mm)
+of candidate ballbar circles (--ballbar; ballbar_points readings each, timed at ballbar_feed mm/min
+both ways plus ballbar_setup s), laser: linear axis letters of candidate laser lines (--laser;
+laser_points targets each, timed as laser_setup s plus per target the step at rapid and
+laser_dwell s); each circle or line is one pose, done by hand (to_dict()['by_hand']). Returns
+PlanResult (plan, poses, uncertainties, estimate, va_u, time, to_dict()).)");
 
   // ---------------------------------------------------------------- probe programs and logs (mtcal plan --gcode, probe-log)
+  m.def("probing_part", &probing_part, "plan"_a,
+        "The plan with its probing records only (balls, facets): what probe_program takes, as plan --gcode "
+        "writes it (a design's ballbar circles and laser lines are done by hand).");
   m.def(
       "probe_program",
       [](const Machine& mm, const ProbingPlan& plan, const std::string& dialect, double probe_feed, double move_feed,
          const std::string& log, const std::string& header, double ball_diameter, double tip_diameter,
-         double approach, double overtravel, double clearance, int touches, const std::string& coordinates) {
+         double approach, double overtravel, double clearance, int touches, const std::string& program_coordinates) {
         ProbeProgramOptions po;
-        po.coordinates = coordinates_of(coordinates, "coordinates");
+        po.coordinates = coordinates_of(program_coordinates);
         if (po.coordinates == ProbeCoordinates::ToolPoint) check_tool_point(mm);
         po.dialect = log_format(dialect) == ProbeLogFormat::IsoCsv ? ProbeDialect::Iso : ProbeDialect::LinuxCNC;
         po.probe_feed = probe_feed;
@@ -265,11 +284,13 @@ touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes 
       },
       "machine"_a, "plan"_a, py::kw_only(), "dialect"_a = "linuxcnc", "probe_feed"_a = 200.0,
       "move_feed"_a = 2000.0, "log"_a = "mtcal-contacts.txt", "header"_a = "", "ball_diameter"_a = 25.4, "tip_diameter"_a = 3.0,
-      "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5, "coordinates"_a = "axes",
+      "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5,
+      "program_coordinates"_a = "axes",
       "The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or "
-      "'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min); coordinates "
-      "(--program-coordinates): 'axes' (the machine's axis values) or 'tool-point' (the world of a "
-      "tool-centre-point kinematics). Text.");
+      "'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min); "
+      "program_coordinates (--program-coordinates): 'axes' (the machine's axis values) or 'tool-point' (the world "
+      "of a tool-centre-point kinematics). Balls and facets only: a plan's ballbar and laser records are refused "
+      "(design_plan's plan: probing_part(plan) first). Text.");
   m.def(
       "read_probe_log",
       [](const Machine& mm, const std::string& path, const std::string& dialect) {
@@ -288,8 +309,8 @@ touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes 
       "measurements_from_contacts",
       [](const Machine& mm, const ProbingPlan& plan, const std::string& log, const std::string& dialect,
          double ball_diameter, double tip_diameter, double approach, double overtravel, double clearance,
-         int touches, const std::string& coordinates) {
-        const bool tcp = coordinates_of(coordinates, "coordinates") == ProbeCoordinates::ToolPoint;
+         int touches, const std::string& program_coordinates) {
+        const bool tcp = coordinates_of(program_coordinates) == ProbeCoordinates::ToolPoint;
         if (tcp) check_tool_point(mm);
         const ProbeCycle cycle = cycle_of(ball_diameter, tip_diameter, approach, overtravel, clearance, touches);
         auto contacts = read_probe_log(mm, log, log_format(dialect));
@@ -298,9 +319,9 @@ touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes 
       },
       "machine"_a, "plan"_a, "log"_a, py::kw_only(), "dialect"_a = "linuxcnc", "ball_diameter"_a = 25.4,
       "tip_diameter"_a = 3.0, "approach"_a = 3.0, "overtravel"_a = 2.0, "clearance"_a = 10.0, "touches"_a = 5,
-      "coordinates"_a = "axes",
+      "program_coordinates"_a = "axes",
       "The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan "
-      "for identify (write_probing_csv writes the command's --out). The cycle and coordinates ('axes' or "
+      "for identify (write_probing_csv writes the command's --out). The cycle and program_coordinates ('axes' or "
       "'tool-point', --program-coordinates) as given to the program.");
 
   // ---------------------------------------------------------------- the first coarse touch (plan --locate, probe-log --locate)

@@ -37,7 +37,7 @@ PARITY = {
     "simulate": ["simulate"],
     "identify": ["identify", "write_report"],
     "identifiability": ["identifiability"],
-    "plan": ["design_plan", "locate_plan", "locate_program"],
+    "plan": ["design_plan", "probing_part", "locate_plan", "locate_program"],
     "probe-log": ["read_probe_log", "measurements_from_contacts", "locate_spheres", "LocateResult.write"],
     "pose-check": ["read_reached_poses", "check_reached_poses"],
     "campaign": ["campaign", "read_identification_json", "CampaignResult.write_report"],

@@ -71,6 +71,27 @@ def test_design_plan_options_match_cli(rrttt):
         mtcal.design_plan(rrttt, estimate=["EY0C"], ball_region=(0, 1, 0, 1, 0), ball_spacing=-1, poses=3)
 
 
+def test_design_plan_instruments_match_cli(tmp_path, rrttt):
+    """--ballbar and --laser (circles and lines as poses, their time, by_hand) against plan --json
+    exactly; probe_program of probing_part(plan) is the command's program less its by-hand notes."""
+    artefact = mtcal.read_probing_plan(rrttt, str(SPHERE))
+    ref = cli_json("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", "EY0C,EZ0A,EC0Y", "--poses", 10,
+                   "--rotary-step-deg", 30, "--ballbar", "100,150", "--ballbar-points", 24, "--ballbar-feed", 1500,
+                   "--ballbar-setup-s", 200, "--laser", "X,Y", "--laser-points", 6, "--laser-setup-s", 600,
+                   "--laser-dwell-s", 2, "--gcode", tmp_path / "bb.ngc")
+    r = mtcal.design_plan(rrttt, artefact, estimate=["EY0C", "EZ0A", "EC0Y"], poses=10, rotary_step=np.radians(30),
+                          ballbar=[100, 150], ballbar_points=24, ballbar_feed=1500, ballbar_setup=200,
+                          laser=["X", "Y"], laser_points=6, laser_setup=600, laser_dwell=2)
+    assert_same(r.to_dict(gcode=str(tmp_path / "bb.ngc")), ref, tol=0)
+    assert r.poses == 10 and ref["by_hand"], ref.get("by_hand")
+    probing = mtcal.probing_part(r.plan)
+    text = mtcal.probe_program(rrttt, probing, header=f"machine {rrttt.name}: 10 poses designed by mtcal plan")
+    written = (tmp_path / "bb.ngc").read_text()
+    assert [l for l in written.splitlines() if "by hand" not in l and not l.startswith("(  ")] == text.splitlines()
+    with pytest.raises(mtcal.InputError, match="found 'W'"):
+        mtcal.design_plan(rrttt, artefact, estimate=["EY0C"], poses=3, laser=["W"])
+
+
 def test_probe_program_and_log_match_cli(tmp_path, rrttt):
     cli("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", "EY0C,EZ0A", "--poses", 12,
         "--out", tmp_path / "plan.csv", "--gcode", tmp_path / "probe.ngc")
@@ -89,11 +110,11 @@ def test_probe_program_and_log_match_cli(tmp_path, rrttt):
                            program_coordinates="tool-point")
     assert_same(tp.to_dict(gcode=str(tmp_path / "tp.ngc")), ref, tol=0)
     assert ref["time"]["total_s"] != designed.to_dict()["time"]["total_s"]
-    assert mtcal.probe_program(rrttt, tp.plan, coordinates="tool-point",
+    assert mtcal.probe_program(rrttt, tp.plan, program_coordinates="tool-point",
                                header=f"machine {rrttt.name}: 12 poses designed by mtcal plan") == \
         (tmp_path / "tp.ngc").read_text()
     with pytest.raises(ValueError, match="'axes' or 'tool-point'"):
-        mtcal.probe_program(rrttt, tp.plan, coordinates="world")
+        mtcal.probe_program(rrttt, tp.plan, program_coordinates="world")
     # Its log (world positions) back to measurements, as probe-log --program-coordinates tool-point.
     at, tp_log = {}, []
     for line in (tmp_path / "tp.ngc").read_text().splitlines():
@@ -107,7 +128,7 @@ def test_probe_program_and_log_match_cli(tmp_path, rrttt):
     cli("probe-log", "-m", RRTTT, "--plan", tmp_path / "tp-plan.csv", "--log", tmp_path / "tp-log.txt",
         "--program-coordinates", "tool-point", "--out", tmp_path / "tp-cli-meas.csv")
     tp_meas = mtcal.measurements_from_contacts(rrttt, mtcal.read_probing_plan(rrttt, str(tmp_path / "tp-plan.csv")),
-                                               str(tmp_path / "tp-log.txt"), coordinates="tool-point")
+                                               str(tmp_path / "tp-log.txt"), program_coordinates="tool-point")
     mtcal.write_probing_csv(str(tmp_path / "tp-py-meas.csv"), rrttt, tp_meas)
     data = lambda p: [l for l in p.read_text().splitlines() if not l.startswith("#")]  # noqa: E731
     assert data(tmp_path / "tp-py-meas.csv") == data(tmp_path / "tp-cli-meas.csv")

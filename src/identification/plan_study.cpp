@@ -16,9 +16,11 @@ PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::o
     s.region = BallRegionUse{balls.size(), 0, 0};
     features.insert(features.end(), balls.begin(), balls.end());
   }
-  if (features.empty())
-    throw InputError({"artefact", 0, ""}, "expected the artefact's balls and facets, or a region where balls may go");
-  s.candidates = candidate_configurations(m, features, rotary_grid(m, o.rotary_step), o.reach);
+  if (features.empty() && o.instruments.ballbar_radii.empty() && o.instruments.laser_axes.empty())
+    throw InputError({"artefact", 0, ""},
+                     "expected the artefact's balls and facets, a region where balls may go, or ballbar circles or "
+                     "laser lines");
+  s.candidates = candidate_configurations(m, features, rotary_grid(m, o.rotary_step), o.reach, o.instruments);
   if (o.choose) {
     s.choice = choose_parameters(m, s.candidates.plan, *o.choose, s.model);
     s.model.estimate = s.choice->estimate;
@@ -62,14 +64,16 @@ PlanStudy plan_study(const Machine& m, const ProbingPlan& artefact, const std::o
   }
   s.design = design_plan(m, s.candidates.plan, d);
   s.time = estimate_time(m, s.design.plan, o.cycle, o.timing);
+  s.by_hand = instrument_setups(m, s.design.plan);
   if (s.va && s.against) s.against_va_u = va_uncertainty(*s.va, s.against->covariance);
   if (s.region) {
     std::set<std::size_t> reachable, used;
     const std::size_t first = artefact.features.size();
+    const std::size_t end = features.size();  // the instruments' features come after the region's
     for (const auto& r : s.candidates.plan.records)
-      if (r.feature >= first) reachable.insert(r.feature);
+      if (r.feature >= first && r.feature < end) reachable.insert(r.feature);
     for (const auto& r : s.design.plan.records)
-      if (r.feature >= first) used.insert(r.feature);
+      if (r.feature >= first && r.feature < end) used.insert(r.feature);
     s.region->reachable = reachable.size();
     s.region->used = used.size();
   }

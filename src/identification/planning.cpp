@@ -2,6 +2,7 @@
 #include "mtcal/identification/planning.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -37,6 +38,7 @@ std::string violation(const ErrorModel& nominal, const ProbingPlan& plan, const 
     if (t && (r.q[k] < t->min - 1e-9 || r.q[k] > t->max + 1e-9)) return "travel";
   }
   const ProbeFeature& f = plan.features[r.feature];
+  if (f.kind == ProbeFeature::Kind::Ballbar || f.kind == ProbeFeature::Kind::Laser) return "";  // no probe
   const Vec3 a = tool_axis(nominal, r);
   if (f.kind == ProbeFeature::Kind::Ball) {
     const double tilt = std::acos(std::clamp(a.dot(-reach.stem.normalized()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
@@ -55,7 +57,213 @@ std::string violation(const ErrorModel& nominal, const ProbingPlan& plan, const 
   return "";
 }
 
+bool is_instrument(ProbeFeature::Kind k) { return k == ProbeFeature::Kind::Ballbar || k == ProbeFeature::Kind::Laser; }
+
+// The rotary axes' values of the instruments' records: each axis at the value nearest 0 within
+// its travel.
+std::vector<double> instrument_rotary(const Machine& m) {
+  std::vector<double> q(m.axes.size(), 0.0);
+  for (std::size_t k : rotary_axes(m))
+    if (const auto& t = m.axes[k].travel) q[k] = std::clamp(0.0, t->min, t->max);
+  return q;
+}
+
+// The box of the nominal tool point (workpiece frame) over the linear axes' travels at the rotary
+// values of q: the corners' extremes (the linear axes move the tool point along straight lines).
+std::pair<Vec3, Vec3> tool_point_box(const Machine& m, const ErrorModel& nominal, std::vector<double> q,
+                                     const std::string& where) {
+  const auto lin = linear_axes(m);
+  for (std::size_t k : lin)
+    if (!m.axes[k].travel)
+      throw InputError({where, 0, std::string(1, m.axes[k].letter)},
+                       fmt::format("ballbar circles and laser lines are laid out in the travels; axis {} has none",
+                                   m.axes[k].letter));
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (std::size_t c = 0; c < (std::size_t{1} << lin.size()); ++c) {
+    for (std::size_t j = 0; j < lin.size(); ++j)
+      q[lin[j]] = (c >> j) & 1 ? m.axes[lin[j]].travel->max : m.axes[lin[j]].travel->min;
+    const Vec3 p = nominal.nominal_pose(q).t;
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return {lo, hi};
+}
+
+constexpr const char* kPlaneNames[3] = {"YZ", "ZX", "XY"};  // by the index of the normal's axis
+
+// The instruments' candidate features and records (nominal targets), removing circles and lines
+// with a reading outside the travel; `removed` counts those.
+ProbingPlan instrument_candidates(const Machine& m, const ErrorModel& nominal, const std::vector<ProbeFeature>& taken,
+                                  const InstrumentCandidates& o, int indexation, std::size_t& considered,
+                                  std::size_t& removed) {
+  ProbingPlan out;
+  out.source = "the candidate configurations";
+  if (o.ballbar_radii.empty() && o.laser_axes.empty()) return out;
+  const std::vector<double> q0 = instrument_rotary(m);
+  const auto lin = linear_axes(m);
+  if (!o.ballbar_radii.empty() && o.ballbar_points < 4)
+    throw InputError({o.ballbar_source, 0, ""}, fmt::format("expected at least 4 readings a circle, found {}", o.ballbar_points));
+  if (!o.laser_axes.empty() && o.laser_points < 2)
+    throw InputError({o.laser_source, 0, ""}, fmt::format("expected at least 2 targets a line, found {}", o.laser_points));
+  if (!o.ballbar_radii.empty() && o.pivots_per_axis < 1)
+    throw InputError({o.ballbar_source, 0, ""}, "expected at least one pivot per axis of a plane");
+  const auto box = tool_point_box(m, nominal, q0, o.ballbar_radii.empty() ? o.laser_source : o.ballbar_source);
+  const Vec3 lo = box.first, hi = box.second;
+  const Vec3 mid = (lo + hi) / 2, size = hi - lo;
+  auto add = [&](const ProbeFeature& f, const std::vector<double>& at) {
+    if (std::any_of(taken.begin(), taken.end(), [&](const ProbeFeature& t) { return t.id == f.id; }))
+      throw InputError({f.kind == ProbeFeature::Kind::Laser ? o.laser_source : o.ballbar_source, 0, f.id},
+                       fmt::format("the candidate {} id '{}' is already a feature of the artefact",
+                                   feature_kind_name(f.kind), f.id));
+    out.features.push_back(f);
+    for (double a : at) {
+      ProbingRecord r;
+      r.indexation = indexation;
+      r.q = q0;
+      r.dir.assign(m.axes.size(), 0);
+      r.feature = out.features.size() - 1;
+      r.at = a;
+      out.records.push_back(r);
+    }
+  };
+  for (double R : o.ballbar_radii) {
+    const std::string value = fmt::format("{:g}", R);
+    if (!(R > 0) || !std::isfinite(R))
+      throw InputError({o.ballbar_source, 0, value}, fmt::format("expected a radius > 0 mm, found {}", value));
+    std::vector<double> at;
+    for (std::size_t i = 0; i < o.ballbar_points; ++i)
+      at.push_back(2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(o.ballbar_points));
+    bool fits = false;
+    for (int k : {2, 0, 1}) {  // XY, YZ, ZX
+      const int a = (k + 1) % 3, b = (k + 2) % 3;
+      if (size[a] < 2 * R - 1e-9 || size[b] < 2 * R - 1e-9) continue;
+      fits = true;
+      auto values = [&](int axis) {
+        std::vector<double> v;
+        const double first = lo[axis] + R, last = hi[axis] - R;
+        const std::size_t n = last - first < 1e-9 ? 1 : o.pivots_per_axis;
+        if (n == 1) return std::vector<double>{mid[axis]};
+        for (std::size_t i = 0; i < n; ++i)
+          v.push_back(first + (last - first) * static_cast<double>(i) / static_cast<double>(n - 1));
+        return v;
+      };
+      std::size_t n = 0;
+      for (double vb : values(b))
+        for (double va : values(a)) {
+          ProbeFeature f;
+          f.kind = ProbeFeature::Kind::Ballbar;
+          f.id = fmt::format("BB{:g}{}{}", R, kPlaneNames[k], ++n);
+          f.position = mid;
+          f.position[a] = va;
+          f.position[b] = vb;
+          f.normal = Vec3::Unit(k);
+          f.radius = R;
+          add(f, at);
+          ++considered;
+        }
+    }
+    if (!fits)
+      throw InputError({o.ballbar_source, 0, value},
+                       fmt::format("a circle of radius {} mm needs 2 x {} mm of the tool point's travel along both "
+                                   "axes of its plane; the travel is {:.6g} mm along x, {:.6g} along y, {:.6g} along z: "
+                                   "no plane XY, YZ or ZX holds it",
+                                   value, value, size.x(), size.y(), size.z()));
+  }
+  for (const auto& name : o.laser_axes) {
+    std::size_t k = m.axes.size();
+    for (std::size_t j : lin)
+      if (name.size() == 1 && std::toupper(static_cast<unsigned char>(name[0])) == m.axes[j].letter) k = j;
+    if (k == m.axes.size()) {
+      std::string letters;
+      for (std::size_t j : lin) letters += fmt::format("{}{}", letters.empty() ? "" : ", ", m.axes[j].letter);
+      throw InputError({o.laser_source, 0, name},
+                       fmt::format("expected a linear axis of the machine ({}), found '{}'", letters, printable(name)));
+    }
+    // The beam along the axis' motion of the tool point (workpiece frame), through the box's middle.
+    std::vector<double> qa = q0, qb = q0;
+    for (std::size_t j : lin) qa[j] = qb[j] = (m.axes[j].travel->min + m.axes[j].travel->max) / 2;
+    qa[k] = m.axes[k].travel->min;
+    qb[k] = m.axes[k].travel->max;
+    const Vec3 pa = nominal.nominal_pose(qa).t, pb = nominal.nominal_pose(qb).t;
+    const double length = (pb - pa).norm();
+    ProbeFeature f;
+    f.kind = ProbeFeature::Kind::Laser;
+    f.id = fmt::format("L{}", m.axes[k].letter);
+    f.normal = (pb - pa) / length;
+    f.position = pa;
+    std::vector<double> at;
+    for (std::size_t i = 0; i < o.laser_points; ++i)
+      at.push_back(length * static_cast<double>(i) / static_cast<double>(o.laser_points - 1));
+    add(f, at);
+    ++considered;
+  }
+  out = plan_targets(m, out);
+  // A circle or line with a reading outside the travel: removed whole.
+  std::vector<bool> outside(out.features.size(), false);
+  for (const auto& r : out.records)
+    for (std::size_t k = 0; k < m.axes.size(); ++k) {
+      const auto& t = m.axes[k].travel;
+      if (t && (r.q[k] < t->min - 1e-6 || r.q[k] > t->max + 1e-6)) outside[r.feature] = true;
+    }
+  removed += static_cast<std::size_t>(std::count(outside.begin(), outside.end(), true));
+  std::erase_if(out.records, [&](const ProbingRecord& r) { return outside[r.feature]; });
+  return out;
+}
+
 }  // namespace
+
+std::size_t plan_poses(const ProbingPlan& plan) {
+  std::size_t n = 0;
+  std::set<std::size_t> seen;
+  for (const auto& r : plan.records)
+    if (!is_instrument(plan.features[r.feature].kind) || seen.insert(r.feature).second) ++n;
+  return n;
+}
+
+ProbingPlan probing_part(const ProbingPlan& plan) {
+  ProbingPlan out = plan;
+  std::erase_if(out.records, [&](const ProbingRecord& r) { return is_instrument(plan.features[r.feature].kind); });
+  return out;
+}
+
+std::vector<InstrumentSetup> instrument_setups(const Machine& m, const ProbingPlan& plan) {
+  std::vector<InstrumentSetup> out;
+  std::map<std::size_t, std::size_t> index;  // feature -> setup
+  for (const auto& r : plan.records) {
+    const ProbeFeature& f = plan.features[r.feature];
+    if (!is_instrument(f.kind)) continue;
+    auto [it, fresh] = index.emplace(r.feature, out.size());
+    if (fresh) {
+      InstrumentSetup s;
+      s.id = f.id;
+      s.kind = f.kind;
+      s.position = f.position;
+      if (f.kind == ProbeFeature::Kind::Ballbar) {
+        s.plane = kPlaneNames[ballbar_plane(f)];
+        s.radius = f.radius;
+      } else {
+        s.direction = f.normal;
+        s.from = s.to = r.at;
+      }
+      for (std::size_t k : rotary_axes(m)) s.rotary.push_back(r.q.empty() ? 0.0 : r.q[k]);
+      out.push_back(s);
+    }
+    InstrumentSetup& s = out[it->second];
+    ++s.readings;
+    s.from = std::min(s.from, r.at);
+    s.to = std::max(s.to, r.at);
+  }
+  return out;
+}
+
+std::string describe_setup(const InstrumentSetup& s) {
+  if (s.kind == ProbeFeature::Kind::Ballbar)
+    return fmt::format("ballbar {}: {} plane, pivot {:.6g} {:.6g} {:.6g} mm, radius {:g} mm, {} readings", s.id,
+                       s.plane, s.position.x(), s.position.y(), s.position.z(), s.radius, s.readings);
+  return fmt::format("laser {}: beam {:.6g} {:.6g} {:.6g} from {:.6g} {:.6g} {:.6g} mm, {:.6g} to {:.6g} mm, {} targets",
+                     s.id, s.direction.x(), s.direction.y(), s.direction.z(), s.position.x(), s.position.y(),
+                     s.position.z(), s.from, s.to, s.readings);
+}
 
 CandidateGrid rotary_grid(const Machine& m, double step) {
   if (!(step > 0) || !std::isfinite(step))
@@ -88,7 +296,8 @@ std::string reach_violation(const Machine& m, const ProbingPlan& plan, const Pro
 }
 
 CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeFeature>& features,
-                                      const CandidateGrid& grid, const ProbeReach& reach) {
+                                      const CandidateGrid& grid, const ProbeReach& reach,
+                                      const InstrumentCandidates& instruments) {
   const auto rot = rotary_axes(m);
   const auto lin = linear_axes(m);
   for (const auto& f : features)
@@ -100,14 +309,16 @@ CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeF
   if (grid.rotary.size() != rot.size())
     throw InputError({"candidate grid", 0, ""}, fmt::format("expected values for the {} rotary axes, found {}",
                                                             rot.size(), grid.rotary.size()));
-  if (features.empty()) throw InputError({"artefact", 0, ""}, "expected at least one ball or facet, found none");
+  const bool more = !instruments.ballbar_radii.empty() || !instruments.laser_axes.empty();
+  if (features.empty() && !more)
+    throw InputError({"artefact", 0, ""}, "expected at least one ball or facet, found none");
   ProbingPlan all;
   all.features = features;
   all.source = "the candidate configurations";
   std::size_t count = 1;
   for (const auto& v : grid.rotary) count *= v.size();
   if (count == 0) throw InputError({"candidate grid", 0, ""}, "a rotary axis has no values");
-  for (std::size_t idx = 0; idx < count; ++idx) {
+  for (std::size_t idx = 0; idx < count && !features.empty(); ++idx) {
     ProbingRecord base;
     base.indexation = static_cast<int>(idx + 1);
     base.q.assign(m.axes.size(), 0.0);
@@ -154,13 +365,24 @@ CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeF
     else
       ++removed[why];
   }
+  // The instruments' circles and lines: one candidate each, at one further indexation.
+  {
+    ProbingPlan more_plan = instrument_candidates(m, nominal, features, instruments, static_cast<int>(count + 1),
+                                                  out.considered, removed["travel"]);
+    const std::size_t shift = all.features.size();
+    all.features.insert(all.features.end(), more_plan.features.begin(), more_plan.features.end());
+    for (auto& r : more_plan.records) {
+      r.feature += shift;
+      kept.push_back(std::move(r));
+    }
+  }
   for (const auto& name : order) out.removed.emplace_back(name, removed[name]);
   if (kept.empty()) {
     std::string list;
     for (const auto& [name, n] : out.removed) list += fmt::format("{}{} by {}", list.empty() ? "" : ", ", n, name);
     throw InputError({"candidate configurations", 0, ""},
-                     fmt::format("no candidate configuration is left: of {} ({} indexations x the features), {}",
-                                 out.considered, count, list));
+                     fmt::format("no candidate configuration is left: of {} ({} indexations x the features{}), {}",
+                                 out.considered, count, more ? ", and the circles and lines" : "", list));
   }
   all.records = std::move(kept);
   out.plan = std::move(all);
@@ -245,7 +467,7 @@ PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const Ide
     throw InputError({plan.source, 0, id.unidentifiable.front()},
                      fmt::format("{} {} not identifiable from the {} poses ({})",
                                  fmt::join(id.unidentifiable, ", "), id.unidentifiable.size() == 1 ? "is" : "are",
-                                 plan.records.size(), why));
+                                 plan_poses(plan), why));
   }
   const auto params = detail::parameter_indices(m, o.estimate, o.estimate_source);
   const detail::ProbingModel pm(nominal, targets, params, o.scale_bars, false, o.sigma_ball, o.sigma_facet,
@@ -256,14 +478,14 @@ PlanPrediction predict_plan(const Machine& m, const ProbingPlan& plan, const Ide
   // The rows are divided by the readings' sigma: sigma^2 (J^T J)^-1 of the unweighted Jacobian.
   const JacobianAnalysis a = analyse_jacobian(J, 1.0, JacobianOptions{o.rank_tolerance, true});
   PlanPrediction out;
-  out.poses = plan.records.size();
+  out.poses = plan_poses(plan);
   out.residuals = pm.residuals();
   out.unknowns = pm.unknowns();
   out.rank = a.rank;
   out.condition = a.condition;
   if (!a.full_rank())
     throw InputError({plan.source, 0, ""}, fmt::format("the {} poses leave {} of the {} unknowns undetermined",
-                                                       plan.records.size(), pm.unknowns() - a.rank, pm.unknowns()));
+                                                       plan_poses(plan), pm.unknowns() - a.rank, pm.unknowns()));
   const auto k = static_cast<Eigen::Index>(params.size());
   out.covariance = a.covariance.topLeftCorner(k, k);
   const auto all = m.parameters();

@@ -253,7 +253,24 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
     throw InputError({candidates_in.source, 0, ""}, "expected candidate configurations, found none");
   const Machine nominal = nominal_of(m);
   const ProbingPlan candidates = plan_targets(nominal, candidates_in);
-  const std::size_t count = candidates.records.size();
+  // The poses: a probing record each, or every record of one ballbar or laser feature (a circle, a
+  // line), whose rows enter and leave the information together (plan_poses).
+  std::vector<std::vector<std::size_t>> poses_of;
+  {
+    std::map<std::size_t, std::size_t> instrument;  // feature -> pose
+    for (std::size_t j = 0; j < candidates.records.size(); ++j) {
+      const std::size_t f = candidates.records[j].feature;
+      const auto kind = candidates.features[f].kind;
+      if (kind == ProbeFeature::Kind::Ballbar || kind == ProbeFeature::Kind::Laser) {
+        const auto [it, fresh] = instrument.emplace(f, poses_of.size());
+        if (fresh) poses_of.emplace_back();
+        poses_of[it->second].push_back(j);
+      } else {
+        poses_of.push_back({j});
+      }
+    }
+  }
+  const std::size_t count = poses_of.size();
   if (o.poses > count)
     throw InputError({o.poses_source, 0, std::to_string(o.poses)},
                      fmt::format("expected at most the {} candidate poses, found {}", count, o.poses));
@@ -320,10 +337,36 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
   const Eigen::VectorXd norm =
       (J.colwise().norm().transpose() / std::sqrt(static_cast<double>(count))).cwiseMax(1e-300);
   J = J * norm.cwiseInverse().asDiagonal();
+  // The records' rows (block order), gathered pose by pose.
+  std::vector<std::size_t> record_first{0};
+  for (std::size_t b = 0; b < candidates.records.size(); ++b) record_first.push_back(record_first.back() + pm.block_size(b));
+  const auto record_rows = static_cast<Eigen::Index>(record_first.back());
   std::vector<std::size_t> first{0};
-  for (std::size_t b = 0; b < count; ++b) first.push_back(first.back() + pm.block_size(b));
-  const auto record_rows = static_cast<Eigen::Index>(first.back());
-  const Eigen::MatrixXd rows = J.topRows(record_rows);
+  Eigen::MatrixXd rows(record_rows, J.cols());
+  for (const auto& pose : poses_of) {
+    const std::size_t begin = first.back();
+    std::size_t at = begin;
+    for (std::size_t j : pose) {
+      const auto n = static_cast<Eigen::Index>(record_first[j + 1] - record_first[j]);
+      rows.middleRows(static_cast<Eigen::Index>(at), n) = J.middleRows(static_cast<Eigen::Index>(record_first[j]), n);
+      at += static_cast<std::size_t>(n);
+    }
+    first.push_back(at);
+    // A circle's or line's own unknowns (pivot and length offset; laser offset) are seen by its rows
+    // only: they are eliminated in the block (the rows projected off their columns, P = Jn (Jn^T
+    // Jn)^-1 Jn^T), which leaves the information of the other unknowns exactly the Schur complement
+    // (Atkinson, Donev & Tobias 2007, ch. 10, Ds-optimality) and lets the exchange add and remove
+    // the pose whole (with the nuisance columns in, removing it would leave them to the ridge).
+    const ProbeFeature& f = candidates.features[candidates.records[pose.front()].feature];
+    if (f.kind != ProbeFeature::Kind::Ballbar && f.kind != ProbeFeature::Kind::Laser) continue;
+    const auto c = static_cast<Eigen::Index>(pm.ball_column(candidates.records[pose.front()].feature));
+    const auto u = static_cast<Eigen::Index>(unknowns_of(f.kind));
+    auto block = rows.middleRows(static_cast<Eigen::Index>(begin), static_cast<Eigen::Index>(at - begin));
+    const Eigen::MatrixXd Jn = block.middleCols(c, u);
+    const Eigen::MatrixXd coef = (Jn.transpose() * Jn).ldlt().solve(Jn.transpose() * block);
+    block -= Jn * coef;
+    block.middleCols(c, u).setZero();
+  }
   const Eigen::MatrixXd fixed = J.bottomRows(J.rows() - record_rows);
   // Weights of the relative variances: by target where targets are given (the others count only
   // as having to be determined), else by the best reachable uncertainty.
@@ -388,12 +431,13 @@ PlanDesign design_plan(const Machine& m, const ProbingPlan& candidates_in, const
       if (j == v.size() || !(v[j] <= 1.0)) break;
     }
   }
-  out.selected = d.selection();
+  for (std::size_t pose : d.selection()) out.selected.insert(out.selected.end(), poses_of[pose].begin(), poses_of[pose].end());
   std::sort(out.selected.begin(), out.selected.end());  // candidates come grouped by indexation
   out.plan = candidates;
   out.plan.records.clear();
   out.plan.source = "the designed plan";
   for (std::size_t j : out.selected) out.plan.records.push_back(candidates.records[j]);
+  out.poses = plan_poses(out.plan);
   // Scale bars whose balls are not both probed add nothing: left out of the prediction.
   out.prediction = predict_plan(m, out.plan, with_probed_scale_bars(o.model, out.plan));
   for (std::size_t k = 0; k < p; ++k) {

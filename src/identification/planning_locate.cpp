@@ -110,63 +110,29 @@ LocateResult locate_spheres(const Machine& m, const ProbingPlan& plan, const Pro
                             const std::vector<LoggedContact>& contacts, const std::string& log_source) {
   const auto touches = locate_touches(m, plan, c, o);
   const auto lin = linear_axes(m);
-  const auto rot = rotary_axes(m);
   const std::string source = contacts.empty() ? log_source : contacts.front().source;
   const std::size_t per_ball = plan.records.empty() ? 0 : touches.size() / plan.records.size();
+  auto ball_id = [&](std::size_t k) { return plan.features[plan.records[touches[k].record].feature].id; };
+  ContactWording w;
+  w.program = "the locating program";
+  w.moves = fmt::format("the locating program's probing moves for {} balls", plan.records.size());
+  w.touch = [&](std::size_t k) {
+    return fmt::format("touch {} of {} locating ball {}", k - touches[k].record * per_ball + 1, per_ball, ball_id(k));
+  };
+  w.owner = [&](std::size_t k) { return "locating ball " + ball_id(k); };
   if (contacts.size() < touches.size()) {
-    const std::size_t k = contacts.size();
-    const ProbeTouch& t = touches[k];
-    const ProbingRecord& r = plan.records[t.record];
-    const Vec3& rough = plan.features[r.feature].position;
-    throw InputError({source, contacts.empty() ? 0 : contacts.back().line, ""},
-                     fmt::format("expected {} contacts, found {}: contact {} is missing (touch {} of {} locating ball "
-                                 "{}): the probe did not trip there (LinuxCNC: G38.2 move finished without making "
-                                 "contact) or the program stopped before it; no sphere found within {:g} mm of the "
-                                 "rough position {:g},{:g},{:g}",
-                                 touches.size(), k, k + 1, k - t.record * per_ball + 1, per_ball,
-                                 plan.features[r.feature].id, o.within, rough.x(), rough.y(), rough.z()));
+    const Vec3& rough = plan.features[plan.records[touches[contacts.size()].record].feature].position;
+    w.missing_tail = fmt::format("; no sphere found within {:g} mm of the rough position {:g},{:g},{:g}", o.within,
+                                 rough.x(), rough.y(), rough.z());
   }
-  if (contacts.size() > touches.size())
-    throw InputError({source, contacts[touches.size()].line, ""},
-                     fmt::format("expected {} contacts (the locating program's probing moves for {} balls), found "
-                                 "{}: the first extra one is on this line",
-                                 touches.size(), plan.records.size(), contacts.size()));
+  w.on_move = 0.05;
+  const std::vector<Vec3> at = match_contacts(m, plan, touches, contacts, w, log_source);
   const ErrorModel nominal(nominal_of(m));
   const double rho = contact_radius(c);
   LocateResult out;
   out.artefact = plan;
   std::vector<std::vector<Point3>> ball(plan.records.size());
-  for (std::size_t i = 0; i < touches.size(); ++i) {
-    const ProbeTouch& t = touches[i];
-    const LoggedContact& lc = contacts[i];
-    const ProbingRecord& r = plan.records[t.record];
-    for (std::size_t k : rot)
-      if (std::isfinite(lc.q[k]) && std::abs(lc.q[k] - r.q[k]) > 1e-6)
-        throw InputError({lc.source, lc.line, std::string(1, m.axes[k].letter)},
-                         fmt::format("contact {} belongs to locating ball {} at {} = {:.4f} deg, found {:.4f} deg: the "
-                                     "log does not follow the locating program",
-                                     i + 1, plan.features[r.feature].id, m.axes[k].letter,
-                                     r.q[k] * 180 / std::numbers::pi, lc.q[k] * 180 / std::numbers::pi));
-    Vec3 p, s, e;
-    for (std::size_t k = 0; k < 3; ++k) {
-      p[static_cast<Eigen::Index>(k)] = lc.q[lin[k]];
-      s[static_cast<Eigen::Index>(k)] = t.start[lin[k]];
-      e[static_cast<Eigen::Index>(k)] = t.end[lin[k]];
-    }
-    if (!p.allFinite())
-      throw InputError({lc.source, lc.line, ""}, "expected the X, Y and Z of the contact, found them missing");
-    // On its probing move: the log is the positions where the moves tripped (within the words'
-    // decimals and a controller's following error along the move).
-    const Vec3 d = (e - s).normalized();
-    const double along = (p - s).dot(d), off = (p - s - along * d).norm();
-    if (off > 0.05 || along < -0.05 || along > (e - s).norm() + 0.05)
-      throw InputError({lc.source, lc.line, ""},
-                       fmt::format("contact {} is {:.3f} mm off its probing move (touch {} of {} locating ball {}): "
-                                   "the log does not follow the locating program",
-                                   i + 1, std::max(off, std::max(-along, along - (e - s).norm())),
-                                   i - t.record * per_ball + 1, per_ball, plan.features[r.feature].id));
-    ball[t.record].push_back(p);
-  }
+  for (std::size_t i = 0; i < touches.size(); ++i) ball[touches[i].record].push_back(at[i]);
   for (std::size_t i = 0; i < plan.records.size(); ++i) {
     const ProbingRecord& r = plan.records[i];
     ProbeFeature& f = out.artefact.features[r.feature];

@@ -98,38 +98,29 @@ std::vector<ProbeTouch> probe_touches(const Machine& m, const ProbingPlan& plan,
   return out;
 }
 
-ProbingPlan measurements_from_contacts(const Machine& m, const ProbingPlan& plan, const ProbeCycle& c,
-                                       const std::vector<LoggedContact>& contacts, const std::string& log_source) {
-  const auto touches = probe_touches(m, plan, c);
+namespace planning_detail {
+
+std::vector<Vec3> match_contacts(const Machine& m, const ProbingPlan& plan, const std::vector<ProbeTouch>& touches,
+                                 const std::vector<LoggedContact>& contacts, const ContactWording& w,
+                                 const std::string& log_source) {
   const auto lin = linear_axes(m);
   const auto rot = rotary_axes(m);
-  const std::string source = contacts.empty() ? std::string("probe log") : contacts.front().source;
+  const std::string source = contacts.empty() ? log_source : contacts.front().source;
   if (contacts.size() < touches.size()) {
     // A short log: name the first contact missing, where the program stopped or a probe never
     // tripped (LinuxCNC: "G38.2 move finished without making contact", the program ends there).
     const std::size_t k = contacts.size();
-    const ProbeTouch& t = touches[k];
-    std::size_t nth = 1;
-    for (std::size_t i = k; i > 0 && touches[i - 1].record == t.record; --i) ++nth;
-    throw InputError({contacts.empty() ? log_source : source, contacts.empty() ? 0 : contacts.back().line, ""},
-                     fmt::format("expected {} contacts, found {}: contact {} is missing (touch {} of the plan's record "
-                                 "{}, line {}): the probe did not trip there (LinuxCNC: G38.2 move finished without "
-                                 "making contact) or the program stopped before it",
-                                 touches.size(), k, k + 1, nth, t.record + 1, plan.records[t.record].line));
+    throw InputError({source, contacts.empty() ? 0 : contacts.back().line, ""},
+                     fmt::format("expected {} contacts, found {}: contact {} is missing ({}): the probe did not trip "
+                                 "there (LinuxCNC: G38.2 move finished without making contact) or the program stopped "
+                                 "before it{}",
+                                 touches.size(), k, k + 1, w.touch(k), w.missing_tail));
   }
-  if (contacts.size() != touches.size()) {
-    const int line = contacts.size() > touches.size() ? contacts[touches.size()].line
-                                                      : (contacts.empty() ? 0 : contacts.back().line);
-    throw InputError({source, line, ""},
-                     fmt::format("expected {} contacts (the program's probing moves for {} records), found {}{}",
-                                 touches.size(), plan.records.size(), contacts.size(),
-                                 contacts.size() > touches.size() ? ": the first extra one is on this line"
-                                                                  : ": the log ends early"));
-  }
-  ProbingPlan out = plan;
-  out.measured = true;
-  out.source = source;
-  std::vector<std::vector<Point3>> ball(plan.records.size());
+  if (contacts.size() > touches.size())
+    throw InputError({source, contacts[touches.size()].line, ""},
+                     fmt::format("expected {} contacts ({}), found {}: the first extra one is on this line",
+                                 touches.size(), w.moves, contacts.size()));
+  std::vector<Vec3> out;
   for (std::size_t i = 0; i < touches.size(); ++i) {
     const ProbeTouch& t = touches[i];
     const LoggedContact& lc = contacts[i];
@@ -137,34 +128,81 @@ ProbingPlan measurements_from_contacts(const Machine& m, const ProbingPlan& plan
     for (std::size_t k : rot)
       if (std::isfinite(lc.q[k]) && std::abs(lc.q[k] - r.q[k]) > 1e-6)
         throw InputError({lc.source, lc.line, std::string(1, m.axes[k].letter)},
-                         fmt::format("contact {} belongs to the plan's record {} (line {}) at {} = {:.4f} deg, found "
-                                     "{:.4f} deg: the log does not follow the plan",
-                                     i + 1, t.record + 1, r.line, m.axes[k].letter, r.q[k] * 180 / std::numbers::pi,
-                                     lc.q[k] * 180 / std::numbers::pi));
-    Vec3 p, e;
+                         fmt::format("contact {} belongs to {} at {} = {:.4f} deg, found {:.4f} deg: the log does not "
+                                     "follow {}",
+                                     i + 1, w.owner(i), m.axes[k].letter, r.q[k] * 180 / std::numbers::pi,
+                                     lc.q[k] * 180 / std::numbers::pi, w.program));
+    Vec3 p, st, e, x;
     for (std::size_t k = 0; k < 3; ++k) {
-      p[static_cast<Eigen::Index>(k)] = lc.q[lin[k]];
-      e[static_cast<Eigen::Index>(k)] = t.expected[lin[k]];
+      const auto c = static_cast<Eigen::Index>(k);
+      p[c] = lc.q[lin[k]];
+      st[c] = t.start[lin[k]];
+      e[c] = t.end[lin[k]];
+      x[c] = t.expected[lin[k]];
     }
     if (!p.allFinite())
       throw InputError({lc.source, lc.line, ""}, "expected the X, Y and Z of the contact, found them missing");
-    if ((p - e).norm() > c.approach + c.overtravel)
+    if (w.on_move > 0) {
+      // On its probing move: the log is the positions where the moves tripped (within the words'
+      // decimals and a controller's following error along the move).
+      const Vec3 d = (e - st).normalized();
+      const double along = (p - st).dot(d), off = (p - st - along * d).norm();
+      if (off > w.on_move || along < -w.on_move || along > (e - st).norm() + w.on_move)
+        throw InputError({lc.source, lc.line, ""},
+                         fmt::format("contact {} is {:.3f} mm off its probing move ({}): the log does not follow {}",
+                                     i + 1, std::max(off, std::max(-along, along - (e - st).norm())), w.touch(i),
+                                     w.program));
+    } else if ((p - x).norm() > w.from_expected) {
       throw InputError({lc.source, lc.line, ""},
-                       fmt::format("contact {} is {:.3f} mm from where the plan's record {} (line {}) expects it, more "
-                                   "than approach + overtravel ({:g} mm): the log does not follow the plan",
-                                   i + 1, (p - e).norm(), t.record + 1, r.line, c.approach + c.overtravel));
-    if (plan.features[r.feature].kind == ProbeFeature::Kind::Ball) {
-      ball[t.record].push_back(p);
+                       fmt::format("contact {} is {:.3f} mm from where {} expects it, more than approach + overtravel "
+                                   "({:g} mm): the log does not follow {}",
+                                   i + 1, (p - x).norm(), w.owner(i), w.from_expected, w.program));
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace planning_detail
+
+ProbingPlan measurements_from_contacts(const Machine& m, const ProbingPlan& plan, const ProbeCycle& c,
+                                       const std::vector<LoggedContact>& contacts, const std::string& log_source) {
+  const auto touches = probe_touches(m, plan, c);
+  const auto lin = linear_axes(m);
+  ContactWording w;
+  w.program = "the plan";
+  w.moves = fmt::format("the program's probing moves for {} records", plan.records.size());
+  w.touch = [&](std::size_t k) {
+    const ProbeTouch& t = touches[k];
+    std::size_t nth = 1;
+    for (std::size_t i = k; i > 0 && touches[i - 1].record == t.record; --i) ++nth;
+    return fmt::format("touch {} of the plan's record {}, line {}", nth, t.record + 1, plan.records[t.record].line);
+  };
+  w.owner = [&](std::size_t k) {
+    const std::size_t r = touches[k].record;
+    return fmt::format("the plan's record {} (line {})", r + 1, plan.records[r].line);
+  };
+  w.from_expected = c.approach + c.overtravel;
+  const std::vector<Vec3> at = match_contacts(m, plan, touches, contacts, w, log_source);
+  ProbingPlan out = plan;
+  out.measured = true;
+  out.source = contacts.empty() ? std::string("probe log") : contacts.front().source;
+  std::vector<std::vector<Point3>> ball(plan.records.size());
+  for (std::size_t i = 0; i < touches.size(); ++i) {
+    const ProbeTouch& t = touches[i];
+    if (plan.features[plan.records[t.record].feature].kind == ProbeFeature::Kind::Ball) {
+      ball[t.record].push_back(at[i]);
     } else {
-      for (std::size_t k = 0; k < 3; ++k) out.records[t.record].q[lin[k]] = p[static_cast<Eigen::Index>(k)];
+      for (std::size_t k = 0; k < 3; ++k) out.records[t.record].q[lin[k]] = at[i][static_cast<Eigen::Index>(k)];
     }
   }
   for (std::size_t i = 0; i < plan.records.size(); ++i) {
     if (ball[i].empty()) continue;
     const auto fit = fit_sphere(ball[i]);
     if (!fit)
-      throw InputError({source, 0, ""}, fmt::format("the touches of the plan's record {} (line {}) do not define a sphere",
-                                                    i + 1, plan.records[i].line));
+      throw InputError({out.source, 0, ""},
+                       fmt::format("the touches of the plan's record {} (line {}) do not define a sphere", i + 1,
+                                   plan.records[i].line));
     for (std::size_t k = 0; k < 3; ++k) out.records[i].q[lin[k]] = fit->centre[static_cast<Eigen::Index>(k)];
   }
   return out;
@@ -182,16 +220,33 @@ std::pair<std::size_t, double> probe_safe_retract(const Machine& m) {
   return {tz, z.direction_sign > 0 ? z.travel->max : z.travel->min};
 }
 
-TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle, const TimingOptions& o) {
+TimeEstimate estimate_time(const Machine& m, const ProbingPlan& given, const ProbeCycle& cycle, const TimingOptions& o) {
   for (const auto& [name, v] : {std::pair{"rapid", o.rapid}, std::pair{"rotary speed", o.rotary_speed},
-                                std::pair{"probing feed", o.probe_feed}, std::pair{"move feed", o.move_feed}})
+                                std::pair{"probing feed", o.probe_feed}, std::pair{"move feed", o.move_feed},
+                                std::pair{"ballbar feed", o.ballbar_feed}})
     if (!(v > 0) || !std::isfinite(v))
       throw InputError({name, 0, ""}, fmt::format("expected a speed > 0, found {:g}", v));
-  if (!(o.settle >= 0) || !std::isfinite(o.settle))
-    throw InputError({"settle", 0, ""}, fmt::format("expected a time >= 0 s, found {:g}", o.settle));
+  for (const auto& [name, v] : {std::pair{"settle", o.settle}, std::pair{"ballbar setup", o.ballbar_setup},
+                                std::pair{"laser setup", o.laser_setup}, std::pair{"laser dwell", o.laser_dwell}})
+    if (!(v >= 0) || !std::isfinite(v))
+      throw InputError({name, 0, ""}, fmt::format("expected a time >= 0 s, found {:g}", v));
   if (o.tool_point && !(o.index_step > 0 && std::isfinite(o.index_step)))
     throw InputError({"indexing step", 0, ""}, fmt::format("expected > 0 rad, found {:g}", o.index_step));
   TimeEstimate t;
+  // The instruments, by hand: a circle's setup and its run both ways at the ballbar feed; a line's
+  // setup and per target the step at the rapid feed and the dwell.
+  for (const InstrumentSetup& s : instrument_setups(m, given)) {
+    if (s.kind == ProbeFeature::Kind::Ballbar) {
+      t.instruments += o.ballbar_setup + 2 * (2 * std::numbers::pi * s.radius) / (o.ballbar_feed / 60.0);
+      ++t.circles;
+    } else {
+      const double step = s.readings > 1 ? (s.to - s.from) / static_cast<double>(s.readings - 1) : 0.0;
+      t.instruments += o.laser_setup + static_cast<double>(s.readings) * (step / (o.rapid / 60.0) + o.laser_dwell);
+      ++t.lines;
+    }
+  }
+  t.total = t.instruments;
+  const ProbingPlan plan = probing_part(given);
   if (plan.records.empty()) return t;
   const std::vector<ProbeTouch> touches = probe_touches(m, plan, cycle);
   const auto [tz, safe] = probe_safe_retract(m);
@@ -292,7 +347,7 @@ TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const Prob
   std::vector<double> up = at;
   up[tz] = safe;
   t.moves += g0(at, up);
-  t.total = t.moves + t.probing + t.indexing;
+  t.total = t.moves + t.probing + t.indexing + t.instruments;
   return t;
 }
 

@@ -141,7 +141,9 @@ BASES = {
                   "--out", "o.yaml", "--report", "o.html"]],
     "identifiability": [["-m", M5, "--plan", PLAN, "--estimate", "EX0C,EX0B,EX0X,EXt"]],
     "plan": [["-m", MR, "--artefact", f"{E}/plans/rrttt-viprey-sphere.csv", "--estimate", "EY0C,EZ0A", "--poses",
-              "12", "--out", "o.csv", "--gcode", "o.ngc"]],
+              "12", "--out", "o.csv", "--gcode", "o.ngc"],
+             # --ballbar and --laser: candidate circles and lines only, one pose.
+             ["-m", M3, "--estimate", "EC0Y", "--ballbar", "150", "--laser", "X", "--poses", "1", "--out", "o.csv"]],
     "probe-log": [["-m", MR, "--plan", f"{fix}/plan.csv", "--log", f"{fix}/probe-log.txt", "--out", "o.csv"]],
     "pose-check": [["-m", M5, "--poses", f"{E}/campaign/hu40t-reached-nominal.csv"]],
     "campaign": [["-m", M5, "--before", f"{fix}/meas.csv", "--after", f"{fix}/meas.csv", "--identified",

@@ -138,6 +138,47 @@ assert set(d["artefact"]["ballbars"]) == {"XY", "YZ", "ZX"} and set(d["artefact"
 PY
 expect_error "plan with a ballbar feature" "not proposed" -- "$MTCAL" plan -m "$M3" --artefact "$BL" --estimate EC0Y --poses 4
 
+# plan --ballbar --laser: circles and lines proposed beside the two balls (docs/planning.md,
+# "Ballbar circles and laser lines"); the plan file carries them through simulate and identify, the
+# program probes the balls and names the setups left to do by hand.
+head -n 8 "$BL" >"$tmp/bl-balls.csv"
+expect_exit 0 "plan --ballbar --laser" -- "$MTCAL" plan -m "$M3" --artefact "$tmp/bl-balls.csv" --estimate "$SQ" \
+  --scale-bar 1:2:489.89794855663564 --ballbar 150 --laser X,Z --poses 6 --out "$tmp/bl-plan.csv" --gcode "$tmp/bl.ngc" --json
+python3 - "$tmp/out" "$tmp/bl.ngc" "$tmp/bl-plan.csv" <<'PY' && ok || bad "plan --ballbar --laser: 6 poses, by_hand in the JSON and the program, their time"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["poses"] == 6 and d["candidates"]["considered"] == 31 and d["candidates"]["kept"] == 31, d["candidates"]
+hand = d["by_hand"]
+kinds = [h["kind"] for h in hand]
+assert len(hand) >= 3 and set(kinds) <= {"ballbar", "laser"}, kinds
+t = d["time"]
+assert t["ballbar_circles"] == kinds.count("ballbar") and t["laser_lines"] == kinds.count("laser"), t
+assert abs(t["total_s"] - (t["moves_s"] + t["probing_s"] + t["indexing_s"] + t["instruments_s"])) < 1e-6, t
+assert t["instruments_s"] > 300 * len(hand), t
+ngc = open(sys.argv[2]).read()
+assert "by hand, beside it" in ngc and all(h["text"] in ngc for h in hand), ngc[:1500]
+assert "ballbar" not in ngc.split("G21")[1] and ngc.count("G38.2") == 5 * (d["poses"] - len(hand)), ngc.count("G38.2")
+plan = open(sys.argv[3]).read()
+assert plan.count(",ballbar,") + plan.count(",laser,") > 36, plan[:500]
+PY
+SB=()
+[ "$(grep -c ',ball,' "$tmp/bl-plan.csv")" = 2 ] && SB=(--scale-bar 1:2:489.89794855663564)
+expect_exit 0 "simulate the planned circles and lines" -- "$MTCAL" simulate -m "$M3" --plan "$tmp/bl-plan.csv" --noise-um 1 \
+  --artefact-error-um 5 "${SB[@]}" --seed 3 --out "$tmp/bl-plan-meas.csv"
+expect_exit 0 "identify from the planned circles and lines" -- "$MTCAL" identify -m "$M3" "${ZERO3[@]}" \
+  --measurements "$tmp/bl-plan-meas.csv" --estimate "$SQ" "${SB[@]}" --truth "$M3" \
+  --workspace X=-100:100:2,Y=-100:100:2,Z=-400:-100:2 --json
+python3 - "$tmp/out" <<'PY' && ok || bad "identify on the designed plan: the 5 parameters within 3 u of the truth"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["converged"] and not d["unidentifiable"], d["unidentifiable"]
+for name, p in d["parameters"].items():
+    assert abs(p["value"] - p["imposed"]) < 3 * p["u"], (name, p)
+PY
+expect_error "ballbar radius beyond the travel" "a circle of radius 400 mm needs" -- "$MTCAL" plan -m "$M3" --estimate EC0Y \
+  --ballbar 400 --poses 1
+expect_error "unknown laser axis" "(X, Y, Z), found 'Q'" -- "$MTCAL" plan -m "$M3" --estimate EC0Y --laser X,Q --poses 1
+
 # probe-log: a log with a bad line, located; nothing written.
 printf '1 2 3 0 0 0 0 0 0\nx 2 3 0 0 0 0 0 0\n' >"$tmp/bad.txt"
 expect_error "bad log line" "bad.txt:2" -- "$MTCAL" probe-log -m "$H" --plan "$tmp/plan.csv" --log "$tmp/bad.txt" --out "$tmp/no4.csv"

@@ -3,7 +3,9 @@
 // to probing (docs/identification.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <numbers>
 
 #include <Eigen/Cholesky>
@@ -234,10 +236,159 @@ TEST(InstrumentRecords, CirclesAndALaserLineIdentifyWhatProbingCannot) {
   EXPECT_LT(r.rms_laser, 3e-3);
   // The identified pivots and length offsets: near the simulated truth (5 um off nominal).
   for (std::size_t f = 2; f < 5; ++f) EXPECT_NEAR(r.artefact.offset[f], sim.truth.offset[f], 2e-3) << f;
-  // Plans with them are predicted but not proposed, nor probed by a program.
+  // An artefact's own circles and lines are not candidates (plan offers its own: InstrumentCandidates).
   const std::string msg = testing::error_message(
       [&] { candidate_configurations(truth, with_instruments(truth).features, CandidateGrid{}, ProbeReach{}); });
   EXPECT_NE(msg.find("not proposed"), std::string::npos) << msg;
+}
+
+// The candidates of plan --ballbar 150 --laser X,Z on the 3-axis example beside the two balls.
+InstrumentCandidates circles_and_lines() {
+  InstrumentCandidates c;
+  c.ballbar_radii = {150.0};
+  c.laser_axes = {"X", "Z"};
+  return c;
+}
+
+TEST(InstrumentRecords, CandidatesLaidOutInTheTravel) {
+  const Machine m = vmc();
+  const ProbingPlan balls = probing(m);
+  const CandidateSet cs = candidate_configurations(m, balls.features, rotary_grid(m, 1.0), ProbeReach{}, circles_and_lines());
+  // The tool point's travel box is 800 x 500 x 500 mm: a 150 mm circle fits every plane, 3 x 3
+  // pivots each (27 circles), and two lines; with the two balls 29 + 2 candidates, every one kept.
+  EXPECT_EQ(cs.considered, 2u + 27u + 2u);
+  EXPECT_EQ(plan_poses(cs.plan), 31u);
+  EXPECT_EQ(cs.plan.records.size(), 2u + 27u * 36u + 2u * 11u);
+  Machine nominal = m;
+  nominal.clear_errors();
+  const ErrorModel em(nominal);
+  std::size_t circles = 0;
+  for (const auto& r : cs.plan.records) {
+    for (std::size_t k = 0; k < m.axes.size(); ++k) {
+      EXPECT_GE(r.q[k], m.axes[k].travel->min - 1e-6);
+      EXPECT_LE(r.q[k], m.axes[k].travel->max + 1e-6);
+    }
+    const ProbeFeature& f = cs.plan.features[r.feature];
+    if (f.kind == ProbeFeature::Kind::Ballbar) {
+      EXPECT_NEAR((em.nominal_pose(r.q).t - f.position).norm(), 150.0, 1e-9) << f.id;
+      circles += r.at == 0.0;
+    }
+  }
+  EXPECT_EQ(circles, 27u);
+  // The X line over the whole X travel (800 mm), 11 targets.
+  const auto setups = instrument_setups(m, cs.plan);
+  ASSERT_EQ(setups.size(), 29u);
+  EXPECT_EQ(setups[27].id, "LX");
+  EXPECT_NEAR(setups[27].to - setups[27].from, 800.0, 1e-9);
+  EXPECT_EQ(setups[27].readings, 11u);
+  EXPECT_EQ(setups[0].plane, "XY");
+  EXPECT_NE(describe_setup(setups[0]).find("radius 150 mm, 36 readings"), std::string::npos) << describe_setup(setups[0]);
+  EXPECT_EQ(probing_part(cs.plan).records.size(), 2u);
+  // Bad input, named by its value.
+  InstrumentCandidates big;
+  big.ballbar_radii = {300.0};  // 600 mm: only X has it
+  std::string msg = testing::error_message(
+      [&] { candidate_configurations(m, balls.features, rotary_grid(m, 1.0), ProbeReach{}, big); });
+  EXPECT_NE(msg.find("ballbar radius"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("300"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("no plane"), std::string::npos) << msg;
+  InstrumentCandidates axis;
+  axis.laser_axes = {"Q"};
+  msg = testing::error_message(
+      [&] { candidate_configurations(m, balls.features, rotary_grid(m, 1.0), ProbeReach{}, axis); });
+  EXPECT_NE(msg.find("laser axis"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'Q'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("X, Y, Z"), std::string::npos) << msg;
+}
+
+TEST(InstrumentRecords, TimeOfCirclesAndLines) {
+  // By hand: a circle = setup + 2 x 2 pi R at the ballbar feed; a line = setup + targets x (step at
+  // the rapid feed + dwell). 150 mm at 1000 mm/min: 300 + 2 x 942.48 mm / 16.667 mm/s = 413.10 s;
+  // X over 800 mm, 11 targets at 10000 mm/min and 4 s: 900 + 11 x (80 / 166.67 + 4) = 949.28 s.
+  const Machine m = vmc();
+  const CandidateSet cs = candidate_configurations(m, {}, rotary_grid(m, 1.0), ProbeReach{}, circles_and_lines());
+  ProbingPlan one = cs.plan;
+  std::erase_if(one.records, [&](const ProbingRecord& r) {
+    const auto& id = one.features[r.feature].id;
+    return id != "BB150XY1" && id != "LX";
+  });
+  const TimeEstimate t = estimate_time(m, one, ProbeCycle{}, TimingOptions{});
+  EXPECT_EQ(t.circles, 1u);
+  EXPECT_EQ(t.lines, 1u);
+  EXPECT_EQ(t.touches, 0u);
+  EXPECT_NEAR(t.instruments, 413.0973 + 949.28, 1e-3);
+  EXPECT_NEAR(t.total, t.instruments, 1e-12);
+}
+
+TEST(InstrumentRecords, PlanPicksTheCircleThatProbingLacks) {
+  // Probing the two balls determines EC0Y only through the scale bar's length (one reading):
+  // poorly, u = 10.6 urad at 1 um. An XY circle sees the squareness directly; asked for a third of
+  // that u, the design takes one circle, XY, alone (3.14 urad).
+  const Machine m = vmc();
+  IdentificationOptions o = options();
+  o.estimate = {"EC0Y"};
+  const ProbingPlan balls = probing(m);
+  const double before = predict_plan(m, balls, o).parameters[0].u;
+  const CandidateSet cs = candidate_configurations(m, balls.features, rotary_grid(m, 1.0), ProbeReach{}, circles_and_lines());
+  DesignOptions d;
+  d.model = o;
+  d.target_u = {{"EC0Y", before / 3}};
+  const PlanDesign design = design_plan(m, cs.plan, d);
+  EXPECT_TRUE(design.target_met);
+  EXPECT_EQ(design.poses, 1u);
+  const auto setups = instrument_setups(m, design.plan);
+  ASSERT_EQ(setups.size(), 1u);
+  EXPECT_EQ(setups[0].plane, "XY");
+  const double after = design.prediction.parameters[0].u;
+  EXPECT_LT(after, before / 3);
+  std::cout << "EC0Y: u " << before * 1e6 << " urad probing the two balls, " << after * 1e6 << " urad with "
+            << setups[0].id << "\n";
+}
+
+TEST(InstrumentRecords, PlannedCirclesAndLinesRoundTrip) {
+  // The five squarenesses and scales: probing alone leaves four undetermined; with --ballbar 150
+  // --laser X,Z and 6 poses the design takes circles and lines; simulated (1 um, artefacts 5 um
+  // off) and identified, every parameter within 3 u, the plan file carrying them.
+  const Machine truth = vmc();
+  const IdentificationOptions o = options();
+  const ProbingPlan balls = probing(truth);
+  const CandidateSet cs =
+      candidate_configurations(truth, balls.features, rotary_grid(truth, 1.0), ProbeReach{}, circles_and_lines());
+  DesignOptions d;
+  d.model = o;
+  d.poses = 6;
+  const PlanDesign design = design_plan(truth, cs.plan, d);
+  EXPECT_EQ(design.poses, 6u);
+  const auto setups = instrument_setups(truth, design.plan);
+  EXPECT_GE(setups.size(), 3u);
+  const ProbingPlan back = parse_probing_csv(truth, probing_csv(truth, design.plan), "plan.csv");
+  ASSERT_EQ(back.records.size(), design.plan.records.size());
+  EXPECT_EQ(plan_poses(back), 6u);
+  Machine prior = truth;
+  for (const auto& p : kSquareScale) prior.set_parameter(p, 0.0);
+  SimulationOptions so;
+  so.noise = 1e-3;
+  so.artefact_error = 5e-3;
+  so.seed = 11;
+  so.scale_bars = o.scale_bars;
+  IdentificationOptions io = o;
+  // The bar counts when the design probes both its balls (as design_plan predicts it).
+  auto probed = [&](const std::string& id) {
+    const auto f = back.feature_index(id);
+    return f && std::any_of(back.records.begin(), back.records.end(), [&](const ProbingRecord& x) { return x.feature == *f; });
+  };
+  std::erase_if(io.scale_bars, [&](const ScaleBar& b) { return !probed(b.ball_a) || !probed(b.ball_b); });
+  so.scale_bars = io.scale_bars;
+  const Simulation sim = simulate_probing(truth, back, so);
+  const IdentificationResult r = identify(prior, sim.measurements, io);
+  EXPECT_TRUE(r.converged) << r.termination;
+  ASSERT_EQ(r.parameters.size(), kSquareScale.size());
+  for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+    const auto& e = r.parameters[k];
+    const double t = truth.parameter(*truth.parameter_index(e.name));
+    EXPECT_LT(std::abs(e.value - t), 3 * e.u) << e.name << ": " << e.value << " against " << t << ", u " << e.u;
+    EXPECT_NEAR(e.u, design.prediction.parameters[k].u, 0.2 * design.prediction.parameters[k].u) << e.name;
+  }
 }
 
 }  // namespace

@@ -26,6 +26,8 @@ struct PlanStudyOptions {
   std::optional<SubsetOptions> choose;
   // Where balls may go besides the artefact's: its positions (region_balls) are candidate balls too.
   std::optional<BallRegion> ball_region;
+  // Ballbar circles and laser lines offered beside the probings (candidate_configurations).
+  InstrumentCandidates instruments;
   // The predicted VA over workspace (per axis values, chain order, internal units; empty: the
   // travels, 5 values an axis, travel_grid) and its uncertainty: with va, the VA's gradient
   // (va_sensitivity) enters the design; target_va_u > 0 is a budget on it (mm). The pairs within
@@ -63,6 +65,8 @@ struct PlanStudy {
   CandidateSet candidates;
   PlanDesign design;
   TimeEstimate time;
+  // The designed plan's ballbar and laser setups: by hand, beside the probing program.
+  std::vector<InstrumentSetup> by_hand;
   std::optional<PlanPrediction> against;
   std::optional<TimeEstimate> against_time;
   std::optional<PlanMonteCarlo> monte_carlo;

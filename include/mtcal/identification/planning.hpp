@@ -60,13 +60,67 @@ struct BallRegion {
 // 10,000 positions, or an id already taken.
 std::vector<ProbeFeature> region_balls(const BallRegion& region, const std::vector<ProbeFeature>& taken = {});
 
+// Ballbar circles (ISO 230-4) and laser lines (ISO 230-2) offered to the design beside the
+// probings (docs/planning.md, "Ballbar circles and laser lines"). Each circle and each line is one
+// candidate: its readings are chosen together (one pose of the budget), and its own feature, so
+// that its unknowns (the pivot's centre in the plane and the bar's length offset; the laser's
+// offset) are nuisance columns of that candidate only. Both are taken with the rotary axes at the
+// value nearest 0 within their travel.
+struct InstrumentCandidates {
+  // A circle of each radius (mm) in each of the XY, YZ and ZX planes whose two axes leave 2 R of
+  // the tool point's travel, about pivots on a grid of pivots_per_axis values per in-plane axis
+  // (from min + R to max - R of the tool point's travel box; the middle alone when 1), the
+  // pivot's coordinate along the normal at the middle of the box. ballbar_points readings a
+  // circle, evenly in angle from the plane's first axis.
+  std::vector<double> ballbar_radii;
+  std::size_t ballbar_points = 36;
+  std::size_t pivots_per_axis = 3;
+  // A line along each of these linear axes (letters of the machine), through the middle of the
+  // tool point's travel box, laser_points targets evenly over the axis' travel.
+  std::vector<std::string> laser_axes;
+  std::size_t laser_points = 11;
+  // Where messages about them are located (the command passes its options).
+  std::string ballbar_source = "ballbar radius", laser_source = "laser axis";
+};
+
 // Every feature of `features` at every grid indexation (facets: each pre-move pattern of the linear
 // axes other than the probing one), then the constraints: "travel" (a linear target outside its
 // axis' travel), "stem" (a ball approached beyond max_tilt_deg), "facet side" (the probe behind a
-// facet's plane: a . n < 0), "table" (at a ball, the holder below the table plane). Throws InputError when
-// no candidate is left, naming how many each constraint removed.
+// facet's plane: a . n < 0), "table" (at a ball, the holder below the table plane); then the
+// instruments' circles and lines (features BB<R><plane><n> and L<axis>, records after the
+// probings' at one further indexation), a circle or line removed by "travel" when one of its
+// readings is outside it. `considered` and `removed` count candidates (a circle or line is one).
+// Throws InputError when no candidate is left, naming how many each constraint removed; for a
+// ballbar radius that no plane's travel holds (2 R against the tool point's travel, located at
+// ballbar_source with the radius), an unknown or non-linear laser axis (at laser_source with the
+// value), fewer than 4 readings a circle or 2 targets a line, or an instrument id already taken.
 CandidateSet candidate_configurations(const Machine& m, const std::vector<ProbeFeature>& features,
-                                      const CandidateGrid& grid, const ProbeReach& reach);
+                                      const CandidateGrid& grid, const ProbeReach& reach,
+                                      const InstrumentCandidates& instruments = {});
+
+// The poses of a plan: a pose per probing record (ball, facet), and per ballbar or laser feature
+// with records one (a circle, a line: one setup, its readings taken together).
+std::size_t plan_poses(const ProbingPlan& plan);
+// The plan with its probing records only (balls, facets): what a probing program takes.
+ProbingPlan probing_part(const ProbingPlan& plan);
+// The ballbar and laser setups of a plan, in the order of their first record: what remains to be
+// done by hand beside the probing program.
+struct InstrumentSetup {
+  std::string id;
+  ProbeFeature::Kind kind = ProbeFeature::Kind::Ballbar;
+  std::string plane;            // ballbar: "XY", "YZ" or "ZX"
+  Vec3 position = Vec3::Zero();  // ballbar: the pivot; laser: the beam's point (at = 0)
+  Vec3 direction = Vec3::Zero();  // laser: the beam
+  double radius = 0.0;          // ballbar, mm
+  double from = 0.0, to = 0.0;  // laser: the targets' range along the beam, mm
+  std::vector<double> rotary;   // the rotary axes' values (chain order among them, rad)
+  std::size_t readings = 0;
+};
+std::vector<InstrumentSetup> instrument_setups(const Machine& m, const ProbingPlan& plan);
+// One line of words for a setup (the program's header, the command's output): "ballbar BB150XY1:
+// XY plane, pivot 0 0 -250 mm, radius 150 mm, 36 readings" / "laser LX: beam 1 0 0 from -400 0
+// -250 mm, 0 to 800 mm, 11 targets".
+std::string describe_setup(const InstrumentSetup& s);
 // The constraint (name as above) that rejects record r of a plan (with nominal targets), or "".
 std::string reach_violation(const Machine& m, const ProbingPlan& plan, const ProbingRecord& r, const ProbeReach& reach);
 
@@ -178,6 +232,7 @@ struct DesignOptions {
 struct PlanDesign {
   ProbingPlan plan;                    // the selected candidates, grouped by indexation
   std::vector<std::size_t> selected;   // indices into the candidates' records (plan order)
+  std::size_t poses = 0;               // plan_poses(plan): a circle or a line is one
   PlanPrediction prediction;           // predict_plan of the selected plan
   PlanPrediction all_candidates;       // with every candidate: the best reachable
   std::string criterion;               // "D", "A", "max-u"
@@ -196,6 +251,8 @@ struct PlanDesign {
 // the best candidate put in its place, while that improves the criterion). With target_u: remove
 // while the targets stay met, exchange, and remove again while possible. (A forward build-up is
 // myopic where two poses are needed together: a scale bar's two balls.) Each pose is used once.
+// A pose is a probing record, or all the records of one ballbar or laser feature (a circle, a
+// line: plan_poses), whose rows enter and leave the information together.
 // Information matrices of columns scaled to unit RMS per candidate, with a 1e-10 ridge so that
 // undetermined unknowns have a large finite variance; the result is re-predicted exactly by
 // predict_plan. Throws InputError for a budget that cannot be met (with the best reachable
@@ -275,10 +332,19 @@ struct TimingOptions {
   // axes held at the safe level.
   bool tool_point = false;
   double index_step = 5.0 * 3.14159265358979323846 / 180.0;
+  // The instruments, done by hand beside the program: a ballbar circle is its setup (pivot, bar,
+  // centring) and the circle run both ways at ballbar_feed (ISO 230-4: 2 x 2 pi R, the overshoot
+  // arcs not counted); a laser line its setup (aligning the beam) and per target the move from
+  // the previous one at `rapid` and the dwell (ISO 230-2's reading at rest; one run).
+  double ballbar_feed = 1000.0;  // mm/min
+  double ballbar_setup = 300.0;  // s per circle
+  double laser_setup = 900.0;    // s per line
+  double laser_dwell = 4.0;      // s per target
 };
 struct TimeEstimate {
   double total = 0.0, moves = 0.0, probing = 0.0, indexing = 0.0;  // s
-  std::size_t indexations = 0, touches = 0;
+  double instruments = 0.0;  // s: the ballbar circles and laser lines (TimingOptions)
+  std::size_t indexations = 0, touches = 0, circles = 0, lines = 0;
 };
 // The time of the probing program of the plan (io/gcode/probe_program.hpp) with the cycle, move
 // by move as the program makes them: per record a G0 retract of the tool-axis linear axis to its
@@ -292,8 +358,10 @@ struct TimeEstimate {
 // to the start at move_feed; at the end the G0 retract. Lengths in the program's coordinates.
 // "probing" is the probing moves and their retracts, "indexing" the rotary moves and settles,
 // "moves" the rest. The moves before the first record's G0 down (from wherever the machine is)
-// are not counted, nor accelerations. Throws InputError for a speed that is not > 0, a cycle that
-// probe_touches refuses, or (tool_point) a machine without tool-point coordinates.
+// are not counted, nor accelerations. Ballbar and laser records are timed apart ("instruments",
+// TimingOptions), the probing program being that of probing_part(plan). Throws InputError for a
+// speed that is not > 0, a cycle that probe_touches refuses, or (tool_point) a machine without
+// tool-point coordinates.
 TimeEstimate estimate_time(const Machine& m, const ProbingPlan& plan, const ProbeCycle& cycle,
                            const TimingOptions& options);
 // Where the program's G0 down before a record's first touch ends, on the tool-axis linear axis:

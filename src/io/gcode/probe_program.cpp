@@ -74,10 +74,12 @@ std::string program_text(const Machine& m, const ProbingPlan& plan, const std::v
   if (!lcnc) s += "%\n";
   s += fmt::format("(mtcal {}, {} dialect: {} records, {} probing moves)\n", kind.title, lcnc ? "LinuxCNC" : "ISO",
                    plan.records.size(), touches.size());
-  if (!o.header.empty()) {
-    // A comment ends at the first ')' and LinuxCNC refuses a '(' inside one ("Nested comment found",
-    // met with the example machines' names): brackets instead, line ends as blanks.
-    std::string h = o.header;
+  // A comment ends at the first ')' and LinuxCNC refuses a '(' inside one ("Nested comment found",
+  // met with the example machines' names): brackets instead, line ends as blanks.
+  std::vector<std::string> lines;
+  if (!o.header.empty()) lines.push_back(o.header);
+  lines.insert(lines.end(), o.notes.begin(), o.notes.end());
+  for (std::string h : lines) {
     for (char& c : h) c = c == '(' ? '[' : c == ')' ? ']' : (c == '\n' || c == '\r') ? ' ' : c;
     s += "(" + h + ")\n";
   }

@@ -16,13 +16,32 @@ Json to_json(const PlanPrediction& p) {
 
 Json to_json(const TimeEstimate& t) {
   return {{"total_s", t.total},         {"moves_s", t.moves},   {"probing_s", t.probing},
-          {"indexing_s", t.indexing},   {"indexations", t.indexations}, {"touches", t.touches}};
+          {"indexing_s", t.indexing},   {"indexations", t.indexations}, {"touches", t.touches},
+          {"instruments_s", t.instruments}, {"ballbar_circles", t.circles}, {"laser_lines", t.lines}};
+}
+
+Json to_json(const InstrumentSetup& s) {
+  Json j = {{"id", s.id}, {"kind", feature_kind_name(s.kind)}};
+  if (s.kind == ProbeFeature::Kind::Ballbar) {
+    j["plane"] = s.plane;
+    j["pivot"] = {s.position.x(), s.position.y(), s.position.z()};
+    j["radius_mm"] = s.radius;
+  } else {
+    j["beam"] = {s.direction.x(), s.direction.y(), s.direction.z()};
+    j["point"] = {s.position.x(), s.position.y(), s.position.z()};
+    j["from_mm"] = s.from;
+    j["to_mm"] = s.to;
+  }
+  j["rotary"] = s.rotary;
+  j["readings"] = s.readings;
+  j["text"] = describe_setup(s);
+  return j;
 }
 
 Json to_json(const CandidateSet& c) {
   Json removed = Json::object();
   for (const auto& [name, n] : c.removed) removed[name] = n;
-  return {{"considered", c.considered}, {"kept", c.plan.records.size()}, {"removed", removed}};
+  return {{"considered", c.considered}, {"kept", plan_poses(c.plan)}, {"removed", removed}};
 }
 
 Json to_json(const PlanMonteCarlo& mc, const PlanPrediction& predicted) {
@@ -53,6 +72,7 @@ PlanReport plan_report(const PlanStudy& s) {
     r.against_va_u = s.against_va_u;
   }
   if (s.region) r.region = {s.region->positions, s.region->reachable, s.region->used};
+  r.by_hand = s.by_hand;
   return r;
 }
 
@@ -62,7 +82,7 @@ Json to_json(const PlanReport& r) {
   j["criterion"] = d.criterion;
   j["criterion_value"] = number_or_null(d.criterion_value);
   if (r.candidates) j["candidates"] = to_json(*r.candidates);
-  j["poses"] = d.plan.records.size();
+  j["poses"] = d.poses;
   j["greedy_poses"] = d.greedy_poses;
   j["exchanges"] = d.exchanges;
   j["passes"] = d.passes;
@@ -74,7 +94,7 @@ Json to_json(const PlanReport& r) {
     Json a = {{"plan", r.against_path}, {"poses", r.against->poses}, {"predicted", to_json(*r.against)}};
     if (r.against_time) a["time"] = to_json(*r.against_time);
     a["fewer_poses_percent"] =
-        r.against->poses > 0 ? 100.0 * (static_cast<double>(r.against->poses) - static_cast<double>(d.plan.records.size())) /
+        r.against->poses > 0 ? 100.0 * (static_cast<double>(r.against->poses) - static_cast<double>(d.poses)) /
                                    static_cast<double>(r.against->poses)
                              : 0.0;
     j["against"] = a;
@@ -97,6 +117,11 @@ Json to_json(const PlanReport& r) {
   }
   if (r.region.positions > 0)
     j["ball_region"] = {{"positions", r.region.positions}, {"reachable", r.region.reachable}, {"used", r.region.used}};
+  if (!r.by_hand.empty()) {
+    Json b = Json::array();
+    for (const auto& s : r.by_hand) b.push_back(to_json(s));
+    j["by_hand"] = b;
+  }
   if (!r.out.empty()) j["out"] = r.out;
   if (!r.gcode.empty()) j["gcode"] = r.gcode;
   return j;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "mtcal/identification/planning.hpp"
 #include "mtcal/identification/sphere_locate.hpp"
@@ -23,6 +24,7 @@ struct ProbeProgramOptions {
   double feed = 2000.0;       // mm/min of the moves near the artefact (G1)
   std::string log = "mtcal-contacts.txt";  // LinuxCNC: the file PROBEOPEN writes
   std::string header;  // a line for the header comment (machine, plan); parentheses become brackets
+  std::vector<std::string> notes;  // further header comment lines, one each (as the header)
   ProbeCoordinates coordinates = ProbeCoordinates::Axes;
   // ToolPoint: the largest rotary step of one indexing block (rad). An indexation is a rotary move at
   // the safe level; in tool-point coordinates a block that turns the rotary axes keeps the tool point

@@ -14,6 +14,9 @@ namespace mtcal {
 Json to_json(const PlanPrediction& p);
 Json to_json(const TimeEstimate& t);
 Json to_json(const CandidateSet& c);
+// A ballbar or laser setup: id, kind, ballbar {plane, pivot [x y z], radius_mm} or laser {beam
+// [x y z], point [x y z], from_mm, to_mm}, rotary (rad), readings, text (describe_setup).
+Json to_json(const InstrumentSetup& s);
 Json to_json(const PlanMonteCarlo& mc, const PlanPrediction& predicted);
 
 // What mtcal plan reports, keys in this order: criterion, criterion_value, candidates {considered,
@@ -21,8 +24,10 @@ Json to_json(const PlanMonteCarlo& mc, const PlanPrediction& predicted);
 // predicted (to_json(PlanPrediction)), best_reachable, time, [against {plan, poses, predicted,
 // time, fewer_poses_percent}], [monte_carlo], out, gcode; [parameters_chosen {chosen, estimate,
 // condition, full_rank, examined}], [va {value, u, u_best, [target], [u_against], workspace,
-// pairs} (mm)], [ball_region {positions, reachable, used}]; monte_carlo has [va {mean,
-// u_monte_carlo, ratio}].
+// pairs} (mm)], [ball_region {positions, reachable, used}], [by_hand [setup]: the designed
+// plan's ballbar circles and laser lines, not in the probing program]; monte_carlo has [va {mean,
+// u_monte_carlo, ratio}]. poses counts a circle or a line as one (plan_poses); time has
+// instruments_s, ballbar_circles, laser_lines.
 struct PlanReport {
   const CandidateSet* candidates = nullptr;
   const PlanDesign* design = nullptr;
@@ -40,6 +45,7 @@ struct PlanReport {
   struct Region {
     std::size_t positions = 0, reachable = 0, used = 0;
   } region;  // --ball-region (positions 0: none)
+  std::vector<InstrumentSetup> by_hand;
 };
 Json to_json(const PlanReport& r);
 // The report of a study (pointers into it: it must outlive the report); against_path, workspace
