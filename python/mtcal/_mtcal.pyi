@@ -1083,7 +1083,7 @@ class PlanResult:
         """ProbingPlan of the selected poses (write_probing_csv writes it)"""
     @property
     def poses(self) -> int:
-        ...
+        """Poses of the design (a ballbar circle or a laser line is one)"""
     @property
     def target_met(self) -> bool:
         ...
@@ -1642,7 +1642,7 @@ def correct_gcode(machine: Machine, program: str, *, max_deviation: float = ...,
     expanded, warnings, write(path), to_dict(out).
     """
 
-def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str] = ..., candidates: list[str] = ..., choose: int = ..., scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., target_va_u: float = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., va_tie: float = ..., criterion: str = ..., ball_region: tuple[float, float, float, float, float] | None = ..., ball_spacing: float = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., move_feed: float = ..., approach: float = ..., touches: int = ..., ball_diameter: float = ..., tip_diameter: float = ..., overtravel: float = ..., clearance: float = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ..., program_coordinates: str = ...) -> PlanResult:
+def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str] = ..., candidates: list[str] = ..., choose: int = ..., scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., target_va_u: float = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., va_tie: float = ..., criterion: str = ..., ball_region: tuple[float, float, float, float, float] | None = ..., ball_spacing: float = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., move_feed: float = ..., approach: float = ..., touches: int = ..., ball_diameter: float = ..., tip_diameter: float = ..., overtravel: float = ..., clearance: float = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ..., program_coordinates: str = ..., ballbar: list[float] = ..., ballbar_points: int = ..., ballbar_feed: float = ..., ballbar_setup: float = ..., laser: list[str] = ..., laser_points: int = ..., laser_setup: float = ..., laser_dwell: float = ...) -> PlanResult:
     """Designs a probing plan, as `mtcal plan` (docs/planning.md): the fewest poses (indexations x
     balls and facets of artefact, a ProbingPlan, and of ball_region) that identify `estimate` (and,
     with candidates and choose, the best conditioned full-rank subset of choose of the candidates) to
@@ -1655,7 +1655,12 @@ def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against
     rotary_step: candidate grid step (rad); the reach (max_tilt_deg, stylus_length, holder_radius,
     table_z in mm); the time of the program (rapid, probe_feed, move_feed mm/min, rotary_speed
     deg/min) with its cycle (approach, ball_diameter, tip_diameter, overtravel, clearance mm,
-    touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes it). Returns PlanResult (plan, uncertainties, estimate, va_u, time, to_dict()).
+    touches) in program_coordinates 'axes' or 'tool-point' (as probe_program writes it). ballbar: radii (mm)
+    of candidate ballbar circles (--ballbar; ballbar_points readings each, timed at ballbar_feed mm/min
+    both ways plus ballbar_setup s), laser: linear axis letters of candidate laser lines (--laser;
+    laser_points targets each, timed as laser_setup s plus per target the step at rapid and
+    laser_dwell s); each circle or line is one pose, done by hand (to_dict()['by_hand']). Returns
+    PlanResult (plan, poses, uncertainties, estimate, va_u, time, to_dict()).
     """
 
 def diagonals(machine: Machine, box: str | Mapping[str, tuple[float, float]] | None, *, points: int = ..., face: bool = ..., travel_check: bool = ...) -> DiagonalsResult:
@@ -1810,8 +1815,8 @@ def locate_program(machine: Machine, plan: ProbingPlan, *, within: float = ..., 
 def locate_spheres(machine: Machine, plan: ProbingPlan, log: str, *, within: float = ..., dialect: str = ..., program_coordinates: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ...) -> LocateResult:
     """The spheres the locating program's log (path) gives, as `mtcal probe-log --locate`: LocateResult (artefact, to_dict(), write()). The cycle and `within` as given to the program."""
 
-def measurements_from_contacts(machine: Machine, plan: ProbingPlan, log: str, *, dialect: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ..., coordinates: str = ...) -> ProbingPlan:
-    """The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan for identify (write_probing_csv writes the command's --out). The cycle and coordinates ('axes' or 'tool-point', --program-coordinates) as given to the program."""
+def measurements_from_contacts(machine: Machine, plan: ProbingPlan, log: str, *, dialect: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ..., program_coordinates: str = ...) -> ProbingPlan:
+    """The probe log of a plan's program (path) as measurements, as `mtcal probe-log`: a measured ProbingPlan for identify (write_probing_csv writes the command's --out). The cycle and program_coordinates ('axes' or 'tool-point', --program-coordinates) as given to the program."""
 
 def metadata_fields() -> dict[str, Any]:
     """The test metadata an acceptance report may carry: key -> label, in the order a report lists them (the keys of --meta and of metadata= arguments)."""
@@ -1852,11 +1857,14 @@ def predict(model: PredictionModel, points: PredictionPoints | Mapping[str, npt.
 def predict_ballbar(machine: Machine, plane: str, centre: npt.ArrayLike | None, *, radius: float, step: float = ...) -> BallbarTrace:
     """The trace a ballbar would record on the model: circle of radius mm (required) in plane 'XY'/'YZ'/'ZX' about the centre configuration (internal units), both directions, one sample every step rad."""
 
-def probe_program(machine: Machine, plan: ProbingPlan, *, dialect: str = ..., probe_feed: float = ..., move_feed: float = ..., log: str = ..., header: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ..., coordinates: str = ...) -> str:
-    """The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or 'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min); coordinates (--program-coordinates): 'axes' (the machine's axis values) or 'tool-point' (the world of a tool-centre-point kinematics). Text."""
+def probe_program(machine: Machine, plan: ProbingPlan, *, dialect: str = ..., probe_feed: float = ..., move_feed: float = ..., log: str = ..., header: str = ..., ball_diameter: float = ..., tip_diameter: float = ..., approach: float = ..., overtravel: float = ..., clearance: float = ..., touches: int = ..., program_coordinates: str = ...) -> str:
+    """The probing program of a plan (mtcal plan --gcode): 'linuxcnc' (G38.2 with a PROBEOPEN log named log) or 'iso' (G31, #5061 CSV); probe_feed: the probing moves', move_feed: the G1 moves' feed (mm/min); program_coordinates (--program-coordinates): 'axes' (the machine's axis values) or 'tool-point' (the world of a tool-centre-point kinematics). Balls and facets only: a plan's ballbar and laser records are refused (design_plan's plan: probing_part(plan) first). Text."""
 
 def probing_csv(machine: Machine, plan: ProbingPlan, comment: str = ...) -> str:
     """The plan's CSV text."""
+
+def probing_part(plan: ProbingPlan) -> ProbingPlan:
+    """The plan with its probing records only (balls, facets): what probe_program takes, as plan --gcode writes it (a design's ballbar circles and laser lines are done by hand)."""
 
 def process_error(feeds: npt.ArrayLike, measured: npt.ArrayLike | None = ..., *, form: str = ..., tool: dict[str, Any] = ..., coefficients: dict[str, Any] = ..., cut: dict[str, Any] = ...) -> ProcessErrorStudy:
     """Program-generated process error e_prog per feed (mm/min) from a mechanistic milling force model and tool deflection; with measured process errors, their calibration on e_prog. As `mtcal process-error`."""

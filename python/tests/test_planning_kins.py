@@ -76,12 +76,12 @@ def test_design_plan_instruments_match_cli(tmp_path, rrttt):
     exactly; probe_program of probing_part(plan) is the command's program less its by-hand notes."""
     artefact = mtcal.read_probing_plan(rrttt, str(SPHERE))
     ref = cli_json("plan", "-m", RRTTT, "--artefact", SPHERE, "--estimate", "EY0C,EZ0A,EC0Y", "--poses", 10,
-                   "--rotary-step-deg", 30, "--ballbar", "100,150", "--ballbar-points", 24, "--ballbar-feed", 1500,
-                   "--ballbar-setup-s", 200, "--laser", "X,Y", "--laser-points", 6, "--laser-setup-s", 600,
+                   "--rotary-step-deg", 30, "--ballbar", 150, "--ballbar-points", 24, "--ballbar-feed", 1500,
+                   "--ballbar-setup-s", 200, "--laser", "X", "--laser-points", 6, "--laser-setup-s", 600,
                    "--laser-dwell-s", 2, "--gcode", tmp_path / "bb.ngc")
     r = mtcal.design_plan(rrttt, artefact, estimate=["EY0C", "EZ0A", "EC0Y"], poses=10, rotary_step=np.radians(30),
-                          ballbar=[100, 150], ballbar_points=24, ballbar_feed=1500, ballbar_setup=200,
-                          laser=["X", "Y"], laser_points=6, laser_setup=600, laser_dwell=2)
+                          ballbar=[150], ballbar_points=24, ballbar_feed=1500, ballbar_setup=200,
+                          laser=["X"], laser_points=6, laser_setup=600, laser_dwell=2)
     assert_same(r.to_dict(gcode=str(tmp_path / "bb.ngc")), ref, tol=0)
     assert r.poses == 10 and ref["by_hand"], ref.get("by_hand")
     probing = mtcal.probing_part(r.plan)
