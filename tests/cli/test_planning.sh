@@ -176,6 +176,28 @@ assert d["converged"] and not d["unidentifiable"], d["unidentifiable"]
 for name, p in d["parameters"].items():
     assert abs(p["value"] - p["imposed"]) < 3 * p["u"], (name, p)
 PY
+# probe-log on a plan with a circle: the log holds the probing part's contacts (here each G38.2
+# move's end, on a sphere about the ball), the circle's records are named as done by hand.
+expect_exit 0 "plan with a circle and its program" -- "$MTCAL" plan -m "$V" --artefact "$VP" --estimate EY0C,EZ0A,EC0Y \
+  --poses 10 --rotary-step-deg 30 --ballbar 150 --laser X --out "$tmp/pc-plan.csv" --gcode "$tmp/pc.ngc" --json
+python3 - "$tmp/pc.ngc" "$tmp/pc-log.txt" <<'PY' && ok || bad "the program of a plan with a circle: G38.2 moves, logged"
+import re, sys
+at, log = dict.fromkeys("XYZABC", 0.0), []
+for line in open(sys.argv[1]):
+    line = line.split("(")[0].strip()
+    words = {m.group(1): float(m.group(2)) for m in re.finditer(r"([XYZABC])(-?[\d.]+)", line)}
+    if line.startswith("G38.2"):
+        p = {**at, **words}
+        log.append(" ".join(f"{p[a]:.6f}" for a in "XYZABC") + " 0 0 0")
+    at.update(words)
+assert log
+open(sys.argv[2], "w").write("\n".join(log) + "\n")
+PY
+HAND=$(json_get 'sum(h["readings"] for h in d["by_hand"])')
+expect_exit 0 "probe-log of a plan with a circle" -- "$MTCAL" probe-log -m "$V" --plan "$tmp/pc-plan.csv" --log "$tmp/pc-log.txt" \
+  --out "$tmp/pc-meas.csv" --json
+[ "$(json_get 'd["by_hand_records"]')" = "$HAND" ] && [ "$HAND" -gt 0 ] && ! grep -q ',ballbar,' "$tmp/pc-meas.csv" && ok \
+  || bad "probe-log: the plan's ballbar and laser records counted as by hand, not in its --out"
 expect_error "ballbar radius beyond the travel" "a circle of radius 400 mm needs" -- "$MTCAL" plan -m "$M3" --estimate EC0Y \
   --ballbar 400 --poses 1
 expect_error "unknown laser axis" "(X, Y, Z), found 'Q'" -- "$MTCAL" plan -m "$M3" --estimate EC0Y --laser X,Q --poses 1
