@@ -16,6 +16,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -253,7 +254,14 @@ struct Server::Impl {
   std::unique_ptr<FleetRanker> ranker;
   std::mutex rank_mutex;
   std::shared_ptr<const FleetRanker::Ranking> rank_source;
-  std::shared_ptr<const Json> rank_cache;
+  // The ranking as the fleet shows it: each machine's `history rank` entry (with its drift and
+  // date out of tolerance) by machine name, and the notes. A hash map: the fleet page looks up
+  // every machine (1,000 lookups in an ordered_json object are a linear scan each).
+  struct FleetRanking {
+    std::unordered_map<std::string, Json> machines;
+    Json notes;
+  };
+  std::shared_ptr<const FleetRanking> rank_cache;
   // run() and stop() (Server::stop says why they need more than httplib's own).
   enum class RunState { NotStarted, Starting, Returned };
   std::mutex run_mutex;
@@ -445,19 +453,18 @@ struct Server::Impl {
   // named in "notes". The ranker reads the machines' revisions and fits again only the series of
   // machines whose records changed since the last page (a fleet of 1,000 machines: 1,000 series
   // read and fitted otherwise, after every upload); the JSON is made again only when it did.
-  std::shared_ptr<const Json> ranking(HistoryStore& store) {
+  std::shared_ptr<const FleetRanking> ranking(HistoryStore& store) {
     if (!ranker) return nullptr;
     std::lock_guard lock(rank_mutex);  // one ranking at a time; the others wait for it
     const auto ranked = ranker->rank(store);
     if (rank_cache && ranked == rank_source) return rank_cache;
-    auto out = std::make_shared<Json>(Json{{"machines", Json::object()}, {"notes", ranked->notes}});
-    const Json all = to_json(ranked->ranking);
-    for (const auto& m : all["machines"]) {
-      Json entry = m;
+    auto out = std::make_shared<FleetRanking>();
+    out->notes = ranked->notes;
+    Json all = to_json(ranked->ranking);
+    for (auto& m : all["machines"]) {
       // The drift state of the deciding quantity (the first), and the earliest date a line
       // leaves its tolerance among the machine's quantities.
-      const Json& first = m["quantities"][0];
-      entry["drift"] = first["crossing"]["status"];
+      Json drift = m["quantities"][0]["crossing"]["status"];
       Json date = nullptr;
       for (const auto& q : m["quantities"]) {
         const Json& c = q["crossing"];
@@ -465,8 +472,10 @@ struct Server::Impl {
             (date.is_null() || c["date"].get<std::string>() < date.get<std::string>()))
           date = c["date"];
       }
-      entry["out_of_tolerance_on"] = date;
-      (*out)["machines"][m["machine"].get<std::string>()] = std::move(entry);
+      m["drift"] = std::move(drift);
+      m["out_of_tolerance_on"] = std::move(date);
+      std::string name = m["machine"].get<std::string>();
+      out->machines.insert_or_assign(std::move(name), std::move(m));
     }
     rank_source = ranked;
     rank_cache = out;
@@ -489,14 +498,16 @@ struct Server::Impl {
         current = l.machine;
         const auto own = intervals.find(l.machine);
         interval = own != intervals.end() ? own->second : opt.interval_days;
-        Json r = nullptr;
-        if (rank && (*rank)["machines"].contains(l.machine)) r = (*rank)["machines"][l.machine];
-        machines.push_back({{"machine", l.machine},
-                            {"interval_days", interval},
-                            {"interval_own", own != intervals.end()},
-                            {"calibrations", Json::array()},
-                            {"overdue", false},
-                            {"rank", r}});
+        Json entry = Json::object();
+        entry["machine"] = l.machine;
+        entry["interval_days"] = interval;
+        entry["interval_own"] = own != intervals.end();
+        entry["calibrations"] = Json::array();
+        entry["overdue"] = false;
+        entry["rank"] = nullptr;
+        if (rank)
+          if (const auto r = rank->machines.find(l.machine); r != rank->machines.end()) entry["rank"] = r->second;
+        machines.push_back(std::move(entry));
       }
       auto& m = machines.back();
       bool overdue = false;
@@ -515,11 +526,14 @@ struct Server::Impl {
                                    {"overdue", overdue}});
       if (overdue) m["overdue"] = true;
     }
-    return {{"store", store.describe()},
-            {"interval_days", opt.interval_days},
-            {"ranked", rank != nullptr},
-            {"rank_notes", rank ? (*rank)["notes"] : Json::array()},
-            {"machines", machines}};
+    // Assigned, not an initializer list: that copies every value (the machines' array too).
+    Json out = Json::object();
+    out["store"] = store.describe();
+    out["interval_days"] = opt.interval_days;
+    out["ranked"] = rank != nullptr;
+    out["rank_notes"] = rank ? rank->notes : Json::array();
+    out["machines"] = std::move(machines);
+    return out;
   }
 
   // What `history trend --json` gives for a machine: every parameter and figure, no tolerances.
