@@ -260,8 +260,9 @@ std::string record_page(const PageUser& u, const CalibrationRecord& r, const std
   b += "<h2>Report</h2><p id=\"report-why\">";
   if (measured.empty()) {
     b += "The report of <code>mtcal " + h(r.command) +
-         " --report</code> cannot be written here: the record names no measurement file, and the store keeps the "
-         "result's figures and parameters, not the data the report draws.";
+         " --report</code> is not written here: the store keeps this result's JSON, figures and parameters and its "
+         "machine and parameter files, not the command's other options (grids, plans, workspaces ...) the report is "
+         "drawn with. Run the command with <code>--report</code>.";
   } else {
     b += "The report of <code>mtcal " + h(r.command) +
          " --report</code> is drawn from the measurements, which the store does not hold (it keeps their SHA-256, the "
