@@ -99,14 +99,16 @@ code=$(api -o /dev/null -w '%{http_code}' -F "machine_file=@$EX/machines/vmc-3ax
 # write compensation from a recorded identification (schema 5's model files): identify --record
 # keeps its machine file and prior parameter file in the store; the record's zip holds byte for
 # byte what `mtcal compensate -m MACHINE --params PRIOR --params IDENTIFY_OUT --out DIR` writes.
-H="$EX/machines/hu40t-wCBXfYZt.yaml"
-EST=EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B,EXX.1,EYY.1,EZZ.1
-printf 'mtcal_parameters: 1\nerrors:\n  EZX: {unit: um, argument_unit: m, polynomial: [0, 0, -150]}\n' >"$tmp/prior.yaml"
-"$MTCAL" simulate -m "$H" --plan "$EX/plans/hu40t-samba-tango.csv" --noise-um 1 --seed 7 --artefact-error-um 50 \
-  --scale-bar 1:2:304.8 --out "$tmp/m1.csv" >/dev/null 2>"$tmp/err" || bad "simulate: $(cat "$tmp/err")"
+# (The 3-axis mill's ballbar and laser plan: its compensation takes a fraction of the 5-axis one's.)
+H="$EX/machines/vmc-3axis.yaml"
+EST=EC0Y,EA0Z,EB0Z,EXX.1,EZZ.1
+SB=1:2:489.89794855663564
+printf 'mtcal_parameters: 1\nerrors:\n  EZY: {unit: um, argument_unit: m, polynomial: [0, 0, -30]}\n' >"$tmp/prior.yaml"
+"$MTCAL" simulate -m "$H" --plan "$EX/plans/vmc-ballbar-laser.csv" --noise-um 1 --seed 7 --artefact-error-um 5 \
+  --scale-bar $SB --out "$tmp/m1.csv" >/dev/null 2>"$tmp/err" || bad "simulate: $(cat "$tmp/err")"
 for run in 1 2; do  # the same files twice: the store keeps each file once
   "$MTCAL" identify -m "$H" --params "$tmp/prior.yaml" --measurements "$tmp/m1.csv" --estimate "$EST" \
-    --scale-bar 1:2:304.8 --out "$tmp/id.yaml" --meta machine=HU1 --meta date=2026-02-0$run --record "$store" \
+    --scale-bar $SB --out "$tmp/id.yaml" --meta machine=HU1 --meta date=2026-02-0$run --record "$store" \
     >/dev/null 2>"$tmp/err" || bad "identify --record: $(cat "$tmp/err")"
 done
 idrec=$("$MTCAL" history list --store "$store" --machine HU1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
