@@ -110,8 +110,13 @@ int main(int argc, char** argv) {
   }
   const auto dir = std::filesystem::temp_directory_path() / fmt::format("mtcal-serve-load-{}", ::getpid());
   std::filesystem::create_directories(dir);
-  const std::string conn = "sqlite:" + (dir / "load.db").string();
-  {
+  // MTCAL_LOAD_STORE=FILE: the store is kept in FILE and, when FILE exists, used as it is (filled
+  // by an earlier run of the same size): before/after runs of a change without filling again.
+  const char* kept = std::getenv("MTCAL_LOAD_STORE");
+  const bool reuse = kept && *kept && std::filesystem::exists(kept);
+  const std::string conn = "sqlite:" + (kept && *kept ? std::string(kept) : (dir / "load.db").string());
+  if (reuse) std::printf("store: %s as it is (MTCAL_LOAD_STORE)\n", kept);
+  if (!reuse) {
     auto store = open_history_store(conn);
     const auto t0 = Clock::now();
     std::vector<CalibrationRecord> batch;

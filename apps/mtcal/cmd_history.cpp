@@ -26,6 +26,7 @@ struct RecordState {
   std::string store;  // --record's value; empty: the default store
   std::optional<Json> result;
   std::vector<std::string> inputs;
+  std::vector<std::pair<std::string, std::string>> model_files;  // kind, path
   std::string machine;
   std::unique_ptr<HistoryStore> open;
   std::string open_name;
@@ -100,6 +101,13 @@ void note_inputs(const std::vector<std::string>& inputs) {
     if (!i.empty() && i != "-") state().inputs.push_back(i);
 }
 
+void note_model_files(const std::string& machine, const std::vector<std::string>& params) {
+  auto& files = state().model_files;
+  if (!machine.empty() && machine != "-") files.emplace_back("machine", machine);
+  for (const auto& p : params)
+    if (!p.empty() && p != "-") files.emplace_back("parameters", p);
+}
+
 void note_machine(const std::string& name) {
   if (state().machine.empty()) state().machine = name;
 }
@@ -149,9 +157,22 @@ std::optional<std::string> record_result(const std::string& command) {
   if (r.machine_name.empty())
     throw InputError({"--meta", 0, "machine"},
                      "the result names no machine to record it under: give --meta machine=NAME (and serial=...)");
+  // The model's files, so that the record's model can be made again (docs/history.md, "Model
+  // files"); a file that is not UTF-8 text cannot be kept.
+  std::vector<ModelFile> files;
+  for (const auto& [kind, path] : s.model_files) {
+    std::string text = read_text_file(path, kind == "machine" ? "machine file" : "parameter file");
+    if (!is_utf8(text)) {
+      warn("the " + std::string(kind == "machine" ? "machine file" : "parameter file") + " '" + printable(path) +
+           "' is not UTF-8 text: it is not kept in the history store with the record");
+      continue;
+    }
+    const std::string sha = sha256_hex(text);
+    files.push_back({sha, kind, std::move(text)});
+  }
   if (!s.open) s.open = open_cli_store(s.store);
   std::vector<std::size_t> skipped;
-  const auto ids = s.open->record_all({r}, {}, &skipped);
+  const auto ids = s.open->record_all({r}, {}, &skipped, std::move(files));
   if (!skipped.empty()) {
     std::cerr << "mtcal: this result is recorded already as " << ids[0] << " in " << s.open->describe()
               << " (same content hash): not recorded again\n";
@@ -263,6 +284,7 @@ void print_import(const HistoryImport& r, const std::string& store, bool json_ou
   for (const auto& s : r.skipped) std::cout << "skipped  " << s << "\n";
   std::cout << fmt::format("{} record(s) added, {} event(s) added, {} skipped, in {}\n", r.added, r.events,
                            r.skipped.size(), store);
+  if (r.model_files > 0) std::cout << fmt::format("{} model file(s) added\n", r.model_files);
 }
 
 int run_import(const ImportOptions& o) {
@@ -385,7 +407,8 @@ std::vector<Command> add_history_commands(CLI::App& app) {
       "Metadata of the imported results, key=value, repeatable (machine, serial, date, axis, operator ...); "
       "wins over what the files say");
   imp->add_flag("--json", io->json_out,
-                "Machine-readable output (keys store, records_added, events_added, skipped, records)");
+                "Machine-readable output (keys store, records_added, events_added, model_files_added, skipped, "
+                "records)");
   imp->footer(
       "Examples:\n  mtcal iso230-2 examples/data/iso230-2-x-axis.csv --json > x.json\n"
       "  mtcal history import x.json --store history.db --meta machine=VMC-800 --meta date=2026-11-25 --meta axis=X\n"

@@ -145,6 +145,7 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
 Machine load(const ModelOptions& o) {
   Machine m = load_machine(o.machine);
   note_machine(m.name);
+  note_model_files(o.machine, o.params);
   for (const auto& p : o.params) load_parameters(m, p);
   if (o.tool_length) {
     if (!std::isfinite(*o.tool_length) || *o.tool_length < 0)

@@ -25,6 +25,9 @@ bool emit_json(Json j, bool json_out);
 // The files the command reads (check_outputs passes them) and the model's machine name (load()).
 void note_inputs(const std::vector<std::string>& inputs);
 void note_machine(const std::string& name);
+// The machine file and parameter files (-m, --params) the model was loaded from (load()): their
+// text is stored with the recorded result (schema version 5), once per content.
+void note_model_files(const std::string& machine, const std::vector<std::string>& params);
 
 // Before the command runs, when recording: checks the --record value and opens the store
 // (created or migrated), so that a bad store fails first, as one line, before any work.

@@ -61,6 +61,14 @@ std::string layout(const std::string& title, const PageUser& u, const std::strin
   return p;
 }
 
+// The compensation targets as <option>s of a form's select.
+std::string format_options() {
+  std::string formats;
+  for (const auto& t : compensation_targets())
+    formats += "<option value=\"" + h(t.name) + "\">" + h(t.name) + " - " + h(t.description) + "</option>";
+  return formats;
+}
+
 }  // namespace
 
 std::string url_encode(const std::string& s) {
@@ -189,9 +197,7 @@ std::string machine_page(const PageUser& u, const Json& m, const Json& trends) {
          "id=\"event-note\"></label><button type=\"submit\" id=\"event-add\">Add event</button></form>\n";
     b += "<p><a href=\"/upload?machine=" + h(url_encode(name)) + "\">Upload a measurement of this machine</a></p>";
     // write compensation: what `mtcal compensate -m MACHINE --params P --format F --out DIR` writes, as DIR.zip.
-    std::string formats;
-    for (const auto& t : compensation_targets())
-      formats += "<option value=\"" + h(t.name) + "\">" + h(t.name) + " - " + h(t.description) + "</option>";
+    const std::string formats = format_options();
     b += "<h2>Write compensation</h2><p>The files <code>mtcal compensate -m MACHINE --params PARAMS --format F --out "
          "DIR</code> writes, downloaded as a zip of DIR (docs/compensation.md).</p><form method=\"post\" "
          "action=\"/machine/compensation\" enctype=\"multipart/form-data\" class=\"stack\" id=\"comp-form\">" +
@@ -202,11 +208,26 @@ std::string machine_page(const PageUser& u, const Json& m, const Json& trends) {
          formats +
          "</select></label><label>Positions per table (optional) <input name=\"points\" id=\"comp-points\"></label>"
          "<button type=\"submit\" id=\"comp-write\">Write compensation (zip)</button></form>\n";
+    // From a recorded result (identify, fit-motion ...): its machine and parameter files from the
+    // store with its estimated parameters applied (the server says when the store lacks them).
+    std::string recorded;
+    for (const auto& r : m["records"])
+      if (r["parameters"].is_number() && r["parameters"].get<long long>() > 0)
+        recorded = "<option value=\"" + h(text_of(r["id"])) + "\">" + h(text_of(r["measured_at"])) + " " +
+                   h(text_of(r["command"])) + " (" + h(text_of(r["id"])) + ")</option>" + recorded;  // newest first
+    if (!recorded.empty())
+      b += "<h3>From a recorded result</h3><p>The record's machine file and parameter files, held in the store, with "
+           "its estimated parameters applied.</p><form method=\"post\" action=\"/machine/compensation\" "
+           "enctype=\"multipart/form-data\" class=\"stack\" id=\"rec-comp-form\">" +
+           csrf_field(u) + "<label>Record <select name=\"record\" id=\"rec-comp-record\">" + recorded +
+           "</select></label><label>Controller <select name=\"format\" id=\"rec-comp-format\">" + formats +
+           "</select></label><button type=\"submit\" id=\"rec-comp-write\">Write compensation (zip)</button></form>\n";
   }
   return layout("Machine " + name, u, b, true);
 }
 
-std::string record_page(const PageUser& u, const CalibrationRecord& r, const std::vector<AuditEntry>& audit) {
+std::string record_page(const PageUser& u, const CalibrationRecord& r, const std::vector<AuditEntry>& audit,
+                        const std::map<std::string, std::string>& model_kinds) {
   std::string b = "<table class=\"meta\"><tr><th>Machine</th><td><a href=\"/machine?name=" +
                   h(url_encode(r.machine_name)) + "\">" + h(r.machine_name) + "</a></td></tr><tr><th>Test</th><td>" +
                   h(r.command) + "</td></tr><tr><th>Measured</th><td>" + h(r.measured_at) +
@@ -214,7 +235,16 @@ std::string record_page(const PageUser& u, const CalibrationRecord& r, const std
   for (const auto& a : audit) b += "<tr><th>Recorded by</th><td>" + h(a.user) + " (" + h(a.at) + ")</td></tr>";
   for (const auto& [k, v] : r.metadata)
     b += "<tr><th>" + h(metadata_label(k)) + "</th><td>" + h(v) + "</td></tr>";
-  for (const auto& i : r.inputs) b += "<tr><th>Input</th><td>" + h(i.path) + " <code>" + h(i.sha256) + "</code></td></tr>";
+  std::vector<const InputHash*> measured;  // inputs the store holds no text of
+  bool machine_held = false;
+  for (const auto& i : r.inputs) {
+    const auto kind = model_kinds.find(i.sha256);
+    if (kind == model_kinds.end()) measured.push_back(&i);
+    if (kind != model_kinds.end() && kind->second == "machine") machine_held = true;
+    b += "<tr><th>Input</th><td>" + h(i.path) + " <code>" + h(i.sha256) + "</code>" +
+         (kind == model_kinds.end() ? std::string() : " (" + h(kind->second) + " file, held in the store)") +
+         "</td></tr>";
+  }
   b += "</table>\n<h2>Figures</h2><div class=\"wide\"><table class=\"data\"><thead><tr><th>Name</th><th>Value</th>"
        "<th>Unit</th><th>u</th></tr></thead><tbody>";
   for (const auto& f : r.figures)
@@ -225,7 +255,43 @@ std::string record_page(const PageUser& u, const CalibrationRecord& r, const std
   for (const auto& p : r.parameters)
     b += "<tr><td>" + h(p.name) + "</td><td class=\"num\">" + h(fmt::format("{:.4g}", p.value)) + "</td><td>" + h(p.unit) +
          "</td><td>" + (p.uncertainty ? h(fmt::format("{:.3g}", *p.uncertainty)) : "-") + "</td></tr>";
-  b += "</tbody></table></div><p><a href=\"/api/record?id=" + h(url_encode(r.id)) + "\">JSON of the record</a></p>";
+  b += "</tbody></table></div>";
+  // The command's own --report is drawn from its measurements, which the store keeps as hashes.
+  b += "<h2>Report</h2><p id=\"report-why\">";
+  if (measured.empty()) {
+    b += "The report of <code>mtcal " + h(r.command) +
+         " --report</code> is not written here: the store keeps this result's JSON, figures and parameters and its "
+         "machine and parameter files, not the command's other options (grids, plans, workspaces ...) the report is "
+         "drawn with. Run the command with <code>--report</code>.";
+  } else {
+    b += "The report of <code>mtcal " + h(r.command) +
+         " --report</code> is drawn from the measurements, which the store does not hold (it keeps their SHA-256, the "
+         "result's figures and parameters, and the machine and parameter files): ";
+    for (std::size_t i = 0; i < measured.size(); ++i)
+      b += (i ? ", " : "") + h(measured[i]->path) + " <code>" + h(measured[i]->sha256.substr(0, 12)) + "…</code>";
+    b += ". Run the command with <code>--report</code> on those files; the <a href=\"/machine/trend?name=" +
+         h(url_encode(r.machine_name)) + "\">timeline report</a> shows this record among the machine's.";
+  }
+  b += "</p>";
+  if (u.engineer) {
+    b += "<h2>Write compensation</h2>";
+    if (machine_held) {
+      b += "<p>The files <code>mtcal compensate -m MACHINE --params PARAMS... --format F --out DIR</code> writes for this "
+           "record's model: its machine file and parameter files from the store"
+           " with its estimated parameters applied, as a zip of DIR.</p><form method=\"post\" "
+           "action=\"/machine/compensation\" enctype=\"multipart/form-data\" class=\"stack\" id=\"rec-comp-form\">" +
+           csrf_field(u) + "<input type=\"hidden\" name=\"record\" value=\"" + h(r.id) +
+           "\"><label>Controller <select name=\"format\" id=\"rec-comp-format\">" + format_options() +
+           "</select></label><label>Positions per table (optional) <input name=\"points\"></label>"
+           "<button type=\"submit\" id=\"rec-comp-write\">Write compensation (zip)</button></form>\n";
+    } else {
+      b += "<p id=\"rec-comp-why\">Not from this record: the store holds no machine file of it (none of its inputs is "
+           "a stored model file; records made before schema version 5 or by a command without <code>-m</code> hold "
+           "none). Write compensation from a machine file on the <a href=\"/machine?name=" +
+           h(url_encode(r.machine_name)) + "\">machine page</a>.</p>";
+    }
+  }
+  b += "<p><a href=\"/api/record?id=" + h(url_encode(r.id)) + "\">JSON of the record</a></p>";
   return layout("Record " + r.id, u, b);
 }
 

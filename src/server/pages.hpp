@@ -1,6 +1,7 @@
 // The HTML pages of mtcal serve: server-rendered, every value escaped, no inline script.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,10 @@ std::string login_page(const std::string& csrf, const std::string& error);
 std::string fleet_page(const PageUser& u, const Json& fleet);
 // machine: what /api/machine returns; trends: what /api/machine/trend returns.
 std::string machine_page(const PageUser& u, const Json& machine, const Json& trends);
-std::string record_page(const PageUser& u, const CalibrationRecord& r, const std::vector<AuditEntry>& audit);
+// model_kinds: per SHA-256 of the record's inputs that the store holds as a model file, its kind
+// ("machine", "parameters").
+std::string record_page(const PageUser& u, const CalibrationRecord& r, const std::vector<AuditEntry>& audit,
+                        const std::map<std::string, std::string>& model_kinds);
 // diff: what /api/diff returns (history diff --json).
 std::string diff_page(const PageUser& u, const Json& diff);
 std::string upload_page(const PageUser& u, const std::string& machine);

@@ -16,6 +16,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -34,6 +35,7 @@
 #include "mtcal/io/json/history_json.hpp"
 #include "mtcal/io/json/json.hpp"
 #include "mtcal/io/json/probing_json.hpp"
+#include "mtcal/io/model/etalon_file.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/system/sha256.hpp"
@@ -41,6 +43,7 @@
 #include "mtcal/report/history.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/parse.hpp"
+#include "mtcal/util/units.hpp"
 #include "pages.hpp"
 #include "zip.hpp"
 
@@ -251,7 +254,14 @@ struct Server::Impl {
   std::unique_ptr<FleetRanker> ranker;
   std::mutex rank_mutex;
   std::shared_ptr<const FleetRanker::Ranking> rank_source;
-  std::shared_ptr<const Json> rank_cache;
+  // The ranking as the fleet shows it: each machine's `history rank` entry (with its drift and
+  // date out of tolerance) by machine name, and the notes. A hash map: the fleet page looks up
+  // every machine (1,000 lookups in an ordered_json object are a linear scan each).
+  struct FleetRanking {
+    std::unordered_map<std::string, Json> machines;
+    Json notes;
+  };
+  std::shared_ptr<const FleetRanking> rank_cache;
   // run() and stop() (Server::stop says why they need more than httplib's own).
   enum class RunState { NotStarted, Starting, Returned };
   std::mutex run_mutex;
@@ -443,19 +453,18 @@ struct Server::Impl {
   // named in "notes". The ranker reads the machines' revisions and fits again only the series of
   // machines whose records changed since the last page (a fleet of 1,000 machines: 1,000 series
   // read and fitted otherwise, after every upload); the JSON is made again only when it did.
-  std::shared_ptr<const Json> ranking(HistoryStore& store) {
+  std::shared_ptr<const FleetRanking> ranking(HistoryStore& store) {
     if (!ranker) return nullptr;
     std::lock_guard lock(rank_mutex);  // one ranking at a time; the others wait for it
     const auto ranked = ranker->rank(store);
     if (rank_cache && ranked == rank_source) return rank_cache;
-    auto out = std::make_shared<Json>(Json{{"machines", Json::object()}, {"notes", ranked->notes}});
-    const Json all = to_json(ranked->ranking);
-    for (const auto& m : all["machines"]) {
-      Json entry = m;
+    auto out = std::make_shared<FleetRanking>();
+    out->notes = ranked->notes;
+    Json all = to_json(ranked->ranking);
+    for (auto& m : all["machines"]) {
       // The drift state of the deciding quantity (the first), and the earliest date a line
       // leaves its tolerance among the machine's quantities.
-      const Json& first = m["quantities"][0];
-      entry["drift"] = first["crossing"]["status"];
+      Json drift = m["quantities"][0]["crossing"]["status"];
       Json date = nullptr;
       for (const auto& q : m["quantities"]) {
         const Json& c = q["crossing"];
@@ -463,8 +472,10 @@ struct Server::Impl {
             (date.is_null() || c["date"].get<std::string>() < date.get<std::string>()))
           date = c["date"];
       }
-      entry["out_of_tolerance_on"] = date;
-      (*out)["machines"][m["machine"].get<std::string>()] = std::move(entry);
+      m["drift"] = std::move(drift);
+      m["out_of_tolerance_on"] = std::move(date);
+      std::string name = m["machine"].get<std::string>();
+      out->machines.insert_or_assign(std::move(name), std::move(m));
     }
     rank_source = ranked;
     rank_cache = out;
@@ -487,14 +498,16 @@ struct Server::Impl {
         current = l.machine;
         const auto own = intervals.find(l.machine);
         interval = own != intervals.end() ? own->second : opt.interval_days;
-        Json r = nullptr;
-        if (rank && (*rank)["machines"].contains(l.machine)) r = (*rank)["machines"][l.machine];
-        machines.push_back({{"machine", l.machine},
-                            {"interval_days", interval},
-                            {"interval_own", own != intervals.end()},
-                            {"calibrations", Json::array()},
-                            {"overdue", false},
-                            {"rank", r}});
+        Json entry = Json::object();
+        entry["machine"] = l.machine;
+        entry["interval_days"] = interval;
+        entry["interval_own"] = own != intervals.end();
+        entry["calibrations"] = Json::array();
+        entry["overdue"] = false;
+        entry["rank"] = nullptr;
+        if (rank)
+          if (const auto r = rank->machines.find(l.machine); r != rank->machines.end()) entry["rank"] = r->second;
+        machines.push_back(std::move(entry));
       }
       auto& m = machines.back();
       bool overdue = false;
@@ -513,11 +526,14 @@ struct Server::Impl {
                                    {"overdue", overdue}});
       if (overdue) m["overdue"] = true;
     }
-    return {{"store", store.describe()},
-            {"interval_days", opt.interval_days},
-            {"ranked", rank != nullptr},
-            {"rank_notes", rank ? (*rank)["notes"] : Json::array()},
-            {"machines", machines}};
+    // Assigned, not an initializer list: that copies every value (the machines' array too).
+    Json out = Json::object();
+    out["store"] = store.describe();
+    out["interval_days"] = opt.interval_days;
+    out["ranked"] = rank != nullptr;
+    out["rank_notes"] = rank ? rank->notes : Json::array();
+    out["machines"] = std::move(machines);
+    return out;
   }
 
   // What `history trend --json` gives for a machine: every parameter and figure, no tolerances.
@@ -677,13 +693,73 @@ struct Server::Impl {
     return {ctx.session.id_hash, std::move(rec), std::move(shown), std::chrono::steady_clock::now()};
   }
 
+  // The model of a recorded result (schema version 5, docs/serve.md): its machine file and the
+  // parameter files that follow it among its inputs (the order of -m and --params), from the
+  // store's model files, then the record's estimated parameters by name, converted from the
+  // record's units to the machine's: what `mtcal compensate -m MACHINE --params PRIOR...
+  // --params IDENTIFY_OUT` loads for an identification.
+  Machine recorded_machine(HistoryStore& store, const std::string& id) {
+    const auto r = store.get(id);
+    if (!r) throw HttpError{404, "no record '" + printable(id) + "' in the store"};
+    std::optional<ModelFile> machine;
+    std::size_t at = 0;
+    for (; at < r->inputs.size(); ++at) {
+      auto f = store.model_file(r->inputs[at].sha256);
+      if (f && f->kind == "machine") {
+        machine = std::move(f);
+        break;
+      }
+    }
+    if (!machine) {
+      std::string missing;
+      for (const auto& in : r->inputs)
+        missing += (missing.empty() ? "" : "; ") + printable(in.path) + " (SHA-256 " + in.sha256 + ")";
+      throw HttpError{404, fmt::format("record {} ({}, {}) has no machine file in the store: none of its inputs is a "
+                                       "stored model file ({}). Records made before schema version 5, by a command "
+                                       "without -m, or imported from an older export hold none: write compensation "
+                                       "from an uploaded machine file instead",
+                                       r->id, r->command, r->machine_name,
+                                       missing.empty() ? std::string("it names no input files") : "missing: " + missing)};
+    }
+    try {
+      Machine m = parse_machine(machine->content, r->inputs[at].path);
+      for (std::size_t i = at + 1; i < r->inputs.size(); ++i) {
+        const auto f = store.model_file(r->inputs[i].sha256);
+        if (!f || f->kind != "parameters") break;
+        if (looks_like_etalon(f->content))
+          apply_etalon(m, f->content, r->inputs[i].path);
+        else
+          apply_parameters(m, f->content, r->inputs[i].path);
+      }
+      for (const auto& p : r->parameters) {
+        const auto index = m.parameter_index(p.name);
+        if (!index)
+          throw HttpError{422, fmt::format("record {}: its parameter {} is not a parameter of the machine {} of its "
+                                           "machine file {}",
+                                           r->id, printable(p.name), m.name, printable(r->inputs[at].path))};
+        const std::string internal = m.parameters()[*index].unit;
+        // The same unit: the value as recorded, bit for bit (identify's parameters are in the
+        // machine's internal units); else converted as a typed value is.
+        const double v = p.unit == internal || p.unit.empty()
+                             ? p.value
+                             : parse_in_unit(fmt::format("{:.17g} {}", p.value, p.unit), internal,
+                                             {"record " + r->id, 0, "parameters " + p.name});
+        m.set_parameter(*index, v);
+      }
+      return m;
+    } catch (const InputError& e) {
+      throw HttpError{422, e.what()};
+    }
+  }
+
   // "write compensation": a machine file (and parameter files) turned into a compensation
   // target's files as `mtcal compensate -m MACHINE --params P... --format F [--points N] --out DIR`
-  // does (the same target.run); returned as a zip of DIR's files under the folder DIR.
+  // does (the same target.run); returned as a zip of DIR's files under the folder DIR. With the
+  // field `record`, the machine is that record's (recorded_machine) instead of an uploaded one.
   std::pair<std::string, TargetOutput> compensation(const httplib::Request& req) {
-    if (!req.has_file("machine_file")) throw HttpError{400, "expected a machine file in the field 'machine_file', found none"};
-    const auto mf = req.get_file_value("machine_file");
-    const std::string mname = upload_display_name(mf.filename);
+    const std::string record = param(req, "record", 100);
+    if (record.empty() && !req.has_file("machine_file"))
+      throw HttpError{400, "expected a machine file in the field 'machine_file' or a record in 'record', found neither"};
     const std::string format = required(req, "format");
     if (std::none_of(compensation_targets().begin(), compensation_targets().end(),
                      [&](const CompensationTarget& t) { return t.name == format; }))
@@ -693,11 +769,18 @@ struct Server::Impl {
     if (const auto points = number_field("points", param(req, "points", 20), 2, 10000))
       co.points = static_cast<std::size_t>(*points);
     try {
-      Machine m = parse_machine(mf.content, mname);
-      // Parameter files in the order given (each error given replaces the machine's, as --params).
-      const auto [from, to] = req.files.equal_range("params");
-      for (auto p = from; p != to; ++p)
-        if (!p->second.content.empty()) apply_parameters(m, p->second.content, upload_display_name(p->second.filename));
+      Machine m;
+      if (!record.empty()) {
+        auto store = pool.lease();
+        m = recorded_machine(*store, record);
+      } else {
+        const auto mf = req.get_file_value("machine_file");
+        m = parse_machine(mf.content, upload_display_name(mf.filename));
+        // Parameter files in the order given (each error given replaces the machine's, as --params).
+        const auto [from, to] = req.files.equal_range("params");
+        for (auto p = from; p != to; ++p)
+          if (!p->second.content.empty()) apply_parameters(m, p->second.content, upload_display_name(p->second.filename));
+      }
       TargetOutput out = compensation_target(format).run(m, co);
       return {m.name, std::move(out)};
     } catch (const InputError& e) {
@@ -849,7 +932,10 @@ void Server::Impl::register_routes() {
     auto store = pool.lease();
     const auto r = store->get(required(req, "id"));
     if (!r) throw HttpError{404, "no record '" + printable(req.get_param_value("id")) + "' in the store"};
-    html(res, record_page(page_user(c), *r, store->audit(r->id)));
+    std::map<std::string, std::string> kinds;
+    for (const auto& i : r->inputs)
+      if (const auto f = store->model_file(i.sha256)) kinds[i.sha256] = f->kind;
+    html(res, record_page(page_user(c), *r, store->audit(r->id), kinds));
   });
   add({"GET", "/api/record", Role::Viewer, false, true, "id=0"}, [this](const Req& req, Res& res, const Context*) {
     auto store = pool.lease();

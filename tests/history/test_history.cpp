@@ -5,6 +5,7 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -426,13 +427,73 @@ TEST_P(Store, MigrationFromVersion3FillsMachineRevisions) {
   const auto before = store_->list();
   store_.reset();
   raw_sql(conn_, "DROP TABLE machine_revisions");
-  raw_sql(conn_, "DELETE FROM schema_version WHERE version = 4");
+  raw_sql(conn_, "DROP TABLE model_files");
+  raw_sql(conn_, "DELETE FROM schema_version WHERE version >= 4");
   store_ = open_history_store(conn_);
   EXPECT_EQ(store_->schema_version(), kHistorySchemaVersion);
   EXPECT_EQ(store_->list(), before);
   EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 2}, {"M2", 1}}));
   store_->record(sample("M2", "2026-02-01", 2, 4));
   EXPECT_EQ(revisions(*store_), (std::map<std::string, long long>{{"M1", 2}, {"M2", 2}}));
+}
+
+// Model files (schema 5): stored with their records in one transaction, each content once
+// (again with a duplicate record, again within one batch), refused when the hash is not the
+// content's; carried by export/import as "model_file" lines (the same bytes again).
+TEST_P(Store, ModelFilesAreKeptOncePerContentAndExported) {
+  const std::string machine = "mtcal_machine: 1\nname: M1 \xc2\xb5\n", params = "mtcal_parameters: 1\nerrors: {}\n";
+  const ModelFile m{sha256_hex(machine), "machine", machine}, p{sha256_hex(params), "parameters", params};
+  auto r = sample("M1", "2026-01-01", 1, 1);
+  r.inputs.insert(r.inputs.begin(), {{"m.yaml", m.sha256}, {"p.yaml", p.sha256}});
+  std::vector<std::size_t> skipped;
+  store_->record_all({r}, {}, &skipped, {m, p, m});
+  store_->record_all({r}, {}, &skipped, {m, p});  // a duplicate record: nothing new
+  EXPECT_EQ(skipped.size(), 1u);
+  auto r2 = sample("M1", "2026-02-01", 2, 2);
+  r2.inputs = r.inputs;
+  store_->record_all({r2}, {}, nullptr, {p, m});
+  std::vector<ModelFile> expected{m, p};
+  std::sort(expected.begin(), expected.end(), [](const ModelFile& x, const ModelFile& y) { return x.sha256 < y.sha256; });
+  EXPECT_EQ(store_->model_files(), expected);
+  ASSERT_TRUE(store_->model_file(m.sha256));
+  EXPECT_EQ(*store_->model_file(m.sha256), m);
+  EXPECT_FALSE(store_->model_file(sha256_hex("other")));
+  // A file whose hash is not its content's, or of another kind: refused, and the record with it.
+  const auto before = store_->list().size();
+  EXPECT_THROW(store_->record_all({sample("M2", "2026-01-01", 3, 3)}, {}, nullptr, {{m.sha256, "machine", params}}),
+               InputError);
+  EXPECT_THROW(store_->record_all({sample("M2", "2026-01-01", 3, 3)}, {}, nullptr, {{p.sha256, "plan", params}}),
+               InputError);
+  EXPECT_EQ(store_->list().size(), before);
+  std::ostringstream first;
+  export_jsonl(*store_, first);
+  EXPECT_NE(first.str().find(R"({"type":"model_file","sha256":")" + std::min(m.sha256, p.sha256)), std::string::npos);
+  auto other = open_history_store(fresh());
+  std::istringstream in(first.str());
+  EXPECT_EQ(import_jsonl(*other, in, "export.jsonl").model_files, 2u);
+  std::ostringstream second;
+  export_jsonl(*other, second);
+  EXPECT_EQ(first.str(), second.str());
+  std::istringstream again(first.str());
+  EXPECT_EQ(import_jsonl(*other, again, "export.jsonl").model_files, 0u);
+  EXPECT_EQ(other->model_files().size(), 2u);
+}
+
+// A store of schema version 4 (before model_files) gains the table, empty; its records read as
+// before and the next record keeps its files.
+TEST_P(Store, MigrationFromVersion4AddsModelFiles) {
+  store_->record(sample("M1", "2026-01-01", 1, 1));
+  const auto before = store_->list();
+  store_.reset();
+  raw_sql(conn_, "DROP TABLE model_files");
+  raw_sql(conn_, "DELETE FROM schema_version WHERE version = 5");
+  store_ = open_history_store(conn_);
+  EXPECT_EQ(store_->schema_version(), kHistorySchemaVersion);
+  EXPECT_EQ(store_->list(), before);
+  EXPECT_TRUE(store_->model_files().empty());
+  const std::string text = "mtcal_parameters: 1\n";
+  store_->record_all({sample("M1", "2026-02-01", 2, 2)}, {}, nullptr, {{sha256_hex(text), "parameters", text}});
+  EXPECT_EQ(store_->model_files().size(), 1u);
 }
 
 // FleetRanker (mtcal serve's fleet page) gives what rank_store (history rank) gives after every
@@ -541,9 +602,9 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     return out;
   };
   EXPECT_EQ(text("PRAGMA journal_mode"), "wal");
-  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2,3,4");
+  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2,3,4,5");
   EXPECT_EQ(text("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'parameters_fleet'"), "1");
-  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (5, '2030-01-01T00:00:00Z', 'future')", nullptr,
+  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (6, '2030-01-01T00:00:00Z', 'future')", nullptr,
                          nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -551,7 +612,7 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     open_history_store("sqlite:" + path);
     ADD_FAILURE() << "a store of a newer schema was opened";
   } catch (const StoreError& e) {
-    EXPECT_NE(std::string(e.what()).find("schema version 5, newer than this program's 4"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("schema version 6, newer than this program's 5"), std::string::npos)
         << e.what();
   }
 }
@@ -573,8 +634,8 @@ TEST(SqliteStore, MigrationFromVersion1FillsLatestValues) {
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   ASSERT_EQ(sqlite3_exec(db,
                          "DROP TABLE latest_values; DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; "
-                         "DROP TABLE users; DROP TABLE machine_intervals; DROP TABLE machine_revisions; DELETE FROM "
-                         "schema_version WHERE version >= 2",
+                         "DROP TABLE users; DROP TABLE machine_intervals; DROP TABLE machine_revisions; DROP TABLE model_files; "
+                         "DELETE FROM schema_version WHERE version >= 2",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -604,8 +665,8 @@ TEST(SqliteStore, MigrationFromVersion2KeepsRecordsAndAddsAccounts) {
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   ASSERT_EQ(sqlite3_exec(db,
                          "DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; DROP TABLE users; "
-                         "DROP TABLE machine_intervals; DROP TABLE machine_revisions; DELETE FROM schema_version WHERE "
-                         "version >= 3",
+                         "DROP TABLE machine_intervals; DROP TABLE machine_revisions; DROP TABLE model_files; DELETE FROM "
+                         "schema_version WHERE version >= 3",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -688,7 +749,12 @@ TEST(HistoryJsonl, BadInputIsRefusedWithFileAndLine) {
       {good + "\n{not json\n", "in.jsonl:2"},
       {"[1,2]\n", "expected a JSON object, found array"},
       {R"({"id":"x"})", "expected the key 'type'"},
-      {R"({"type":"recording"})", "expected \"record\" or \"event\", found 'recording'"},
+      {R"({"type":"recording"})", "expected \"record\", \"event\" or \"model_file\", found 'recording'"},
+      {R"({"type":"model_file","sha256":"00","kind":"machine","content":"x"})", "expected the SHA-256 of its content"},
+      {R"({"type":"model_file","sha256":"2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881","kind":"plan","content":"x"})",
+       "expected the kind machine or parameters, found 'plan'"},
+      {R"({"type":"model_file","sha256":"2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881","kind":"machine"})",
+       "expected the key 'content'"},
       {with(R"("machine_name":"M1",)", ""), "expected the key 'machine_name'"},
       {with(R"("machine_name":"M1")", R"("machine_name":3)"), "field 'machine_name'"},
       {with(R"("command")", R"("extra":1,"command")"), "unexpected key 'extra'"},

@@ -22,7 +22,7 @@ try {
   console.log(`SKIPPED: playwright-core is not installed (npm ci in web/): ${e.message}`);
   process.exit(77);
 }
-const [base, user, password, dataFile, shots, machineFile] = process.argv.slice(2);
+const [base, user, password, dataFile, shots, machineFile, recordId] = process.argv.slice(2);
 mkdirSync(shots, { recursive: true });
 let passed = 0, failed = 0;
 const check = (cond, what) => { if (cond) passed++; else { failed++; console.log(`FAIL: ${what}`); } };
@@ -101,6 +101,16 @@ try {
   check(zip.subarray(0, 4).toString('latin1') === 'PK\x03\x04', 'the compensation download is not a zip');
   check(/-linuxcnc\.zip$/.test(download.suggestedFilename()), `download named ${download.suggestedFilename()}`);
   check(zip.includes('.comp') || zip.includes('.ini') || zip.includes('.hal'), 'the zip names no LinuxCNC file');
+
+  // write compensation from a recorded result (its machine file held in the store): a zip too.
+  await page.goto(`${base}/record?id=${encodeURIComponent(recordId)}`);
+  await page.selectOption('#rec-comp-format', 'linuxcnc');
+  const [recDownload] = await Promise.all([page.waitForEvent('download'), page.click('#rec-comp-write')]);
+  const recZip = readFileSync(await recDownload.path());
+  check(recZip.subarray(0, 4).toString('latin1') === 'PK\x03\x04', 'the record\'s compensation download is not a zip');
+  check(recDownload.suggestedFilename() === download.suggestedFilename(),
+        `the record's download is named ${recDownload.suggestedFilename()}, the machine file's ${download.suggestedFilename()}`);
+  await fits('record');
 
   // An admin sets the machine's calibration interval; the fleet shows it as the machine's own.
   await page.goto(`${base}/admin/machines`);

@@ -13,7 +13,7 @@ if [ -n "${PG_FIXTURE:-}" ]; then
   read -r store <&"${PG[0]}"
   case "$store" in SKIPPED:*) echo "PostgreSQL tests skipped: $store"; exit 77 ;; esac
 fi
-count_records() { "$MTCAL" history list --store "$store" --json | python3 -c 'import json,sys; print(len(json.load(sys.stdin)["records"]))'; }
+count_records() { "$MTCAL" history list --store "$store" --machine "B02 <test stand>" --json | python3 -c 'import json,sys; print(len(json.load(sys.stdin)["records"]))'; }
 
 MTCAL_PASSWORD='browser-test-pass' "$MTCAL" serve --store "$store" --add-user ada --role admin >"$tmp/out" 2>"$tmp/err" \
   && ok || bad "--add-user: $(cat "$tmp/err")"
@@ -34,7 +34,12 @@ start_server() {
 start_server
 base="http://127.0.0.1:$port"
 
-timeout 480 node "$(dirname "$0")/serve_browser.mjs" "$base" ada browser-test-pass "$DATA" "$SHOTS" "$MACHINE" >"$tmp/browser" 2>&1
+# A result recorded from the command line with its machine file (schema 5's model files): the
+# browser writes compensation from its record page.
+"$MTCAL" volumetric -m "$MACHINE" --grid X=-400:400:3,Y=0,Z=-100 --meta machine=VMC1 --meta date=2022-09-01 \
+  --record "$store" >/dev/null 2>"$tmp/err" || bad "volumetric --record: $(cat "$tmp/err")"
+vrec=$("$MTCAL" history list --store "$store" --machine VMC1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][0]["id"])')
+timeout 480 node "$(dirname "$0")/serve_browser.mjs" "$base" ada browser-test-pass "$DATA" "$SHOTS" "$MACHINE" "$vrec" >"$tmp/browser" 2>&1
 rc=$?
 cat "$tmp/browser"
 if [ $rc -eq 77 ]; then kill "$pid"; wait "$pid"; echo "SKIPPED: browser part"; exit 77; fi
@@ -45,7 +50,7 @@ before=$(count_records)
 # metadata into another store gives the same content hash (inputs' SHA-256, metadata, result JSON).
 "$MTCAL" history import "$DATA" --store "sqlite:$tmp/cli.db" --meta "machine=B02 <test stand>" --meta date=2022-10-20 \
   --meta "operator=browser test" >/dev/null 2>"$tmp/err" || bad "history import: $(cat "$tmp/err")"
-hash_of() { "$MTCAL" history list --store "$1" --json | python3 -c 'import json,sys; print([r["content_hash"] for r in json.load(sys.stdin)["records"]])'; }
+hash_of() { "$MTCAL" history list --store "$1" --machine "B02 <test stand>" --json | python3 -c 'import json,sys; print([r["content_hash"] for r in json.load(sys.stdin)["records"]])'; }
 [ "$(hash_of "$store")" = "$(hash_of "sqlite:$tmp/cli.db")" ] && ok || bad "the server's record differs from history import's: $(hash_of "$store") vs $(hash_of "sqlite:$tmp/cli.db")"
 
 # Garbage: 4xx, one line, and the server serves on.

@@ -96,6 +96,63 @@ code=$(api -o /dev/null -w '%{http_code}' -F "machine_file=@$DATA" -F format=lin
 code=$(api -o /dev/null -w '%{http_code}' -F "machine_file=@$EX/machines/vmc-3axis.yaml" -F format=nonesuch "$base/api/compensation")
 [ "$code" = 400 ] && ok || bad "compensation for an unknown controller: $code"
 
+# write compensation from a recorded identification (schema 5's model files): identify --record
+# keeps its machine file and prior parameter file in the store; the record's zip holds byte for
+# byte what `mtcal compensate -m MACHINE --params PRIOR --params IDENTIFY_OUT --out DIR` writes.
+# (The 3-axis mill's ballbar and laser plan: its compensation takes a fraction of the 5-axis one's.)
+H="$EX/machines/vmc-3axis.yaml"
+EST=EC0Y,EA0Z,EB0Z,EXX.1,EZZ.1
+SB=1:2:489.89794855663564
+printf 'mtcal_parameters: 1\nerrors:\n  EZY: {unit: um, argument_unit: m, polynomial: [0, 0, -30]}\n' >"$tmp/prior.yaml"
+"$MTCAL" simulate -m "$H" --plan "$EX/plans/vmc-ballbar-laser.csv" --noise-um 1 --seed 7 --artefact-error-um 5 \
+  --scale-bar $SB --out "$tmp/m1.csv" >/dev/null 2>"$tmp/err" || bad "simulate: $(cat "$tmp/err")"
+for run in 1 2; do  # the same files twice: the store keeps each file once
+  "$MTCAL" identify -m "$H" --params "$tmp/prior.yaml" --measurements "$tmp/m1.csv" --estimate "$EST" \
+    --scale-bar $SB --out "$tmp/id.yaml" --meta machine=HU1 --meta date=2026-02-0$run --record "$store" \
+    >/dev/null 2>"$tmp/err" || bad "identify --record: $(cat "$tmp/err")"
+done
+idrec=$("$MTCAL" history list --store "$store" --machine HU1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
+python3 - "$tmp/shop.db" <<'PY' && ok || bad "model files are not kept once each"
+import sqlite3, sys
+rows = sqlite3.connect(sys.argv[1]).execute("SELECT kind, COUNT(*) FROM model_files GROUP BY kind ORDER BY kind").fetchall()
+assert rows == [("machine", 1), ("parameters", 1)], rows
+PY
+api -o "$tmp/rec.zip" -w '%{http_code}' -F "record=$idrec" -F format=linuxcnc "$base/api/compensation" >"$tmp/code"
+[ "$(cat "$tmp/code")" = 200 ] && ok || bad "compensation of record $idrec: $(cat "$tmp/code") $(head -c 400 "$tmp/rec.zip")"
+"$MTCAL" compensate -m "$H" --params "$tmp/prior.yaml" --params "$tmp/id.yaml" --format linuxcnc --out "$tmp/rec-cli" \
+  >/dev/null 2>"$tmp/err" || bad "compensate: $(cat "$tmp/err")"
+python3 - "$tmp/rec.zip" "$tmp/rec-cli" <<'PY' && ok || bad "the record's zip differs from compensate --out"
+import os, sys, zipfile
+z = zipfile.ZipFile(sys.argv[1])
+names = sorted(n for n in z.namelist() if not n.endswith('/'))
+cli = sorted(os.listdir(sys.argv[2]))
+assert cli and [n.split('/', 1)[1] for n in names] == cli, (names, cli)
+for n in names:
+    assert z.read(n) == open(os.path.join(sys.argv[2], n.split('/', 1)[1]), 'rb').read(), n
+PY
+# Without the identification's parameters (compensate -m MACHINE --params PRIOR) the files differ:
+# the comparison above can fail.
+"$MTCAL" compensate -m "$H" --params "$tmp/prior.yaml" --format linuxcnc --out "$tmp/prior-cli" >/dev/null 2>&1
+! diff -rq "$tmp/rec-cli" "$tmp/prior-cli" >/dev/null && ok || bad "the identification changed no compensation file"
+# A record without stored model files (the ballbar upload): 404 naming its input's SHA-256.
+bbrec=$("$MTCAL" history list --store "$store" --machine BB1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][0]["id"])')
+code=$(api -o "$tmp/nofile.json" -w '%{http_code}' -F "record=$bbrec" -F format=linuxcnc "$base/api/compensation")
+bbsha=$(sha256sum "$EX/instruments/xy-ballbar.csv" | cut -c1-64)
+[ "$code" = 404 ] && grep -q "has no machine file in the store.*$bbsha" "$tmp/nofile.json" && ok \
+  || bad "compensation of a record without model files: $code $(cat "$tmp/nofile.json")"
+curl -b "$jar" "$base/record?id=$idrec" >"$tmp/rec.html"
+grep -q 'id="rec-comp-write"' "$tmp/rec.html" && grep -q 'machine file, held in the store' "$tmp/rec.html" \
+  && grep -q 'id="report-why"' "$tmp/rec.html" && ok || bad "the record page lacks the compensation form or the report note"
+# history export/import carry the model files: a copy exports the same bytes.
+"$MTCAL" history export --store "$store" --out "$tmp/all.jsonl" >/dev/null 2>"$tmp/err" || bad "export: $(cat "$tmp/err")"
+grep -c '"type":"model_file"' "$tmp/all.jsonl" | grep -qx 2 && ok || bad "the export lacks the model files"
+"$MTCAL" history import "$tmp/all.jsonl" --store "sqlite:$tmp/copy.db" --json >"$tmp/imp.json" 2>"$tmp/err" \
+  || bad "import: $(cat "$tmp/err")"
+python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_added"] == 2' "$tmp/imp.json" && ok \
+  || bad "import: $(cat "$tmp/imp.json")"
+"$MTCAL" history export --store "sqlite:$tmp/copy.db" --out "$tmp/copy.jsonl" >/dev/null 2>&1
+cmp -s "$tmp/all.jsonl" "$tmp/copy.jsonl" && ok || bad "the imported copy exports other bytes"
+
 # The fleet's ranking is history rank's (same tolerance file).
 api "$base/api/fleet" >"$tmp/fleet.json"
 "$MTCAL" history rank --store "$store" --tolerance-file "$tol" --json >"$tmp/rank.json" 2>"$tmp/err" || bad "history rank: $(cat "$tmp/err")"

@@ -347,6 +347,70 @@ TEST_P(Serve, SqlMetacharactersAreDataNotSql) {
   EXPECT_EQ(c.Get("/api/machine?name=" + encode("M1' OR '1'='1"), l.headers())->status, 404);
 }
 
+// "Write compensation" of a recorded result (schema 5): the record's machine file from the
+// store and its parameters applied by name, units converted (20 um/m is the 2e-5 mm/mm of a
+// parameter file in internal units): the same answer as the machine file uploaded with that
+// parameter file. A record whose machine file the store lacks: 404 naming its inputs' SHA-256;
+// ids of SQL or a path: 404, nothing else.
+TEST_P(Serve, CompensationOfARecordUsesItsStoredModelFiles) {
+  const std::string machine =
+      "mtcal_machine: 1\nname: T1\ntopology: wXYfZt\nunits: {length: mm, angle: deg}\naxes:\n  X: {travel: [-100, 100]}\n"
+      "  Y: {travel: [-100, 100]}\n  Z: {travel: [-100, 0]}\ntool: {length: 100, spindle_point: [0, 0, 0]}\n"
+      "workpiece: {origin: [0, 0, -50]}\nerrors:\n  EXX: {unit: um, argument_unit: m, polynomial: [0, 8.0]}\n";
+  const std::string params =
+      "mtcal_parameters: 1\nunits: {length: mm, angle: rad}\nerrors:\n  EXX: {unit: mm, argument_unit: mm, polynomial: [0, 2e-5]}\n  EC0Y: 1e-5 rad\n";
+  CalibrationRecord r = sample("T1", "2026-05-01", 1.0);
+  r.command = "identify";
+  r.inputs = {{"t1.yaml", sha256_hex(machine)}, {"plan.csv", sha256_hex("plan")}};
+  r.parameters = {{"EXX.1", 20, 0.5, "um/m"}, {"EC0Y", 10, std::nullopt, "urad"}};
+  const std::string held = store_->record_all({r}, {}, nullptr, {{sha256_hex(machine), "machine", machine}})[0];
+  CalibrationRecord bare = sample("T2", "2026-05-01", 1.0);
+  bare.inputs = {{"run.dat", sha256_hex("run")}};
+  const std::string lacking = store_->record(bare);
+
+  const Login l = login("eng");
+  auto c = client();
+  const httplib::Headers h{{"Cookie", "mtcal_session=" + l.cookie}, {"X-CSRF-Token", l.csrf}};
+  const auto from_record = c.Post("/api/compensation", h,
+                                  httplib::MultipartFormDataItems{{"record", held, "", ""}, {"format", "linuxcnc", "", ""},
+                                                                  {"summary", "1", "", ""}});
+  ASSERT_EQ(from_record->status, 200) << from_record->body;
+  const auto from_files = c.Post("/api/compensation", h,
+                                 httplib::MultipartFormDataItems{{"machine_file", machine, "t1.yaml", "application/yaml"},
+                                                                 {"params", params, "p.yaml", "application/yaml"},
+                                                                 {"format", "linuxcnc", "", ""},
+                                                                 {"summary", "1", "", ""}});
+  ASSERT_EQ(from_files->status, 200) << from_files->body;
+  EXPECT_EQ(from_record->body, from_files->body);
+  const auto without = c.Post("/api/compensation", h,
+                              httplib::MultipartFormDataItems{{"machine_file", machine, "t1.yaml", "application/yaml"},
+                                                              {"format", "linuxcnc", "", ""},
+                                                              {"summary", "1", "", ""}});
+  EXPECT_NE(without->body, from_record->body);  // the parameters changed the answer
+  const auto zip = c.Post("/api/compensation", h,
+                          httplib::MultipartFormDataItems{{"record", held, "", ""}, {"format", "linuxcnc", "", ""}});
+  ASSERT_EQ(zip->status, 200);
+  EXPECT_EQ(zip->body.substr(0, 4), std::string("PK\x03\x04", 4));
+  // No machine file in the store: 404 naming the input's SHA-256.
+  const auto missing = c.Post("/api/compensation", h,
+                              httplib::MultipartFormDataItems{{"record", lacking, "", ""}, {"format", "linuxcnc", "", ""}});
+  EXPECT_EQ(missing->status, 404);
+  EXPECT_NE(missing->body.find("has no machine file in the store"), std::string::npos) << missing->body;
+  EXPECT_NE(missing->body.find(sha256_hex("run")), std::string::npos) << missing->body;
+  for (const std::string& id : {kSql, std::string("../../etc/passwd"), std::string("' OR 1=1 --")}) {
+    const auto bad = c.Post("/api/compensation", h,
+                            httplib::MultipartFormDataItems{{"record", id, "", ""}, {"format", "linuxcnc", "", ""}});
+    EXPECT_EQ(bad->status, 404) << id << ": " << bad->body;
+  }
+  // The record pages: the form where the machine file is held, the reason where not.
+  const auto page = c.Get("/record?id=" + held, l.headers());
+  EXPECT_NE(page->body.find("id=\"rec-comp-write\""), std::string::npos);
+  EXPECT_NE(page->body.find("id=\"report-why\""), std::string::npos);
+  EXPECT_NE(c.Get("/record?id=" + lacking, l.headers())->body.find("id=\"rec-comp-why\""), std::string::npos);
+  EXPECT_NE(c.Get("/machine?name=T1", l.headers())->body.find("id=\"rec-comp-record\""), std::string::npos);
+  EXPECT_EQ(record_count(), 5u);
+}
+
 TEST_P(Serve, PathTraversalInFileNamesAndParameters) {
   const Login l = login("eng");
   auto c = client();

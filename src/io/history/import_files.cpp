@@ -77,6 +77,7 @@ HistoryImport import_files(HistoryStore& store, const std::vector<std::string>& 
     const auto s = import_jsonl(store, in, path);
     jsonl_records += s.records;
     r.events += s.events;
+    r.model_files += s.model_files;
     for (const auto& k : s.skipped) r.skipped.push_back(path + ": " + k);
   }
   r.ids = store.record_all(r.records, {}, &r.duplicates);
@@ -91,6 +92,7 @@ Json to_json(const HistoryImport& r, const std::string& store) {
   j["store"] = store;
   j["records_added"] = r.added;
   j["events_added"] = r.events;
+  j["model_files_added"] = r.model_files;
   j["skipped"] = r.skipped;
   Json list = Json::array();
   for (std::size_t i = 0; i < r.records.size(); ++i) list.push_back({{"file", r.origin[i]}, {"id", r.ids[i]}});

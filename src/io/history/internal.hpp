@@ -21,6 +21,9 @@ std::string now_utc();
 // Checks a record before it is stored (InputError naming the record and field).
 void check_record(const CalibrationRecord& r);
 void check_event(const Event& e);
+// InputError located at `where` for a model file whose sha256 is not its content's, whose kind
+// is not "machine" or "parameters", or whose content is not UTF-8.
+void check_model_file(const ModelFile& f, const std::string& where);
 // JSON text of a record's metadata / inputs (as stored in their columns), and back.
 std::string metadata_to_json(const std::map<std::string, std::string>& m);
 std::map<std::string, std::string> metadata_from_json(const std::string& text);
@@ -60,6 +63,8 @@ class SqlHistoryStore : public HistoryStore {
   void set_machine_interval(const std::string& machine, int days, const std::string& user) override;
   std::vector<MachineInterval> machine_intervals() override;
   std::vector<MachineRevision> machine_revisions() override;
+  std::optional<ModelFile> model_file(const std::string& sha256) override;
+  std::vector<ModelFile> model_files() override;
   void put_user(const UserAccount& u) override;
   std::optional<UserAccount> find_user(const std::string& name) override;
   std::vector<UserAccount> users() override;
@@ -67,8 +72,10 @@ class SqlHistoryStore : public HistoryStore {
   std::optional<SessionEntry> find_session(const std::string& id_hash, const std::string& now) override;
   bool remove_session(const std::string& id_hash) override;
   long long remove_expired_sessions(const std::string& now) override;
-  std::vector<std::string> record_all(std::vector<CalibrationRecord> records, std::vector<Event> events,
-                                      std::vector<std::size_t>* skipped) override;
+  // The base's defaults (a call on this type takes them too).
+  std::vector<std::string> record_all(std::vector<CalibrationRecord> records, std::vector<Event> events = {},
+                                      std::vector<std::size_t>* skipped = nullptr,
+                                      std::vector<ModelFile> model_files = {}) override;
 
  protected:
   // Runs a statement; returns the number of rows it changed.
@@ -96,7 +103,8 @@ class SqlHistoryStore : public HistoryStore {
                    const std::string& tail = {});
   // record_all, with an audit row per inserted record and event when author is given.
   std::vector<std::string> write_all(std::vector<CalibrationRecord> records, std::vector<Event> events,
-                                     std::vector<std::size_t>* skipped, const std::string* author);
+                                     std::vector<std::size_t>* skipped, const std::string* author,
+                                     const std::vector<ModelFile>& model_files = {});
   std::vector<CalibrationRecord> load_records(const std::string& where, const std::vector<SqlParam>& params);
 };
 

@@ -54,6 +54,15 @@ ordered_json event_json(const Event& e) {
   return j;
 }
 
+ordered_json model_file_json(const ModelFile& f) {
+  ordered_json j;
+  j["type"] = "model_file";
+  j["sha256"] = f.sha256;
+  j["kind"] = f.kind;
+  j["content"] = f.content;
+  return j;
+}
+
 // Strict field access of one JSON line: every key expected, of its type, and no other.
 class Fields {
  public:
@@ -160,6 +169,17 @@ Event parse_event(const ordered_json& j, const std::string& source, int line) {
   return e;
 }
 
+ModelFile parse_model_file(const ordered_json& j, const std::string& source, int line) {
+  const Fields f(j, source, line, {"type", "sha256", "kind", "content"});
+  ModelFile m{f.text("sha256"), f.text("kind"), f.text("content")};
+  try {
+    history_detail::check_model_file(m, source);
+  } catch (const InputError& e) {
+    f.fail(e.where().field, e.what());
+  }
+  return m;
+}
+
 }  // namespace
 
 std::string record_to_json_line(const CalibrationRecord& r) { return json_text(record_json(r)); }
@@ -168,12 +188,14 @@ std::string event_to_json_line(const Event& e) { return json_text(event_json(e))
 void export_jsonl(HistoryStore& store, std::ostream& out) {
   for (const auto& r : store.list({})) out << json_text(record_json(r)) << '\n';
   for (const auto& e : store.events()) out << json_text(event_json(e)) << '\n';
+  for (const auto& f : store.model_files()) out << json_text(model_file_json(f)) << '\n';
 }
 
 ImportSummary import_jsonl(HistoryStore& store, std::istream& in, const std::string& source) {
   std::vector<CalibrationRecord> records;
   std::vector<int> record_lines;
   std::vector<Event> events;
+  std::vector<ModelFile> files;
   std::string text;
   int line = 0;
   while (std::getline(in, text)) {
@@ -186,15 +208,19 @@ ImportSummary import_jsonl(HistoryStore& store, std::istream& in, const std::str
     if (!j.is_object())
       throw InputError({source, line, ""}, "expected a JSON object, found " + std::string(j.type_name()));
     if (!j.contains("type") || !j["type"].is_string())
-      throw InputError({source, line, "type"}, "expected the key 'type' (\"record\" or \"event\"), found none");
+      throw InputError({source, line, "type"},
+                       "expected the key 'type' (\"record\", \"event\" or \"model_file\"), found none");
     const std::string type = j["type"].get<std::string>();
     if (type == "record") {
       records.push_back(parse_record(j, source, line));
       record_lines.push_back(line);
     } else if (type == "event") {
       events.push_back(parse_event(j, source, line));
+    } else if (type == "model_file") {
+      files.push_back(parse_model_file(j, source, line));
     } else {
-      throw InputError({source, line, "type"}, "expected \"record\" or \"event\", found '" + printable(type) + "'");
+      throw InputError({source, line, "type"},
+                       "expected \"record\", \"event\" or \"model_file\", found '" + printable(type) + "'");
     }
   }
   if (in.bad()) throw InputError({source, line, ""}, "cannot read the file");
@@ -206,13 +232,20 @@ ImportSummary import_jsonl(HistoryStore& store, std::istream& in, const std::str
     for (const auto& e : store.events()) existing.insert(e.id);
     for (const auto& e : events) known_events += existing.count(e.id);
   }
+  std::size_t new_files = 0;
+  {
+    std::set<std::string> seen;
+    for (const auto& f : files)
+      if (seen.insert(f.sha256).second && !store.model_file(f.sha256)) ++new_files;
+  }
   std::vector<std::size_t> skipped;
-  const auto ids = store.record_all(records, std::move(events), &skipped);
+  const auto ids = store.record_all(records, std::move(events), &skipped, std::move(files));
   for (const auto i : skipped)
     summary.skipped.push_back("line " + std::to_string(record_lines[i]) + ": duplicate of record " + ids[i] +
                               " (content hash " + records[i].content_hash.substr(0, 12) + "…)");
   summary.records = records.size() - skipped.size();
   summary.events = event_count - known_events;
+  summary.model_files = new_files;
   return summary;
 }
 

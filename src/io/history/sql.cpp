@@ -104,6 +104,11 @@ const std::vector<Migration>& migrations() {
        {"CREATE TABLE machine_revisions (machine_name {T} PRIMARY KEY, revision BIGINT NOT NULL)",
         "INSERT INTO machine_revisions (machine_name, revision) SELECT machine_name, COUNT(*) FROM records GROUP BY "
         "machine_name"}},
+      // A record's compensation (mtcal serve) needs the machine file and parameter files it was
+      // computed from, which the records' inputs name by SHA-256 only: their text, once per
+      // content. Stores of version 4 hold none (their records say so when asked).
+      {"model_files: the machine and parameter files of recorded results, by SHA-256",
+       {"CREATE TABLE model_files (sha256 {T} PRIMARY KEY, kind {T} NOT NULL, content TEXT NOT NULL)"}},
   };
   return kMigrations;
 }
@@ -291,6 +296,17 @@ void check_record(const CalibrationRecord& r) {
                         printable(i.sha256) + "'");
 }
 
+void check_model_file(const ModelFile& f, const std::string& where) {
+  const std::string what = "model file " + printable(f.sha256.substr(0, 64));
+  if (f.kind != "machine" && f.kind != "parameters")
+    throw InputError({where, 0, "kind"}, what + ": expected the kind machine or parameters, found '" + printable(f.kind) + "'");
+  if (!is_utf8(f.content)) throw InputError({where, 0, "content"}, what + ": expected UTF-8 text");
+  const std::string h = sha256_hex(f.content);
+  if (f.sha256 != h)
+    throw InputError({where, 0, "sha256"}, what + ": expected the SHA-256 of its content, " + h +
+                                               " (the content was changed, or the hash is not its own)");
+}
+
 void check_event(const Event& e) {
   const std::string where = e.id.empty() ? std::string("event") : "event " + e.id;
   if (e.machine.empty()) throw InputError({where, 0, "machine"}, "expected the machine's name, found none");
@@ -365,13 +381,28 @@ void SqlHistoryStore::insert_rows(const std::string& head, std::size_t columns, 
 }
 
 std::vector<std::string> SqlHistoryStore::record_all(std::vector<CalibrationRecord> records, std::vector<Event> evs,
-                                                     std::vector<std::size_t>* skipped) {
-  return write_all(std::move(records), std::move(evs), skipped, nullptr);
+                                                     std::vector<std::size_t>* skipped, std::vector<ModelFile> files) {
+  return write_all(std::move(records), std::move(evs), skipped, nullptr, files);
+}
+
+std::optional<ModelFile> SqlHistoryStore::model_file(const std::string& sha256) {
+  const auto rows = query("SELECT sha256, kind, content FROM model_files WHERE sha256 = $1", {sha256});
+  if (rows.empty()) return std::nullopt;
+  return ModelFile{text_of(rows[0][0]), text_of(rows[0][1]), text_of(rows[0][2])};
+}
+
+std::vector<ModelFile> SqlHistoryStore::model_files() {
+  std::vector<ModelFile> out;
+  for (const auto& row : query("SELECT sha256, kind, content FROM model_files ORDER BY sha256"))
+    out.push_back({text_of(row[0]), text_of(row[1]), text_of(row[2])});
+  return out;
 }
 
 std::vector<std::string> SqlHistoryStore::write_all(std::vector<CalibrationRecord> records, std::vector<Event> evs,
-                                                    std::vector<std::size_t>* skipped, const std::string* author) {
+                                                    std::vector<std::size_t>* skipped, const std::string* author,
+                                                    const std::vector<ModelFile>& model_files) {
   const std::string now = now_utc();
+  for (const auto& f : model_files) check_model_file(f, "model file");
   for (auto& r : records) {
     check_record(r);
     if (r.recorded_at.empty()) r.recorded_at = now;
@@ -530,6 +561,14 @@ std::vector<std::string> SqlHistoryStore::write_all(std::vector<CalibrationRecor
                          SqlParam(std::string(to_string(e.kind))), SqlParam(e.note)})
         ev.push_back(std::move(v));
     insert_rows("INSERT INTO events (id, machine, date, kind, note)", 5, ev, " ON CONFLICT DO NOTHING");
+    // Model files once per content (sorted and unique: one row per key and statement, keys in
+    // order as above); a stored one is kept.
+    std::map<std::string, const ModelFile*> files;
+    for (const auto& f : model_files) files.emplace(f.sha256, &f);
+    std::vector<SqlParam> file_rows;
+    for (const auto& [sha, f] : files)
+      for (SqlParam v : {SqlParam(f->sha256), SqlParam(f->kind), SqlParam(f->content)}) file_rows.push_back(std::move(v));
+    insert_rows("INSERT INTO model_files (sha256, kind, content)", 3, file_rows, " ON CONFLICT DO NOTHING");
     if (author) {
       std::vector<SqlParam> rows;
       auto audit_row = [&](const char* action, const std::string& id, std::string detail) {

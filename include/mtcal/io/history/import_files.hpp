@@ -37,6 +37,7 @@ struct HistoryImport {
   std::vector<std::size_t> duplicates;     // indices into records stored already (same content hash)
   std::vector<std::string> skipped;        // "FILE: why" per record not stored
   std::size_t added = 0, events = 0;       // records and events added
+  std::size_t model_files = 0;             // model files added (of JSON-lines exports)
 };
 
 // Imports files into store: every result or instrument file read first (record_from_file with
@@ -45,8 +46,8 @@ struct HistoryImport {
 HistoryImport import_files(HistoryStore& store, const std::vector<std::string>& files, const std::string& command,
                            const std::map<std::string, std::string>& metadata);
 
-// {"store", "records_added", "events_added", "skipped", "records": [{"file", "id"}]}: `history
-// import --json` (store: the store's description).
+// {"store", "records_added", "events_added", "model_files_added", "skipped", "records": [{"file",
+// "id"}]}: `history import --json` (store: the store's description).
 Json to_json(const HistoryImport& r, const std::string& store);
 
 }  // namespace mtcal

@@ -26,6 +26,7 @@ class StoreError : public Error {
 // What import_jsonl did.
 struct ImportSummary {
   std::size_t records = 0, events = 0;  // added
+  std::size_t model_files = 0;          // added (not stored before)
   std::vector<std::string> skipped;     // "line N: duplicate of record ID (content hash H)"
 };
 
@@ -56,6 +57,16 @@ struct MachineInterval {
 struct LatestCalibration {
   std::string machine, command, record_id, measured_at;
   long long count = 0;  // records of this machine and command
+};
+
+// A model file a recorded result was computed from (schema version 5): a machine file or a
+// parameter file, kept once by the SHA-256 of its content (the key the records' inputs name), so
+// that a record's model can be made again (mtcal serve's "write compensation" of a record).
+struct ModelFile {
+  std::string sha256;   // of content: 64 lowercase hex digits
+  std::string kind;     // "machine" or "parameters"
+  std::string content;  // the file's text, UTF-8
+  friend bool operator==(const ModelFile&, const ModelFile&) = default;
 };
 
 // A machine's revision: a number that every write of its records (record, import, remove) raises
@@ -117,6 +128,9 @@ class HistoryStore {
   virtual std::vector<MachineInterval> machine_intervals() = 0;
   // Every machine that ever had a record, by name, with its revision (schema version 4).
   virtual std::vector<MachineRevision> machine_revisions() = 0;
+  // The stored model file of this SHA-256, if any; every stored one, by SHA-256 (schema version 5).
+  virtual std::optional<ModelFile> model_file(const std::string& sha256) = 0;
+  virtual std::vector<ModelFile> model_files() = 0;
 
   // Accounts (names compared byte-wise). put_user inserts or replaces a user's role and hash.
   virtual void put_user(const UserAccount& u) = 0;
@@ -136,13 +150,17 @@ class HistoryStore {
 
   // Many records (and events) in ONE transaction: bulk import, benchmarks. Records whose
   // content hash is stored already (or repeated within `records`) are skipped and their
-  // indices returned in `skipped` when given.
+  // indices returned in `skipped` when given. model_files are stored in the same transaction,
+  // each content once (one already stored under its SHA-256 is kept, even when the records are
+  // duplicates); InputError for one whose SHA-256 is not its content's, of another kind than
+  // "machine" or "parameters", or not UTF-8.
   virtual std::vector<std::string> record_all(std::vector<CalibrationRecord> records, std::vector<Event> events = {},
-                                              std::vector<std::size_t>* skipped = nullptr) = 0;
+                                              std::vector<std::size_t>* skipped = nullptr,
+                                              std::vector<ModelFile> model_files = {}) = 0;
 };
 
 // The schema this program writes (docs/history.md lists the versions and their migrations).
-inline constexpr int kHistorySchemaVersion = 4;
+inline constexpr int kHistorySchemaVersion = 5;
 
 // Opens (creating it when absent, migrating it to kHistorySchemaVersion) the store named by
 // connection: "postgresql://..." or "postgres://..." (libpq URI; also "postgresql:" followed by
@@ -150,13 +168,15 @@ inline constexpr int kHistorySchemaVersion = 4;
 // Throws StoreError when it cannot be opened, InputError for an empty connection string.
 std::unique_ptr<HistoryStore> open_history_store(const std::string& connection);
 
-// Export: one JSON object per line, records in list() order then events, each with "type":
-// "record" or "event". The same store exports to the same bytes (every field in a fixed order).
+// Export: one JSON object per line, records in list() order, then events, then the model files
+// by SHA-256, each with "type": "record", "event" or "model_file" ({"sha256", "kind",
+// "content"}). The same store exports to the same bytes (every field in a fixed order).
 void export_jsonl(HistoryStore& store, std::ostream& out);
 // Import of what export_jsonl wrote, in one transaction: ids, recorded_at and content hashes
 // kept; a record whose content hash is stored already is skipped (listed in the summary); an
-// event whose id is stored already is skipped. Throws InputError naming `source` and the line
-// for a malformed line, and imports nothing then.
+// event whose id is stored already is skipped; a model file is stored unless its SHA-256 is.
+// Throws InputError naming `source` and the line for a malformed line (a model file whose
+// content is not its SHA-256's included), and imports nothing then.
 ImportSummary import_jsonl(HistoryStore& store, std::istream& in, const std::string& source);
 
 // JSON of one record / event as export_jsonl writes it (without the "type" key), and back
