@@ -19,7 +19,7 @@
 # is run by lcnc-sim, under the lock the LinuxCNC tests share: another LinuxCNC run on a shared
 # machine installs its own mtcal_kins into the same folder.
 # Usage: [MTCAL=build/apps/mtcal/mtcal] [OUT=loop-out] [SEED=1] examples/loop/loop.sh
-# Every input below can be given in the environment. About 2 minutes on a 2-core machine.
+# Every input below can be given in the environment. About 4 minutes on a loaded 2-core machine.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 MTCAL=${MTCAL:-mtcal}
@@ -53,7 +53,8 @@ range=()
 SEED=${SEED:-1}
 OUT=${OUT:-loop-out}
 # The simulation's secret: the machine's true errors (TRUTH: a parameter file; default, drawn with
-# SEED, and then PARAMS the same errors at zero) and where the sphere really is (ROUGH says
+# SEED, and then PARAMS the same errors at zero; a TRUTH of your own goes with the PARAMS and
+# TABLE_ESTIMATE that match it, TABLE_ESTIMATE= for none) and where the sphere really is (ROUGH says
 # 120,-80,60: 1.8 mm off).
 TRUTH=${TRUTH:-}
 PARAMS=${PARAMS:-}
