@@ -50,11 +50,13 @@ test-linuxcnc: DEPS_FLAGS = --linuxcnc
 # Then the probing program of `mtcal plan` run in LinuxCNC with the simulated probe of
 # `mtcal linuxcnc-probe` (halcompile), its log read back and identified against the truth, and a
 # probe that never trips, about 2 minutes (tests/linuxcnc/run-probe, docs/planning.md).
-# Then the closed loop of examples/loop/loop.sh on the RRTTT, one seed: plan -> LinuxCNC (nominal
-# kinematics module, simulated probe of a secret truth) -> identify -> compensate --format
-# linuxcnc-kins -> LinuxCNC with the module, the same program and 200 random poses -> history diff,
-# the figures checked against the truth, and two faults, about 4 minutes (tests/linuxcnc/run-loop,
-# docs/workflows.md).
+# Then the closed loop of examples/loop/loop.sh on the RRTTT, one seed: plan --locate -> LinuxCNC
+# (nominal kinematics module, simulated probe of a secret truth: location errors, an ECC table, the
+# sphere 1.8 mm from its rough position) -> probe-log --locate -> plan -> LinuxCNC -> identify ->
+# compensate --format linuxcnc-kins -> LinuxCNC with the module, the same program and 200 random
+# poses -> history diff, the figures checked against the truth, and three faults (a log cut short,
+# a truth the model cannot reach, a module that does not converge mid-program), about 4 minutes
+# (tests/linuxcnc/run-loop, docs/workflows.md).
 # Then LinuxCNC's example programs through its interpreter rs274 (tests/linuxcnc/ncfiles/run,
 # docs/gcode.md), which `make test` skips when linuxcnc-uspace is not installed.
 test-linuxcnc: build
@@ -65,8 +67,9 @@ test-linuxcnc: build
 	MTCAL_REQUIRE_RS274=1 tests/linuxcnc/ncfiles/run $(MTCAL)
 
 # The closed loop's other cases, nightly-style (not in CI): the RRTTT with a second seed (another
-# sphere position, other random poses) and a probe that never trips in LinuxCNC, and the second
-# machine, the HU40T (tests/linuxcnc/run-loop, docs/workflows.md "The closed loop").
+# sphere position, other random poses) and a probe that never trips in LinuxCNC (the locating
+# program's first touch), and the second machine, the HU40T, location errors only
+# (tests/linuxcnc/run-loop, docs/workflows.md "The closed loop").
 test-loop: DEPS_FLAGS = --linuxcnc
 test-loop: build
 	tests/linuxcnc/run-loop $(MTCAL) --case rrttt-seed2 --case hu40t-seed1

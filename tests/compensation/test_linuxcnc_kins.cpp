@@ -82,20 +82,32 @@ struct ExampleModule {
   // world_slot[axis index of a rotary axis] = its place among the world's rotary coordinates.
   std::vector<std::size_t> world_slot;
 };
+ExampleModule module_of(Machine m, const std::string& tag) {
+  LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
+  const fs::path exe = build_harness(linuxcnc_kins_source(k), tag);
+  std::vector<std::size_t> world_slot(m.axes.size(), 0);
+  std::size_t slot = 0;
+  for (const char c : k.coordinates)
+    if (c == 'A' || c == 'B' || c == 'C') world_slot[*m.axis_index(c)] = slot++;
+  return ExampleModule{std::move(m), std::move(k), exe, std::move(world_slot)};
+}
 const ExampleModule& example_module(const std::string& f) {
   static std::map<std::string, ExampleModule> built;
   auto it = built.find(f);
-  if (it == built.end()) {
-    Machine m = example(f.c_str());
-    LinuxcncKins k = compensate_linuxcnc_kins(m, quick());
-    const fs::path exe = build_harness(linuxcnc_kins_source(k), f.substr(0, 4));
-    std::vector<std::size_t> world_slot(m.axes.size(), 0);
-    std::size_t slot = 0;
-    for (const char c : k.coordinates)
-      if (c == 'A' || c == 'B' || c == 'C') world_slot[*m.axis_index(c)] = slot++;
-    it = built.emplace(f, ExampleModule{std::move(m), std::move(k), exe, std::move(world_slot)}).first;
-  }
+  if (it == built.end()) it = built.emplace(f, module_of(example(f.c_str()), f.substr(0, 4))).first;
   return it->second;
+}
+
+// The loop's RRTTT (examples/loop) with the truth loop.sh draws by default: seed 1, its 8 location
+// errors, ECC as a 5-point table (errors --draw 1 --draw-only ... --draw-table ECC --draw-table-points 5).
+Machine loop_truth_with_table() {
+  const Machine nominal = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/../loop/rrttt-nominal.yaml");
+  ErrorDrawOptions d;
+  d.seed = 1;
+  d.only = {"EX0C", "EY0C", "EA0C", "EB0C", "EY0A", "EZ0A", "EB0A", "EC0A"};
+  d.tables = {"ECC"};
+  d.table_points = 5;
+  return draw_errors(nominal, d).truth;
 }
 
 std::vector<std::vector<double>> drive(const fs::path& exe, const std::string& input) {
@@ -113,63 +125,81 @@ std::vector<std::vector<double>> drive(const fs::path& exe, const std::string& i
   return rows;
 }
 
+// The module's inverse on 100 random poses: the model's actual tool point on the command (1e-9 mm),
+// the C++ solver's joints, and its forward back to the command.
+void expect_module_matches_library(const ExampleModule& em, const std::string& f) {
+  const Machine& m = em.machine;
+  const LinuxcncKins& k = em.kins;
+  const fs::path& exe = em.exe;
+  const CommandedJointSolver s(m);  // the library, with the full model (directions unused)
+  const std::size_t n = m.axes.size();
+  const std::vector<std::size_t>& world_slot = em.world_slot;
+  const auto q = mtcal::testing::random_configurations(m, 100, 21);
+  std::string input;
+  std::vector<CommandedPose> poses;
+  std::vector<double> lengths;
+  for (std::size_t r = 0; r < 100; ++r) {
+    const double L = r % 3 == 0 ? 0.0 : r % 3 == 1 ? m.tool.length : 37.25;
+    const CommandedPose p = s.nominal_forward({q.data() + r * n, n}, L);
+    std::vector<double> w(3 + s.rotary_count());
+    for (int i = 0; i < 3; ++i) w[static_cast<std::size_t>(i)] = p.point[i];
+    for (std::size_t j = 0; j < s.rotary_count(); ++j) w[3 + world_slot[s.rotary_axes()[j]]] = p.rotary[j] / kDeg;
+    input += fmt::format("I {:.17g}", L);
+    for (double v : w) input += fmt::format(" {:.17g}", v);
+    input += "\n";
+    poses.push_back(p);
+    lengths.push_back(L);
+  }
+  const auto rows = drive(exe, input);
+  ASSERT_EQ(rows.size(), 100u) << f;
+  std::string forward_input;
+  for (std::size_t r = 0; r < 100; ++r) {
+    ASSERT_EQ(rows[r].size(), 3 + n) << f;
+    ASSERT_EQ(rows[r][0], 0.0) << f << " inverse status, row " << r;
+    // The C joints (LinuxCNC order, mm and deg) in chain order, internal units.
+    std::vector<double> qc(n);
+    for (std::size_t a = 0; a < n; ++a) {
+      const double v = rows[r][3 + k.coordinates.find(m.axes[a].letter)];
+      qc[a] = m.axes[a].kind == AxisKind::Rotary ? v * kDeg : v;
+    }
+    // Independent of the C: the C++ model's actual tool point at the C joints.
+    EXPECT_LE((s.actual_pose(qc, lengths[r]).t - poses[r].point).norm(), 1e-9) << f << " row " << r;
+    const auto lib = s.inverse(poses[r], lengths[r]);
+    ASSERT_TRUE(lib.converged);
+    for (std::size_t a = 0; a < n; ++a) EXPECT_NEAR(qc[a], lib.q[a], 1e-9) << f << " axis " << m.axes[a].letter;
+    forward_input += fmt::format("F {:.17g}", lengths[r]);
+    for (std::size_t j = 0; j < n; ++j) forward_input += fmt::format(" {:.17g}", rows[r][3 + j]);
+    forward_input += "\n";
+  }
+  const auto back = drive(exe, forward_input);
+  ASSERT_EQ(back.size(), 100u);
+  for (std::size_t r = 0; r < 100; ++r) {
+    ASSERT_EQ(back[r][0], 0.0) << f << " forward status";
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(back[r][1 + static_cast<std::size_t>(i)], poses[r].point[i], 1e-9) << f;
+    for (std::size_t j = 0; j < s.rotary_count(); ++j)
+      EXPECT_NEAR(back[r][4 + world_slot[s.rotary_axes()[j]]], poses[r].rotary[j] / kDeg, 1e-9) << f;
+  }
+}
+
 }  // namespace
 
 TEST(LinuxcncKinsModule, GeneratedCMatchesTheLibraryOnEveryExample) {
-  for (const char* f : {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"}) {
-    const ExampleModule& em = example_module(f);
-    const Machine& m = em.machine;
-    const LinuxcncKins& k = em.kins;
-    const fs::path& exe = em.exe;
-    const CommandedJointSolver s(m);  // the library, with the full model (directions unused)
-    const std::size_t n = m.axes.size();
-    const std::vector<std::size_t>& world_slot = em.world_slot;
-    const auto q = mtcal::testing::random_configurations(m, 100, 21);
-    std::string input;
-    std::vector<CommandedPose> poses;
-    std::vector<double> lengths;
-    for (std::size_t r = 0; r < 100; ++r) {
-      const double L = r % 3 == 0 ? 0.0 : r % 3 == 1 ? m.tool.length : 37.25;
-      const CommandedPose p = s.nominal_forward({q.data() + r * n, n}, L);
-      std::vector<double> w(3 + s.rotary_count());
-      for (int i = 0; i < 3; ++i) w[static_cast<std::size_t>(i)] = p.point[i];
-      for (std::size_t j = 0; j < s.rotary_count(); ++j) w[3 + world_slot[s.rotary_axes()[j]]] = p.rotary[j] / kDeg;
-      input += fmt::format("I {:.17g}", L);
-      for (double v : w) input += fmt::format(" {:.17g}", v);
-      input += "\n";
-      poses.push_back(p);
-      lengths.push_back(L);
-    }
-    const auto rows = drive(exe, input);
-    ASSERT_EQ(rows.size(), 100u) << f;
-    std::string forward_input;
-    for (std::size_t r = 0; r < 100; ++r) {
-      ASSERT_EQ(rows[r].size(), 3 + n) << f;
-      ASSERT_EQ(rows[r][0], 0.0) << f << " inverse status, row " << r;
-      // The C joints (LinuxCNC order, mm and deg) in chain order, internal units.
-      std::vector<double> qc(n);
-      for (std::size_t a = 0; a < n; ++a) {
-        const double v = rows[r][3 + k.coordinates.find(m.axes[a].letter)];
-        qc[a] = m.axes[a].kind == AxisKind::Rotary ? v * kDeg : v;
-      }
-      // Independent of the C: the C++ model's actual tool point at the C joints.
-      EXPECT_LE((s.actual_pose(qc, lengths[r]).t - poses[r].point).norm(), 1e-9) << f << " row " << r;
-      const auto lib = s.inverse(poses[r], lengths[r]);
-      ASSERT_TRUE(lib.converged);
-      for (std::size_t a = 0; a < n; ++a) EXPECT_NEAR(qc[a], lib.q[a], 1e-9) << f << " axis " << m.axes[a].letter;
-      forward_input += fmt::format("F {:.17g}", lengths[r]);
-      for (std::size_t j = 0; j < n; ++j) forward_input += fmt::format(" {:.17g}", rows[r][3 + j]);
-      forward_input += "\n";
-    }
-    const auto back = drive(exe, forward_input);
-    ASSERT_EQ(back.size(), 100u);
-    for (std::size_t r = 0; r < 100; ++r) {
-      ASSERT_EQ(back[r][0], 0.0) << f << " forward status";
-      for (int i = 0; i < 3; ++i) EXPECT_NEAR(back[r][1 + static_cast<std::size_t>(i)], poses[r].point[i], 1e-9) << f;
-      for (std::size_t j = 0; j < s.rotary_count(); ++j)
-        EXPECT_NEAR(back[r][4 + world_slot[s.rotary_axes()[j]]], poses[r].rotary[j] / kDeg, 1e-9) << f;
-    }
-  }
+  for (const char* f : {"vmc-3axis.yaml", "hu40t-wCBXfYZt.yaml", "rrttt-table-table.yaml", "head-head-5axis.yaml"})
+    expect_module_matches_library(example_module(f), f);
+}
+
+// The loop's truth holds a motion-error table (issue 33): the module of a model with that table (what
+// compensate writes from identify's estimate of it) matches the library as on the examples.
+TEST(LinuxcncKinsModule, GeneratedCMatchesTheLibraryWithTheLoopsTable) {
+  Machine truth = loop_truth_with_table();
+  const auto* t = std::get_if<Table>(&truth.axes[*truth.axis_index('C')].motion[5].form());
+  ASSERT_NE(t, nullptr);
+  ASSERT_EQ(t->positions.size(), 5u);
+  double big = 0.0;  // the largest |value|: at least the draw's smallest angle, 10 urad
+  EXPECT_EQ(t->forward[2], 0.0);  // zero at the axis' zero (C = 0 is the middle node)
+  for (double v : t->forward) big = std::max(big, std::abs(v));
+  EXPECT_GE(big, 10e-6);
+  expect_module_matches_library(module_of(std::move(truth), "loop-table"), "loop truth with ECC table");
 }
 
 // LinuxCNC's G43 convention (src/emc/kinematics/trtfuncs.c, 5axiskins.c; docs/compensation-linuxcnc-kins.md):
@@ -293,6 +323,39 @@ TEST(LinuxcncKinsModule, UnconvergedAtTheCapIsAnError) {
   EXPECT_EQ(rows[0][0], -2.0);
 }
 
+// The fault of issue 33 "a module that fails to converge mid-program" (tests/linuxcnc/loop_test.py,
+// no-converge, runs it in LinuxCNC): a model whose EXX table rises 0.3 mm over 0.2 mm (X = 40..40.2)
+// and falls back over 20 mm passes compensate's pre-check (its grid misses the stretch), and there
+// the module's fixed-point step with the nominal Jacobian overshoots by the slope, 1.5, and ends at
+// the cap (-2), as the library's does; outside the stretch both converge. (A fall over 2 mm, slope
+// 0.15, was too slow for the cap too: 0.15^12 of 0.2 mm is above the 1e-11 mm tolerance.)
+TEST(LinuxcncKinsModule, ASteepTableStretchIsUnconvergedThereOnly) {
+  Machine m = load_machine(std::string(MTCAL_EXAMPLES_DIR) + "/../loop/rrttt-nominal.yaml");
+  apply_parameters(m,
+                   "mtcal_parameters: 1\nerrors:\n  EXX: {unit: mm, argument_unit: mm, table: {positions: [-355, 40, 40.2, "
+                   "60.2, 355], forward: [0, 0, 0.3, 0, 0]}}\n",
+                   "steep.yaml");
+  const ExampleModule em = module_of(m, "steep");  // compensate writes it
+  const CommandedJointSolver s(m);
+  std::string input;
+  const std::vector<double> xs = {39.0, 40.05, 40.1, 40.15, 41.0};
+  for (double x : xs) {
+    std::vector<double> q(m.axes.size(), 0.0);
+    q[*m.axis_index('X')] = x;
+    q[*m.axis_index('Z')] = -50.0;
+    const CommandedPose p = s.nominal_forward(q, m.tool.length);
+    input += fmt::format("I {:.17g} {:.17g} {:.17g} {:.17g} 0 0\n", m.tool.length, p.point[0], p.point[1], p.point[2]);
+    const bool steep = x > 40.0 && x < 40.2;
+    EXPECT_EQ(s.inverse(p, m.tool.length).converged, !steep) << "library at X=" << x;
+  }
+  const auto rows = drive(em.exe, input);
+  ASSERT_EQ(rows.size(), xs.size());
+  for (std::size_t r = 0; r < xs.size(); ++r) {
+    const bool steep = xs[r] > 40.0 && xs[r] < 40.2;
+    EXPECT_EQ(rows[r][0], steep ? -2.0 : 0.0) << "module at X=" << xs[r];
+  }
+}
+
 TEST(LinuxcncKinsModule, RefusesWhatItCannotRepresentOrReach) {
   // A topology with two linear axes.
   Machine two = example("vmc-3axis.yaml");
@@ -353,9 +416,11 @@ TEST(LinuxcncKinsModule, ReversalTablesCancelTheOwnAxisDirectionTerms) {
 // with a harness, puts the stylus tip where the C++ library's actual chain puts it (1e-9 mm) and
 // measures the gap to the nearest sphere; a non-finite joint is an error (the component then holds
 // the probe tripped), never a position.
+// The examples, and the loop's truth with its ECC table (issue 33: the simulated probe evaluates the
+// table the loop's truth holds).
 TEST(LinuxcncProbeComponent, TipAndGapMatchTheLibrary) {
-  for (const char* f : {"rrttt-table-table.yaml", "hu40t-wCBXfYZt.yaml", "head-head-5axis.yaml"}) {
-    const Machine m = example(f);
+  for (const char* f : {"rrttt-table-table.yaml", "hu40t-wCBXfYZt.yaml", "head-head-5axis.yaml", "loop-table"}) {
+    const Machine m = std::string(f) == "loop-table" ? loop_truth_with_table() : example(f);
     LinuxcncProbeOptions p;
     p.spheres = {{Vec3(120, -80, 60), 25.4}, {Vec3(-150, 40, 10), 30.0}};
     p.stylus_diameter = 3.0;

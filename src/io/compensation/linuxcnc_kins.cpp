@@ -194,6 +194,14 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
     world_in += fmt::format("    w[{}] = pos->{};\n", 3 + j, l);
     world_out += fmt::format("    pos->{} = w[{}];\n", l, 3 + j);
   }
+  // The refused pose on LinuxCNC's log: "X=... Y=... Z=... A=... C=..." (mm, deg) with six decimals
+  // written from integers (a kernel-space RTAPI prints no floating point).
+  std::string pose_format, pose_args;
+  const std::string world_letters = "XYZ" + rotary_letters;
+  for (std::size_t j = 0; j < world_letters.size(); ++j) {
+    pose_format += fmt::format("{}{}=%s%ld.%06ld", j ? " " : "", world_letters[j]);
+    pose_args += fmt::format(", mtk_sign(w[{0}]), mtk_whole(w[{0}]), mtk_micro(w[{0}])", j);
+  }
   s += fmt::format(
       "\n#ifndef MTCAL_KINS_STANDALONE\n"
       "/* ---- LinuxCNC interface (kinematics.h) ---- */\n"
@@ -204,7 +212,17 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       "    hal_float_t *residual;    /* out: mm, tool point residual of the last inverse */\n"
       "    hal_u32_t *failures;      /* out: inverses refused (non-finite or unconverged) */\n"
       "}};\n"
-      "static struct mtk_hal_data *mtk_hal;\n\n"
+      "static struct mtk_hal_data *mtk_hal;\n"
+      "static int mtk_reported; /* the failure since the last inverse that succeeded is on the log */\n\n"
+      "/* A value as sign, whole part and millionths, for messages (values beyond 1e9 or non-finite: 999999999). */\n"
+      "static const char *mtk_sign(double v)\n{{\n    return v < 0.0 ? \"-\" : \"\";\n}}\n"
+      "static long mtk_whole(double v)\n{{\n    double a = fabs(v);\n"
+      "    if (!(a < 1e9)) return 999999999L;\n"
+      "    return (long)a + ((a - (double)(long)a) * 1e6 + 0.5 >= 1e6 ? 1L : 0L);\n}}\n"
+      "static long mtk_micro(double v)\n{{\n    double a = fabs(v);\n    long u;\n"
+      "    if (!(a < 1e9)) return 0L;\n"
+      "    u = (long)((a - (double)(long)a) * 1e6 + 0.5);\n"
+      "    return u >= 1000000L ? u - 1000000L : u;\n}}\n\n"
       "int kinematicsForward(const double *joints, EmcPose *pos, const KINEMATICS_FORWARD_FLAGS *fflags,\n"
       "                      KINEMATICS_INVERSE_FLAGS *iflags)\n"
       "{{\n"
@@ -227,7 +245,16 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       "    k = mtk_inverse_offset(w, *(mtk_hal->tool_length), *(mtk_hal->tool_offset), q, &iterations, &residual);\n"
       "    *(mtk_hal->iterations) = iterations;\n"
       "    *(mtk_hal->residual) = residual;\n"
-      "    if (k != 0) {{\n        *(mtk_hal->failures) += 1;\n        return -1;\n    }}\n"
+      "    if (k != 0) {{\n        *(mtk_hal->failures) += 1;\n"
+      "        /* LinuxCNC stops the motion and says \"kinematicsInverse failed\"; the module says where, once. */\n"
+      "        if (!mtk_reported)\n"
+      "            rtapi_print_msg(RTAPI_MSG_ERR, \"{0}: no joints for the commanded pose {4} (mm, deg): %s after %d \"\n"
+      "                            \"steps (cap %d), tool point residual %s%ld.%06ld mm\\n\"{5},\n"
+      "                            k == -2 ? \"the inverse did not converge\" : k == -3 ? \"a singular step\" : \"a non-finite value\",\n"
+      "                            iterations, MTK_MAX_ITER, mtk_sign(residual), mtk_whole(residual), mtk_micro(residual));\n"
+      "        mtk_reported = 1;\n"
+      "        return -1;\n    }}\n"
+      "    mtk_reported = 0;\n"
       "    for (k = 0; k < MTK_N; ++k) joints[k] = q[k];\n"
       "    return 0;\n"
       "}}\n\n"
@@ -257,7 +284,7 @@ std::string linuxcnc_kins_source(const LinuxcncKins& k) {
       "}}\n\n"
       "void rtapi_app_exit(void)\n{{\n    hal_exit(mtk_comp_id);\n}}\n"
       "#endif\n",
-      k.module_name, world_out, world_in, tool_axis_letter(k));
+      k.module_name, world_out, world_in, tool_axis_letter(k), pose_format, pose_args);
   return s;
 }
 
