@@ -40,6 +40,10 @@ ARG_TYPES = {
     "pair": "tuple[npt.ArrayLike, npt.ArrayLike] | None",
     "program": "str | GcodeProgram",
     "origin": "Mapping[str, float] | None",
+    "work_offsets": "Mapping[str, Mapping[str, float]] | None",
+    "g28": "Mapping[str, float] | None",
+    "g30": "Mapping[str, float] | None",
+    "frame": "Sequence[float] | None",
     "points": "PredictionPoints | Mapping[str, npt.ArrayLike]",
     "data": "ContactSet | IndexedCentres",
     "spec": "str | Mapping[str, npt.ArrayLike]",
@@ -67,7 +71,7 @@ FUNC_ARG_TYPES = {
     ("write_report", "result"): ("PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends | "
                                  "VolumetricResult | ContributionResult | DiagonalsResult | Effects | EvaluationRun | "
                                  "ToolpathResult | ModelComparison | IdentificationRun | PredictionRun | "
-                                 "RotaryAxisResult | TargetOutput | Machine"),
+                                 "RotaryAxisResult | TargetOutput | CampaignResult | Machine"),
     ("write_report", "runs"): "PositioningRuns | None",
     ("write_report", "pdf"): "str | None",
     ("write_report", "png_dir"): "str | None",

@@ -161,14 +161,6 @@ struct IdentifyOptions {
   bool json_out = false, require_fit = false;
 };
 
-// The fit check's words, the same in the warning, the refusal and the text output.
-std::string fit_text(const FitCheck& f) {
-  return fmt::format("sigma0 {:.3g} against the bound {:.3g} ({:g} % of correct fits stay below it, {} degrees of "
-                     "freedom); residual rms: balls {:.3f} um, facets {:.3f} um, scale bars {:.3f} um",
-                     f.sigma0, f.bound, f.probability * 100, f.degrees_of_freedom, f.rms_ball * 1e3,
-                     f.rms_facet * 1e3, f.rms_scale_bar * 1e3);
-}
-
 void print_estimates(const IdentificationRun& run) {
   const IdentificationResult& r = run.result;
   const auto& mc = run.monte_carlo;
@@ -262,9 +254,7 @@ int run_identify(const IdentifyOptions& o) {
   const IdentificationRun run = identify_and_assess(prior, meas, opt, ao);
   const FitCheck fit = check_fit(run.result);
   if (fit.poor) {
-    const std::string why = "the fit is poor: " + fit_text(fit) +
-                            ". The residuals are larger than the readings' sigma explains: errors the estimate cannot "
-                            "absorb, measurements that do not belong to the plan, or a sigma too small";
+    const std::string why = poor_fit_message(fit);
     if (o.require_fit) throw InputError({o.measurements, 0, ""}, why + "; nothing written (--require-fit)");
     std::cerr << "mtcal: warning: " << why << "\n";
   }

@@ -1,15 +1,14 @@
-// Reading a G-code program on the command line: which interpreter (mtcal's ISO reader or LinuxCNC's rs274) and the
-// setup it runs under.
+// Reading a G-code program on the command line: the options that name the interpreter (mtcal's ISO reader or
+// LinuxCNC's rs274) and the setup it runs under, turned into the library's (io/gcode/program_input.hpp).
 #pragma once
 
-#include <memory>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "mtcal/evaluation/motion_program.hpp"
-#include "mtcal/io/gcode/reader.hpp"
+#include "mtcal/io/gcode/program_input.hpp"
 #include "mtcal/model/machine.hpp"
 
 namespace mtcal::cli {
@@ -33,20 +32,13 @@ void check_gcode_input_options(const GcodeInputOptions& o, bool program_given);
 // The files the options name (for the input/output checks).
 std::vector<std::string> gcode_input_files(const GcodeInputOptions& o);
 
-// A program opened for reading: its moves one at a time, and what chose the interpreter.
-struct GcodeInput {
-  std::string text;  // the program, or the canonical calls of LinuxCNC's interpreter
-  GcodeOptions options;
-  std::unique_ptr<MoveSource> moves;
-  std::string interpreter;  // "mtcal" or "rs274"
-  std::string why;          // why rs274 was used (the first word mtcal's reader does not read)
-  std::vector<std::string> notes;
-};
+// The library's setup and interpreter options from the command's (errors located in the options).
+GcodeSetupInputs gcode_setup_inputs(const Machine& m, const GcodeInputOptions& o);
+mtcal::GcodeInputOptions gcode_input_options(const GcodeInputOptions& o);
 
-// Reads the setup files, chooses the interpreter (auto: mtcal's reader unless the program needs
-// LinuxCNC's and that is installed), runs it. Throws InputError/Error with what to do.
+// The library's open_gcode / read_gcode_program with the command's options; what to do is said
+// in the options' words.
 GcodeInput open_gcode(const std::string& path, const Machine& m, const GcodeInputOptions& o);
-// The whole program at once (for commands that need every move before they start).
 GcodeProgram read_gcode_program(const std::string& path, const Machine& m, const GcodeInputOptions& o);
 
 // Warnings of the reading on stderr ("mtcal: warning: ..."), the count of those not shown.

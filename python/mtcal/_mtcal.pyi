@@ -1613,33 +1613,42 @@ def compare_methods(data: ComparisonData) -> MethodComparison:
 def compare_models(x: npt.ArrayLike, y: npt.ArrayLike, *, models: str = ..., file: str = ..., x_name: str = ..., y_name: str = ...) -> ModelComparison:
     """Fits every form of models ('all' or a comma list of labels) and ranks them by backward prediction and leave-one-out error. As `mtcal regress`. file, x_name, y_name: what to_dict() and write_report name as the data (the data file, hashed into the report, and its columns)."""
 
-def compensate(machine: Machine, target: str, *, sampling: list[AxisSampling] = ..., points: int = ..., reference: npt.ArrayLike | None = ..., residual_points: int = ..., threads: int = ..., skew_reference_length: float = ...) -> TargetOutput:
+def compensate(machine: Machine, target: str, *, sampling: list[AxisSampling] = ..., points: int = ..., reference: npt.ArrayLike | None = ..., residual_points: int = ..., threads: int = ..., skew_reference_length: float = ..., linuxcnc_type: int = ..., fanuc_unit: float = ...) -> TargetOutput:
     """Compensation for a controller: `target` names an entry of compensation_targets(). sampling: per
     axis AxisSampling (default: each axis over its travel at `points` positions, or the target's
-    default). reference: the other axes' configuration (internal units). skew_reference_length: mm,
-    RepRapFirmware M556 S / FluidNC distance_mm (as --skew-reference-length). Returns TargetOutput (files,
-    summary with the residual before/after; write(dir) writes them all or none).
+    default; --range). reference: the other axes' configuration (internal units). skew_reference_length: mm,
+    RepRapFirmware M556 S / FluidNC distance_mm (as --skew-reference-length). linuxcnc_type: LinuxCNC's
+    COMP_FILE_TYPE, 0 = columns are the positions reached, 1 = corrections (--linuxcnc-type); fanuc_unit:
+    FANUC detection unit, mm and deg per count of a pitch error value (--fanuc-unit). Returns TargetOutput
+    (files, summary with the residual before/after; write(dir) writes them all or none).
     """
 
 def compensation_targets() -> dict[str, Any]:
     """Every compensation target mtcal writes: name -> description, in the library's order."""
 
-def contributions(machine: Machine, *, at: npt.ArrayLike | None = ..., pair: tuple[npt.ArrayLike, npt.ArrayLike] | None = ..., configs: npt.ArrayLike | None = ..., directions: npt.ArrayLike | None = ..., grid: str | Mapping[str, npt.ArrayLike] | None = ..., what_if: bool = ..., travel_check: bool = ..., threads: int = ...) -> ContributionResult:
+def contributions(machine: Machine, *, at: npt.ArrayLike | None = ..., pair: tuple[npt.ArrayLike, npt.ArrayLike] | None = ..., configs: npt.ArrayLike | None = ..., directions: npt.ArrayLike | None = ..., grid: str | Mapping[str, npt.ArrayLike] | None = ..., what_if: bool = ..., travel_check: bool = ..., threads: int = ..., target_va: float | None = ...) -> ContributionResult:
     """Contribution of every error (first order, mm) to the error at configuration `at`, to
     e(to) - e(from) for pair=(from, to), or to the critical pair of a map (configs or grid) with the
-    exact VA without each error (what_if). Configurations in internal units. As `mtcal contributions`.
+    exact VA without each error (what_if). target_va (mm; with a map): the greedy sequence of errors to
+    correct to reach this VA (--target-va). Configurations in internal units. As `mtcal contributions`.
     """
 
-def correct_gcode(machine: Machine, program: str, *, max_deviation: float = ..., linearise_arcs: bool = ..., origin: Mapping[str, float] | None = ..., decimals: int = ..., directions: bool = ..., orientation: bool = ..., travel_check: bool = ...) -> CorrectedGcode:
+def correct_gcode(machine: Machine, program: str, *, max_deviation: float = ..., linearise_arcs: bool = ..., origin: Mapping[str, float] | None = ..., decimals: int = ..., directions: bool = ..., orientation: bool = ..., travel_check: bool = ..., interpreter: str = ..., rs274: str | None = ..., rs274_timeout: float = ..., tool_table: str = ..., tool_units: str = ..., parameters: str = ..., parameter_units: str = ..., work_offsets: Mapping[str, Mapping[str, float]] | None = ..., g28: Mapping[str, float] | None = ..., g30: Mapping[str, float] | None = ...) -> CorrectedGcode:
     """The corrected G-code program, as `mtcal compensate --gcode FILE --out OUT`
     (docs/compensation-gcode.md): the commanded positions that put the actual tool on the programmed
-    path, moves cut until the tool point stays within max_deviation (mm) of it. program: the file,
-    read by mtcal's reader with the machine's axis letters (no work offsets or tool table given;
-    LinuxCNC's interpreter is the command's). Corrected in place when each block is one move in
-    program coordinates, else every move written anew (expanded). origin: program zero in machine axis
-    positions {"X": 100, ...} (mm, deg); decimals: digits written after the point; directions=False:
-    as --no-direction, orientation=False: as --no-orientation. Returns CorrectedGcode: text,
-    expanded, warnings, write(path), to_dict(out).
+    path, moves cut until the tool point stays within max_deviation (mm) of it. Corrected in place when
+    each block is one move in program coordinates, else every move written anew (expanded). origin:
+    program zero in machine axis positions {"X": 100, ...} (mm, deg); decimals: digits written after the
+    point; directions=False: as --no-direction, orientation=False: as --no-orientation,
+    travel_check=False: as --no-travel-check. Returns CorrectedGcode: text, expanded, warnings,
+    write(path), to_dict(out).
+    The program file is read as the command reads it: interpreter "auto" (mtcal's reader unless the
+    program needs LinuxCNC's), "mtcal" or "rs274" (--interpreter); rs274: LinuxCNC's interpreter, a
+    path or a name on PATH (--rs274; named, it must exist); rs274_timeout: seconds (--rs274-timeout);
+    tool_table: a LinuxCNC tool table (--tool-table), tool_units "mm" or "in" (--tool-units);
+    parameters: a LinuxCNC parameter file, .var (--parameters), parameter_units (--parameter-units);
+    work_offsets: {"G55": {"X": 100, "Y": 50}} (mm, deg; over the parameter file's, --work-offset);
+    g28, g30: the positions G28 and G30 return to, {"X": 0, ...} (--g28, --g30).
     """
 
 def design_plan(machine: Machine, artefact: ProbingPlan | None = ..., *, against: ProbingPlan | None = ..., estimate: list[str] = ..., candidates: list[str] = ..., choose: int = ..., scale_bars: list[str] = ..., sigma: float = ..., poses: int = ..., target_u: Mapping[str, float] | None = ..., target_va_u: float = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., va_tie: float = ..., criterion: str = ..., ball_region: tuple[float, float, float, float, float] | None = ..., ball_spacing: float = ..., rotary_step: float = ..., max_tilt_deg: float = ..., stylus_length: float = ..., holder_radius: float = ..., table_z: float = ..., rapid: float = ..., rotary_speed: float = ..., probe_feed: float = ..., move_feed: float = ..., approach: float = ..., touches: int = ..., ball_diameter: float = ..., tip_diameter: float = ..., overtravel: float = ..., clearance: float = ..., monte_carlo: int = ..., seed: int = ..., threads: int = ..., program_coordinates: str = ..., ballbar: list[float] = ..., ballbar_points: int = ..., ballbar_feed: float = ..., ballbar_setup: float = ..., laser: list[str] = ..., laser_points: int = ..., laser_setup: float = ..., laser_dwell: float = ...) -> PlanResult:
@@ -1760,13 +1769,15 @@ def identifiability(machine: Machine, plan: ProbingPlan, estimate: str | Sequenc
     (SubsetAnalysis). As `mtcal identifiability`.
     """
 
-def identify(machine: Machine, measurements: ProbingPlan, estimate: str | Sequence[str] | None, *, scale_bars: Sequence[str | tuple[str, str, float]] | None = ..., pretravel: bool = ..., sigma: float = ..., loss: str = ..., rank_tolerance: float = ..., monte_carlo: int = ..., seed: int = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., truth: Machine | None = ..., threads: int = ...) -> IdentificationRun:
+def identify(machine: Machine, measurements: ProbingPlan, estimate: str | Sequence[str] | None, *, scale_bars: Sequence[str | tuple[str, str, float]] | None = ..., pretravel: bool = ..., sigma: float = ..., loss: str = ..., rank_tolerance: float = ..., monte_carlo: int = ..., seed: int = ..., workspace: str | Mapping[str, npt.ArrayLike] | None = ..., truth: Machine | None = ..., threads: int = ..., require_fit: bool = ...) -> IdentificationRun:
     """Identify machine parameters from probing measurements (nonlinear least squares on the exact
     model): estimate names parameters ("EX0C", "EXX.1") or errors ("EXX": every coefficient).
     sigma: standard deviation of a reading (mm) weighting the residuals. loss 'none', 'huber',
     'cauchy'. monte_carlo: runs of re-drawn noise. workspace: grid (spec or dict) for the VA and
-    the comparison with truth (a Machine). Returns IdentificationRun: values, uncertainties,
-    covariance (P, P), correlation, identified machine. As `mtcal identify`.
+    the comparison with truth (a Machine). A fit poorer than the readings' sigma explains (sigma0
+    above its chi-square bound, to_dict()["fit"]) gives a UserWarning, as the command warns; with
+    require_fit=True (--require-fit) it raises InputError instead. Returns IdentificationRun: values,
+    uncertainties, covariance (P, P), correlation, identified machine. As `mtcal identify`.
     """
 
 def iso230_2(runs: npt.ArrayLike, up: npt.ArrayLike | None = ..., down: npt.ArrayLike | None = ..., *, unit: str = ..., source: str = ...) -> PositioningEvaluation:
@@ -1851,6 +1862,9 @@ def parse_probing_plan(machine: Machine, text: str, source: str = ...) -> Probin
 def points_from_gcode(program: GcodeProgram, source: str, *, start_time: float = ..., speed: float, rapid_feed: float = ...) -> PredictionPoints:
     """One point per cutting move's end of a GcodeProgram (read it with axes='XYZ'): columns line X Y Z t S F dx dy dz; start_time in minutes, speed in rpm."""
 
+def precision() -> int:
+    """The significant digits of written numbers (set_precision; 10 unless set)."""
+
 def predict(model: PredictionModel, points: PredictionPoints | Mapping[str, npt.ArrayLike], *, constants: dict[str, float] = ..., strict: bool = ..., compensation: bool = ...) -> PredictionRun:
     """Predicted workpiece errors at points (PredictionPoints or a dict of columns); constants give variables that are not columns; strict refuses extrapolation. As `mtcal predict`."""
 
@@ -1884,6 +1898,9 @@ def read_configurations(machine: Machine, path: str, *, travel_check: bool = ...
 def read_contacts_csv(path: str, axis: str) -> ContactSet:
     """Contacts CSV: the axis's angle (deg, column named by its letter), x,y,z, approach_x..z."""
 
+def read_contacts_log(machine: Machine, path: str, axis: str, *, dialect: str = ...) -> ContactSet:
+    """Contacts of a probe log through the machine's kinematics, as `mtcal rotary-axis --contacts LOG --contacts-dialect linuxcnc|iso --machine M`: a PROBEOPEN log (X Y Z A B C U V W a line, dialect 'linuxcnc') or the #5061 CSV of mtcal probe-log (dialect 'iso')."""
+
 def read_csv(path: str) -> CsvTable:
     """A CSV file whose first non-comment line names the columns, every value a finite number (InputError naming file, line and column otherwise)."""
 
@@ -1908,8 +1925,8 @@ def read_metadata_file(path: str) -> dict[str, Any]:
 def read_position_observations(path: str) -> list[PositionObservation]:
     """The CMM/probe position table (Yaqoob 2017 Table 5.3 form): one PositionObservation per filled pair."""
 
-def read_positioning(path: str, *, format: str = ..., unit: str = ..., target_unit: str = ...) -> PositioningRuns:
-    """ISO 230-2 runs from a file: a table (target, run, direction, measured or deviation; values in unit unless the header says), the key=value .dat form or a Renishaw .rtl/.rta export (they say their units); format 'auto', 'csv', 'dat' or 'laser'."""
+def read_positioning(path: str, *, format: str = ..., unit: str = ..., target_unit: str = ..., wrap: float = ...) -> PositioningRuns:
+    """ISO 230-2 runs from a file: a table (target, run, direction, measured or deviation; values in unit unless the header says), the key=value .dat form or a Renishaw .rtl/.rta export (they say their units); format 'auto', 'csv', 'dat' or 'laser'. wrap: a rotary test's targets this far apart (e.g. 360) are one position of the axis, their runs pooled (iso230-2 --wrap; 0: none)."""
 
 def read_prediction_model(path: str) -> PredictionModel:
     ...
@@ -1926,11 +1943,13 @@ def read_probing_plan(machine: Machine, path: str) -> ProbingPlan:
 def read_reached_poses(machine: Machine, path: str) -> ReachedPoses:
     """A reached-pose CSV (X,Y,Z,<rotary> commanded in mm and deg; qX,qY,qZ,q<rotary> reached), as pose-check --poses."""
 
-def rotary_axis(data: ContactSet | IndexedCentres, *, axis: str = ..., machine: Machine | None = ..., sphere_diameter: float | None = ..., stylus_diameter: float = ..., max_rms: float = ..., method: str = ..., reject_sigma: float = ..., bins: int = ..., threads: int = ...) -> RotaryAxisResult:
+def rotary_axis(data: ContactSet | IndexedCentres, *, axis: str = ..., machine: Machine | None = ..., sphere_diameter: float | None = ..., stylus_diameter: float = ..., max_rms: float = ..., method: str = ..., reject_sigma: float = ..., bins: int = ..., threads: int = ..., frame: Sequence[float] | None = ...) -> RotaryAxisResult:
     """Location errors of rotary axis `axis` from a sphere probed at many indexations (ISO 230-7):
     data is a ContactSet (needs sphere_diameter, stylus_diameter in mm: one sphere fit per indexation)
     or IndexedCentres. machine gives the axis's nominal line (default: through the origin along its
-    letter's axis). method 'both', 'triples' (Cubas & Yeh 2022) or 'lsq'. As `mtcal rotary-axis`.
+    letter's axis). method 'both', 'triples' (Cubas & Yeh 2022) or 'lsq'. frame: the instrument's axes
+    in the machine's, (rx, ry, rz) deg or (rx, ry, rz, tx, ty, tz) deg and mm (machine = R instrument +
+    t, R = Rz Ry Rx), applied to the centres (--frame). As `mtcal rotary-axis`.
     """
 
 def separate_control(data: ContactSet | IndexedCentres, a: str, b: str, *, model: PredictionModel | None = ...) -> ControlSeparation:
@@ -1938,6 +1957,9 @@ def separate_control(data: ContactSet | IndexedCentres, a: str, b: str, *, model
 
 def separate_position(data: ContactSet | IndexedCentres) -> PositionSeparation:
     """Mechanical position errors per step from a CMM/probe position table (a path, or the records of read_position_observations). As `mtcal separate position`."""
+
+def set_precision(digits: int) -> None:
+    """Significant digits of the numbers the writers put in CSV and parameter-table cells (the commands' --precision): 10 unless set, up to 17 (every double read back bit for bit). Process-wide. to_dict() is always exact."""
 
 def simulate(machine: Machine, plan: ProbingPlan, *, noise: float = ..., artefact_error: float = ..., seed: int = ..., scale_bars: Sequence[str | tuple[str, str, float]] | None = ...) -> SimulationResult:
     """Virtual machine (Viprey 2015 fig. 4): the readings `machine` gives for a probing plan, with
@@ -1948,10 +1970,18 @@ def simulate(machine: Machine, plan: ProbingPlan, *, noise: float = ..., artefac
 def simulate_sphere_probing(machine: Machine, *, axis: str = ..., angles: npt.ArrayLike, held: npt.ArrayLike | None = ..., sphere: npt.ArrayLike = ..., sphere_diameter: float = ..., stylus_diameter: float = ..., noise: float = ..., trigger_bias: float = ..., seed: int = ...) -> SimulatedContacts:
     """Simulated 5-point probing of a sphere at indexations `angles` (rad) of a rotary axis on the model, noise (mm, per coordinate) and trigger bias (mm). As `mtcal probe-sim`."""
 
-def toolpath(machine: Machine, program: str | GcodeProgram, *, step: float = ..., angle_step: float = ..., skip_rapids: bool = ..., origin: Mapping[str, float] | None = ..., directions: bool = ..., travel_check: bool = ..., threads: int = ...) -> ToolpathResult:
-    """Tool-path simulation: the volumetric error along a G-code program (a path, read with the
-    machine's axis letters, or a GcodeProgram), points at most step mm / angle_step deg apart.
-    origin: program zero in machine axis positions {"X": 100, ...} (mm, deg). As `mtcal toolpath`.
+def toolpath(machine: Machine, program: str | GcodeProgram, *, step: float = ..., angle_step: float = ..., skip_rapids: bool = ..., origin: Mapping[str, float] | None = ..., directions: bool = ..., travel_check: bool = ..., threads: int = ..., interpreter: str = ..., rs274: str | None = ..., rs274_timeout: float = ..., tool_table: str = ..., tool_units: str = ..., parameters: str = ..., parameter_units: str = ..., work_offsets: Mapping[str, Mapping[str, float]] | None = ..., g28: Mapping[str, float] | None = ..., g30: Mapping[str, float] | None = ...) -> ToolpathResult:
+    """Tool-path simulation: the volumetric error along a G-code program (a path, or a
+    GcodeProgram read already), points at most step mm / angle_step deg apart. origin: program zero in
+    machine axis positions {"X": 100, ...} (mm, deg). As `mtcal toolpath`; skip_rapids: --skip-rapids,
+    directions=False: --no-direction, travel_check=False: --no-travel-check.
+    The program file is read as the command reads it: interpreter "auto" (mtcal's reader unless the
+    program needs LinuxCNC's), "mtcal" or "rs274" (--interpreter); rs274: LinuxCNC's interpreter, a
+    path or a name on PATH (--rs274; named, it must exist); rs274_timeout: seconds (--rs274-timeout);
+    tool_table: a LinuxCNC tool table (--tool-table), tool_units "mm" or "in" (--tool-units);
+    parameters: a LinuxCNC parameter file, .var (--parameters), parameter_units (--parameter-units);
+    work_offsets: {"G55": {"X": 100, "Y": 50}} (mm, deg; over the parameter file's, --work-offset);
+    g28, g30: the positions G28 and G30 return to, {"X": 0, ...} (--g28, --g30).
     """
 
 def value_histogram(values: Mapping[str, float] | None, bins: int = ...) -> Distribution:
@@ -1988,7 +2018,7 @@ def write_parameters(path: str, errors: list[EstimatedError], description: str) 
 def write_probing_csv(path: str, machine: Machine, plan: ProbingPlan, comment: str = ...) -> None:
     ...
 
-def write_report(result: PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends | VolumetricResult | ContributionResult | DiagonalsResult | Effects | EvaluationRun | ToolpathResult | ModelComparison | IdentificationRun | PredictionRun | RotaryAxisResult | TargetOutput | Machine, path: str, pdf: str | None = ..., png_dir: str | None = ..., *, runs: PositioningRuns | None = ..., acceptance: AcceptanceVerdict | None = ..., metadata: Mapping[str, str] | None = ..., command: str = ..., browser_timeout: float = ..., machine: Any | None = ..., max_rms: float = ..., nonzero_only: bool = ...) -> None:
+def write_report(result: PositioningEvaluation | BallbarResult | MethodComparison | HistoryTrends | VolumetricResult | ContributionResult | DiagonalsResult | Effects | EvaluationRun | ToolpathResult | ModelComparison | IdentificationRun | PredictionRun | RotaryAxisResult | TargetOutput | CampaignResult | Machine, path: str, pdf: str | None = ..., png_dir: str | None = ..., *, runs: PositioningRuns | None = ..., acceptance: AcceptanceVerdict | None = ..., metadata: Mapping[str, str] | None = ..., command: str = ..., browser_timeout: float = ..., machine: Any | None = ..., max_rms: float = ..., nonzero_only: bool = ...) -> None:
     """The HTML report of a result, as the command's --report (written complete or not at all):
     iso230_2 (PositioningEvaluation; runs= the PositioningRuns), ballbar (BallbarResult), compare_methods
     (MethodComparison), HistoryStore.trend (HistoryTrends), volumetric, contributions, diagonals,

@@ -26,6 +26,12 @@ namespace mtcal::python {
 
 using namespace pybind11::literals;
 
+py::dict metadata_dict(const ReportMetadata& m) {
+  py::dict d;
+  for (const auto& [k, v] : m.entries()) d[py::str(k)] = v;
+  return d;
+}
+
 namespace {
 
 // Test metadata from a mapping key -> value (keys of metadata_fields(); values shown as text).
@@ -35,12 +41,6 @@ ReportMetadata metadata_of(py::handle metadata) {
   for (auto item : metadata.cast<py::dict>())
     m.set(py::str(item.first).cast<std::string>(), py::str(item.second).cast<std::string>(), "metadata");
   return m;
-}
-
-py::dict acceptance_metadata_dict(const ReportMetadata& m) {
-  py::dict d;
-  for (const auto& [k, v] : m.entries()) d[py::str(k)] = v;
-  return d;
 }
 
 // The quantities of a result the tolerances judge, and which test it is.
@@ -107,7 +107,7 @@ void bind_acceptance_reports(py::module_& m) {
       "The test metadata an acceptance report may carry: key -> label, in the order a report lists them "
       "(the keys of --meta and of metadata= arguments).");
   m.def(
-      "read_metadata_file", [](const std::string& path) { return acceptance_metadata_dict(read_report_metadata(path)); },
+      "read_metadata_file", [](const std::string& path) { return metadata_dict(read_report_metadata(path)); },
       "path"_a, "A metadata YAML file (key: value lines; --meta-file) as a dict, keys checked.");
 
   py::class_<Acceptance>(m, "AcceptanceVerdict", "Tolerances checked against a result, with the test's metadata.")
@@ -123,7 +123,7 @@ void bind_acceptance_reports(py::module_& m) {
       .def_property_readonly("passed", [](const Acceptance& a) { return a.verdict.pass(); },
                              "Every check passed (False when nothing was checked)")
       .def_property_readonly("empty", [](const Acceptance& a) { return a.verdict.empty(); })
-      .def_property_readonly("metadata", [](const Acceptance& a) { return acceptance_metadata_dict(a.metadata); })
+      .def_property_readonly("metadata", [](const Acceptance& a) { return metadata_dict(a.metadata); })
       .def_property_readonly(
           "missing_metadata", [](const Acceptance& a) { return missing_acceptance_fields(a.metadata, a.test); },
           "What the test's report should state and the metadata lacks, as sentences")

@@ -15,6 +15,10 @@
 #include "mtcal/io/json/json.hpp"
 #include "mtcal/model/machine.hpp"
 
+namespace mtcal {
+class ReportMetadata;
+}  // namespace mtcal
+
 namespace mtcal::python {
 
 namespace py = pybind11;
@@ -67,6 +71,10 @@ std::vector<std::vector<double>> grid_values(const Machine& m, py::handle grid, 
 
 // A Python 'configurations' argument in internal units (mm, rad) as one std::vector row.
 std::vector<double> configuration(const Machine& m, py::handle obj, const char* name);
+
+// Test metadata (a report's --meta fields) as a dict key -> value, in the record's order
+// (acceptance_reports.cpp).
+py::dict metadata_dict(const ReportMetadata& m);
 
 // The mtcal exception classes (mtcal.Error, mtcal.InputError, mtcal.ModelError) and the
 // translation of the library's exceptions into them, the message unchanged.

@@ -20,6 +20,7 @@
 #include "mtcal/io/json/evaluation_json.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/compensation/gcode_correction.hpp"
+#include "mtcal/io/gcode/program_input.hpp"
 #include "mtcal/io/gcode/reader.hpp"
 #include "mtcal/io/gcode/rewrite.hpp"
 #include "mtcal/io/json/gcode_correction_json.hpp"
@@ -159,9 +160,14 @@ struct ContributionResult {
 };
 
 ContributionResult contributions(const Machine& m, py::handle at, py::handle pair, py::handle configs,
-                                 py::handle directions, py::handle grid, bool what_if, bool travel_check, int threads) {
+                                 py::handle directions, py::handle grid, bool what_if, bool travel_check, int threads,
+                                 std::optional<double> target_va) {
   const int modes = !at.is_none() + !pair.is_none() + !configs.is_none() + !grid.is_none();
   if (modes != 1) throw py::value_error("expected exactly one of at, pair, configs, grid");
+  if (target_va && (!(*target_va >= 0) || !std::isfinite(*target_va)))
+    throw py::value_error("target_va: expected a VA >= 0 in mm");
+  if (target_va && (!at.is_none() || !pair.is_none()))
+    throw py::value_error("target_va: goes with a map (configs or grid), not with at or pair");
   if (!at.is_none()) {
     auto a = configuration(m, at, "at");
     check_joints(m, a, "at", travel_check);
@@ -179,7 +185,7 @@ ContributionResult contributions(const Machine& m, py::handle at, py::handle pai
   const ErrorModel model(m);
   const ErrorMap map = build_map(m, model, configs, directions, grid, travel_check, threads);
   LongCall release;  // without the GIL, stoppable with Ctrl-C
-  return {m, critical_pair_contributions(m, map, what_if, threads)};
+  return {m, critical_pair_contributions(m, map, what_if, threads, target_va)};
 }
 
 struct DiagonalsResult {
@@ -307,22 +313,93 @@ struct ToolpathResult {
   ToolpathReportInputs report{};      // what the report names: the program, the step, the options
 };
 
-GcodePosition origin_of(const Machine& m, py::handle origin) {
-  GcodePosition o{};
-  if (origin.is_none()) return o;
-  for (auto item : origin.cast<py::dict>()) {
+// {"X": 100, ...} (mm, deg) -> the axes named, letters of the machine only; `name` is the argument.
+std::array<std::optional<double>, 6> axis_values(const Machine& m, py::handle values, const std::string& name) {
+  std::array<std::optional<double>, 6> o{};
+  if (values.is_none()) return o;
+  if (!py::isinstance<py::dict>(values))
+    throw py::type_error(name + ": expected a dict axis letter -> value (mm, deg), e.g. {\"X\": 100}");
+  for (auto item : values.cast<py::dict>()) {
     const auto letter = item.first.cast<std::string>();
     const std::string axes = "XYZABC";
     const auto slot = letter.size() == 1 ? axes.find(letter[0]) : std::string::npos;
     if (slot == std::string::npos || !m.axis_index(letter[0]))
-      throw py::value_error("origin: axis '" + letter + "' is not in topology " + m.topology.chain);
-    o[slot] = item.second.cast<double>();
+      throw py::value_error(name + ": axis '" + letter + "' is not in topology " + m.topology.chain);
+    const double v = item.second.cast<double>();
+    if (!std::isfinite(v)) throw py::value_error(name + ": axis '" + letter + "' is not a finite number");
+    o[slot] = v;
   }
   return o;
 }
 
+GcodePosition origin_of(const Machine& m, py::handle origin, const std::string& name = "origin") {
+  GcodePosition o{};
+  const auto values = axis_values(m, origin, name);
+  for (std::size_t k = 0; k < 6; ++k) o[k] = values[k].value_or(0.0);
+  return o;
+}
+
+// The setup a program runs under and who reads it, as the commands' --tool-table --tool-units
+// --parameters --parameter-units --work-offset --g28 --g30 --interpreter --rs274 --rs274-timeout.
+struct GcodeReading {
+  std::string interpreter = "auto";
+  std::optional<std::string> rs274;
+  double rs274_timeout = 300;
+  std::string tool_table, tool_units = "mm", parameters, parameter_units = "mm";
+  py::object work_offsets = py::none(), g28 = py::none(), g30 = py::none();
+
+  bool given() const {
+    return interpreter != "auto" || rs274 || rs274_timeout != 300 || !tool_table.empty() || tool_units != "mm" ||
+           !parameters.empty() || parameter_units != "mm" || !work_offsets.is_none() || !g28.is_none() ||
+           !g30.is_none();
+  }
+  static double scale(const std::string& units, const char* name) {
+    if (units == "mm") return 1.0;
+    if (units == "in") return 25.4;  // mm per inch
+    throw py::value_error(std::string(name) + ": expected 'mm' or 'in', found '" + units + "'");
+  }
+  GcodeSetupInputs setup(const Machine& m) const {
+    GcodeSetupInputs in;
+    in.tool_table = tool_table;
+    in.tool_scale = scale(tool_units, "tool_units");
+    in.parameters = parameters;
+    in.parameter_scale = scale(parameter_units, "parameter_units");
+    if (!work_offsets.is_none()) {
+      if (!py::isinstance<py::dict>(work_offsets))
+        throw py::type_error("work_offsets: expected a dict system -> {axis: value}, e.g. {\"G55\": {\"X\": 100}}");
+      for (auto item : work_offsets.cast<py::dict>()) {
+        const auto name = item.first.cast<std::string>();
+        const auto index = work_system_index(name);
+        if (!index)
+          throw py::value_error("work_offsets: expected a system G54 G55 G56 G57 G58 G59 G59.1 G59.2 G59.3, found '" +
+                                name + "'");
+        in.work_offsets.push_back({*index, axis_values(m, item.second, "work_offsets[" + name + "]")});
+      }
+    }
+    if (!g28.is_none()) in.g28 = origin_of(m, g28, "g28");
+    if (!g30.is_none()) in.g30 = origin_of(m, g30, "g30");
+    return in;
+  }
+  mtcal::GcodeInputOptions options() const {
+    mtcal::GcodeInputOptions o;
+    o.interpreter = parse_gcode_interpreter(interpreter, "interpreter");
+    if (rs274) o.rs274.executable = *rs274;
+    o.rs274_named = rs274.has_value();
+    if (!(rs274_timeout >= 0.1 && rs274_timeout <= 86400))
+      throw py::value_error("rs274_timeout: expected seconds in [0.1, 86400], found " + std::to_string(rs274_timeout));
+    o.rs274.timeout = rs274_timeout;
+    return o;
+  }
+};
+
+std::string axes_of(const Machine& m) {
+  std::string axes;
+  for (const auto& ax : m.axes) axes += ax.letter;
+  return axes;
+}
+
 ToolpathResult toolpath(const Machine& m, py::handle program, double step, double angle_step, bool skip_rapids,
-                        py::handle origin, bool directions, bool travel_check, int threads) {
+                        py::handle origin, bool directions, bool travel_check, int threads, const GcodeReading& reading) {
   ToolpathOptions opt;
   opt.step = step;
   opt.angle_step = angle_step;
@@ -348,6 +425,10 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
     append(r.points.error, c.error);
   };
   if (py::isinstance<GcodeProgram>(program)) {
+    if (reading.given())
+      throw py::value_error(
+          "interpreter, rs274, tool_table, parameters, work_offsets, g28, g30: they set up the reading of a program "
+          "file; a GcodeProgram is read already (give the path instead)");
     const auto& p = program.cast<const GcodeProgram&>();
     r.interpreter = p.interpreter;
     r.report.program = p.source;
@@ -356,14 +437,13 @@ ToolpathResult toolpath(const Machine& m, py::handle program, double step, doubl
     r.summary = simulate_toolpath(model, p, opt, sink);
   } else {
     const auto path = program.cast<std::string>();
-    const std::string text = read_text_file(path, "G-code program");
     r.report.program = path;
-    GcodeOptions go;
-    go.axes.clear();
-    for (const auto& ax : m.axes) go.axes += ax.letter;
-    GcodeReader reader(text, path, go);
+    const GcodeSetupInputs setup = reading.setup(m);
+    const mtcal::GcodeInputOptions options = reading.options();
     LongCall release;  // without the GIL, stoppable with Ctrl-C
-    r.summary = simulate_toolpath(model, reader, opt, sink);
+    GcodeInput in = open_gcode(path, axes_of(m), setup, options);
+    r.interpreter = in.interpreter;
+    r.summary = simulate_toolpath(model, *in.moves, opt, sink);
   }
   return r;
 }
@@ -379,7 +459,8 @@ struct CorrectedGcode {
 };
 
 CorrectedGcode correct_gcode(const Machine& m, const std::string& path, double max_deviation, bool linearise_arcs,
-                             py::handle origin, int decimals, bool directions, bool orientation, bool travel_check) {
+                             py::handle origin, int decimals, bool directions, bool orientation, bool travel_check,
+                             const GcodeReading& reading) {
   GcodeCorrectionOptions opt;
   opt.max_deviation = max_deviation;
   opt.linearise_arcs = linearise_arcs;
@@ -389,15 +470,15 @@ CorrectedGcode correct_gcode(const Machine& m, const std::string& path, double m
   opt.origin = origin_of(m, origin);
   GcodeRewriteOptions ro;
   ro.decimals = decimals;
+  const GcodeSetupInputs setup = reading.setup(m);
+  const mtcal::GcodeInputOptions options = reading.options();
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string text = read_text_file(path, "G-code program");
-  GcodeOptions go;
-  go.axes.clear();
-  for (const auto& ax : m.axes) go.axes += ax.letter;
   CorrectedGcode c{m, path, "mtcal", {}, {}, 0};
   {
     LongCall release;  // without the GIL, stoppable with Ctrl-C
-    const GcodeProgram program = parse_gcode(text, path, go);
+    // As the command: the program read (by the interpreter chosen), then its text rewritten.
+    const GcodeProgram program = read_gcode_program(path, axes_of(m), setup, options);
+    const std::string text = read_text_file(path, "G-code program");
     c.interpreter = program.interpreter;
     c.result = correct_program(ErrorModel(m), program, opt);
     c.corrected = corrected_program(m, program, text, c.result.moves, ro);
@@ -619,10 +700,11 @@ a configuration). histogram: True/'auto' or a bin count. grouping: True or
           "top"_a = std::size_t{10}, "As `mtcal contributions --json --top N`.");
   m.def("contributions", &contributions, "machine"_a, py::kw_only(), "at"_a = py::none(), "pair"_a = py::none(),
         "configs"_a = py::none(), "directions"_a = py::none(), "grid"_a = py::none(), "what_if"_a = true,
-        "travel_check"_a = false, "threads"_a = 0,
+        "travel_check"_a = false, "threads"_a = 0, "target_va"_a = py::none(),
         R"(Contribution of every error (first order, mm) to the error at configuration `at`, to
 e(to) - e(from) for pair=(from, to), or to the critical pair of a map (configs or grid) with the
-exact VA without each error (what_if). Configurations in internal units. As `mtcal contributions`.)");
+exact VA without each error (what_if). target_va (mm; with a map): the greedy sequence of errors to
+correct to reach this VA (--target-va). Configurations in internal units. As `mtcal contributions`.)");
 
   py::class_<DiagonalProfile>(m, "DiagonalProfile", "One ISO 230-6 diagonal: deviation along it (mm).")
       .def_readonly("name", &DiagonalProfile::name)
@@ -669,11 +751,20 @@ exact VA without each error (what_if). Configurations in internal units. As `mtc
           "up", [](const PositioningRuns& r) { return runs_array(r.up); }, "(m, n) measured")
       .def_property_readonly(
           "down", [](const PositioningRuns& r) { return runs_array(r.down); }, "(m, n) measured");
-  m.def("read_positioning", &read_positioning_file, "path"_a, py::kw_only(), "format"_a = "auto", "unit"_a = "mm",
-        "target_unit"_a = "",
-        "ISO 230-2 runs from a file: a table (target, run, direction, measured or deviation; values in unit "
-        "unless the header says), the key=value .dat form or a Renishaw .rtl/.rta export (they say their "
-        "units); format 'auto', 'csv', 'dat' or 'laser'.");
+  m.def(
+      "read_positioning",
+      [](const std::string& path, const std::string& format, const std::string& unit, const std::string& target_unit,
+         double wrap) {
+        if (!(wrap >= 0) || !std::isfinite(wrap)) throw py::value_error("wrap: expected a finite number >= 0");
+        PositioningRuns runs = read_positioning_file(path, format, unit, target_unit);
+        if (wrap > 0) runs = merge_wrapped_targets(runs, wrap);  // as iso230-2 --wrap
+        return runs;
+      },
+      "path"_a, py::kw_only(), "format"_a = "auto", "unit"_a = "mm", "target_unit"_a = "", "wrap"_a = 0.0,
+      "ISO 230-2 runs from a file: a table (target, run, direction, measured or deviation; values in unit "
+      "unless the header says), the key=value .dat form or a Renishaw .rtl/.rta export (they say their "
+      "units); format 'auto', 'csv', 'dat' or 'laser'. wrap: a rotary test's targets this far apart (e.g. 360) "
+      "are one position of the axis, their runs pooled (iso230-2 --wrap; 0: none).");
   py::class_<PositioningEvaluation>(m, "PositioningEvaluation", "ISO 230-2 results (in the runs' unit).")
       .def_readonly("unit", &PositioningEvaluation::unit)
       .def_readonly("runs", &PositioningEvaluation::runs)
@@ -937,24 +1028,72 @@ overshoots in deg; direction 'cw'/'ccw' evaluates one only. As `mtcal ballbar`.)
           "out"_a = "",
           "As `mtcal compensate --gcode --json`: machine, program, interpreter, written, correction {moves, "
           "moves_corrected, subdivisions, ...}, rewrite {lines_in, lines_changed, lines_added}, seconds, out.");
-  m.def("correct_gcode", &correct_gcode, "machine"_a, "program"_a, py::kw_only(), "max_deviation"_a = 0.001,
-        "linearise_arcs"_a = false, "origin"_a = py::none(), "decimals"_a = 6, "directions"_a = true,
-        "orientation"_a = true, "travel_check"_a = true,
-        R"(The corrected G-code program, as `mtcal compensate --gcode FILE --out OUT`
+  // The setup and the interpreter of a program file, as the commands' options of the same names.
+  auto reading_of = [](std::string interpreter, std::optional<std::string> rs274, double rs274_timeout,
+                       std::string tool_table, std::string tool_units, std::string parameters,
+                       std::string parameter_units, py::object work_offsets, py::object g28, py::object g30) {
+    return GcodeReading{std::move(interpreter), std::move(rs274), rs274_timeout, std::move(tool_table),
+                        std::move(tool_units),  std::move(parameters), std::move(parameter_units),
+                        std::move(work_offsets), std::move(g28), std::move(g30)};
+  };
+  const char* reading_doc = R"(
+The program file is read as the command reads it: interpreter "auto" (mtcal's reader unless the
+program needs LinuxCNC's), "mtcal" or "rs274" (--interpreter); rs274: LinuxCNC's interpreter, a
+path or a name on PATH (--rs274; named, it must exist); rs274_timeout: seconds (--rs274-timeout);
+tool_table: a LinuxCNC tool table (--tool-table), tool_units "mm" or "in" (--tool-units);
+parameters: a LinuxCNC parameter file, .var (--parameters), parameter_units (--parameter-units);
+work_offsets: {"G55": {"X": 100, "Y": 50}} (mm, deg; over the parameter file's, --work-offset);
+g28, g30: the positions G28 and G30 return to, {"X": 0, ...} (--g28, --g30).)";
+  m.def(
+      "correct_gcode",
+      [reading_of](const Machine& machine, const std::string& program, double max_deviation, bool linearise_arcs,
+                   py::handle origin, int decimals, bool directions, bool orientation, bool travel_check,
+                   std::string interpreter, std::optional<std::string> rs274, double rs274_timeout,
+                   std::string tool_table, std::string tool_units, std::string parameters,
+                   std::string parameter_units, py::object work_offsets, py::object g28, py::object g30) {
+        return correct_gcode(machine, program, max_deviation, linearise_arcs, origin, decimals, directions,
+                             orientation, travel_check,
+                             reading_of(std::move(interpreter), std::move(rs274), rs274_timeout,
+                                        std::move(tool_table), std::move(tool_units), std::move(parameters),
+                                        std::move(parameter_units), std::move(work_offsets), std::move(g28),
+                                        std::move(g30)));
+      },
+      "machine"_a, "program"_a, py::kw_only(), "max_deviation"_a = 0.001, "linearise_arcs"_a = false,
+      "origin"_a = py::none(), "decimals"_a = 6, "directions"_a = true, "orientation"_a = true,
+      "travel_check"_a = true, "interpreter"_a = "auto", "rs274"_a = py::none(), "rs274_timeout"_a = 300.0,
+      "tool_table"_a = "", "tool_units"_a = "mm", "parameters"_a = "", "parameter_units"_a = "mm",
+      "work_offsets"_a = py::none(), "g28"_a = py::none(), "g30"_a = py::none(),
+      (std::string(R"(The corrected G-code program, as `mtcal compensate --gcode FILE --out OUT`
 (docs/compensation-gcode.md): the commanded positions that put the actual tool on the programmed
-path, moves cut until the tool point stays within max_deviation (mm) of it. program: the file,
-read by mtcal's reader with the machine's axis letters (no work offsets or tool table given;
-LinuxCNC's interpreter is the command's). Corrected in place when each block is one move in
-program coordinates, else every move written anew (expanded). origin: program zero in machine axis
-positions {"X": 100, ...} (mm, deg); decimals: digits written after the point; directions=False:
-as --no-direction, orientation=False: as --no-orientation. Returns CorrectedGcode: text,
-expanded, warnings, write(path), to_dict(out).)");
-  m.def("toolpath", &toolpath, "machine"_a, "program"_a, py::kw_only(), "step"_a = 0.5, "angle_step"_a = 0.5,
-        "skip_rapids"_a = false, "origin"_a = py::none(), "directions"_a = true, "travel_check"_a = true,
-        "threads"_a = 0,
-        R"(Tool-path simulation: the volumetric error along a G-code program (a path, read with the
-machine's axis letters, or a GcodeProgram), points at most step mm / angle_step deg apart.
-origin: program zero in machine axis positions {"X": 100, ...} (mm, deg). As `mtcal toolpath`.)");
+path, moves cut until the tool point stays within max_deviation (mm) of it. Corrected in place when
+each block is one move in program coordinates, else every move written anew (expanded). origin:
+program zero in machine axis positions {"X": 100, ...} (mm, deg); decimals: digits written after the
+point; directions=False: as --no-direction, orientation=False: as --no-orientation,
+travel_check=False: as --no-travel-check. Returns CorrectedGcode: text, expanded, warnings,
+write(path), to_dict(out).)") + reading_doc)
+          .c_str());
+  m.def(
+      "toolpath",
+      [reading_of](const Machine& machine, py::handle program, double step, double angle_step, bool skip_rapids,
+                   py::handle origin, bool directions, bool travel_check, int threads, std::string interpreter,
+                   std::optional<std::string> rs274, double rs274_timeout, std::string tool_table,
+                   std::string tool_units, std::string parameters, std::string parameter_units,
+                   py::object work_offsets, py::object g28, py::object g30) {
+        return toolpath(machine, program, step, angle_step, skip_rapids, origin, directions, travel_check, threads,
+                        reading_of(std::move(interpreter), std::move(rs274), rs274_timeout, std::move(tool_table),
+                                   std::move(tool_units), std::move(parameters), std::move(parameter_units),
+                                   std::move(work_offsets), std::move(g28), std::move(g30)));
+      },
+      "machine"_a, "program"_a, py::kw_only(), "step"_a = 0.5, "angle_step"_a = 0.5, "skip_rapids"_a = false,
+      "origin"_a = py::none(), "directions"_a = true, "travel_check"_a = true, "threads"_a = 0,
+      "interpreter"_a = "auto", "rs274"_a = py::none(), "rs274_timeout"_a = 300.0, "tool_table"_a = "",
+      "tool_units"_a = "mm", "parameters"_a = "", "parameter_units"_a = "mm", "work_offsets"_a = py::none(),
+      "g28"_a = py::none(), "g30"_a = py::none(),
+      (std::string(R"(Tool-path simulation: the volumetric error along a G-code program (a path, or a
+GcodeProgram read already), points at most step mm / angle_step deg apart. origin: program zero in
+machine axis positions {"X": 100, ...} (mm, deg). As `mtcal toolpath`; skip_rapids: --skip-rapids,
+directions=False: --no-direction, travel_check=False: --no-travel-check.)") + reading_doc)
+          .c_str());
 }
 
 }  // namespace mtcal::python

@@ -18,12 +18,6 @@ using namespace pybind11::literals;
 
 namespace {
 
-py::dict metadata_dict(const ReportMetadata& m) {
-  py::dict d;
-  for (const auto& [k, v] : m.entries()) d[py::str(k)] = v;
-  return d;
-}
-
 // name.suffix -> value of every coefficient of a motion error, or name -> value of a location error.
 py::dict estimated_values(const EstimatedError& e) {
   py::dict d;

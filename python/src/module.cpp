@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "common.hpp"
+#include "mtcal/io/text/number_format.hpp"
 #include "mtcal/model/joints.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/interrupt.hpp"
@@ -273,6 +274,15 @@ PYBIND11_MODULE(_mtcal, m) {
   bind_acceptance_reports(m);
   bind_planning(m);
   bind_rehearsal(m);
+  // Every command's --precision: the digits of the numbers written to CSV files (process-wide, as in the command).
+  m.def(
+      "set_precision", [](int digits) { mtcal::set_significant_digits(digits); }, py::arg("digits"),
+      "Significant digits of the numbers the writers put in CSV and parameter-table cells (the commands' "
+      "--precision): 10 unless set, up to 17 (every double read back bit for bit). Process-wide. to_dict() is "
+      "always exact.");
+  m.def(
+      "precision", [] { return mtcal::significant_digits(); },
+      "The significant digits of written numbers (set_precision; 10 unless set).");
   // A private hook for the tests: the address of the buffer the functions read for an input,
   // to show that a C-contiguous float64 array is used in place.
   m.def(

@@ -453,10 +453,19 @@ docs/planning.md.)");
   m.def(
       "compensate",
       [](const Machine& mm, const std::string& target, const std::vector<AxisSampling>& sampling, std::size_t points,
-         py::handle reference, std::size_t residual_points, int threads, double skew_reference_length) {
+         py::handle reference, std::size_t residual_points, int threads, double skew_reference_length,
+         int linuxcnc_type, double fanuc_unit) {
         const CompensationTarget& t = compensation_target(target);
+        if (linuxcnc_type != 0 && linuxcnc_type != 1)
+          throw py::value_error("linuxcnc_type: expected 0 or 1 (LinuxCNC's COMP_FILE_TYPE), found " +
+                                std::to_string(linuxcnc_type));
+        if (!(fanuc_unit >= 1e-6 && fanuc_unit <= 1.0))
+          throw py::value_error("fanuc_unit: expected a detection unit in [1e-06, 1] (mm, deg per count), found " +
+                                std::to_string(fanuc_unit));
         CompensationOptions o;
         o.skew_reference_length = skew_reference_length;
+        o.comp_file_type = linuxcnc_type;
+        o.detection_unit = fanuc_unit;
         o.sampling = sampling;
         o.points = points;
         if (!reference.is_none()) o.reference = configuration(mm, reference, "reference");
@@ -467,12 +476,14 @@ docs/planning.md.)");
       },
       "machine"_a, "target"_a, py::kw_only(), "sampling"_a = std::vector<AxisSampling>{}, "points"_a = std::size_t{0},
       "reference"_a = py::none(), "residual_points"_a = std::size_t{11}, "threads"_a = 0,
-      "skew_reference_length"_a = 100.0,
+      "skew_reference_length"_a = 100.0, "linuxcnc_type"_a = 1, "fanuc_unit"_a = 0.001,
       R"(Compensation for a controller: `target` names an entry of compensation_targets(). sampling: per
 axis AxisSampling (default: each axis over its travel at `points` positions, or the target's
-default). reference: the other axes' configuration (internal units). skew_reference_length: mm,
-RepRapFirmware M556 S / FluidNC distance_mm (as --skew-reference-length). Returns TargetOutput (files,
-summary with the residual before/after; write(dir) writes them all or none).)");
+default; --range). reference: the other axes' configuration (internal units). skew_reference_length: mm,
+RepRapFirmware M556 S / FluidNC distance_mm (as --skew-reference-length). linuxcnc_type: LinuxCNC's
+COMP_FILE_TYPE, 0 = columns are the positions reached, 1 = corrections (--linuxcnc-type); fanuc_unit:
+FANUC detection unit, mm and deg per count of a pitch error value (--fanuc-unit). Returns TargetOutput
+(files, summary with the residual before/after; write(dir) writes them all or none).)");
 }
 
 }  // namespace mtcal::python

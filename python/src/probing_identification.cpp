@@ -8,12 +8,14 @@
 #include <Eigen/Core>
 
 #include "common.hpp"
+#include "mtcal/identification/fit_check.hpp"
 #include "mtcal/identification/identification.hpp"
 #include "mtcal/evaluation/error_stream.hpp"
 #include "mtcal/identification/probing_plan.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/json/identification_json.hpp"
 #include "mtcal/io/model/identified_parameters_file.hpp"
+#include "mtcal/io/instruments/probe_log.hpp"
 #include "mtcal/io/instruments/probing_files.hpp"
 #include "mtcal/io/json/probing_json.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
@@ -90,7 +92,8 @@ IndexedCentres make_centres(py::handle angles, py::handle centres, const std::st
 
 RotaryAxisResult rotary_axis(py::handle data, const std::string& axis, const Machine* machine,
                              std::optional<double> sphere_diameter, double stylus_diameter, double max_rms,
-                             const std::string& method, double reject_sigma, int bins, int threads) {
+                             const std::string& method, double reject_sigma, int bins, int threads,
+                             py::handle frame) {
   if (method != "both" && method != "triples" && method != "lsq")
     throw py::value_error("method: expected 'both', 'triples' or 'lsq', found '" + method + "'");
   if (reject_sigma != 0 && reject_sigma < 1)
@@ -111,6 +114,16 @@ RotaryAxisResult rotary_axis(py::handle data, const std::string& axis, const Mac
     centres = data.cast<IndexedCentres>();
   } else {
     throw py::type_error("data: expected a ContactSet or IndexedCentres");
+  }
+  if (!frame.is_none()) {
+    // The instrument's axes in the machine's (rotary-axis --frame): rx, ry, rz in deg (Rz Ry Rx), and tx, ty, tz in mm.
+    const auto v = as_std_vector(frame, "frame");
+    if (v.size() != 3 && v.size() != 6)
+      throw py::value_error("frame: expected (rx, ry, rz) in deg or (rx, ry, rz, tx, ty, tz) in deg and mm, found " +
+                            std::to_string(v.size()) + " values");
+    const double d = std::numbers::pi / 180;
+    apply_frame(centres, frame_from_angles(v[0] * d, v[1] * d, v[2] * d,
+                                           v.size() == 6 ? Point3(v[3], v[4], v[5]) : Point3(Point3::Zero())));
   }
   RotaryAxisOptions options{method != "lsq", method != "triples", TriplesOptions{reject_sigma, bins, threads}};
   // The module has no time limit option (the CLI checks the triples' time against --max-time):
@@ -191,7 +204,7 @@ struct Identified {
 Identified identify(const Machine& prior, const ProbingPlan& meas, py::handle estimate, py::handle scale_bars,
                     bool pretravel, double sigma, const std::string& loss, double rank_tolerance,
                     std::size_t monte_carlo, std::uint64_t seed, py::handle workspace, const Machine* truth,
-                    int threads) {
+                    int threads, bool require_fit) {
   IdentificationOptions opt = identification_options(estimate, scale_bars, pretravel, sigma, rank_tolerance);
   if (loss == "huber")
     opt.loss = IdentificationOptions::Loss::Huber;
@@ -210,10 +223,20 @@ Identified identify(const Machine& prior, const ProbingPlan& meas, py::handle es
   ao.seed = seed;
   ao.threads = threads;
   ao.truth = truth;
-  LongCall release;  // without the GIL, stoppable with Ctrl-C
   std::error_code ec;
-  return {prior, identify_and_assess(prior, meas, opt, ao),
-          std::filesystem::is_regular_file(meas.source, ec) ? meas.source : std::string()};
+  Identified r{prior, [&] {
+                 LongCall release;  // without the GIL, stoppable with Ctrl-C
+                 return identify_and_assess(prior, meas, opt, ao);
+               }(),
+               std::filesystem::is_regular_file(meas.source, ec) ? meas.source : std::string()};
+  // As the command: a poor fit is a warning, or with require_fit (--require-fit) an error.
+  const FitCheck fit = check_fit(r.run.result);
+  if (fit.poor) {
+    const std::string why = poor_fit_message(fit);
+    if (require_fit) throw InputError({meas.source, 0, ""}, why + "; nothing written (require_fit)");
+    py::module_::import("warnings").attr("warn")(why, py::reinterpret_borrow<py::object>(PyExc_UserWarning), 2);
+  }
+  return r;
 }
 
 struct Subsets {
@@ -318,6 +341,23 @@ void bind_probing_identification(py::module_& m) {
       },
       "path"_a, "axis"_a, "Contacts CSV: the axis's angle (deg, column named by its letter), x,y,z, approach_x..z.");
   m.def(
+      "read_contacts_log",
+      [](const Machine& machine, const std::string& path, const std::string& axis, const std::string& dialect) {
+        const char letter = axis_letter(axis, "axis");
+        ProbeLogFormat format = ProbeLogFormat::LinuxCNC;
+        if (dialect == "iso")
+          format = ProbeLogFormat::IsoCsv;
+        else if (dialect != "linuxcnc")
+          throw py::value_error("dialect: expected 'linuxcnc' or 'iso', found '" + dialect + "'");
+        std::vector<LoggedAxisValues> log;
+        for (auto& c : read_probe_log(machine, path, format)) log.push_back({std::move(c.q), c.line});
+        return contacts_from_log(machine, letter, log, path);
+      },
+      "machine"_a, "path"_a, "axis"_a, py::kw_only(), "dialect"_a = "linuxcnc",
+      "Contacts of a probe log through the machine's kinematics, as `mtcal rotary-axis --contacts LOG "
+      "--contacts-dialect linuxcnc|iso --machine M`: a PROBEOPEN log (X Y Z A B C U V W a line, dialect "
+      "'linuxcnc') or the #5061 CSV of mtcal probe-log (dialect 'iso').");
+  m.def(
       "read_centres_csv",
       [](const std::string& path, const std::string& axis) {
         return read_centres_csv(path, axis_letter(axis, "axis"));
@@ -383,17 +423,19 @@ void bind_probing_identification(py::module_& m) {
       "rotary_axis",
       [](py::handle data, const std::string& axis, const Machine* machine, std::optional<double> sphere_diameter,
          double stylus_diameter, double max_rms, const std::string& method, double reject_sigma, int bins,
-         int threads) {
+         int threads, py::handle frame) {
         return rotary_axis(data, axis, machine, sphere_diameter, stylus_diameter, max_rms, method, reject_sigma, bins,
-                           threads);
+                           threads, frame);
       },
       "data"_a, py::kw_only(), "axis"_a = "C", "machine"_a = nullptr, "sphere_diameter"_a = py::none(),
       "stylus_diameter"_a = 0.0, "max_rms"_a = 0.01, "method"_a = "both", "reject_sigma"_a = 2.0, "bins"_a = 40,
-      "threads"_a = 0,
+      "threads"_a = 0, "frame"_a = py::none(),
       R"(Location errors of rotary axis `axis` from a sphere probed at many indexations (ISO 230-7):
 data is a ContactSet (needs sphere_diameter, stylus_diameter in mm: one sphere fit per indexation)
 or IndexedCentres. machine gives the axis's nominal line (default: through the origin along its
-letter's axis). method 'both', 'triples' (Cubas & Yeh 2022) or 'lsq'. As `mtcal rotary-axis`.)");
+letter's axis). method 'both', 'triples' (Cubas & Yeh 2022) or 'lsq'. frame: the instrument's axes
+in the machine's, (rx, ry, rz) deg or (rx, ry, rz, tx, ty, tz) deg and mm (machine = R instrument +
+t, R = Rz Ry Rx), applied to the centres (--frame). As `mtcal rotary-axis`.)");
   py::class_<SimulatedContacts>(m, "SimulatedContacts", "Contacts of simulated probing (simulate_sphere_probing).")
       .def_property_readonly("contacts", &contact_set, "As a ContactSet")
       .def(
@@ -654,13 +696,15 @@ Gaussian noise (mm per reading) and an uncalibrated artefact (artefact_error, mm
   m.def("identify", &identify, "machine"_a, "measurements"_a, "estimate"_a, py::kw_only(), "scale_bars"_a = py::none(),
         "pretravel"_a = false, "sigma"_a = 1e-3, "loss"_a = "none", "rank_tolerance"_a = 1e-8,
         "monte_carlo"_a = std::size_t{0}, "seed"_a = std::uint64_t{1}, "workspace"_a = py::none(), "truth"_a = nullptr,
-        "threads"_a = 0,
+        "threads"_a = 0, "require_fit"_a = false,
         R"(Identify machine parameters from probing measurements (nonlinear least squares on the exact
 model): estimate names parameters ("EX0C", "EXX.1") or errors ("EXX": every coefficient).
 sigma: standard deviation of a reading (mm) weighting the residuals. loss 'none', 'huber',
 'cauchy'. monte_carlo: runs of re-drawn noise. workspace: grid (spec or dict) for the VA and
-the comparison with truth (a Machine). Returns IdentificationRun: values, uncertainties,
-covariance (P, P), correlation, identified machine. As `mtcal identify`.)");
+the comparison with truth (a Machine). A fit poorer than the readings' sigma explains (sigma0
+above its chi-square bound, to_dict()["fit"]) gives a UserWarning, as the command warns; with
+require_fit=True (--require-fit) it raises InputError instead. Returns IdentificationRun: values,
+uncertainties, covariance (P, P), correlation, identified machine. As `mtcal identify`.)");
 }
 
 }  // namespace mtcal::python

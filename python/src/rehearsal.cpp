@@ -141,7 +141,13 @@ length_um / angle_urad (lo, hi), random signs; the same seed gives the same trut
             campaign_report_page(c.machine, c.result, c.inputs, command.empty() ? "mtcal (Python) campaign" : command)
                 .write(path);
           },
-          "path"_a, "command"_a = "", "The HTML report of campaign --report.");
+          "path"_a, "command"_a = "", "The HTML report of campaign --report.")
+      .def(
+          "_write_report",  // for write_report(result, path, pdf=, png_dir=, metadata=): --report-pdf, --report-png
+          [](const CampaignRun& c, const std::string& path, const std::string& command) {
+            campaign_report_page(c.machine, c.result, c.inputs, command).write(path);
+          },
+          "path"_a, "command"_a);
   m.def(
       "campaign",
       [](const Machine& mm, const ProbingPlan& before, const ProbingPlan& after, const IdentifiedSummary* identified,

@@ -1,6 +1,8 @@
 """A rehearsed calibration campaign (issue 33, docs/campaign.md) from Python against the command:
 errors --draw, pose-check, campaign give the same JSON, and the files written are the same bytes.
 """
+import re
+
 import pytest
 
 import mtcal
@@ -26,7 +28,7 @@ def test_draw_errors_as_the_command(tmp_path, hu40t):
         mtcal.draw_errors(hu40t, 1, length_um=(50, 5))
 
 
-def test_pose_check_and_campaign_as_the_command(tmp_path, hu40t):
+def test_pose_check_and_campaign_as_the_command(tmp_path, hu40t, monkeypatch):
     truth = tmp_path / "truth.yaml"
     nominal = tmp_path / "nominal.yaml"
     cli("errors", "-m", H, "--draw", 3, "--draw-only", EST, "--out", truth, "--out-nominal", nominal)
@@ -54,6 +56,20 @@ def test_pose_check_and_campaign_as_the_command(tmp_path, hu40t):
     assert_same(r.to_dict(), j)
     r.write_report(str(tmp_path / "c.html"))
     assert "Calibration campaign" in (tmp_path / "c.html").read_text()
+    # write_report takes a campaign too, with the static copies of campaign --report-pdf/--report-png:
+    # the same page (the note on static copies aside), its PDF through a stand-in for Chromium.
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1790000000")
+    fake = tmp_path / "chromium"
+    fake.write_text("#!/bin/sh\nfor a in \"$@\"; do case \"$a\" in\n"
+                    "  --print-to-pdf=*) printf '%%PDF-1.4 stand-in\\n' > \"${a#--print-to-pdf=}\";;\n"
+                    "esac; done\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("MTCAL_CHROMIUM", str(fake))
+    r.write_report(str(tmp_path / "own.html"), command="mtcal campaign")
+    mtcal.write_report(r, str(tmp_path / "any.html"), pdf=str(tmp_path / "any.pdf"), command="mtcal campaign")
+    strip = lambda html: re.sub(r"<noscript>.*?</noscript>", "", html, flags=re.S)  # noqa: E731
+    assert strip((tmp_path / "any.html").read_text()) == strip((tmp_path / "own.html").read_text())
+    assert (tmp_path / "any.pdf").read_bytes().startswith(b"%PDF-1.4 stand-in")
     with pytest.raises(ValueError, match="truth"):
         mtcal.campaign(n, mtcal.read_probing_plan(n, str(tmp_path / "before.csv")),
                        mtcal.read_probing_plan(n, str(tmp_path / "after.csv")), poses_before=poses)

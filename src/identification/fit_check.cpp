@@ -36,4 +36,17 @@ FitCheck check_fit(const IdentificationResult& r, double probability) {
   return f;
 }
 
+std::string describe_fit(const FitCheck& f) {
+  return fmt::format("sigma0 {:.3g} against the bound {:.3g} ({:g} % of correct fits stay below it, {} degrees of "
+                     "freedom); residual rms: balls {:.3f} um, facets {:.3f} um, scale bars {:.3f} um",
+                     f.sigma0, f.bound, f.probability * 100, f.degrees_of_freedom, f.rms_ball * 1e3,
+                     f.rms_facet * 1e3, f.rms_scale_bar * 1e3);
+}
+
+std::string poor_fit_message(const FitCheck& f) {
+  return "the fit is poor: " + describe_fit(f) +
+         ". The residuals are larger than the readings' sigma explains: errors the estimate cannot absorb, "
+         "measurements that do not belong to the plan, or a sigma too small";
+}
+
 }  // namespace mtcal

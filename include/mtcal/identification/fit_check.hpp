@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 
 #include "mtcal/identification/identification.hpp"
 
@@ -25,5 +26,12 @@ struct FitCheck {
 
 // Throws InputError for a probability outside (0.5, 1).
 FitCheck check_fit(const IdentificationResult& result, double probability = 0.999);
+
+// The check in words: "sigma0 S against the bound B (P % of correct fits stay below it, K degrees
+// of freedom); residual rms: balls .. um, facets .. um, scale bars .. um".
+std::string describe_fit(const FitCheck& f);
+// What a poor fit means, for a warning or a refusal: "the fit is poor: <describe_fit>. The
+// residuals are larger than the readings' sigma explains: ...".
+std::string poor_fit_message(const FitCheck& f);
 
 }  // namespace mtcal
