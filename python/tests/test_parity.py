@@ -277,7 +277,6 @@ OPTIONS = {
                         **{o: f"identifiability({o.replace('-', '_')})" for o in
                            ["pretravel", "rank-tolerance", "choose", "candidates", "always", "list", "sort", "threads"]},
                         "scale-bar": "identifiability(scale_bars)", "sigma-um": "identifiability(sigma)"},
-    # plan and probe-log: their options change this session (s31e); the lead's merge brings this table to them.
     "plan": {**MODEL, **{o: f"design_plan({o.replace('-', '_')})" for o in
                          ["estimate", "choose", "candidates", "against", "poses", "target-u", "target-va-u", "workspace",
                           "criterion", "ball-region", "ball-spacing", "max-tilt-deg", "stylus-length", "holder-radius",
@@ -287,12 +286,16 @@ OPTIONS = {
              "artefact": ["read_probing_plan", "design_plan(artefact)"], "va-tie-um": "design_plan(va_tie)",
              "rotary-step-deg": "design_plan(rotary_step)", "out": ["PlanResult.plan", "write_probing_csv"],
              "gcode": "probe_program", "dialect": "probe_program(dialect)", "log-name": "probe_program(log)",
-             "program-coordinates": ["design_plan(program_coordinates)", "probe_program(coordinates)"],
+             "program-coordinates": ["design_plan(program_coordinates)", "probe_program(program_coordinates)"],
+             "ballbar": "design_plan(ballbar)", "ballbar-points": "design_plan(ballbar_points)",
+             "ballbar-feed": "design_plan(ballbar_feed)", "ballbar-setup-s": "design_plan(ballbar_setup)",
+             "laser": "design_plan(laser)", "laser-points": "design_plan(laser_points)",
+             "laser-setup-s": "design_plan(laser_setup)", "laser-dwell-s": "design_plan(laser_dwell)",
              "locate": ["locate_plan", "locate_program"], "locate-within": "locate_program(within)",
              "locate-at": "locate_plan(at)"},
     "probe-log": {**MODEL, "plan": "read_probing_plan", "log": ["read_probe_log", "measurements_from_contacts(log)"],
                   "dialect": "measurements_from_contacts(dialect)",
-                  "program-coordinates": "measurements_from_contacts(coordinates)",
+                  "program-coordinates": "measurements_from_contacts(program_coordinates)",
                   **{o: f"measurements_from_contacts({o.replace('-', '_')})" for o in CYCLE},
                   "out": ["write_probing_csv", "LocateResult.write"], "locate": "locate_spheres",
                   "locate-within": "locate_spheres(within)"},
