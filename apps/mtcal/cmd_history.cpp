@@ -161,14 +161,13 @@ std::optional<std::string> record_result(const std::string& command) {
   // files"); a file that is not UTF-8 text cannot be kept.
   std::vector<ModelFile> files;
   for (const auto& [kind, path] : s.model_files) {
-    std::string text = read_text_file(path, kind == "machine" ? "machine file" : "parameter file");
-    if (!is_utf8(text)) {
+    auto file = read_model_file(kind, path);
+    if (!file) {
       warn("the " + std::string(kind == "machine" ? "machine file" : "parameter file") + " '" + printable(path) +
            "' is not UTF-8 text: it is not kept in the history store with the record");
       continue;
     }
-    const std::string sha = sha256_hex(text);
-    files.push_back({sha, kind, std::move(text)});
+    files.push_back(std::move(*file));
   }
   if (!s.open) s.open = open_cli_store(s.store);
   std::vector<std::size_t> skipped;

@@ -654,7 +654,8 @@ class HistoryStore:
         and JSON-lines exports (*.jsonl, what export wrote: ids kept). files: a path or a list of
         paths; metadata: the test's fields, over what the files say (machine, date ...; --meta). Every
         result file is read before anything is stored; records stored already (same content hash) are
-        skipped and listed. Returns {store, records_added, events_added, skipped, records: [{file, id}]}.
+        skipped and listed. Returns {store, records_added, events_added, model_files_added, skipped, records:
+        [{file, id}]}.
         """
     def list(self, *, machine: str = ..., command: str = ..., from_: str = ..., to: str = ...) -> list[Any]:
         """The records in time order (measured), as `mtcal history list --json`'s records."""
@@ -662,12 +663,15 @@ class HistoryStore:
         """Machine names, sorted."""
     def rank(self, *, tolerances: Mapping[str, float | tuple[float, float]] | Sequence[str] | None = ..., tolerance_file: str = ..., by: str = ..., threads: int = ...) -> Any:
         """The machines ranked by how far they are from tolerance, as `mtcal history rank --json`."""
-    def record(self, command: str, result: Mapping[str, Any] | str, *, metadata: Mapping[str, str] | None = ..., inputs: list[str] = ...) -> str:
+    def record(self, command: str, result: Mapping[str, Any] | str, *, metadata: Mapping[str, str] | None = ..., inputs: list[str] = ..., machine_file: str = ..., parameter_files: list[str] = ...) -> str:
         """Records a command's result, as `mtcal COMMAND --record`: command ('iso230-2', 'ballbar',
         'volumetric', 'identify', 'fit-motion', ...), result: its to_dict() (or the --json text), metadata:
         the test's fields (machine, serial, date ...; docs/reports.md), inputs: the input files (their
-        SHA-256 is kept). Returns the record's id; a result stored already (same content hash) is not
-        stored again and its id is returned.
+        SHA-256 is kept). machine_file, parameter_files: the machine file (-m) and parameter files
+        (--params) the result was made with: listed first among the inputs and their text kept in the
+        store (docs/history.md, "Model files"; what `mtcal serve` writes compensation of a record from;
+        a file that is not UTF-8 is not kept, with a UserWarning). Returns the record's id; a result
+        stored already (same content hash) is not stored again and its id is returned.
         """
     @property
     def schema_version(self) -> int:

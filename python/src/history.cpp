@@ -102,25 +102,51 @@ migrated to the current schema on opening. Every write is one transaction.)")
       .def(
           "record",
           [](const PyStore& s, const std::string& command, py::handle result, py::handle metadata,
-             const std::vector<std::string>& inputs) {
+             const std::vector<std::string>& inputs, const std::string& machine_file,
+             const std::vector<std::string>& parameter_files) {
+            // The model's files first among the inputs, as the command lists them (the server makes a
+            // record's model again from them, in that order), then the other inputs.
+            std::vector<std::pair<std::string, std::string>> model;
+            if (!machine_file.empty()) model.emplace_back("machine", machine_file);
+            for (const auto& p : parameter_files) model.emplace_back("parameters", p);
+            std::vector<std::string> paths;
+            for (const auto& kp : model) paths.push_back(kp.second);
+            for (const auto& p : inputs)
+              if (std::find(paths.begin(), paths.end(), p) == paths.end()) paths.push_back(p);
             std::vector<InputHash> hashes;
-            for (const auto& p : inputs) hashes.push_back({p, sha256_file(p)});
+            for (const auto& p : paths) hashes.push_back({p, sha256_file(p)});
+            std::vector<ModelFile> files;
+            for (const auto& [kind, path] : model) {
+              auto file = read_model_file(kind, path);
+              if (!file) {
+                const std::string why = "the " + std::string(kind == "machine" ? "machine file" : "parameter file") +
+                                        " '" + printable(path) +
+                                        "' is not UTF-8 text: it is not kept in the history store with the record";
+                if (PyErr_WarnEx(PyExc_UserWarning, why.c_str(), 1) != 0) throw py::error_already_set();
+                continue;
+              }
+              files.push_back(std::move(*file));
+            }
             CalibrationRecord r = record_from_result(command, result_text(result), metadata_map(metadata),
                                                      std::move(hashes), command);
             if (r.machine_name.empty())
               throw InputError({"metadata", 0, "machine"},
                                "the result names no machine to record it under: give metadata={'machine': NAME}");
             std::vector<std::size_t> skipped;
-            const auto ids = (*s).record_all({r}, {}, &skipped);
+            const auto ids = (*s).record_all({r}, {}, &skipped, std::move(files));
             return ids.at(0);
           },
           "command"_a, "result"_a, py::kw_only(), "metadata"_a = py::none(),
-          "inputs"_a = std::vector<std::string>{},
+          "inputs"_a = std::vector<std::string>{}, "machine_file"_a = "",
+          "parameter_files"_a = std::vector<std::string>{},
           R"(Records a command's result, as `mtcal COMMAND --record`: command ('iso230-2', 'ballbar',
 'volumetric', 'identify', 'fit-motion', ...), result: its to_dict() (or the --json text), metadata:
 the test's fields (machine, serial, date ...; docs/reports.md), inputs: the input files (their
-SHA-256 is kept). Returns the record's id; a result stored already (same content hash) is not
-stored again and its id is returned.)")
+SHA-256 is kept). machine_file, parameter_files: the machine file (-m) and parameter files
+(--params) the result was made with: listed first among the inputs and their text kept in the
+store (docs/history.md, "Model files"; what `mtcal serve` writes compensation of a record from;
+a file that is not UTF-8 is not kept, with a UserWarning). Returns the record's id; a result
+stored already (same content hash) is not stored again and its id is returned.)")
       .def(
           "list",
           [](const PyStore& s, const std::string& machine, const std::string& command, const std::string& from,
@@ -260,7 +286,8 @@ ballbar, volumetric, identify), instrument files of positioning runs (evaluated 
 and JSON-lines exports (*.jsonl, what export wrote: ids kept). files: a path or a list of
 paths; metadata: the test's fields, over what the files say (machine, date ...; --meta). Every
 result file is read before anything is stored; records stored already (same content hash) are
-skipped and listed. Returns {store, records_added, events_added, skipped, records: [{file, id}]}.)")
+skipped and listed. Returns {store, records_added, events_added, model_files_added, skipped, records:
+[{file, id}]}.)")
       .def(
           "close", [](PyStore& s) { s.store.reset(); }, "Closes the connection (also when the object goes).")
       .def("__enter__", [](PyStore& s) -> PyStore& { return s; }, py::return_value_policy::reference)

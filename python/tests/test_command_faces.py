@@ -211,6 +211,34 @@ def test_history_import_of_result_files_is_the_commands(tmp_path):
     assert msg == str(e.value) + " (--meta machine=NAME)"
 
 
+def test_record_keeps_the_model_files_as_the_command_does(tmp_path):
+    """HistoryStore.record(machine_file=, parameter_files=) keeps the model's files as `--record` does
+    (docs/history.md, "Model files"): the same inputs first, the same model_file lines in the export."""
+    m = MACHINES / "vmc-3axis.yaml"
+    params = tmp_path / "prior.yaml"
+    params.write_text("mtcal_parameters: 1\nerrors:\n  EZY: {unit: um, argument_unit: m, polynomial: [0, 0, -30]}\n")
+    grid = "X=-100:100:3,Y=0,Z=-100"
+    cli_store = tmp_path / "cli.db"
+    result = cli("volumetric", "-m", m, "--params", params, "--grid", grid, "--record", cli_store,
+                 "--meta", "date=2026-11-01", "--json").stdout
+    st = mtcal.HistoryStore(str(tmp_path / "py.db"))
+    rid = st.record("volumetric", result, metadata={"date": "2026-11-01", "machine": "vmc-3axis"},
+                    machine_file=str(m), parameter_files=[str(params)])
+    ref = mtcal.HistoryStore(str(cli_store))
+    lines = lambda store: [json.loads(x) for x in store.export().splitlines()]  # noqa: E731
+    files = lambda store: [x for x in lines(store) if x["type"] == "model_file"]  # noqa: E731
+    assert files(st) == files(ref) and sorted(f["kind"] for f in files(st)) == ["machine", "parameters"]
+    assert next(f for f in files(st) if f["kind"] == "machine")["content"] == m.read_text()
+    assert st.show(rid)["inputs"] == ref.show(ref.list()[0]["id"])["inputs"]
+    # A file that is not UTF-8 is not kept: a warning, the record stored without it.
+    latin = tmp_path / "latin1.yaml"
+    latin.write_bytes(params.read_bytes() + b"# r\xe9glage\n")
+    with pytest.warns(UserWarning, match="not UTF-8"):
+        st.record("volumetric", result, metadata={"date": "2026-11-02", "machine": "vmc-3axis"},
+                  machine_file=str(m), parameter_files=[str(latin)])
+    assert len(files(st)) == 2
+
+
 # ---------------------------------------------------------------- linuxcnc-probe
 
 def test_linuxcnc_probe_is_the_commands(tmp_path):

@@ -100,4 +100,13 @@ Json to_json(const HistoryImport& r, const std::string& store) {
   return j;
 }
 
+std::optional<ModelFile> read_model_file(const std::string& kind, const std::string& path) {
+  if (kind != "machine" && kind != "parameters")
+    throw Error("read_model_file: kind '" + kind + "' is neither 'machine' nor 'parameters'");
+  std::string text = read_text_file(path, kind == "machine" ? "machine file" : "parameter file");
+  if (!is_utf8(text)) return std::nullopt;
+  std::string sha = sha256_hex(text);
+  return ModelFile{std::move(sha), kind, std::move(text)};
+}
+
 }  // namespace mtcal

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,12 @@ struct HistoryImport {
 // transaction after the JSON-lines files (import_jsonl: ids kept, records stored already skipped).
 HistoryImport import_files(HistoryStore& store, const std::vector<std::string>& files, const std::string& command,
                            const std::map<std::string, std::string>& metadata);
+
+// A model file of a recorded result as the store keeps it (docs/history.md, "Model files"): its
+// text and SHA-256, kind "machine" or "parameters"; nullopt when the text is not UTF-8 (the store
+// keeps text only). Throws InputError when the file cannot be read. `mtcal CMD --record` and
+// Python's HistoryStore.record keep the machine file and parameter files the result was made with.
+std::optional<ModelFile> read_model_file(const std::string& kind, const std::string& path);
 
 // {"store", "records_added", "events_added", "model_files_added", "skipped", "records": [{"file",
 // "id"}]}: `history import --json` (store: the store's description).
