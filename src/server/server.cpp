@@ -35,7 +35,6 @@
 #include "mtcal/io/json/history_json.hpp"
 #include "mtcal/io/json/json.hpp"
 #include "mtcal/io/json/probing_json.hpp"
-#include "mtcal/io/model/etalon_file.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/io/system/sha256.hpp"
@@ -726,10 +725,7 @@ struct Server::Impl {
       for (std::size_t i = at + 1; i < r->inputs.size(); ++i) {
         const auto f = store.model_file(r->inputs[i].sha256);
         if (!f || f->kind != "parameters") break;
-        if (looks_like_etalon(f->content))
-          apply_etalon(m, f->content, r->inputs[i].path);
-        else
-          apply_parameters(m, f->content, r->inputs[i].path);
+        apply_parameter_file(m, f->content, r->inputs[i].path);
       }
       for (const auto& p : r->parameters) {
         const auto index = m.parameter_index(p.name);

@@ -371,10 +371,13 @@ void apply_parameters(Machine& m, std::string_view yaml_text, const std::string&
 }
 
 void load_parameters(Machine& m, const std::string& path) {
-  const std::string text = read_text_file(path, "parameter file", input_limits().yaml);
+  apply_parameter_file(m, read_text_file(path, "parameter file", input_limits().yaml), path);
+}
+
+void apply_parameter_file(Machine& m, std::string_view text, const std::string& source) {
   // An Etalon exchange file (what --format etalon writes) is a parameter file too (docs/compensation.md).
-  if (looks_like_etalon(text)) return apply_etalon(m, text, path);
-  apply_parameters(m, text, path);
+  if (looks_like_etalon(text)) return apply_etalon(m, text, source);
+  apply_parameters(m, text, source);
 }
 
 Machine load_machine(const std::string& path) {

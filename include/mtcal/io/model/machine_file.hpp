@@ -18,6 +18,9 @@ Machine parse_machine(std::string_view yaml_text, const std::string& source);
 // file, line and key otherwise.
 void load_parameters(Machine& m, const std::string& path);
 void apply_parameters(Machine& m, std::string_view yaml_text, const std::string& source);
+// A parameter file's text in either form load_parameters reads: an Etalon exchange file (what
+// --format etalon writes; apply_etalon) or the YAML above (apply_parameters).
+void apply_parameter_file(Machine& m, std::string_view text, const std::string& source);
 
 // YAML text that parse_machine reads back to the same machine (internal units, full precision).
 std::string to_yaml(const Machine& m);
