@@ -132,7 +132,12 @@ int main(int argc, char** argv) {
   const char* kept = std::getenv("MTCAL_LOAD_STORE");
   const bool reuse = kept && *kept && std::filesystem::exists(kept);
   const std::string conn = "sqlite:" + (kept && *kept ? std::string(kept) : (dir / "load.db").string());
-  if (reuse) std::printf("store: %s as it is (MTCAL_LOAD_STORE)\n", kept);
+  if (reuse) {
+    std::printf("store: %s as it is (MTCAL_LOAD_STORE)\n", kept);
+    auto store = open_history_store(conn);  // migrated to this program's schema when older
+    if (!store->find_user("load"))
+      server::add_user(*store, "load", "engineer", "load-test-password", server::KdfCost::Minimum);
+  }
   if (!reuse) {
     auto store = open_history_store(conn);
     const auto t0 = Clock::now();
