@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
       const auto t = Clock::now();
       const auto r = c.Get(path, h);
       ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t).count());
-      if (const auto s = server_ms(r)) in_server.push_back(*s);
+      if (const auto handler = server_ms(r)) in_server.push_back(*handler);
       if (!r || r->status != 200) std::printf("  %s: status %d\n", path.c_str(), r ? r->status : -1);
       if (r) encoding = r->get_header_value("Content-Encoding");
     }
@@ -265,7 +265,7 @@ int main(int argc, char** argv) {
           return res;
         }();
         mine[name].push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-        if (const auto s = server_ms(r)) mine_server[name].push_back(*s);
+        if (const auto handler = server_ms(r)) mine_server[name].push_back(*handler);
         if (!r || r->status != 200) ++errors;
       }
       std::lock_guard lock(mutex);
