@@ -23,6 +23,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -55,6 +56,15 @@ CalibrationRecord result(int machine, int month) {
   return r;
 }
 
+// The server's own time for a request: its Server-Timing header ("app;dur=MS"); nullopt without one.
+std::optional<double> server_ms(const httplib::Result& r) {
+  if (!r) return std::nullopt;
+  const std::string t = r->get_header_value("Server-Timing");
+  const auto at = t.find("dur=");
+  if (at == std::string::npos) return std::nullopt;
+  return std::atof(t.c_str() + at + 4);
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -67,6 +77,13 @@ std::string read_file(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// The machine's load average (1, 5, 15 min) from /proc/loadavg: the figures depend on it.
+void print_load(const char* when) {
+  std::ifstream in("/proc/loadavg");
+  double a = 0, b = 0, c = 0;
+  if (in >> a >> b >> c) std::printf("load average %s: %.2f %.2f %.2f\n", when, a, b, c);
 }
 
 struct Session {
@@ -115,7 +132,12 @@ int main(int argc, char** argv) {
   const char* kept = std::getenv("MTCAL_LOAD_STORE");
   const bool reuse = kept && *kept && std::filesystem::exists(kept);
   const std::string conn = "sqlite:" + (kept && *kept ? std::string(kept) : (dir / "load.db").string());
-  if (reuse) std::printf("store: %s as it is (MTCAL_LOAD_STORE)\n", kept);
+  if (reuse) {
+    std::printf("store: %s as it is (MTCAL_LOAD_STORE)\n", kept);
+    auto store = open_history_store(conn);  // migrated to this program's schema when older
+    if (!store->find_user("load"))
+      server::add_user(*store, "load", "engineer", "load-test-password", server::KdfCost::Minimum);
+  }
   if (!reuse) {
     auto store = open_history_store(conn);
     const auto t0 = Clock::now();
@@ -144,6 +166,7 @@ int main(int argc, char** argv) {
   std::thread runner([&] { srv.run(); });
 
   // 1. The fleet page alone, against the login page.
+  print_load("before the sequential part");
   const Session main_session = login(port, "load", "load-test-password");
   // before(i): run before request i, untimed (a write by another program).
   auto timed = [&](const std::string& path, int n, const Session* s, const std::string& accept_encoding = {},
@@ -156,16 +179,21 @@ int main(int argc, char** argv) {
     if (s) h = {{"Cookie", "mtcal_session=" + s->cookie}};
     if (!accept_encoding.empty()) h.emplace("Accept-Encoding", accept_encoding);
     std::string encoding;
+    std::vector<double> in_server;
     for (int i = 0; i < n; ++i) {
       if (before) before(i);
       const auto t = Clock::now();
       const auto r = c.Get(path, h);
       ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t).count());
+      if (const auto handler = server_ms(r)) in_server.push_back(*handler);
       if (!r || r->status != 200) std::printf("  %s: status %d\n", path.c_str(), r ? r->status : -1);
       if (r) encoding = r->get_header_value("Content-Encoding");
     }
     if (!accept_encoding.empty()) std::printf("  (Accept-Encoding: %s; answered Content-Encoding: %s)\n",
                                               accept_encoding.c_str(), encoding.empty() ? "none" : encoding.c_str());
+    if (!in_server.empty())
+      std::printf("  %s: in the server's handler (Server-Timing) p50 %.2f ms, p99 %.2f ms\n", path.c_str(),
+                  percentile(in_server, 0.5), percentile(in_server, 0.99));
     return ms;
   };
   const auto login_ms = timed("/login", 200, nullptr);
@@ -183,18 +211,22 @@ int main(int argc, char** argv) {
   {
     auto writer = open_history_store(conn);
     const auto after_ms = timed("/fleet", 20, &main_session, {}, [&](int i) {
-      writer->record(result((i * 37) % machines, months + i));
+      // A new record at every run (the operator names the run), also on a kept store.
+      auto r = result((i * 37) % machines, months + i);
+      r.metadata["operator"] = fmt::format("load run {}", ::getpid());
+      writer->record(std::move(r));
     });
     std::printf("fleet page after each new record of a ranked machine: p50 %.1f ms, p99 %.1f ms\n",
                 percentile(after_ms, 0.5), percentile(after_ms, 0.99));
   }
 
   // 2. Mixed load.
+  print_load("before the mixed load");
   auto store = open_history_store(conn);
   const std::size_t before = store->list({"LOAD-UP", "", "", ""}).size();
   std::atomic<int> next{0}, uploads_ok{0}, errors{0};
   std::mutex mutex;
-  std::map<std::string, std::vector<double>> lat;
+  std::map<std::string, std::vector<double>> lat, lat_server;
   const auto t0 = Clock::now();
   std::vector<std::thread> threads;
   for (int t = 0; t < clients; ++t)
@@ -204,7 +236,7 @@ int main(int argc, char** argv) {
       c.set_connection_timeout(10, 0);
       c.set_read_timeout(120, 0);
       const httplib::Headers h{{"Cookie", "mtcal_session=" + s.cookie}, {"X-CSRF-Token", s.csrf}};
-      std::map<std::string, std::vector<double>> mine;
+      std::map<std::string, std::vector<double>> mine, mine_server;
       for (int i; (i = next++) < requests;) {
         const int kind = i % 20;
         const std::string machine = fmt::format("M{:04}", (i * 7919) % machines);
@@ -233,21 +265,31 @@ int main(int argc, char** argv) {
           return res;
         }();
         mine[name].push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+        if (const auto handler = server_ms(r)) mine_server[name].push_back(*handler);
         if (!r || r->status != 200) ++errors;
       }
       std::lock_guard lock(mutex);
       for (auto& [k, v] : mine) lat[k].insert(lat[k].end(), v.begin(), v.end());
+      for (auto& [k, v] : mine_server) lat_server[k].insert(lat_server[k].end(), v.begin(), v.end());
     });
   for (auto& th : threads) th.join();
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("mixed load: %d clients, %d requests in %.1f s (%.0f requests/s), %d errors\n", clients, requests, wall,
               requests / wall, errors.load());
-  for (const auto& [k, v] : lat)
-    std::printf("  %-13s n=%5zu p50 %8.1f ms  p99 %8.1f ms\n", k.c_str(), v.size(), percentile(v, 0.5),
+  // The client's time against the handler's (Server-Timing): the rest is waiting in httplib's
+  // queue for one of the server's threads, reading, parsing and sending.
+  for (const auto& [k, v] : lat) {
+    std::printf("  %-13s n=%5zu p50 %8.1f ms  p99 %8.1f ms", k.c_str(), v.size(), percentile(v, 0.5),
                 percentile(v, 0.99));
+    if (const auto s = lat_server.find(k); s != lat_server.end())
+      std::printf("  (in the handler: p50 %7.1f ms, p99 %7.1f ms)", percentile(s->second, 0.5),
+                  percentile(s->second, 0.99));
+    std::printf("\n");
+  }
   const std::size_t after = store->list({"LOAD-UP", "", "", ""}).size();
   std::printf("records of LOAD-UP: before %zu, after %zu, uploads answered 200: %d -> %s\n", before, after,
               uploads_ok.load(), after == before + static_cast<std::size_t>(uploads_ok.load()) ? "nothing lost" : "LOST");
+  print_load("after the mixed load");
   srv.stop();
   runner.join();
   std::error_code ec;

@@ -39,7 +39,8 @@ std::string json_data(const std::string& id, const Json& j) {
 
 std::string csrf_field(const PageUser& u) { return "<input type=\"hidden\" name=\"csrf\" value=\"" + h(u.csrf) + "\">"; }
 
-std::string layout(const std::string& title, const PageUser& u, const std::string& body, bool plots = false) {
+// A page is layout_head + its content + layout_tail.
+std::string layout_head(const std::string& title, const PageUser& u, bool plots = false) {
   std::string p =
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
       "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
@@ -56,8 +57,16 @@ std::string layout(const std::string& title, const PageUser& u, const std::strin
          ")<form method=\"post\" action=\"/logout\" class=\"inline\">" + csrf_field(u) +
          "<button type=\"submit\" id=\"logout\">Log out</button></form></span>";
   }
-  p += "</nav></header>\n<main>\n<h1>" + h(title) + "</h1>\n" + body + "</main>\n<footer>mtcal " + h(version()) +
-       "</footer></body></html>\n";
+  p += "</nav></header>\n<main>\n<h1>" + h(title) + "</h1>\n";
+  return p;
+}
+std::string layout_tail() { return "</main>\n<footer>mtcal " + h(version()) + "</footer></body></html>\n"; }
+
+std::string layout(const std::string& title, const PageUser& u, const std::string& body, bool plots = false) {
+  std::string p = layout_head(title, u, plots);
+  p.reserve(p.size() + body.size() + 64);
+  p += body;
+  p += layout_tail();
   return p;
 }
 
@@ -97,13 +106,49 @@ std::string login_page(const std::string& csrf, const std::string& error) {
   return layout("Log in", {}, b);
 }
 
-std::string fleet_page(const PageUser& u, const Json& fleet) {
+std::string fleet_machine_rows(const Json& m, bool ranked) {
+  const std::string name = m["machine"].get<std::string>();
+  std::string rank_cells;
+  if (ranked) {
+    const Json& r = m["rank"];
+    if (r.is_null()) {
+      rank_cells = "<td>-</td><td>-</td><td>no quantity with a tolerance</td><td>-</td><td>-</td>";
+    } else {
+      const Json& q = r["quantities"][0];
+      std::string drift = text_of(r["drift"]);
+      std::replace(drift.begin(), drift.end(), '_', ' ');
+      if (q["rate_per_year"].is_number())
+        drift = fmt::format("{:.3g} {}/year, {}", q["rate_per_year"].get<double>(), text_of(q["unit"]), drift);
+      rank_cells = fmt::format(
+          "<td class=\"num\">{}</td><td class=\"num\">{:.0f}</td><td>{} {} {}</td><td>{}</td><td>{}</td>",
+          r["rank"].get<long long>(), 100 * r["utilisation"].get<double>(), h(text_of(q["quantity"])),
+          h(text_of(q["latest"])), h(text_of(q["unit"])), h(drift),
+          r["outside"].get<bool>() ? std::string("outside now") : h(text_of(r["out_of_tolerance_on"])));
+    }
+  }
+  std::string b;
+  for (const auto& c : m["calibrations"]) {
+    const bool late = c["overdue"].get<bool>();
+    b += fmt::format(
+        "<tr class=\"{}\"><td><a href=\"/machine?name={}\">{}</a></td><td>{}</td><td><a href=\"/record?id={}\">{}</a></td>"
+        "<td class=\"num\">{}</td><td class=\"num\">{}{}</td><td class=\"num\">{}</td><td>{}</td>{}</tr>\n",
+        late ? "overdue" : "", h(url_encode(name)), h(name), h(text_of(c["command"])),
+        h(url_encode(text_of(c["record"]))), h(text_of(c["last"])),
+        c["age_days"].is_null() ? "-" : fmt::format("{:.0f}", c["age_days"].get<double>()),
+        m["interval_days"].get<int>(), m["interval_own"].get<bool>() ? "" : " (default)", c["count"].get<long long>(),
+        late ? "overdue" : "ok", rank_cells);
+  }
+  return b;
+}
+
+std::string fleet_page_body(const Json& fleet, std::size_t machines, std::size_t overdue, std::string_view rows) {
   const bool ranked = fleet["ranked"].get<bool>();
   std::string b = fmt::format(
+      "<p id=\"summary\">{} machines, {} overdue.</p>"
       "<p>Store <code>{}</code>. A machine is overdue {} days after its last calibration of a kind, unless it has an "
       "interval of its own.{}</p>"
       "<p><label>Filter <input id=\"filter\" data-table=\"fleet\" placeholder=\"machine, kind, overdue\"></label></p>",
-      h(text_of(fleet["store"])), fleet["interval_days"].get<int>(),
+      machines, overdue, h(text_of(fleet["store"])), fleet["interval_days"].get<int>(),
       ranked ? " Share of tolerance used, drift and the date out of tolerance are <code>mtcal history rank</code>'s "
                "(the deciding quantity: the largest share used)."
              : " No tolerances given (<code>mtcal serve --tolerance-file</code>): no ranking.");
@@ -112,45 +157,14 @@ std::string fleet_page(const PageUser& u, const Json& fleet) {
        "<th>Last</th><th>Age (days)</th><th>Interval (days)</th><th>Records</th><th>State</th>";
   if (ranked) b += "<th>Rank</th><th>Tolerance used (%)</th><th>Deciding quantity</th><th>Drift</th><th>Out of tolerance</th>";
   b += "</tr></thead><tbody>\n";
-  std::size_t machines = 0, overdue = 0;
-  for (const auto& m : fleet["machines"]) {
-    ++machines;
-    if (m["overdue"].get<bool>()) ++overdue;
-    const std::string name = m["machine"].get<std::string>();
-    std::string rank_cells;
-    if (ranked) {
-      const Json& r = m["rank"];
-      if (r.is_null()) {
-        rank_cells = "<td>-</td><td>-</td><td>no quantity with a tolerance</td><td>-</td><td>-</td>";
-      } else {
-        const Json& q = r["quantities"][0];
-        std::string drift = text_of(r["drift"]);
-        std::replace(drift.begin(), drift.end(), '_', ' ');
-        if (q["rate_per_year"].is_number())
-          drift = fmt::format("{:.3g} {}/year, {}", q["rate_per_year"].get<double>(), text_of(q["unit"]), drift);
-        rank_cells = fmt::format(
-            "<td class=\"num\">{}</td><td class=\"num\">{:.0f}</td><td>{} {} {}</td><td>{}</td><td>{}</td>",
-            r["rank"].get<long long>(), 100 * r["utilisation"].get<double>(), h(text_of(q["quantity"])),
-            h(text_of(q["latest"])), h(text_of(q["unit"])), h(drift),
-            r["outside"].get<bool>() ? std::string("outside now") : h(text_of(r["out_of_tolerance_on"])));
-      }
-    }
-    for (const auto& c : m["calibrations"]) {
-      const bool late = c["overdue"].get<bool>();
-      b += fmt::format(
-          "<tr class=\"{}\"><td><a href=\"/machine?name={}\">{}</a></td><td>{}</td><td><a href=\"/record?id={}\">{}</a></td>"
-          "<td class=\"num\">{}</td><td class=\"num\">{}{}</td><td class=\"num\">{}</td><td>{}</td>{}</tr>\n",
-          late ? "overdue" : "", h(url_encode(name)), h(name), h(text_of(c["command"])),
-          h(url_encode(text_of(c["record"]))), h(text_of(c["last"])),
-          c["age_days"].is_null() ? "-" : fmt::format("{:.0f}", c["age_days"].get<double>()),
-          m["interval_days"].get<int>(), m["interval_own"].get<bool>() ? "" : " (default)", c["count"].get<long long>(),
-          late ? "overdue" : "ok", rank_cells);
-    }
-  }
+  b.reserve(b.size() + rows.size() + 32);
+  b += rows;
   b += "</tbody></table></div>\n";
-  b = fmt::format("<p id=\"summary\">{} machines, {} overdue.</p>", machines, overdue) + b;
-  return layout("Fleet", u, b);
+  return b;
 }
+
+std::string fleet_page(const PageUser& u, const std::string& body) { return layout("Fleet", u, body); }
+std::pair<std::string, std::string> fleet_page_frame(const PageUser& u) { return {layout_head("Fleet", u), layout_tail()}; }
 
 std::string machine_page(const PageUser& u, const Json& m, const Json& trends) {
   const std::string name = m["machine"].get<std::string>();

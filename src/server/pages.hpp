@@ -1,8 +1,11 @@
 // The HTML pages of mtcal serve: server-rendered, every value escaped, no inline script.
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "mtcal/history/record.hpp"
@@ -22,8 +25,15 @@ std::string url_encode(const std::string& s);
 
 std::string error_page(int status, const std::string& message);
 std::string login_page(const std::string& csrf, const std::string& error);
-// fleet: what /api/fleet returns.
-std::string fleet_page(const PageUser& u, const Json& fleet);
+// The fleet page in three parts, so that the server keeps the parts that are the same for
+// every user between requests: one machine's rows of the table (machine: an entry of
+// /api/fleet's "machines"), the page's content around the rows of every machine (fleet:
+// /api/fleet's other keys), and the page of a user around that content.
+std::string fleet_machine_rows(const Json& machine, bool ranked);
+std::string fleet_page_body(const Json& fleet, std::size_t machines, std::size_t overdue, std::string_view rows);
+std::string fleet_page(const PageUser& u, const std::string& body);
+// fleet_page's text before and after the content (a page compressed in parts: the content's kept).
+std::pair<std::string, std::string> fleet_page_frame(const PageUser& u);
 // machine: what /api/machine returns; trends: what /api/machine/trend returns.
 std::string machine_page(const PageUser& u, const Json& machine, const Json& trends);
 // model_kinds: per SHA-256 of the record's inputs that the store holds as a model file, its kind

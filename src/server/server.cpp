@@ -10,15 +10,21 @@
 #include <cmath>
 #include <chrono>
 #include <condition_variable>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
+#include <string_view>
 #include <unordered_map>
 
 #include <fmt/format.h>
+#define ZLIB_CONST
+#include <zlib.h>
 
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
@@ -89,12 +95,81 @@ std::string cookie_value(const httplib::Request& req, const std::string& name) {
 // quality (11) when "br" is accepted, as every browser does: the fleet page of 1,000 machines
 // then took 3.9 s (p50) instead of 65 ms (bench/serve_load.cpp). httplib compresses bodies and
 // chunked content providers only, so the pages and the API's JSON go as a provider of known
-// length, uncompressed (a plant's reverse proxy may compress them).
-void send_uncompressed(httplib::Response& res, std::string body, const char* type) {
-  auto text = std::make_shared<const std::string>(std::move(body));
+// length, not compressed by httplib (the fleet is gzip'd here, once per change, when the client
+// accepts it; a plant's reverse proxy may compress the others).
+void send_uncompressed(httplib::Response& res, std::shared_ptr<const std::string> text, const char* type) {
   res.set_content_provider(text->size(), type, [text](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
     return sink.write(text->data() + offset, length);
   });
+}
+void send_uncompressed(httplib::Response& res, std::string body, const char* type) {
+  send_uncompressed(res, std::make_shared<const std::string>(std::move(body)), type);
+}
+
+// Whether a request accepts a gzip'd response: "gzip" (or "x-gzip") among its Accept-Encoding
+// codings, not refused with q=0 (RFC 9110, 12.5.3).
+bool accepts_gzip(const httplib::Request& req) {
+  const std::string header = req.get_header_value("Accept-Encoding");
+  std::size_t at = 0;
+  while (at <= header.size()) {
+    std::size_t end = header.find(',', at);
+    if (end == std::string::npos) end = header.size();
+    std::string coding = header.substr(at, end - at);
+    std::transform(coding.begin(), coding.end(), coding.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    coding.erase(std::remove(coding.begin(), coding.end(), ' '), coding.end());
+    const auto semi = coding.find(';');
+    const std::string name = coding.substr(0, semi);
+    if (name == "gzip" || name == "x-gzip") {
+      const auto q = semi == std::string::npos ? std::string::npos : coding.find("q=", semi);
+      return q == std::string::npos || std::strtod(coding.c_str() + q + 2, nullptr) > 0;
+    }
+    at = end + 1;
+  }
+  return false;
+}
+
+// Text compressed as raw deflate (RFC 1951) that may be followed by more: ended by a sync flush
+// (byte-aligned, no final block) unless last. Raw deflate streams of pieces so ended join into
+// one stream (what pigz does), and their CRC-32s combine: a page whose large part is the same for
+// every user is compressed once and only the user's part at each request.
+struct Deflated {
+  std::string data;
+  uLong crc = 0;
+  std::size_t size = 0;
+};
+Deflated deflate_piece(std::string_view text, bool last) {
+  z_stream z{};
+  // Level 1: the fleet's rows repeat themselves; more effort saves little and costs the request.
+  if (deflateInit2(&z, 1, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) throw Error("zlib: cannot start deflate");
+  Deflated out;
+  out.size = text.size();
+  out.crc = crc32(0L, reinterpret_cast<const Bytef*>(text.data()), static_cast<uInt>(text.size()));
+  out.data.resize(deflateBound(&z, static_cast<uLong>(text.size())) + 16);
+  z.next_in = reinterpret_cast<const Bytef*>(text.data());
+  z.avail_in = static_cast<uInt>(text.size());
+  z.next_out = reinterpret_cast<Bytef*>(out.data.data());
+  z.avail_out = static_cast<uInt>(out.data.size());
+  const int rc = deflate(&z, last ? Z_FINISH : Z_SYNC_FLUSH);
+  const bool ok = (last ? rc == Z_STREAM_END : rc == Z_OK) && z.avail_in == 0;
+  out.data.resize(out.data.size() - z.avail_out);
+  deflateEnd(&z);
+  if (!ok) throw Error("zlib: cannot compress a page");
+  return out;
+}
+// One gzip member (RFC 1952) of pieces in order, the last of them deflated with last = true.
+std::string gzip_of(std::initializer_list<const Deflated*> pieces) {
+  std::string out("\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03", 10);  // deflate, no name, no time, Unix
+  uLong crc = crc32(0L, nullptr, 0);
+  std::size_t size = 0;
+  for (const Deflated* p : pieces) {
+    out += p->data;
+    crc = crc32_combine(crc, p->crc, static_cast<z_off_t>(p->size));
+    size += p->size;
+  }
+  for (const unsigned long v : {static_cast<unsigned long>(crc), static_cast<unsigned long>(size)})
+    for (int i = 0; i < 4; ++i) out += static_cast<char>((v >> (8 * i)) & 0xff);
+  return out;
 }
 
 // An error that becomes an HTTP status with one line of text (or {"error": ...} for the API).
@@ -324,11 +399,12 @@ struct Server::Impl {
                        "data:; frame-ancestors 'none'; form-action 'self'");
     });
     register_routes();
-    // The fleet's ranking made once here (about a second for 1,000 machines on a loaded 2-core
-    // machine), so that no request pays for it; afterwards a new record re-reads its machine only.
-    if (ranker) {
+    // The fleet's ranking and its page made once here (the ranking: about a second for 1,000
+    // machines on a loaded 2-core machine), so that no request pays for them; afterwards a new
+    // record re-reads and makes again its machine's part only.
+    {
       auto store = pool.lease();
-      ranking(*store);
+      fleet_view(*store);
     }
   }
 
@@ -390,6 +466,18 @@ struct Server::Impl {
   void add(Route r, Handler h) {
     routes.push_back(r);
     auto wrapped = [this, r, h](const httplib::Request& req, httplib::Response& res) {
+      // The time spent here (session check and handler; not httplib's queue, parsing or sending)
+      // as a Server-Timing header (W3C Server Timing): the load test tells the handler's time from
+      // the time a request waits or travels.
+      const auto start = std::chrono::steady_clock::now();
+      struct Timing {
+        httplib::Response& res;
+        std::chrono::steady_clock::time_point start;
+        ~Timing() {
+          const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+          res.set_header("Server-Timing", fmt::format("app;dur={:.2f}", ms));
+        }
+      } timing{res, start};
       if (r.is_public) return h(req, res, nullptr);
       const auto ctx = session_of(req);
       if (!ctx) {
@@ -481,39 +569,74 @@ struct Server::Impl {
     return out;
   }
 
-  // The fleet: per machine its latest calibration per command, overdue after the machine's
-  // interval (an admin's, else interval_days), and its ranking (tolerances given).
-  Json fleet_json(HistoryStore& store) {
-    const auto latest = store.latest_calibrations();
-    std::map<std::string, int> intervals;
-    for (const auto& i : store.machine_intervals()) intervals[i.machine] = i.days;
-    const auto rank = ranking(store);
-    const auto now = std::chrono::system_clock::now();
-    Json machines = Json::array();
-    std::string current;
-    int interval = opt.interval_days;
-    for (const auto& l : latest) {
-      if (machines.empty() || l.machine != current) {
-        current = l.machine;
-        const auto own = intervals.find(l.machine);
-        interval = own != intervals.end() ? own->second : opt.interval_days;
-        Json entry = Json::object();
-        entry["machine"] = l.machine;
-        entry["interval_days"] = interval;
-        entry["interval_own"] = own != intervals.end();
-        entry["calibrations"] = Json::array();
-        entry["overdue"] = false;
-        entry["rank"] = nullptr;
-        if (rank)
-          if (const auto r = rank->machines.find(l.machine); r != rank->machines.end()) entry["rank"] = r->second;
-        machines.push_back(std::move(entry));
-      }
-      auto& m = machines.back();
+  // ---- the fleet, kept between requests ----------------------------------------------------
+  //
+  // The fleet page of 1,000 machines took 50 to 60 ms in its handler (the JSON and the HTML of
+  // every machine made again at every request; docs/serve.md, Load). Each machine's part (its
+  // entry of /api/fleet as text and its rows of the table) is kept with what it was made from:
+  // its latest calibrations, its interval, its ranking entry and the time its ages count to. A
+  // request reads those inputs from the store (latest_records, the intervals and the ranker's
+  // revision check: about 2 ms for 1,000 machines) and makes again only the parts whose inputs
+  // differ, whoever wrote them (this server, another server or a command on the same store):
+  // a page is never older than the store at the request. Ages count to `as_of`, the same for
+  // every row, renewed when it is kFleetClock old (then every row is made again).
+  static constexpr std::chrono::seconds kFleetClock{60};
+  struct FleetPart {
+    std::vector<LatestCalibration> latest;  // this machine's, by command
+    int interval = 0;
+    bool interval_own = false;
+    Json rank;          // its entry of the ranking (null: not ranked)
+    bool overdue = false;
+    std::string json;   // its entry of /api/fleet's "machines" as dump(2) writes it there
+    std::string html;   // its rows of the fleet table
+  };
+  struct FleetView {
+    std::shared_ptr<const std::string> json;  // /api/fleet's body
+    std::shared_ptr<const std::string> html;  // the fleet page's content (fleet_page_body)
+    // Made at the first request that accepts gzip: json gzip'd, html deflated as a middle piece.
+    std::shared_ptr<const std::string> json_gzip;
+    std::shared_ptr<const Deflated> html_deflated;
+  };
+  std::mutex fleet_mutex;  // guards the members below; one fleet request updates them at a time
+  std::unordered_map<std::string, std::shared_ptr<const FleetPart>> fleet_parts;  // by machine
+  std::vector<std::shared_ptr<const FleetPart>> fleet_order;  // the parts of the last view, in order
+  std::optional<std::chrono::system_clock::time_point> fleet_as_of;
+  std::shared_ptr<const FleetRanking> fleet_rank;  // the ranking the parts were made with
+  FleetView fleet_view_kept;
+
+  static bool same_latest(const std::vector<LatestCalibration>& a, const LatestCalibration* b, std::size_t n) {
+    if (a.size() != n) return false;
+    for (std::size_t i = 0; i < n; ++i)
+      if (a[i].command != b[i].command || a[i].record_id != b[i].record_id || a[i].measured_at != b[i].measured_at ||
+          a[i].count != b[i].count || a[i].machine != b[i].machine)
+        return false;
+    return true;
+  }
+
+  // One machine's entry of the fleet: its latest calibration per command, overdue after its
+  // interval (an admin's, else interval_days) counted to as_of, and its ranking entry.
+  std::shared_ptr<const FleetPart> fleet_part(const LatestCalibration* latest, std::size_t n, int interval, bool own,
+                                              const Json& rank, bool ranked,
+                                              std::chrono::system_clock::time_point as_of) const {
+    auto part = std::make_shared<FleetPart>();
+    part->latest.assign(latest, latest + n);
+    part->interval = interval;
+    part->interval_own = own;
+    part->rank = rank;
+    Json m = Json::object();
+    m["machine"] = latest[0].machine;
+    m["interval_days"] = interval;
+    m["interval_own"] = own;
+    m["calibrations"] = Json::array();
+    m["overdue"] = false;
+    m["rank"] = rank;
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& l = latest[i];
       bool overdue = false;
       std::optional<double> age_days;
       try {
         const auto at = parse_history_time(l.measured_at, "record " + l.record_id);
-        age_days = std::chrono::duration<double>(now - at).count() / 86400.0;
+        age_days = std::chrono::duration<double>(as_of - at).count() / 86400.0;
         overdue = *age_days > interval;
       } catch (const InputError&) {
       }
@@ -525,14 +648,100 @@ struct Server::Impl {
                                    {"overdue", overdue}});
       if (overdue) m["overdue"] = true;
     }
-    // Assigned, not an initializer list: that copies every value (the machines' array too).
-    Json out = Json::object();
-    out["store"] = store.describe();
-    out["interval_days"] = opt.interval_days;
-    out["ranked"] = rank != nullptr;
-    out["rank_notes"] = rank ? rank->notes : Json::array();
-    out["machines"] = std::move(machines);
-    return out;
+    part->overdue = m["overdue"].get<bool>();
+    part->html = fleet_machine_rows(m, ranked);
+    // An element of the array at depth 2 of the whole document: its lines indented 4 more.
+    const std::string text = m.dump(2);
+    part->json.reserve(text.size() + text.size() / 8);
+    for (const char c : text) {
+      part->json += c;
+      if (c == '\n') part->json += "    ";
+    }
+    return part;
+  }
+
+  // The fleet now (/api/fleet's body and the page's content): per machine its latest
+  // calibration per command, overdue after its interval, and its ranking (tolerances given).
+  FleetView fleet_view(HistoryStore& store, bool json_gzip = false, bool html_deflated = false) {
+    std::lock_guard lock(fleet_mutex);
+    fleet_update(store);
+    auto& v = fleet_view_kept;
+    if (json_gzip && !v.json_gzip) {
+      const Deflated d = deflate_piece(*v.json, true);
+      v.json_gzip = std::make_shared<const std::string>(gzip_of({&d}));
+    }
+    if (html_deflated && !v.html_deflated) v.html_deflated = std::make_shared<const Deflated>(deflate_piece(*v.html, false));
+    return v;
+  }
+  // fleet_view's update of the kept parts (fleet_mutex held).
+  void fleet_update(HistoryStore& store) {
+    // The inputs, read at every request (the ranking's revisions first, inside ranking()).
+    const auto rank = ranking(store);
+    const auto latest = store.latest_calibrations();
+    std::map<std::string, int> intervals;
+    for (const auto& i : store.machine_intervals()) intervals[i.machine] = i.days;
+    const auto now = std::chrono::system_clock::now();
+    const bool new_clock = !fleet_as_of || now - *fleet_as_of >= kFleetClock || now < *fleet_as_of;
+    if (new_clock) fleet_as_of = now;
+    const bool new_rank = rank != fleet_rank;
+    const Json no_rank;
+    bool changed = new_clock || new_rank || !fleet_view_kept.json;
+    std::vector<std::shared_ptr<const FleetPart>> order;
+    std::unordered_map<std::string, std::shared_ptr<const FleetPart>> parts;
+    for (std::size_t b = 0, e = 0; b < latest.size(); b = e) {
+      const std::string& name = latest[b].machine;
+      for (e = b + 1; e < latest.size() && latest[e].machine == name;) ++e;
+      const auto own = intervals.find(name);
+      const int interval = own != intervals.end() ? own->second : opt.interval_days;
+      const Json* r = &no_rank;
+      if (rank)
+        if (const auto it = rank->machines.find(name); it != rank->machines.end()) r = &it->second;
+      std::shared_ptr<const FleetPart> part;
+      if (const auto kept = fleet_parts.find(name); kept != fleet_parts.end() && !new_clock &&
+                                                    kept->second->interval == interval &&
+                                                    kept->second->interval_own == (own != intervals.end()) &&
+                                                    same_latest(kept->second->latest, &latest[b], e - b) &&
+                                                    (!new_rank || kept->second->rank == *r))
+        part = kept->second;
+      else
+        part = fleet_part(&latest[b], e - b, interval, own != intervals.end(), *r, rank != nullptr, *fleet_as_of);
+      if (order.size() >= fleet_order.size() || fleet_order[order.size()] != part) changed = true;
+      order.push_back(part);
+      parts.emplace(name, std::move(part));
+    }
+    if (order.size() != fleet_order.size()) changed = true;
+    fleet_parts = std::move(parts);
+    fleet_rank = rank;
+    if (!changed) return;
+    fleet_order = std::move(order);
+    // The document as Json::dump(2) writes it, the machines' entries put in as kept.
+    Json head = Json::object();
+    head["store"] = store.describe();
+    head["interval_days"] = opt.interval_days;
+    head["ranked"] = rank != nullptr;
+    head["rank_notes"] = rank ? rank->notes : Json::array();
+    head["as_of"] = now_utc_text(*fleet_as_of);
+    std::string json = head.dump(2);
+    json.resize(json.size() - 2);  // "\n}"
+    std::size_t size = json.size() + 64, rows_size = 0, overdue = 0;
+    for (const auto& p : fleet_order) {
+      size += p->json.size() + 6;
+      rows_size += p->html.size();
+      if (p->overdue) ++overdue;
+    }
+    json.reserve(size);
+    json += ",\n  \"machines\": [";
+    for (std::size_t i = 0; i < fleet_order.size(); ++i) {
+      json += i ? ",\n    " : "\n    ";
+      json += fleet_order[i]->json;
+    }
+    json += fleet_order.empty() ? "]\n}\n" : "\n  ]\n}\n";
+    std::string rows;
+    rows.reserve(rows_size);
+    for (const auto& p : fleet_order) rows += p->html;
+    fleet_view_kept = {std::make_shared<const std::string>(std::move(json)),
+                       std::make_shared<const std::string>(fleet_page_body(head, fleet_order.size(), overdue, rows)),
+                       nullptr, nullptr};
   }
 
   // What `history trend --json` gives for a machine: every parameter and figure, no tolerances.
@@ -892,13 +1101,29 @@ void Server::Impl::register_routes() {
     res.status = 303;
     res.set_header("Location", "/fleet");
   });
-  add({"GET", "/fleet", Role::Viewer, false, false, ""}, [this, html](const Req&, Res& res, const Context* c) {
+  // The fleet: its kept parts (fleet_view), gzip'd when the client accepts it (the page: the
+  // user's header and the footer compressed at each request, joined to the content's kept
+  // compression).
+  add({"GET", "/fleet", Role::Viewer, false, false, ""}, [this, html](const Req& req, Res& res, const Context* c) {
     auto store = pool.lease();
-    html(res, fleet_page(page_user(c), fleet_json(*store)));
+    const bool gzip = accepts_gzip(req);
+    const FleetView view = fleet_view(*store, false, gzip);
+    if (!gzip) return html(res, fleet_page(page_user(c), *view.html));
+    const auto [before, after] = fleet_page_frame(page_user(c));
+    const Deflated head = deflate_piece(before, false), tail = deflate_piece(after, true);
+    res.set_header("Content-Encoding", "gzip");
+    res.set_header("Vary", "Accept-Encoding");
+    send_uncompressed(res, std::make_shared<const std::string>(gzip_of({&head, view.html_deflated.get(), &tail})),
+                      "text/html; charset=utf-8");
   });
-  add({"GET", "/api/fleet", Role::Viewer, false, true, ""}, [this](const Req&, Res& res, const Context*) {
+  add({"GET", "/api/fleet", Role::Viewer, false, true, ""}, [this](const Req& req, Res& res, const Context*) {
     auto store = pool.lease();
-    send_json(res, fleet_json(*store));
+    const bool gzip = accepts_gzip(req);
+    const FleetView view = fleet_view(*store, gzip, false);
+    if (!gzip) return send_uncompressed(res, view.json, "application/json");
+    res.set_header("Content-Encoding", "gzip");
+    res.set_header("Vary", "Accept-Encoding");
+    send_uncompressed(res, view.json_gzip, "application/json");
   });
   add({"GET", "/machine", Role::Viewer, false, false, "name=M1"}, [this, html](const Req& req, Res& res, const Context* c) {
     auto store = pool.lease();

@@ -187,6 +187,31 @@ assert b2["overdue"] == (b2["calibrations"][0]["age_days"] > 200)
 PY
 "$MTCAL" history list --store "$store" --json >/dev/null  # the store is readable while served
 
+# The server keeps the fleet between requests: writes by other programs on the same store (a
+# command's --record, history import) show on the next fleet page, JSON and HTML.
+curl -b "$jar" -o /dev/null "$base/fleet"
+"$MTCAL" ballbar "$EX/instruments/xy-ballbar.csv" --radius 100 --plane XY --meta machine=CLI1 --meta date=2026-01-07 \
+  --record "$store" >/dev/null 2>"$tmp/err" || bad "ballbar --record into the served store: $(cat "$tmp/err")"
+"$MTCAL" history import "$DATA" --store "$store" --meta machine=B03 --meta date=2026-03-01 --meta axis=X >/dev/null \
+  2>"$tmp/err" || bad "history import into the served store: $(cat "$tmp/err")"
+cli1=$("$MTCAL" history list --store "$store" --machine CLI1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][0]["id"])')
+api "$base/api/fleet" >"$tmp/fleet.json"
+python3 - "$tmp/fleet.json" "$cli1" <<'PY' && ok || bad "the fleet after other programs' writes: $(head -c 600 "$tmp/fleet.json")"
+import json, sys
+f = {m["machine"]: m for m in json.load(open(sys.argv[1]))["machines"]}
+c = f["CLI1"]["calibrations"]
+assert [(x["command"], x["record"], x["count"]) for x in c] == [("ballbar", sys.argv[2], 1)], c
+b3 = f["B03"]["calibrations"]
+assert [(x["last"][:10], x["count"]) for x in b3] == [("2026-03-01", 2)], b3
+PY
+curl -b "$jar" "$base/fleet" >"$tmp/fleet.html"
+grep -q "href=\"/record?id=$cli1\"" "$tmp/fleet.html" && ok || bad "the fleet page lacks the record $cli1 of another program"
+# gzip'd when accepted (a user's header and the kept content joined): gzip -t checks its CRC and length.
+curl -b "$jar" -H 'Accept-Encoding: gzip' -D "$tmp/gz.head" -o "$tmp/fleet.html.gz" "$base/fleet"
+curl -b "$jar" -o "$tmp/fleet.html" "$base/fleet"
+grep -qi '^content-encoding: gzip' "$tmp/gz.head" && gzip -t "$tmp/fleet.html.gz" && gzip -dc "$tmp/fleet.html.gz" | cmp -s - "$tmp/fleet.html" \
+  && ok || bad "the gzip'd fleet page is not the page: $(cat "$tmp/gz.head")"
+
 # Killed with uploads in flight: four confirmed uploads sent at once, SIGKILL while they run.
 # Every record in the store afterwards is whole (its figures are there), the store passes
 # SQLite's integrity check, and the server starts again on it.

@@ -614,6 +614,115 @@ TEST_P(Serve, FleetRanksByTheShareOfToleranceUsed) {
   same_as_history_rank("after a removal and an older record");
 }
 
+// The server keeps the fleet between requests and makes again only the machines whose inputs
+// changed. Requests from several clients at once (httplib's threads) while another program
+// records on the same store: every answer is whole and shows at least the records written
+// before it was sent; afterwards, and after another program's removal, the fleet is the one a
+// server started on the store then makes (ages aside: they count to each server's as_of).
+TEST_P(Serve, KeptFleetFollowsOtherWritersUnderConcurrentRequests) {
+  stop();
+  tolerances_ = {"A_X=10"};
+  start(65536);
+  const Login l = login("vera");
+  constexpr int kWrites = 12;
+  std::atomic<int> written{0};
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    auto other = open_history_store(conn_);  // another program's connection
+    for (int i = 0; i < kWrites; ++i) {
+      other->record(sample("W", "2026-01-" + std::string(i < 9 ? "0" : "") + std::to_string(i + 1), 1.0 + i));
+      ++written;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    done = true;
+  });
+  std::atomic<int> failed{0}, stale{0}, answers{0};
+  std::vector<std::thread> readers;
+  for (int t = 0; t < 4; ++t)
+    readers.emplace_back([&, t] {
+      auto c = client();
+      for (bool last = false; !last;) {
+        last = done.load();
+        const int before = written.load();
+        const bool api = t % 2 == 0;
+        const auto r = c.Get(api ? "/api/fleet" : "/fleet", l.headers());  // gzip'd: httplib's client accepts it
+        if (!r || r->status != 200) {
+          ++failed;
+          continue;
+        }
+        ++answers;
+        if (!api) {
+          if (r->body.find("<p id=\"summary\">") == std::string::npos || r->body.rfind("</html>\n") + 8 != r->body.size())
+            ++failed;
+          continue;
+        }
+        long long shown = 0;
+        const auto fleet = nlohmann::json::parse(r->body);
+        for (const auto& m : fleet["machines"])
+          if (m["machine"] == "W") shown = m["calibrations"][0]["count"].get<long long>();
+        if (shown < before || shown > kWrites) {
+          if (++stale == 1) ADD_FAILURE() << "W shows " << shown << " records, " << before << " were written before";
+        }
+      }
+    });
+  writer.join();
+  for (auto& r : readers) r.join();
+  EXPECT_EQ(failed.load(), 0);
+  EXPECT_EQ(stale.load(), 0);
+  EXPECT_GE(answers.load(), 4);
+  auto c = client();
+  const auto fresh_fleet = [&] {
+    ServerOptions o;
+    o.store = conn_;
+    o.port = 0;
+    o.threads = 1;
+    o.kdf_cost = KdfCost::Minimum;
+    o.tolerances = tolerances_;
+    Server fresh(o);
+    const int port = fresh.bind();
+    std::thread run([&] { fresh.run(); });
+    httplib::Client fc("127.0.0.1", port);
+    fc.set_connection_timeout(5, 0);
+    fc.set_read_timeout(20, 0);
+    const auto r = fc.Get("/api/fleet", l.headers());
+    fresh.stop();
+    run.join();
+    return r ? nlohmann::json::parse(r->body) : nlohmann::json();
+  };
+  const auto without_ages = [](nlohmann::json f) {
+    f.erase("as_of");
+    for (auto& m : f["machines"])
+      for (auto& x : m["calibrations"]) x.erase("age_days");
+    return f;
+  };
+  const auto kept = nlohmann::json::parse(c.Get("/api/fleet", l.headers())->body);
+  EXPECT_EQ(without_ages(kept), without_ages(fresh_fleet()));
+  bool has_w = false;
+  for (const auto& m : kept["machines"])
+    if (m["machine"] == "W") has_w = m["calibrations"][0]["count"] == kWrites;
+  EXPECT_TRUE(has_w) << kept.dump();
+  // Another program removes the only record of the machine named <script>: it leaves the fleet.
+  open_history_store(conn_)->remove(ids_[2]);
+  const auto after = nlohmann::json::parse(c.Get("/api/fleet", l.headers())->body);
+  EXPECT_EQ(without_ages(after), without_ages(fresh_fleet()));
+  EXPECT_EQ(after["machines"].size(), 2u);
+  EXPECT_EQ(c.Get("/fleet", l.headers())->body.find("name=%3Cscript"), std::string::npos);
+  // gzip'd when the client accepts it (httplib's client inflates it): the same page and JSON.
+  for (const char* path : {"/fleet", "/api/fleet"}) {
+    httplib::Headers plain = l.headers(), gzip = l.headers();
+    plain.emplace("Accept-Encoding", "identity");
+    gzip.emplace("Accept-Encoding", "gzip;q=1.0, br;q=0");
+    const auto p = c.Get(path, plain), g = c.Get(path, gzip);
+    ASSERT_TRUE(p && g) << path;
+    EXPECT_EQ(p->get_header_value("Content-Encoding"), "") << path;
+    EXPECT_EQ(g->get_header_value("Content-Encoding"), "gzip") << path;
+    if (std::string(path) == "/fleet")
+      EXPECT_EQ(g->body, p->body);
+    else
+      EXPECT_EQ(without_ages(nlohmann::json::parse(g->body)), without_ages(nlohmann::json::parse(p->body)));
+  }
+}
+
 // Intervals per machine: an admin sets one (an audit row names them), the fleet's overdue
 // follows it, 0 returns to the default; a viewer cannot set one (the route walk checks roles).
 TEST_P(Serve, CalibrationIntervalsPerMachine) {
