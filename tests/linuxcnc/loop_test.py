@@ -17,7 +17,7 @@
 # is missing), a truth far outside the model's reach (identify --require-fit: the fit is poor,
 # with the residual), a kinematics module that does not converge mid-program (LinuxCNC stops the
 # motion; the module's message names the pose), and — in `--case` runs of make test-loop only — a
-# probe that never trips in LinuxCNC (the sphere 20 mm off: LinuxCNC's words, then probe-log's).
+# probe that never trips in LinuxCNC (the sphere 60 mm below: LinuxCNC's words, then probe-log's).
 # Usage (through tests/linuxcnc/run-loop): loop_test.py --mtcal PATH --root ROOT [--case NAME ...] [--keep DIR]
 import argparse
 import json
@@ -147,10 +147,13 @@ def poor_fit(workdir, out, mtcal, root, env):
 
 
 def no_contact(workdir, out, mtcal, root, env):
-    """The sphere 20 mm above where the rough file puts it: LinuxCNC stops at the locating program's
-    first G38.2, loop.sh stops with probe-log --locate's message naming contact 1; no sphere, no plan."""
+    """The sphere 60 mm below where the rough file puts it: LinuxCNC stops at the locating program's
+    first G38.2, loop.sh stops with probe-log --locate's message naming contact 1; no sphere, no plan.
+    (20 mm above, as this case first had it, puts the sphere in the path of the program's moves to
+    the touches: LinuxCNC then stops with "Probe tripped during non-probe move", seen in make
+    test-loop; 60 mm below, every move and touch ends at least 25 mm above the sphere.)"""
     o2 = os.path.join(workdir, "no-contact")
-    e2 = dict(env, OUT=o2, SPHERE_TRUE="120,-80,80")
+    e2 = dict(env, OUT=o2, SPHERE_TRUE="120,-80,0")
     rc, text = run([os.path.join(root, "examples/loop/loop.sh")], e2)
     ok = (rc == 2 and "G38.2 move finished without making contact" in text and "contact 1 is missing" in text
           and "no sphere found within 3 mm" in text and not os.path.exists(os.path.join(o2, "located-sphere.csv"))
