@@ -68,8 +68,8 @@ test-linuxcnc: build
 
 # The closed loop's other cases, nightly-style (not in CI): the RRTTT with a second seed (another
 # sphere position, other random poses) and a probe that never trips in LinuxCNC (the locating
-# program's first touch), and the second machine, the HU40T, location errors only
-# (tests/linuxcnc/run-loop, docs/workflows.md "The closed loop").
+# program's first touch), and the second machine, the HU40T, with its location errors and C's
+# positioning error as a table (tests/linuxcnc/run-loop, docs/workflows.md "The closed loop").
 test-loop: DEPS_FLAGS = --linuxcnc
 test-loop: build
 	tests/linuxcnc/run-loop $(MTCAL) --case rrttt-seed2 --case hu40t-seed1

@@ -26,9 +26,24 @@ import time
 import hal
 import linuxcnc
 
+# Timeouts for an idle machine. On a loaded one they stretch with the load (load_scale()): the sim is
+# not real-time (rtapi_app says "Using POSIX non-realtime"), so every LinuxCNC thread waits its turn.
 STARTUP_TIMEOUT_S = 30.0
 MOVE_TIMEOUT_S = 30.0
 SETTLE_TIMEOUT_S = 2.0
+MAX_LOAD_SCALE = 4.0
+# The end of a program: LinuxCNC's state must say so in this many polls in a row (10 ms apart).
+END_POLLS = 5
+
+
+def load_scale():
+    """How much longer than on an idle machine a timeout waits: the 1-minute load average per core,
+    between 1 and MAX_LOAD_SCALE. Read again at each check, so a load that rises mid-run counts."""
+    try:
+        per_core = os.getloadavg()[0] / (os.cpu_count() or 1)
+    except OSError:
+        return 1.0
+    return min(MAX_LOAD_SCALE, max(1.0, per_core))
 
 
 def fail(msg):
@@ -36,11 +51,49 @@ def fail(msg):
     sys.exit(1)
 
 
-def wait(predicate, timeout, what):
+def names(prefix):
+    """The linuxcnc module's constants of one kind by value: INTERP_IDLE ... for the words below."""
+    return {getattr(linuxcnc, n): n for n in dir(linuxcnc) if n.startswith(prefix) and isinstance(getattr(linuxcnc, n), int)}
+
+
+STATE_NAMES = {"task_state": names("STATE_"), "task_mode": names("MODE_"), "interp_state": names("INTERP_"),
+               "exec_state": names("EXEC_"), "state": names("RCS_")}
+
+
+def state_words(s):
+    """LinuxCNC's own state, from its stat channel and motion's HAL pins: what a timeout reports, so
+    that it says which part stopped (the interpreter waiting, task waiting for motion, motion's queue,
+    the servo thread)."""
+    try:
+        s.poll()
+    except linuxcnc.error as e:
+        return "the stat channel does not answer (%s)" % e
+    words = ["%s %s" % (k, STATE_NAMES[k].get(getattr(s, k), getattr(s, k))) for k in STATE_NAMES]
+    words += ["motion queue %d%s" % (s.queue, " (full)" if s.queue_full else ""), "in position %s" % bool(s.inpos),
+              "line read %d, in motion %d" % (s.read_line, s.motion_line),
+              "probing %s, probe tripped %s" % (bool(s.probing), bool(s.probe_tripped))]
+    # The servo thread: motion.servo.last-period is its last cycle's length (CPU clocks), written each
+    # cycle; unchanged over 0.2 s means the thread did not run.
+    try:
+        periods = set()
+        for _ in range(20):
+            periods.add(hal.get_value("motion.servo.last-period"))
+            time.sleep(0.01)
+        words.append("servo thread %s" % ("running" if len(periods) > 1 else "not running over 0.2 s (motion.servo.last-period unchanged)"))
+    except Exception as e:  # the HAL no longer answers
+        words.append("HAL does not answer (%s)" % e)
+    if os.path.exists("mtcal-contacts.txt"):
+        with open("mtcal-contacts.txt") as f:
+            words.append("%d contacts logged" % sum(1 for line in f if line.strip()))
+    words.append("load %.1f" % os.getloadavg()[0])
+    return "; ".join(words)
+
+
+def wait(predicate, timeout, what, s=None):
     t0 = time.time()
     while not predicate():
-        if time.time() - t0 > timeout:
-            fail("timed out after %.0f s waiting for %s" % (timeout, what))
+        if time.time() - t0 > timeout * load_scale():
+            fail("timed out after %.0f s waiting for %s%s" % (time.time() - t0, what, ": LinuxCNC: " + state_words(s) if s else ""))
         time.sleep(0.005)
 
 
@@ -67,24 +120,33 @@ def run_program(plan, c, s, err, stat):
     c.program_open(path)
     t0 = time.time()
     c.auto(linuxcnc.AUTO_RUN, 0)
-    messages, started = [], False
+    messages, started, ended = [], False, 0
+    timeout = plan.get("timeout", 240)
     while True:
         stat()
         m = err.poll()
         if m:
             messages.append({"kind": m[0], "text": m[1]})
+        # The end, in LinuxCNC's own words: the interpreter idle, task's execution done, motion's
+        # queue empty and the controller in position (RCS_DONE) — END_POLLS times in a row, so that
+        # one moment of task's status between two blocks is not taken for the end.
+        at_rest = (s.interp_state == linuxcnc.INTERP_IDLE and s.exec_state == linuxcnc.EXEC_DONE and s.queue == 0
+                   and s.inpos and s.state == linuxcnc.RCS_DONE)
         if s.interp_state != linuxcnc.INTERP_IDLE:
             started = True
-        elif started and s.exec_state == linuxcnc.EXEC_DONE:
+        ended = ended + 1 if started and at_rest else 0
+        if ended >= END_POLLS or (started and errors_in(messages) and s.interp_state == linuxcnc.INTERP_IDLE):
             break
-        elif not started and (errors_in(messages) or time.time() - t0 > STARTUP_TIMEOUT_S):
+        if not started and errors_in(messages):
+            break
+        if not started and time.time() - t0 > STARTUP_TIMEOUT_S * load_scale():
             # Under load the interpreter can take seconds to leave IDLE after AUTO_RUN: a fixed 2 s
             # here once took a program that had not started for one that had ended.
-            if errors_in(messages):
-                break
-            fail("the program %s did not start within %.0f s" % (path, STARTUP_TIMEOUT_S))
-        if time.time() - t0 > plan.get("timeout", 240):
-            fail("the program %s did not end within %d s" % (path, plan.get("timeout", 240)))
+            fail("the program %s did not start within %.0f s: LinuxCNC: %s" % (path, time.time() - t0, state_words(s)))
+        if time.time() - t0 > timeout * load_scale():
+            fail("the program %s did not end within %.0f s (%d s at load %.1f on %d cores): LinuxCNC: %s%s" % (
+                path, time.time() - t0, timeout, os.getloadavg()[0], os.cpu_count() or 1, state_words(s),
+                "; it said: " + "; ".join(m["text"] for m in messages) if messages else "; it said nothing"))
         time.sleep(0.01)
     seconds = time.time() - t0
     t1 = time.time()
@@ -123,12 +185,12 @@ def main():
     # Up and idle: task in ESTOP, interpreter idle (as LinuxCNC's own tests wait, tests/abort/*).
     wait(lambda: stat().task_state == linuxcnc.STATE_ESTOP and s.exec_state == linuxcnc.EXEC_DONE
          and s.interp_state == linuxcnc.INTERP_IDLE and s.joints == joints,
-         STARTUP_TIMEOUT_S, "LinuxCNC to start")
+         STARTUP_TIMEOUT_S, "LinuxCNC to start", s)
     c.state(linuxcnc.STATE_ESTOP_RESET)
     c.state(linuxcnc.STATE_ON)
     c.wait_complete()
     c.home(-1)  # HOME_SEARCH_VEL = 0: every joint homes where it stands, at 0
-    wait(lambda: all(stat().homed[j] for j in range(joints)), MOVE_TIMEOUT_S, "homing")
+    wait(lambda: all(stat().homed[j] for j in range(joints)), MOVE_TIMEOUT_S, "homing", s)
     c.mode(linuxcnc.MODE_MDI)
     c.wait_complete()
     # Feed and rapid overrides at 100 %, as a GUI sets them. They scale the ramp that brings the
@@ -137,7 +199,7 @@ def main():
     print("driver: overrides at start: feed %.3f, rapid %.3f" % (stat().feedrate, s.rapidrate), flush=True)
     c.feedrate(1.0)
     c.rapidrate(1.0)
-    wait(lambda: stat().feedrate == 1.0 and s.rapidrate == 1.0, STARTUP_TIMEOUT_S, "feed and rapid overrides at 100 %")
+    wait(lambda: stat().feedrate == 1.0 and s.rapidrate == 1.0, STARTUP_TIMEOUT_S, "feed and rapid overrides at 100 %", s)
 
     result = {"readings": []}
     if "program" in plan:
@@ -169,10 +231,10 @@ def main():
         # MDI lines before the move (a tool change, G43, G49), each run to its end.
         for line in move.get("before", []):
             c.mdi(line)
-            if c.wait_complete(MOVE_TIMEOUT_S) == -1:
-                fail("MDI %r before move %d did not complete" % (line, k))
+            if c.wait_complete(MOVE_TIMEOUT_S * load_scale()) == -1:
+                fail("MDI %r before move %d did not complete: LinuxCNC: %s" % (line, k, state_words(s)))
             wait(lambda: stat().exec_state == linuxcnc.EXEC_DONE and s.interp_state == linuxcnc.INTERP_IDLE,
-                 MOVE_TIMEOUT_S, "MDI %r to end" % line)
+                 MOVE_TIMEOUT_S, "MDI %r to end" % line, s)
             msg = err.poll()
             if msg:
                 fail("LinuxCNC error after MDI %r: %s" % (line, msg[1]))
@@ -180,16 +242,17 @@ def main():
         # (program coordinates: G54, which these configurations leave at 0, plus the tool offset).
         words = " ".join("%s%.9f" % (letter, move["target"][i]) for i, letter in enumerate(letters))
         c.mdi("%s %s F%.0f" % (move.get("motion", "G53 G1"), words, plan["feed"]))
-        if c.wait_complete(MOVE_TIMEOUT_S) == -1:
+        if c.wait_complete(MOVE_TIMEOUT_S * load_scale()) == -1:
             said = []
             for _ in range(20):  # what LinuxCNC said, if anything (a joint limit, a kinematics failure)
                 msg = err.poll()
                 if msg:
                     said.append(msg[1])
                 time.sleep(0.01)
-            fail("move %d (%s) did not complete within %.0f s%s" % (k, words, MOVE_TIMEOUT_S,
-                                                                  ": LinuxCNC: " + "; ".join(said) if said else " (LinuxCNC said nothing)"))
-        wait(lambda: stat().inpos and s.exec_state == linuxcnc.EXEC_DONE, MOVE_TIMEOUT_S, "move %d in position" % k)
+            fail("move %d (%s) did not complete within %.0f s%s; LinuxCNC's state: %s" % (
+                k, words, MOVE_TIMEOUT_S * load_scale(), ": LinuxCNC: " + "; ".join(said) if said else " (LinuxCNC said nothing)",
+                state_words(s)))
+        wait(lambda: stat().inpos and s.exec_state == linuxcnc.EXEC_DONE, MOVE_TIMEOUT_S, "move %d in position" % k, s)
         msg = err.poll()
         if msg:
             fail("LinuxCNC error after move %d (%s): %s" % (k, words, msg[1]))
@@ -212,8 +275,8 @@ def main():
             after = snapshot(joints)
             if before == after and all(g("joint.%d.vel-cmd" % j) == 0.0 for j in range(joints)):
                 break
-            if time.time() - t0 > MOVE_TIMEOUT_S:
-                fail("joints still moving %.0f s after move %d" % (MOVE_TIMEOUT_S, k))
+            if time.time() - t0 > MOVE_TIMEOUT_S * load_scale():
+                fail("joints still moving %.0f s after move %d: LinuxCNC: %s" % (time.time() - t0, k, state_words(s)))
         r = {"label": move.get("label", ""), "target": move["target"], "joints": after,
              "seconds": time.time() - t_moves}  # since the first move: what each part of a run costs
         stat()

@@ -310,7 +310,25 @@ def write_config(cfg, case, coordinates, kinematics, joint_limits, axis_limits, 
     open(os.path.join(cfg, "sim.var"), "w").close()
 
 
-def run_linuxcnc(cfg, plan):
+def raise_priority(increment):
+    """preexec_fn of LinuxCNC's start: nice(increment) (negative: a higher CPU priority) for the
+    linuxcnc script and everything it starts (rtapi_app, which runs motion's servo thread, task, io, the
+    driver inherit it). A process that may not raise its priority (no CAP_SYS_NICE) runs as it is:
+    its log then says so."""
+    def apply():
+        try:
+            os.nice(increment)
+        except OSError as e:
+            # fd 2 is LinuxCNC's log here (the child, after its redirections, before exec)
+            os.write(2, ("lcnc_test: could not change the priority by %d (%s): LinuxCNC runs at the default priority\n"
+                         % (increment, e)).encode())
+    return apply
+
+
+def run_linuxcnc(cfg, plan, nice=0, timeout=LINUXCNC_TIMEOUT_S):
+    """One LinuxCNC run of the sim configuration in cfg, driven by driver.py through plan. nice: the
+    priority change for the whole run (0: none; examples/loop/lcnc-sim uses it, docs/workflows.md
+    "Under load"); timeout: seconds before LinuxCNC is stopped."""
     with open(os.path.join(cfg, "plan.json"), "w") as f:
         json.dump(plan, f)
     env = dict(os.environ)
@@ -327,10 +345,11 @@ def run_linuxcnc(cfg, plan):
     try:
         with open(log, "w") as out:
             p = subprocess.run(["linuxcnc", "-r", os.path.join(cfg, "test.ini")], cwd=cfg, env=env, stdin=subprocess.DEVNULL,
-                               stdout=out, stderr=subprocess.STDOUT, timeout=LINUXCNC_TIMEOUT_S)
+                               stdout=out, stderr=subprocess.STDOUT, timeout=timeout,
+                               preexec_fn=raise_priority(nice) if nice else None)
         rc = p.returncode
     except subprocess.TimeoutExpired:
-        rc = "timeout after %d s" % LINUXCNC_TIMEOUT_S
+        rc = "timeout after %d s" % timeout
     finally:
         shutil.rmtree(fifo_dir, ignore_errors=True)
     seconds = time.time() - t0

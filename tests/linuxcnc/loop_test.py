@@ -17,7 +17,7 @@
 # is missing), a truth far outside the model's reach (identify --require-fit: the fit is poor,
 # with the residual), a kinematics module that does not converge mid-program (LinuxCNC stops the
 # motion; the module's message names the pose), and — in `--case` runs of make test-loop only — a
-# probe that never trips in LinuxCNC (the sphere 20 mm off: LinuxCNC's words, then probe-log's).
+# probe that never trips in LinuxCNC (the sphere 60 mm below: LinuxCNC's words, then probe-log's).
 # Usage (through tests/linuxcnc/run-loop): loop_test.py --mtcal PATH --root ROOT [--case NAME ...] [--keep DIR]
 import argparse
 import json
@@ -30,16 +30,20 @@ import tempfile
 import time
 
 CASES = {
-    # make test-linuxcnc: the RRTTT, seed 1.
     # make test-linuxcnc: the RRTTT, seed 1 (loop.sh's defaults: the sphere 1.8 mm from the rough
     # position, ECC drawn as a 5-point table).
     "rrttt-seed1": {"env": {"SEED": "1"}, "sphere": "121.2,-78.9,60.7", "faults": ["cut-log", "poor-fit", "no-converge"]},
     # make test-loop (nightly): a second seed and sphere position, and the probe that never trips.
     "rrttt-seed2": {"env": {"SEED": "2", "SPHERE_TRUE": "118.6,-81.3,59.2"}, "sphere": "118.6,-81.3,59.2",
                     "faults": ["no-contact"]},
-    # make test-loop: the second machine, the horizontal HU40T (pallet C on table B); location errors only.
+    # make test-loop: the second machine, the horizontal HU40T (pallet C on table B): its location errors
+    # and, as on the RRTTT, C's positioning error as a 5-point table (loop.sh's TABLE). C's travel is
+    # -360..360, so the nodes are -360, -180, 0, 180, 360; plan's candidate poses turn C within
+    # -180..180 (and the random poses within -170..170), so the values at +-360 have no effect on what
+    # is measured (plan says so) and are not estimated: ECC.f1 and ECC.f3 are (the drawn curve is zero
+    # at +-360 as at 0).
     "hu40t-seed1": {"env": {"SEED": "1", "MACHINE": "@/examples/loop/hu40t-nominal.yaml",
-                            "ROUGH": "@/examples/loop/hu40t-sphere.csv", "TABLE": "", "TABLE_ESTIMATE": "",
+                            "ROUGH": "@/examples/loop/hu40t-sphere.csv", "TABLE_ESTIMATE": "ECC.f1,ECC.f3",
                             "ESTIMATE": "EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B", "SPHERE_TRUE": "161.3,158.8,178.5"},
                     "sphere": "161.3,158.8,178.5", "faults": []},
 }
@@ -143,10 +147,13 @@ def poor_fit(workdir, out, mtcal, root, env):
 
 
 def no_contact(workdir, out, mtcal, root, env):
-    """The sphere 20 mm above where the rough file puts it: LinuxCNC stops at the locating program's
-    first G38.2, loop.sh stops with probe-log --locate's message naming contact 1; no sphere, no plan."""
+    """The sphere 60 mm below where the rough file puts it: LinuxCNC stops at the locating program's
+    first G38.2, loop.sh stops with probe-log --locate's message naming contact 1; no sphere, no plan.
+    (20 mm above, as this case first had it, puts the sphere in the path of the program's moves to
+    the touches: LinuxCNC then stops with "Probe tripped during non-probe move", seen in make
+    test-loop; 60 mm below, every move and touch ends at least 25 mm above the sphere.)"""
     o2 = os.path.join(workdir, "no-contact")
-    e2 = dict(env, OUT=o2, SPHERE_TRUE="120,-80,80")
+    e2 = dict(env, OUT=o2, SPHERE_TRUE="120,-80,0")
     rc, text = run([os.path.join(root, "examples/loop/loop.sh")], e2)
     ok = (rc == 2 and "G38.2 move finished without making contact" in text and "contact 1 is missing" in text
           and "no sphere found within 3 mm" in text and not os.path.exists(os.path.join(o2, "located-sphere.csv"))
