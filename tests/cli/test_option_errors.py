@@ -366,6 +366,7 @@ if MODE == "--check":
         with open(os.path.join(SETUP_DIR, "cases.json")) as f:
             cases = json.load(f)
     except OSError as e:
+        shutil.rmtree(work, ignore_errors=True)
         sys.exit(f"FAIL: no case list ({e}): the test option_errors_cli_setup writes it "
                  f"(test_option_errors.py --setup {SETUP_DIR})")
 else:
