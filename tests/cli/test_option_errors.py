@@ -22,13 +22,25 @@ contains the option's name or the whole bad value (a file name), and names no ot
 the command unless it names this one too; nothing is left in the working folder.
 
 Needs MTCAL and EXAMPLES. Prints one line per failure and a summary; exit 1 on any failure.
+
+Three ways to run it (about 1,100 mtcal runs in all):
+  test_option_errors.py              makes the fixtures in a temporary folder and checks every case;
+  test_option_errors.py --setup DIR  makes the fixtures in DIR, reads every --help, runs every base
+                                     invocation and writes the cases to DIR/cases.json (ctest
+                                     option_errors_cli_setup, the fixture of the shards);
+  test_option_errors.py --check DIR  checks the cases of DIR/cases.json.
+With MTCAL_TEST_SHARD=K/N a run checks every N-th case from the K-th on, in one fixed order, so that
+N shards (ctest option_errors_cli_KofN) check every case exactly once; the fixtures, the help texts
+and the base invocations are made and run once, by the setup, not once per shard.
 """
+import json
 import os
 import re
 import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 MTCAL = os.environ["MTCAL"]
 E = os.environ["EXAMPLES"]
@@ -40,49 +52,60 @@ EST = "EC0Y,EB0Z,EA0Z,EX0C,EY0C,EA0C,EB0C,EX0B,EZ0B,EA0B,EC0B,EXX.1,EYY.1,EZZ.1"
 P = f"{E}/prediction"
 GRID = "X=-400:400:5,Y=-250:250:5,Z=-500:0:5"
 
-fix = tempfile.mkdtemp(prefix="mtcal-opt-fix-")
+MODE, SETUP_DIR = (sys.argv[1], sys.argv[2]) if len(sys.argv) == 3 else (None, None)
+if MODE not in (None, "--setup", "--check") or (MODE is None) != (len(sys.argv) == 1):
+    sys.exit("usage: test_option_errors.py [--setup DIR | --check DIR]")
+if MODE is None:
+    fix = tempfile.mkdtemp(prefix="mtcal-opt-fix-")
+else:
+    fix = os.path.join(os.path.abspath(SETUP_DIR), "fix")
 work = tempfile.mkdtemp(prefix="mtcal-opt-work-")
-
-# A path no command can read or make: its parent is a regular file.
-with open(f"{fix}/notadir", "w") as f:
-    f.write("a regular file\n")
 BAD_PATH = f"{fix}/notadir/b@d"
 
-# Inputs the commands read that examples/ does not have, made by mtcal itself.
-with open(f"{fix}/points.csv", "w") as f:
-    f.write("X,Y,Z\n0,0,0\n100,50,-20\n")
-for args in (
-    ["probe-sim", "-m", M5, "--axis", "C", "--angles", "0:350:36", "--noise", "0.001", "--out", f"{fix}/contacts.csv"],
-    ["simulate", "-m", M5, "--plan", PLAN, "--artefact-error-um", "50", "--scale-bar", "1:2:304.8", "--out",
-     f"{fix}/meas.csv"],
-    ["ballbar", "--predict", "-m", M3, "--plane", "XY", "--radius", "100", "--centre", "Z=-200", "--out",
-     f"{fix}/trace.csv"],
-):
-    subprocess.run([MTCAL, *args], check=True, stdout=subprocess.DEVNULL)
 
-# A drawn truth and what identify printed, for campaign (docs/campaign.md).
-subprocess.run([MTCAL, "errors", "-m", M5, "--draw", "3", "--draw-only", "EX0C,EY0C", "--out", f"{fix}/truth.yaml"],
-               check=True, stdout=subprocess.DEVNULL)
-with open(f"{fix}/id.json", "w") as f:
-    subprocess.run([MTCAL, "identify", "-m", M5, "--measurements", f"{fix}/meas.csv", "--estimate", EST,
-                    "--scale-bar", "1:2:304.8", "--json"], check=True, stdout=f)
+def make_fixtures():
+    """The files the base invocations read, in fix."""
+    # A path no command can read or make: its parent is a regular file.
+    with open(f"{fix}/notadir", "w") as f:
+        f.write("a regular file\n")
 
-# A probing plan and its program (mtcal plan), and a probe log in LinuxCNC's form made from the
-# program: each G38.2 move's end, the rotary axes where the program left them. Those points lie on
-# a sphere about each ball (its radius plus the overshoot), so probe-log reads and fits them.
-subprocess.run([MTCAL, "plan", "-m", MR, "--artefact", f"{E}/plans/rrttt-viprey-sphere.csv", "--estimate",
-                "EY0C,EZ0A", "--poses", "12", "--out", f"{fix}/plan.csv", "--gcode", f"{fix}/probe.ngc"],
-               check=True, stdout=subprocess.DEVNULL)
-_at, _log = dict.fromkeys("XYZABC", 0.0), []
-for _line in open(f"{fix}/probe.ngc"):
-    _line = _line.split("(")[0].strip()
-    _words = {m.group(1): float(m.group(2)) for m in re.finditer(r"([XYZABC])(-?[\d.]+)", _line)}
-    if _line.startswith("G38.2"):
-        _p = {**_at, **_words}
-        _log.append(" ".join(f"{_p[a]:.6f}" for a in "XYZABC") + " 0 0 0")
-    _at.update(_words)
-with open(f"{fix}/probe-log.txt", "w") as f:
-    f.write("\n".join(_log) + "\n")
+    # Inputs the commands read that examples/ does not have, made by mtcal itself.
+    with open(f"{fix}/points.csv", "w") as f:
+        f.write("X,Y,Z\n0,0,0\n100,50,-20\n")
+    for args in (
+        ["probe-sim", "-m", M5, "--axis", "C", "--angles", "0:350:36", "--noise", "0.001", "--out",
+         f"{fix}/contacts.csv"],
+        ["simulate", "-m", M5, "--plan", PLAN, "--artefact-error-um", "50", "--scale-bar", "1:2:304.8", "--out",
+         f"{fix}/meas.csv"],
+        ["ballbar", "--predict", "-m", M3, "--plane", "XY", "--radius", "100", "--centre", "Z=-200", "--out",
+         f"{fix}/trace.csv"],
+    ):
+        subprocess.run([MTCAL, *args], check=True, stdout=subprocess.DEVNULL)
+
+    # A drawn truth and what identify printed, for campaign (docs/campaign.md).
+    subprocess.run([MTCAL, "errors", "-m", M5, "--draw", "3", "--draw-only", "EX0C,EY0C", "--out",
+                    f"{fix}/truth.yaml"], check=True, stdout=subprocess.DEVNULL)
+    with open(f"{fix}/id.json", "w") as f:
+        subprocess.run([MTCAL, "identify", "-m", M5, "--measurements", f"{fix}/meas.csv", "--estimate", EST,
+                        "--scale-bar", "1:2:304.8", "--json"], check=True, stdout=f)
+
+    # A probing plan and its program (mtcal plan), and a probe log in LinuxCNC's form made from the
+    # program: each G38.2 move's end, the rotary axes where the program left them. Those points lie on
+    # a sphere about each ball (its radius plus the overshoot), so probe-log reads and fits them.
+    subprocess.run([MTCAL, "plan", "-m", MR, "--artefact", f"{E}/plans/rrttt-viprey-sphere.csv", "--estimate",
+                    "EY0C,EZ0A", "--poses", "12", "--out", f"{fix}/plan.csv", "--gcode", f"{fix}/probe.ngc"],
+                   check=True, stdout=subprocess.DEVNULL)
+    at, log = dict.fromkeys("XYZABC", 0.0), []
+    for line in open(f"{fix}/probe.ngc"):
+        line = line.split("(")[0].strip()
+        words = {m.group(1): float(m.group(2)) for m in re.finditer(r"([XYZABC])(-?[\d.]+)", line)}
+        if line.startswith("G38.2"):
+            p = {**at, **words}
+            log.append(" ".join(f"{p[a]:.6f}" for a in "XYZABC") + " 0 0 0")
+        at.update(words)
+    with open(f"{fix}/probe-log.txt", "w") as f:
+        f.write("\n".join(log) + "\n")
+
 
 # serve --add-user reads the new user's password from here.
 os.environ["MTCAL_PASSWORD"] = "a-long-enough-test-password"
@@ -294,64 +317,93 @@ def cases_of(cmd, options, bases):
     return out
 
 
-# MTCAL_TEST_SHARD=K/N (ctest runs option_errors_cli_1of4 ... in parallel): this run checks every
-# N-th case from the K-th on, over all commands in one fixed order, so the N shards together check
-# every case exactly once. Without it, one run checks all.
-_shard = os.environ.get("MTCAL_TEST_SHARD", "1/1")
-SHARD_K, SHARD_N = (int(x) for x in _shard.split("/"))
-assert 1 <= SHARD_K <= SHARD_N, f"MTCAL_TEST_SHARD={_shard}: expected K/N with 1 <= K <= N"
-case_counter = 0
-
-
-def mine():
-    """Whether the next case (in the fixed order) belongs to this shard."""
-    global case_counter
-    case_counter += 1
-    return (case_counter - 1) % SHARD_N == SHARD_K - 1
-
-
-def run_command(cmd, options, prefix=()):
-    if cmd not in BASES:
-        if SHARD_K == 1:
+def all_cases():
+    """Every case of every command, in one fixed order: [cmd, name, value, must_fail, argv, other options].
+    Reads the commands and their options from --help; a command without a base invocation is a failure."""
+    out = []
+    cmds, global_options = commands()
+    for cmd in cmds:
+        text = help_text(cmd)
+        for line in text.splitlines():
+            m = re.match(r"^  (-\w),(--[\w-]+)", line)
+            if m:
+                short_names[(cmd, m.group(2))] = (m.group(1),)
+            m = re.match(r"^  (--[\w-]+)\s{2,}", line)
+            if m:
+                flags.setdefault(cmd, set()).add(m.group(1))
+        if cmd not in BASES:
             failed.append(f"{cmd}: no base invocation in tests/cli/test_option_errors.py (add one)")
-        return
-    bases = BASES[cmd]
-    cases = [c for c in cases_of(cmd, options, bases) if mine()]
-    if not cases:
-        return
-    # The base invocations must work, or every case would fail for the wrong reason.
-    for b in bases:
-        r = subprocess.run([MTCAL, *prefix, cmd, *b], cwd=work, capture_output=True, text=True, timeout=300)
-        if r.returncode != 0:
-            failed.append(f"{cmd}: the base invocation fails: {r.stderr.strip()[:300]}")
-            return
-    others = [n for n, _ in options if n.startswith("--")]
-    for name, value, must_fail, argv in cases:
-        check(cmd, name, value, must_fail, [*prefix, *argv], others)
+            continue
+        options = parse_help(text)
+        others = [n for n, _ in options if n.startswith("--")]
+        out += [[cmd, name, value, must_fail, argv, others]
+                for name, value, must_fail, argv in cases_of(cmd, options, BASES[cmd])]
+    # The global options (limits, --max-input-size), given before the command's name.
+    for name, kind in global_options:
+        for value, must_fail in bad_values(kind, None):
+            out.append(["mtcal", name, value, must_fail, [f"{name}={value}", "errors", "-m", M3],
+                        [n for n, _ in global_options]])
+    return out
+
+
+def broken_bases(cmds):
+    """The base invocations must work, or every case would fail for the wrong reason: the commands
+    whose base invocation fails (each a failure)."""
+    broken = set()
+    for cmd in cmds:
+        for b in BASES[cmd]:
+            r = subprocess.run([MTCAL, cmd, *b], cwd=work, capture_output=True, text=True, timeout=300)
+            if r.returncode != 0:
+                failed.append(f"{cmd}: the base invocation fails: {r.stderr.strip()[:300]}")
+                broken.add(cmd)
+                break
+    return broken
 
 
 short_names, flags = {}, {}
-cmds, global_options = commands()
-for cmd in cmds:
-    text = help_text(cmd)
-    for line in text.splitlines():
-        m = re.match(r"^  (-\w),(--[\w-]+)", line)
-        if m:
-            short_names[(cmd, m.group(2))] = (m.group(1),)
-        m = re.match(r"^  (--[\w-]+)\s{2,}", line)
-        if m:
-            flags.setdefault(cmd, set()).add(m.group(1))
-    run_command(cmd, parse_help(text))
-# The global options (limits, --max-input-size), given before the command's name.
-for name, kind in global_options:
-    for value, must_fail in bad_values(kind, None):
-        if mine():
-            check("mtcal", name, value, must_fail, [f"{name}={value}", "errors", "-m", M3],
-                  [n for n, _ in global_options])
+if MODE == "--check":
+    try:
+        with open(os.path.join(SETUP_DIR, "cases.json")) as f:
+            cases = json.load(f)
+    except OSError as e:
+        shutil.rmtree(work, ignore_errors=True)
+        sys.exit(f"FAIL: no case list ({e}): the test option_errors_cli_setup writes it "
+                 f"(test_option_errors.py --setup {SETUP_DIR})")
+else:
+    if MODE == "--setup":
+        shutil.rmtree(SETUP_DIR, ignore_errors=True)
+        os.makedirs(fix)
+    make_fixtures()
+    cases = all_cases()
+    broken = broken_bases(sorted({c[0] for c in cases if c[0] in BASES}))
+    cases = [c for c in cases if c[0] not in broken]
+    if MODE == "--setup":
+        with open(os.path.join(SETUP_DIR, "cases.json"), "w") as f:
+            json.dump(cases, f)
+        for f in failed:
+            print("FAIL:", f)
+        print(f"{len(cases)} cases written to {SETUP_DIR}/cases.json; the fixtures and every base invocation made: "
+              f"{len(failed)} failed")
+        shutil.rmtree(work, ignore_errors=True)
+        sys.exit(1 if failed else 0)
+
+# MTCAL_TEST_SHARD=K/N (ctest runs option_errors_cli_1of4 ... in parallel): this run checks every
+# N-th case from the K-th on, in the fixed order, so the N shards together check every case exactly
+# once. Without it, one run checks all.
+_shard = os.environ.get("MTCAL_TEST_SHARD", "1/1")
+SHARD_K, SHARD_N = (int(x) for x in _shard.split("/"))
+assert 1 <= SHARD_K <= SHARD_N, f"MTCAL_TEST_SHARD={_shard}: expected K/N with 1 <= K <= N"
+slowest = []
+for cmd, name, value, must_fail, argv, others in cases[SHARD_K - 1::SHARD_N]:
+    start = time.monotonic()
+    check(cmd, name, value, must_fail, argv, others)
+    slowest.append((time.monotonic() - start, f"{cmd} {name}={value!r}"))
 
 for f in failed:
     print("FAIL:", f)
-print(f"{passed} passed, {len(failed)} failed (shard {SHARD_K} of {SHARD_N}: {case_counter} cases in all)")
-shutil.rmtree(fix, ignore_errors=True)
+print("slowest cases:", "; ".join(f"{what} {s:.2f} s" for s, what in sorted(slowest, reverse=True)[:5]))
+print(f"{passed} passed, {len(failed)} failed (shard {SHARD_K} of {SHARD_N}: {len(cases)} cases in all)")
+if MODE is None:
+    shutil.rmtree(fix, ignore_errors=True)
 shutil.rmtree(work, ignore_errors=True)
 sys.exit(1 if failed else 0)
