@@ -792,7 +792,7 @@ TEST(HistoryJsonl, BadInputIsRefusedWithFileAndLine) {
       {R"({"type":"recording"})", "expected \"record\", \"event\" or \"model_file\", found 'recording'"},
       {R"({"type":"model_file","sha256":"00","kind":"machine","content":"x"})", "expected the SHA-256 of its content"},
       {R"({"type":"model_file","sha256":"2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881","kind":"plan","content":"x"})",
-       "expected the kind machine or parameters, found 'plan'"},
+       "expected the kind machine, parameters or measurements, found 'plan'"},
       {R"({"type":"model_file","sha256":"2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881","kind":"machine"})",
        "expected the key 'content'"},
       {with(R"("machine_name":"M1",)", ""), "expected the key 'machine_name'"},
