@@ -25,6 +25,7 @@
 #include "mtcal/io/instruments/laser_files.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/report/evaluation.hpp"
+#include "mtcal/report/recorded.hpp"
 #include "mtcal/util/errors.hpp"
 
 namespace mtcal::cli {
@@ -56,6 +57,9 @@ int run_iso230_2(const Iso2302Options& o) {
   const Tolerances limits = tolerances_for(o.tol, AcceptanceTest::Iso230_2, axis ? *axis : "");
   const ToleranceVerdict verdict = limits.empty() ? ToleranceVerdict{} : checked_verdict(tolerance_values(e), limits);
   if (!o.report.empty()) write_positioning_report(o.report, command_line(), runs, e, verdict);
+  if (recording())
+    note_report_source(o.file, positioning_invocation(command_line(), o.file, o.format, o.unit, o.target_unit, o.wrap,
+                                                      verdict, session_metadata()));
   // After the work: a failure is one line on stderr, never warnings and then an error.
   for (const auto& w : runs.warnings) std::cerr << "mtcal: warning: " << w << "\n";
   if (o.tol.given() && limits.empty())
@@ -218,6 +222,9 @@ int run_ballbar(const BallbarCliOptions& o) {
   }
   if (!o.report.empty())
     write_ballbar_report(o.report, command_line(), t, e, diagnosis, o.plane, o.radius, o.feed, verdict);
+  if (recording())
+    note_report_source(o.trace, ballbar_invocation(command_line(), o.trace, o.plane, o.radius, o.feed, o.overshoot_start,
+                                                   o.overshoot_stop, o.direction, verdict, session_metadata()));
   warn_missing_metadata(AcceptanceTest::Iso230_4, !o.report.empty() || o.tol.given());
   if (o.json_out || recording()) {
     Json j = to_json(e, diagnosis, o.plane, o.radius, o.feed);

@@ -27,6 +27,8 @@ struct RecordState {
   std::optional<Json> result;
   std::vector<std::string> inputs;
   std::vector<std::pair<std::string, std::string>> model_files;  // kind, path
+  std::string measurements;                                      // the report's measurement file
+  std::optional<Json> invocation;
   std::string machine;
   std::unique_ptr<HistoryStore> open;
   std::string open_name;
@@ -108,6 +110,12 @@ void note_model_files(const std::string& machine, const std::vector<std::string>
     if (!p.empty() && p != "-") files.emplace_back("parameters", p);
 }
 
+void note_report_source(const std::string& measurements, Json invocation) {
+  if (measurements.empty() || measurements == "-") return;  // standard input: nothing to keep
+  state().measurements = measurements;
+  state().invocation = std::move(invocation);
+}
+
 void note_machine(const std::string& name) {
   if (state().machine.empty()) state().machine = name;
 }
@@ -168,6 +176,17 @@ std::optional<std::string> record_result(const std::string& command) {
       continue;
     }
     files.push_back(std::move(*file));
+  }
+  // The measurements and options its report is made from again (docs/history.md, "Measurement
+  // files"); without them (not UTF-8 text) the record holds no invocation.
+  if (!s.measurements.empty() && s.invocation) {
+    if (auto file = read_model_file("measurements", s.measurements)) {
+      files.push_back(std::move(*file));
+      r.invocation = json_text(*s.invocation);
+    } else {
+      warn("the measurement file '" + printable(s.measurements) +
+           "' is not UTF-8 text: it is not kept in the history store, and the record's report cannot be made from it");
+    }
   }
   if (!s.open) s.open = open_cli_store(s.store);
   std::vector<std::size_t> skipped;

@@ -28,6 +28,10 @@ void note_machine(const std::string& name);
 // The machine file and parameter files (-m, --params) the model was loaded from (load()): their
 // text is stored with the recorded result (schema version 5), once per content.
 void note_model_files(const std::string& machine, const std::vector<std::string>& params);
+// The measurement file a command's report is drawn from and how the command ran (its options
+// as {"command_line", "options", "report_metadata"}): stored with the recorded result (schema
+// version 6), so that the report can be made again from the store (report/recorded.hpp).
+void note_report_source(const std::string& measurements, Json invocation);
 
 // Before the command runs, when recording: checks the --record value and opens the store
 // (created or migrated), so that a bad store fails first, as one line, before any work.

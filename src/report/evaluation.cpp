@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "mtcal/io/system/files.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/units.hpp"
 
@@ -159,12 +160,13 @@ std::vector<TableBlock> positioning_target_table(const PositioningRuns& runs, co
   return blocks;
 }
 
-void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
-                              const PositioningEvaluation& e, const ToleranceVerdict& verdict) {
+Report positioning_report(const std::string& command, const PositioningRuns& runs, const std::string& runs_sha256,
+                          const PositioningEvaluation& e, const ToleranceVerdict& verdict, const ReportMetadata& metadata) {
   const auto target_unit = find_unit(e.target_unit.empty() ? e.unit : e.target_unit);
   const bool rotary = target_unit && target_unit->dimension == Dimension::Angle;
   Report r(rotary ? "ISO 230-2 positioning of a rotary axis" : "ISO 230-2 positioning of a linear axis", command);
-  r.add_input("measurements", runs.source);
+  r.set_metadata(metadata);
+  r.add_input("measurements", runs.source, runs_sha256);
   r.set_verdict(verdict);
   const PositioningDisplay shown = positioning_display(runs, e);
   const std::string u = shown.unit;
@@ -365,15 +367,24 @@ void write_positioning_report(const std::string& path, const std::string& comman
     for (const auto& [key, value] : runs.metadata) meta.push_back({key, value});
     r.add_table("What the file says beside the runs", {"key", "value"}, meta);
   }
-  r.write(path);
+  return r;
 }
 
-void write_ballbar_report(const std::string& path, const std::string& command, const BallbarTrace& trace,
-                          const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis,
-                          const std::string& plane, double radius, double feed, const ToleranceVerdict& verdict) {
+void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
+                              const PositioningEvaluation& e, const ToleranceVerdict& verdict) {
+  positioning_report(command, runs, sha256_hex(read_text_file(runs.source, "measurements")), e, verdict,
+                     session_metadata())
+      .write(path);
+}
+
+Report ballbar_report(const std::string& command, const BallbarTrace& trace, const std::string& trace_sha256,
+                      const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis,
+                      const std::string& plane, double radius, double feed, const ToleranceVerdict& verdict,
+                      const ReportMetadata& metadata) {
   const std::vector<TracePoint>& t = trace.points;
   Report r("ISO 230-4 circular test, plane " + plane, command);
-  r.add_input("trace", trace.source);
+  r.set_metadata(metadata);
+  r.add_input("trace", trace.source, trace_sha256);
   r.set_verdict(verdict);
   const ReportMetadata& meta = r.metadata();
   for (const auto& w : missing_acceptance_fields(meta, AcceptanceTest::Iso230_4))
@@ -464,7 +475,15 @@ void write_ballbar_report(const std::string& path, const std::string& command, c
                 {"layout", {{"yaxis", {{"title", {{"text", "%"}}}}}}}});
     r.add_table("Diagnostic terms", {"term", "value", "standard uncertainty", "unit", "share (%)"}, drows);
   }
-  r.write(path);
+  return r;
+}
+
+void write_ballbar_report(const std::string& path, const std::string& command, const BallbarTrace& trace,
+                          const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis,
+                          const std::string& plane, double radius, double feed, const ToleranceVerdict& verdict) {
+  ballbar_report(command, trace, sha256_hex(read_text_file(trace.source, "trace")), e, diagnosis, plane, radius, feed,
+                 verdict, session_metadata())
+      .write(path);
 }
 
 void write_comparison_report(const std::string& path, const std::string& command, const MethodComparison& c) {

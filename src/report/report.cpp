@@ -79,7 +79,11 @@ void Report::set_machine(const Machine& m) {
 }
 
 void Report::add_input(const std::string& label, const std::string& path) {
-  inputs_.emplace_back(label, path + "  (SHA-256 " + sha256_hex(read_text_file(path, label)) + ")");
+  add_input(label, path, sha256_hex(read_text_file(path, label)));
+}
+
+void Report::add_input(const std::string& label, const std::string& path, const std::string& sha256) {
+  inputs_.emplace_back(label, path + "  (SHA-256 " + sha256 + ")");
 }
 
 void Report::add_figure(const std::string& label, const std::string& value, const std::string& unit) {
@@ -349,14 +353,18 @@ std::vector<std::string> plot_image_paths(const std::string& report_path, const 
   return paths;
 }
 
-void Report::write(const std::string& path) const {
+std::string Report::date_now() {
   std::time_t t = std::time(nullptr);
   if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) t = static_cast<std::time_t>(std::strtoll(e, nullptr, 10));
   std::tm tm{};
   gmtime_r(&t, &tm);
   char buf[64];
   std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
-  const std::string text = html(buf);
+  return buf;
+}
+
+void Report::write(const std::string& path) const {
+  const std::string text = html(date_now());
   write_file_atomically(path, text);
   const StaticCopies& copies = static_copies();
   if (copies.empty()) return;

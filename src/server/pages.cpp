@@ -241,7 +241,7 @@ std::string machine_page(const PageUser& u, const Json& m, const Json& trends) {
 }
 
 std::string record_page(const PageUser& u, const CalibrationRecord& r, const std::vector<AuditEntry>& audit,
-                        const std::map<std::string, std::string>& model_kinds) {
+                        const std::map<std::string, std::string>& model_kinds, const std::string& report_missing) {
   std::string b = "<table class=\"meta\"><tr><th>Machine</th><td><a href=\"/machine?name=" +
                   h(url_encode(r.machine_name)) + "\">" + h(r.machine_name) + "</a></td></tr><tr><th>Test</th><td>" +
                   h(r.command) + "</td></tr><tr><th>Measured</th><td>" + h(r.measured_at) +
@@ -249,11 +249,9 @@ std::string record_page(const PageUser& u, const CalibrationRecord& r, const std
   for (const auto& a : audit) b += "<tr><th>Recorded by</th><td>" + h(a.user) + " (" + h(a.at) + ")</td></tr>";
   for (const auto& [k, v] : r.metadata)
     b += "<tr><th>" + h(metadata_label(k)) + "</th><td>" + h(v) + "</td></tr>";
-  std::vector<const InputHash*> measured;  // inputs the store holds no text of
   bool machine_held = false;
   for (const auto& i : r.inputs) {
     const auto kind = model_kinds.find(i.sha256);
-    if (kind == model_kinds.end()) measured.push_back(&i);
     if (kind != model_kinds.end() && kind->second == "machine") machine_held = true;
     b += "<tr><th>Input</th><td>" + h(i.path) + " <code>" + h(i.sha256) + "</code>" +
          (kind == model_kinds.end() ? std::string() : " (" + h(kind->second) + " file, held in the store)") +
@@ -270,21 +268,17 @@ std::string record_page(const PageUser& u, const CalibrationRecord& r, const std
     b += "<tr><td>" + h(p.name) + "</td><td class=\"num\">" + h(fmt::format("{:.4g}", p.value)) + "</td><td>" + h(p.unit) +
          "</td><td>" + (p.uncertainty ? h(fmt::format("{:.3g}", *p.uncertainty)) : "-") + "</td></tr>";
   b += "</tbody></table></div>";
-  // The command's own --report is drawn from its measurements, which the store keeps as hashes.
-  b += "<h2>Report</h2><p id=\"report-why\">";
-  if (measured.empty()) {
-    b += "The report of <code>mtcal " + h(r.command) +
-         " --report</code> is not written here: the store keeps this result's JSON, figures and parameters and its "
-         "machine and parameter files, not the command's other options (grids, plans, workspaces ...) the report is "
-         "drawn with. Run the command with <code>--report</code>.";
+  // The command's own --report, made from the measurement file the store holds (/record/report).
+  b += "<h2>Report</h2>";
+  if (report_missing.empty()) {
+    b += "<p id=\"report-link\"><a href=\"/record/report?id=" + h(url_encode(r.id)) + "\">The report of <code>mtcal " +
+         h(r.command) + " --report</code></a>, made from the measurement file held in the store with the command's "
+         "options, as the command wrote it.";
   } else {
-    b += "The report of <code>mtcal " + h(r.command) +
-         " --report</code> is drawn from the measurements, which the store does not hold (it keeps their SHA-256, the "
-         "result's figures and parameters, and the machine and parameter files): ";
-    for (std::size_t i = 0; i < measured.size(); ++i)
-      b += (i ? ", " : "") + h(measured[i]->path) + " <code>" + h(measured[i]->sha256.substr(0, 12)) + "…</code>";
-    b += ". Run the command with <code>--report</code> on those files; the <a href=\"/machine/trend?name=" +
-         h(url_encode(r.machine_name)) + "\">timeline report</a> shows this record among the machine's.";
+    b += "<p id=\"report-why\">The report of <code>mtcal " + h(r.command) + " --report</code> is not shown: " +
+         h(report_missing) + ". Run the command with <code>--report</code> on its files; the <a "
+         "href=\"/machine/trend?name=" + h(url_encode(r.machine_name)) +
+         "\">timeline report</a> shows this record among the machine's.";
   }
   b += "</p>";
   if (u.engineer) {

@@ -38,8 +38,10 @@ std::pair<std::string, std::string> fleet_page_frame(const PageUser& u);
 std::string machine_page(const PageUser& u, const Json& machine, const Json& trends);
 // model_kinds: per SHA-256 of the record's inputs that the store holds as a model file, its kind
 // ("machine", "parameters").
+// report_missing: why the record's own report cannot be made (recorded_report_missing), empty
+// when /record/report shows it.
 std::string record_page(const PageUser& u, const CalibrationRecord& r, const std::vector<AuditEntry>& audit,
-                        const std::map<std::string, std::string>& model_kinds);
+                        const std::map<std::string, std::string>& model_kinds, const std::string& report_missing);
 // diff: what /api/diff returns (history diff --json).
 std::string diff_page(const PageUser& u, const Json& diff);
 std::string upload_page(const PageUser& u, const std::string& machine);

@@ -36,6 +36,7 @@
 #include "mtcal/io/history/store.hpp"
 #include "mtcal/io/instruments/acceptance_files.hpp"
 #include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/instruments/laser_files.hpp"
 #include "mtcal/io/instruments/probing_files.hpp"
 #include "mtcal/io/json/evaluation_json.hpp"
 #include "mtcal/io/json/history_json.hpp"
@@ -46,6 +47,7 @@
 #include "mtcal/io/system/sha256.hpp"
 #include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/report/history.hpp"
+#include "mtcal/report/recorded.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/parse.hpp"
 #include "mtcal/util/units.hpp"
@@ -228,6 +230,7 @@ struct PendingUpload {
   CalibrationRecord record;
   Json result;
   std::chrono::steady_clock::time_point created;
+  std::vector<ModelFile> files;  // kept with the record (an ISO 230-2 upload's runs)
 };
 
 // What an upload holds and the command that evaluates it (the record's command): ISO 230-2
@@ -298,6 +301,15 @@ struct TempFolder {
   for (auto at = m.find(path); at != std::string::npos; at = m.find(path, at + name.size()))
     m.replace(at, path.size(), name);
   throw HttpError{422, m};
+}
+
+// A word of a command line as the commands show theirs (common.cpp's set_command_line): quoted
+// for a POSIX shell where it holds a blank, a quote, a backslash, $ or `.
+std::string shell_word(const std::string& a) {
+  if (!a.empty() && a.find_first_of(" \t\"'\\$`") == std::string::npos) return a;
+  std::string out = "'";
+  for (const char c : a) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
 }
 
 // The name of an uploaded file as recorded: its last path component, printable, at most 100 characters.
@@ -845,6 +857,7 @@ struct Server::Impl {
     const std::vector<InputHash> inputs{{name, sha256_hex(file.content)}};
     Json shown;
     CalibrationRecord rec;
+    std::vector<ModelFile> files;
     try {
       if (kind_name == "iso230-2") {
         const PositioningRuns runs = read_positioning_file(path, "auto", "mm", "");
@@ -855,6 +868,20 @@ struct Server::Impl {
         rec = record_from_result("iso230-2", r.dump(), meta, inputs, name);
         shown = r;
         shown["warnings"] = runs.warnings;
+        // The runs kept with the record and the command line of the same evaluation, so that
+        // the record page shows the report `mtcal iso230-2 NAME --meta ... --report F` writes
+        // (report/recorded.hpp): the form's metadata, the file's header filling it in.
+        if (is_utf8(file.content)) {
+          ReportMetadata shown_meta;
+          std::string command = "mtcal iso230-2 " + shell_word(name);
+          for (const auto& [k, v] : meta) {
+            if (v.find_first_not_of(" \t") != std::string::npos) shown_meta.set(k, v, "upload");
+            command += " --meta " + shell_word(k + "=" + v);
+          }
+          shown_meta.fill_missing_from(laser_report_metadata(runs));
+          rec.invocation = json_text(positioning_invocation(command, name, "auto", "mm", "", 0, {}, shown_meta));
+          files.push_back({inputs[0].sha256, "measurements", file.content});
+        }
       } else if (kind_name == "ballbar") {
         const auto radius = number_field("radius", param(req, "radius", 40), 1e-3, 1e5);
         if (!radius) throw HttpError{400, "radius: expected the nominal radius of the test (the ballbar's length, mm)"};
@@ -871,6 +898,18 @@ struct Server::Impl {
         const Json r = to_json(e, diagnosis, plane, *radius, feed);
         rec = record_from_result("ballbar", r.dump(), meta, inputs, name);
         shown = r;
+        // As for ISO 230-2 runs: the report of `mtcal ballbar NAME --radius R --plane P [--feed F] --meta ...`.
+        if (is_utf8(file.content)) {
+          ReportMetadata shown_meta;
+          std::string command = "mtcal ballbar " + shell_word(name) + fmt::format(" --radius {:g} --plane {}", *radius, plane);
+          if (feed > 0) command += fmt::format(" --feed {:g}", feed);
+          for (const auto& [k, v] : meta) {
+            if (v.find_first_not_of(" \t") != std::string::npos) shown_meta.set(k, v, "upload");
+            command += " --meta " + shell_word(k + "=" + v);  // feed too: the form's text wins, as --meta does
+          }
+          rec.invocation = json_text(ballbar_invocation(command, name, plane, *radius, feed, 0, 0, "", {}, shown_meta));
+          files.push_back({inputs[0].sha256, "measurements", file.content});
+        }
       } else {
         // Not "axis": that is a metadata key (the axis an ISO 230-2 test measured).
         const std::string axis = param(req, "rotary_axis", 4);
@@ -898,7 +937,13 @@ struct Server::Impl {
     } catch (const InputError& e) {
       rethrow_named(e, path, name);
     }
-    return {ctx.session.id_hash, std::move(rec), std::move(shown), std::chrono::steady_clock::now()};
+    PendingUpload p;
+    p.session_hash = ctx.session.id_hash;
+    p.record = std::move(rec);
+    p.result = std::move(shown);
+    p.created = std::chrono::steady_clock::now();
+    p.files = std::move(files);
+    return p;
   }
 
   // The model of a recorded result (schema version 5, docs/serve.md): its machine file and the
@@ -1156,7 +1201,30 @@ void Server::Impl::register_routes() {
     std::map<std::string, std::string> kinds;
     for (const auto& i : r->inputs)
       if (const auto f = store->model_file(i.sha256)) kinds[i.sha256] = f->kind;
-    html(res, record_page(page_user(c), *r, store->audit(r->id), kinds));
+    std::string report_missing;
+    try {
+      report_missing = recorded_report_missing(*store, *r);
+    } catch (const InputError& e) {
+      report_missing = e.what();  // a store changed by hand: the page still shows the record
+    }
+    html(res, record_page(page_user(c), *r, store->audit(r->id), kinds, report_missing));
+  });
+  // The record's own report, as its command's --report wrote it (report/recorded.hpp).
+  add({"GET", "/record/report", Role::Viewer, false, false, "id=0"}, [this](const Req& req, Res& res, const Context*) {
+    auto store = pool.lease();
+    const auto r = store->get(required(req, "id"));
+    if (!r) throw HttpError{404, "no record '" + printable(req.get_param_value("id")) + "' in the store"};
+    RecordedReport rep;
+    try {
+      rep = recorded_report(*store, *r, Report::date_now());
+    } catch (const InputError& e) {
+      throw HttpError{422, e.what()};
+    }
+    if (rep.html.empty()) throw HttpError{404, "no report of record " + r->id + ": " + rep.why};
+    // The report inlines Plotly and its data in <script> elements, as the timeline report does.
+    res.set_header("Content-Security-Policy",
+                   "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data: blob:");
+    send_uncompressed(res, std::move(rep.html), "text/html; charset=utf-8");
   });
   add({"GET", "/api/record", Role::Viewer, false, true, "id=0"}, [this](const Req& req, Res& res, const Context*) {
     auto store = pool.lease();
@@ -1187,14 +1255,15 @@ void Server::Impl::register_routes() {
       [this](const Req& req, Res& res, const Context* c) {
         PendingUpload p = take_pending(required(req, "token"), *c);
         const std::string machine = p.record.machine_name;
-        pool.lease()->record_by(std::move(p.record), c->session.user);
+        pool.lease()->record_by(std::move(p.record), c->session.user, std::move(p.files));
         res.status = 303;
         res.set_header("Location", "/machine?name=" + url_encode(machine));
       });
   add({"POST", "/api/upload", Role::Engineer, false, true, ""}, [this](const Req& req, Res& res, const Context* c) {
     PendingUpload p = evaluate_upload(req, *c);
     Json j = p.result;
-    if (param(req, "confirm") == "1") j["record"] = pool.lease()->record_by(std::move(p.record), c->session.user);
+    if (param(req, "confirm") == "1")
+      j["record"] = pool.lease()->record_by(std::move(p.record), c->session.user, std::move(p.files));
     send_json(res, j);
   });
   add({"POST", "/events", Role::Engineer, false, false, ""}, [this](const Req& req, Res& res, const Context* c) {

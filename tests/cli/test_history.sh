@@ -100,7 +100,8 @@ expect_error "event kind" "expected compensation-loaded, crash, repair or other"
 expect_error "event date" "ISO 8601" -- "$MTCAL" history event add --store "$H" --machine VMC-800 --date 20.11.2026 \
   --kind crash
 expect_exit 0 "export" -- "$MTCAL" history export --store "$H" --out "$tmp/a.jsonl"
-[ "$(wc -l <"$tmp/a.jsonl")" = 2 ] && ok || bad "export lines: $(cat "$tmp/a.jsonl")"
+# a record, an event and the record's measurement file (iso230-2 --record keeps its runs: schema version 6)
+[ "$(wc -l <"$tmp/a.jsonl")" = 3 ] && ok || bad "export lines: $(cat "$tmp/a.jsonl")"
 expect_exit 0 "re-import" -- "$MTCAL" history import "$tmp/a.jsonl" --store "$tmp/b.db"
 expect_exit 0 "re-export" -- "$MTCAL" history export --store "$tmp/b.db" --out "$tmp/b.jsonl"
 cmp -s "$tmp/a.jsonl" "$tmp/b.jsonl" && ok || bad "export, import, export differ"

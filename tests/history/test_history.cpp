@@ -428,6 +428,7 @@ TEST_P(Store, MigrationFromVersion3FillsMachineRevisions) {
   store_.reset();
   raw_sql(conn_, "DROP TABLE machine_revisions");
   raw_sql(conn_, "DROP TABLE model_files");
+  raw_sql(conn_, "ALTER TABLE records DROP COLUMN invocation");
   raw_sql(conn_, "DELETE FROM schema_version WHERE version >= 4");
   store_ = open_history_store(conn_);
   EXPECT_EQ(store_->schema_version(), kHistorySchemaVersion);
@@ -486,7 +487,8 @@ TEST_P(Store, MigrationFromVersion4AddsModelFiles) {
   const auto before = store_->list();
   store_.reset();
   raw_sql(conn_, "DROP TABLE model_files");
-  raw_sql(conn_, "DELETE FROM schema_version WHERE version = 5");
+  raw_sql(conn_, "ALTER TABLE records DROP COLUMN invocation");
+  raw_sql(conn_, "DELETE FROM schema_version WHERE version >= 5");
   store_ = open_history_store(conn_);
   EXPECT_EQ(store_->schema_version(), kHistorySchemaVersion);
   EXPECT_EQ(store_->list(), before);
@@ -494,6 +496,44 @@ TEST_P(Store, MigrationFromVersion4AddsModelFiles) {
   const std::string text = "mtcal_parameters: 1\n";
   store_->record_all({sample("M1", "2026-02-01", 2, 2)}, {}, nullptr, {{sha256_hex(text), "parameters", text}});
   EXPECT_EQ(store_->model_files().size(), 1u);
+}
+
+// A store of schema version 5 (before invocations and measurement files) gains the column, its
+// records read as before (no invocation); the next record keeps its invocation and measurement
+// file, and both go through export and import unchanged.
+TEST_P(Store, MigrationFromVersion5AddsInvocations) {
+  store_->record(sample("M1", "2026-01-01", 1, 1));
+  const auto before = store_->list();
+  store_.reset();
+  raw_sql(conn_, "ALTER TABLE records DROP COLUMN invocation");
+  raw_sql(conn_, "DELETE FROM schema_version WHERE version = 6");
+  store_ = open_history_store(conn_);
+  EXPECT_EQ(store_->schema_version(), kHistorySchemaVersion);
+  EXPECT_EQ(store_->list(), before);
+  EXPECT_EQ(before[0].invocation, "");
+  const std::string runs = "target,run,direction,deviation\n0,1,up,0.001\n";
+  auto r = sample("M1", "2026-02-01", 2, 2);
+  r.inputs = {{"runs.csv", sha256_hex(runs)}};
+  r.invocation = R"({"command_line":"mtcal iso230-2 runs.csv --record"})";
+  const auto id = store_->record_all({r}, {}, nullptr, {{sha256_hex(runs), "measurements", runs}})[0];
+  EXPECT_EQ(store_->get(id)->invocation, r.invocation);
+  EXPECT_EQ(store_->model_file(sha256_hex(runs))->kind, "measurements");
+  std::ostringstream first;
+  export_jsonl(*store_, first);
+  // Only a record that has one carries the key: the older record's line is as version 5 wrote it.
+  const std::string text = first.str();
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 3);
+  ASSERT_NE(text.find("\"invocation\""), std::string::npos);
+  EXPECT_EQ(text.find("\"invocation\""), text.rfind("\"invocation\""));
+  auto other = open_history_store(fresh());
+  std::istringstream in(first.str());
+  EXPECT_EQ(import_jsonl(*other, in, "export.jsonl").model_files, 1u);
+  EXPECT_EQ(other->get(id)->invocation, r.invocation);
+  std::ostringstream second;
+  export_jsonl(*other, second);
+  EXPECT_EQ(first.str(), second.str());
+  // Another kind than machine, parameters or measurements is refused.
+  EXPECT_THROW(store_->record_all({}, {}, nullptr, {{sha256_hex(runs), "notes", runs}}), InputError);
 }
 
 // FleetRanker (mtcal serve's fleet page) gives what rank_store (history rank) gives after every
@@ -602,9 +642,9 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     return out;
   };
   EXPECT_EQ(text("PRAGMA journal_mode"), "wal");
-  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2,3,4,5");
+  EXPECT_EQ(text("SELECT group_concat(version) FROM schema_version"), "1,2,3,4,5,6");
   EXPECT_EQ(text("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'parameters_fleet'"), "1");
-  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (6, '2030-01-01T00:00:00Z', 'future')", nullptr,
+  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO schema_version VALUES (7, '2030-01-01T00:00:00Z', 'future')", nullptr,
                          nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -612,7 +652,7 @@ TEST(SqliteStore, WalModeSchemaTableAndNewerSchemaRefused) {
     open_history_store("sqlite:" + path);
     ADD_FAILURE() << "a store of a newer schema was opened";
   } catch (const StoreError& e) {
-    EXPECT_NE(std::string(e.what()).find("schema version 6, newer than this program's 5"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("schema version 7, newer than this program's 6"), std::string::npos)
         << e.what();
   }
 }
@@ -635,7 +675,7 @@ TEST(SqliteStore, MigrationFromVersion1FillsLatestValues) {
   ASSERT_EQ(sqlite3_exec(db,
                          "DROP TABLE latest_values; DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; "
                          "DROP TABLE users; DROP TABLE machine_intervals; DROP TABLE machine_revisions; DROP TABLE model_files; "
-                         "DELETE FROM schema_version WHERE version >= 2",
+                         "ALTER TABLE records DROP COLUMN invocation; DELETE FROM schema_version WHERE version >= 2",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -665,8 +705,8 @@ TEST(SqliteStore, MigrationFromVersion2KeepsRecordsAndAddsAccounts) {
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   ASSERT_EQ(sqlite3_exec(db,
                          "DROP TABLE latest_records; DROP TABLE audit; DROP TABLE sessions; DROP TABLE users; "
-                         "DROP TABLE machine_intervals; DROP TABLE machine_revisions; DROP TABLE model_files; DELETE FROM "
-                         "schema_version WHERE version >= 3",
+                         "DROP TABLE machine_intervals; DROP TABLE machine_revisions; DROP TABLE model_files; ALTER TABLE "
+                         "records DROP COLUMN invocation; DELETE FROM schema_version WHERE version >= 3",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
@@ -752,7 +792,7 @@ TEST(HistoryJsonl, BadInputIsRefusedWithFileAndLine) {
       {R"({"type":"recording"})", "expected \"record\", \"event\" or \"model_file\", found 'recording'"},
       {R"({"type":"model_file","sha256":"00","kind":"machine","content":"x"})", "expected the SHA-256 of its content"},
       {R"({"type":"model_file","sha256":"2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881","kind":"plan","content":"x"})",
-       "expected the kind machine or parameters, found 'plan'"},
+       "expected the kind machine, parameters or measurements, found 'plan'"},
       {R"({"type":"model_file","sha256":"2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881","kind":"machine"})",
        "expected the key 'content'"},
       {with(R"("machine_name":"M1",)", ""), "expected the key 'machine_name'"},

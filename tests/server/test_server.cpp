@@ -11,6 +11,10 @@
 // Before httplib.h (through Eigen): its system headers define macros that break Eigen's declarations.
 #include "mtcal/io/history/queries.hpp"
 #include "mtcal/io/json/history_json.hpp"
+#include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/report/evaluation.hpp"
+#include "mtcal/report/recorded.hpp"
 
 #include <httplib.h>
 
@@ -409,6 +413,61 @@ TEST_P(Serve, CompensationOfARecordUsesItsStoredModelFiles) {
   EXPECT_NE(c.Get("/record?id=" + lacking, l.headers())->body.find("id=\"rec-comp-why\""), std::string::npos);
   EXPECT_NE(c.Get("/machine?name=T1", l.headers())->body.find("id=\"rec-comp-record\""), std::string::npos);
   EXPECT_EQ(record_count(), 5u);
+}
+
+// A record's own report (/record/report): an ISO 230-2 record whose runs the store holds is shown
+// as the command's path makes it (positioning_report of the runs read as `mtcal iso230-2` reads
+// them), under the reports' CSP, the metadata escaped; a record whose runs the store lacks, or
+// that does not say how its command ran, gets 404 naming its file's SHA-256, and its record page
+// says so. (That the page equals the command's --report file: tests/server/test_serve_cli.sh.)
+TEST_P(Serve, RecordReportIsMadeFromTheStoredMeasurements) {
+  std::string runs = "target,run,direction,deviation\n";
+  for (int t = 0; t < 3; ++t)
+    for (int run = 1; run <= 2; ++run)
+      for (const char* dir : {"up", "down"})
+        runs += std::to_string(100 * t) + "," + std::to_string(run) + "," + dir + "," +
+                std::to_string(0.001 * (t + run) + (dir[0] == 'u' ? 0.002 : 0)) + "\n";
+  ReportMetadata meta;
+  meta.set("machine", kXss);
+  meta.set("axis", "X");
+  const ToleranceVerdict verdict{{{"A", 7.5, 10, true}}};
+  const std::string command = "mtcal iso230-2 x.csv --tolerance A=10 --record";
+  CalibrationRecord r = sample("R1", "2026-05-01", 1.0);
+  r.inputs = {{"x.csv", sha256_hex(runs)}};
+  r.invocation = json_text(positioning_invocation(command, "x.csv", "auto", "mm", "", 0, verdict, meta));
+  const std::string held = store_->record_all({r}, {}, nullptr, {{sha256_hex(runs), "measurements", runs}})[0];
+  CalibrationRecord gone = r;
+  gone.measured_at = "2026-06-01";
+  gone.inputs = {{"x.csv", sha256_hex("other runs")}};
+  const std::string lacking = store_->record(gone);
+
+  const Login l = login("vera");
+  auto c = client();
+  const auto res = c.Get("/record/report?id=" + held, l.headers());
+  ASSERT_EQ(res->status, 200) << res->body;
+  EXPECT_EQ(res->get_header_value("Content-Security-Policy"),
+            "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data: blob:");
+  EXPECT_EQ(res->body.find(kXss), std::string::npos);
+  const auto at = res->body.find("<td class=\"date\">");
+  ASSERT_NE(at, std::string::npos);
+  const std::string date = res->body.substr(at + 17, res->body.find("</td>", at) - at - 17);
+  const PositioningRuns read = parse_positioning_csv(runs, "x.csv", "mm");
+  EXPECT_EQ(res->body, positioning_report(command, read, sha256_hex(runs), evaluate_positioning(read), verdict, meta).html(date));
+  EXPECT_NE(res->body.find("PASS"), std::string::npos);  // the verdict kept with the record
+  EXPECT_NE(c.Get("/record?id=" + held, l.headers())->body.find("id=\"report-link\""), std::string::npos);
+  // The runs not in the store; a record that does not say how it ran (the fixture's).
+  for (const auto& [id, sha] : {std::pair{lacking, sha256_hex("other runs")}, std::pair{ids_[0], std::string()}}) {
+    const auto none = c.Get("/record/report?id=" + id, l.headers());
+    EXPECT_EQ(none->status, 404) << id;
+    const auto page = c.Get("/record?id=" + id, l.headers())->body;
+    EXPECT_NE(page.find("id=\"report-why\""), std::string::npos) << id;
+    if (!sha.empty()) {
+      EXPECT_NE(none->body.find(sha), std::string::npos) << none->body;
+      EXPECT_NE(page.find(sha), std::string::npos);
+    } else {
+      EXPECT_NE(page.find("does not say how its command ran"), std::string::npos) << page;
+    }
+  }
 }
 
 TEST_P(Serve, PathTraversalInFileNamesAndParameters) {

@@ -52,6 +52,11 @@ struct CalibrationRecord {
   std::vector<RecordedFigure> figures;
   std::string result_json;   // the command's full --json output, compact
   std::string content_hash;  // SHA-256 of the inputs' hashes and the result: duplicates share it
+  // How the command ran, for its report made again from the store (schema version 6): a JSON
+  // object {"command_line", "options"} that the recording command writes (docs/history.md,
+  // "Measurement files"); empty when unknown (older records, imports, uploads). Not part of
+  // content_hash: the same result recorded twice is one record.
+  std::string invocation;
   friend bool operator==(const CalibrationRecord&, const CalibrationRecord&) = default;
 };
 

@@ -9,6 +9,7 @@
 #include "mtcal/evaluation/compare.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/evaluation/tolerance.hpp"
+#include "mtcal/report/report.hpp"
 
 namespace mtcal {
 
@@ -50,12 +51,23 @@ std::vector<TableBlock> positioning_target_table(const PositioningRuns& runs, co
 // the verdict when tolerances were checked.
 void write_positioning_report(const std::string& path, const std::string& command, const PositioningRuns& runs,
                               const PositioningEvaluation& e, const ToleranceVerdict& verdict = {});
+// That report, unwritten: the measurements' file runs.source of this SHA-256, the test metadata
+// shown (write_positioning_report: the session's). A recorded result's report is made with it
+// from the store (report/recorded.hpp), so that it is the command's.
+Report positioning_report(const std::string& command, const PositioningRuns& runs, const std::string& runs_sha256,
+                          const PositioningEvaluation& e, const ToleranceVerdict& verdict,
+                          const ReportMetadata& metadata);
 
 // Polar plot of both directions' radial deviation, ISO 230-4 table, the diagnostic terms.
 // radius: nominal (mm); feed (mm/min) shown when > 0.
 void write_ballbar_report(const std::string& path, const std::string& command, const BallbarTrace& trace,
                           const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis,
                           const std::string& plane, double radius, double feed, const ToleranceVerdict& verdict = {});
+// That report, unwritten, as positioning_report.
+Report ballbar_report(const std::string& command, const BallbarTrace& trace, const std::string& trace_sha256,
+                      const BallbarEvaluation& e, const std::optional<TraceDiagnosis>& diagnosis,
+                      const std::string& plane, double radius, double feed, const ToleranceVerdict& verdict,
+                      const ReportMetadata& metadata);
 
 // Bar chart of the means with ±1σ error bars, statistics per parameter.
 void write_comparison_report(const std::string& path, const std::string& command, const MethodComparison& c);

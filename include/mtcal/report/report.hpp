@@ -36,6 +36,8 @@ class Report {
   void set_machine_label(std::string label) { machine_ = std::move(label); }
   // Hashes the file (SHA-256) now; throws InputError if it cannot be read.
   void add_input(const std::string& label, const std::string& path);
+  // An input whose SHA-256 is known already (a recorded result's file kept in the history store).
+  void add_input(const std::string& label, const std::string& path, const std::string& sha256);
   // A headline figure: value already formatted by the caller with its unit.
   void add_figure(const std::string& label, const std::string& value, const std::string& unit);
   void add_warning(const std::string& text);
@@ -54,6 +56,8 @@ class Report {
   // Writes atomically; the date is now in UTC, or SOURCE_DATE_EPOCH when it is set. Then the
   // static copies set with set_static_copies(), through the same output group.
   void write(const std::string& path) const;
+  // The date line write() gives: now in UTC, or SOURCE_DATE_EPOCH when it is set ("2026-11-25 10:30:00 UTC").
+  static std::string date_now();
 
  private:
   std::string title_, command_, machine_;

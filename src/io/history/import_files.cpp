@@ -101,9 +101,11 @@ Json to_json(const HistoryImport& r, const std::string& store) {
 }
 
 std::optional<ModelFile> read_model_file(const std::string& kind, const std::string& path) {
-  if (kind != "machine" && kind != "parameters")
-    throw Error("read_model_file: kind '" + kind + "' is neither 'machine' nor 'parameters'");
-  std::string text = read_text_file(path, kind == "machine" ? "machine file" : "parameter file");
+  if (kind != "machine" && kind != "parameters" && kind != "measurements")
+    throw Error("read_model_file: kind '" + kind + "' is not 'machine', 'parameters' or 'measurements'");
+  std::string text = read_text_file(path, kind == "machine"      ? "machine file"
+                                          : kind == "parameters" ? "parameter file"
+                                                                 : "measurement file");
   if (!is_utf8(text)) return std::nullopt;
   std::string sha = sha256_hex(text);
   return ModelFile{std::move(sha), kind, std::move(text)};

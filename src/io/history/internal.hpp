@@ -56,7 +56,7 @@ class SqlHistoryStore : public HistoryStore {
   std::string add_event(Event e) override;
   std::vector<Event> events(const std::string& machine) override;
   int schema_version() override;
-  std::string record_by(CalibrationRecord r, const std::string& user) override;
+  std::string record_by(CalibrationRecord r, const std::string& user, std::vector<ModelFile> model_files = {}) override;
   std::string add_event_by(Event e, const std::string& user) override;
   std::vector<AuditEntry> audit(const std::string& object_id) override;
   std::vector<LatestCalibration> latest_calibrations() override;

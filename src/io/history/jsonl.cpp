@@ -40,6 +40,8 @@ ordered_json record_json(const CalibrationRecord& r) {
         {{"name", f.name}, {"value", f.value}, {"uncertainty", optional_number(f.uncertainty)}, {"unit", f.unit}});
   j["result_json"] = r.result_json;
   j["content_hash"] = r.content_hash;
+  // Only where known (schema version 6): older exports and records without it read the same.
+  if (!r.invocation.empty()) j["invocation"] = r.invocation;
   return j;
 }
 
@@ -105,9 +107,12 @@ class Fields {
 };
 
 CalibrationRecord parse_record(const ordered_json& j, const std::string& source, int line) {
-  const Fields f(j, source, line,
-                 {"type", "id", "machine_name", "machine_serial", "command", "recorded_at", "measured_at", "metadata",
-                  "inputs", "parameters", "figures", "result_json", "content_hash"});
+  // "invocation" is optional (exports of schema version 6 have it where the record has one).
+  std::set<std::string> keys{"type",       "id",     "machine_name", "machine_serial", "command",
+                             "recorded_at", "measured_at", "metadata", "inputs",         "parameters",
+                             "figures",    "result_json", "content_hash"};
+  if (j.contains("invocation")) keys.insert("invocation");
+  const Fields f(j, source, line, std::move(keys));
   CalibrationRecord r;
   r.id = f.text("id");
   r.machine_name = f.text("machine_name");
@@ -134,6 +139,7 @@ CalibrationRecord parse_record(const ordered_json& j, const std::string& source,
     }
   r.result_json = f.text("result_json");
   r.content_hash = f.text("content_hash");
+  if (j.contains("invocation")) r.invocation = f.text("invocation");
   if (r.id.empty()) f.fail("id", "expected the record's id, found an empty one");
   if (r.recorded_at.empty()) f.fail("recorded_at", "expected the time it was recorded, found none");
   try {

@@ -109,6 +109,11 @@ const std::vector<Migration>& migrations() {
       // content. Stores of version 4 hold none (their records say so when asked).
       {"model_files: the machine and parameter files of recorded results, by SHA-256",
        {"CREATE TABLE model_files (sha256 {T} PRIMARY KEY, kind {T} NOT NULL, content TEXT NOT NULL)"}},
+      // A record's report (mtcal serve's record page) is drawn from its measurements and the
+      // command's options: the measurement files go into model_files (kind "measurements"), the
+      // options into the record. Records of version 5 have none ('' : the page says so).
+      {"invocation: how the command of a record ran; model_files also hold measurement files",
+       {"ALTER TABLE records ADD COLUMN invocation TEXT NOT NULL DEFAULT ''"}},
   };
   return kMigrations;
 }
@@ -135,7 +140,8 @@ SqlParam optional_param(const std::optional<double>& v) {
 }
 
 constexpr const char* kRecordColumns =
-    "id, machine_name, machine_serial, command, recorded_at, measured_at, metadata, inputs, result_json, content_hash";
+    "id, machine_name, machine_serial, command, recorded_at, measured_at, metadata, inputs, result_json, content_hash, "
+    "invocation";
 constexpr const char* kOrder = "measured_at, recorded_at, id";
 
 }  // namespace
@@ -275,7 +281,8 @@ void check_record(const CalibrationRecord& r) {
   for (const auto& [field, text] : {std::pair<const char*, const std::string&>{"machine_name", r.machine_name},
                                     {"machine_serial", r.machine_serial},
                                     {"command", r.command},
-                                    {"result_json", r.result_json}})
+                                    {"result_json", r.result_json},
+                                    {"invocation", r.invocation}})
     utf8(field, text);
   for (const auto& [k, v] : r.metadata) {
     utf8("metadata", k);
@@ -298,8 +305,9 @@ void check_record(const CalibrationRecord& r) {
 
 void check_model_file(const ModelFile& f, const std::string& where) {
   const std::string what = "model file " + printable(f.sha256.substr(0, 64));
-  if (f.kind != "machine" && f.kind != "parameters")
-    throw InputError({where, 0, "kind"}, what + ": expected the kind machine or parameters, found '" + printable(f.kind) + "'");
+  if (f.kind != "machine" && f.kind != "parameters" && f.kind != "measurements")
+    throw InputError({where, 0, "kind"},
+                     what + ": expected the kind machine, parameters or measurements, found '" + printable(f.kind) + "'");
   if (!is_utf8(f.content)) throw InputError({where, 0, "content"}, what + ": expected UTF-8 text");
   const std::string h = sha256_hex(f.content);
   if (f.sha256 != h)
@@ -433,10 +441,11 @@ std::vector<std::string> SqlHistoryStore::write_all(std::vector<CalibrationRecor
         if (!seen.insert(r.content_hash).second) continue;
         for (SqlParam v : {SqlParam(r.id), SqlParam(r.machine_name), SqlParam(r.machine_serial), SqlParam(r.command),
                            SqlParam(r.recorded_at), SqlParam(r.measured_at), SqlParam(metadata_to_json(r.metadata)),
-                           SqlParam(inputs_to_json(r.inputs)), SqlParam(r.result_json), SqlParam(r.content_hash)})
+                           SqlParam(inputs_to_json(r.inputs)), SqlParam(r.result_json), SqlParam(r.content_hash),
+                           SqlParam(r.invocation)})
           values.push_back(std::move(v));
       }
-      constexpr std::size_t kCols = 10, kChunk = 200;
+      constexpr std::size_t kCols = 11, kChunk = 200;
       const std::size_t rows = values.size() / kCols;
       for (std::size_t first = 0; first < rows; first += kChunk) {
         const std::size_t n = std::min(kChunk, rows - first);
@@ -589,10 +598,10 @@ std::vector<std::string> SqlHistoryStore::write_all(std::vector<CalibrationRecor
   return ids;
 }
 
-std::string SqlHistoryStore::record_by(CalibrationRecord r, const std::string& user) {
+std::string SqlHistoryStore::record_by(CalibrationRecord r, const std::string& user, std::vector<ModelFile> model_files) {
   std::vector<CalibrationRecord> one;
   one.push_back(std::move(r));
-  return write_all(std::move(one), {}, nullptr, &user).front();
+  return write_all(std::move(one), {}, nullptr, &user, model_files).front();
 }
 
 std::string SqlHistoryStore::add_event_by(Event e, const std::string& user) {
@@ -800,6 +809,7 @@ std::vector<CalibrationRecord> SqlHistoryStore::load_records(const std::string& 
     r.inputs = inputs_from_json(text_of(row[7]));
     r.result_json = text_of(row[8]);
     r.content_hash = text_of(row[9]);
+    r.invocation = text_of(row[10]);
     index[r.id] = out.size();
     out.push_back(std::move(r));
   }

@@ -255,8 +255,27 @@ PositioningRuns read_positioning_file(const std::string& path, const std::string
   return parse_positioning_csv(text, path, unit, target_unit);
 }
 
+PositioningRuns parse_positioning_file(const std::string& text, const std::string& path, const std::string& format,
+                                       const std::string& unit, const std::string& target_unit) {
+  // The choices of read_positioning_file, in its order.
+  const bool laser_ext = has_extension(path, ".rtl") || has_extension(path, ".rta");
+  if (format == "laser" || (format == "auto" && laser_ext)) {
+    const bool rotary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".rta") == 0;  // as read_laser_file
+    return parse_laser_file(text, path, rotary).runs;
+  }
+  if (format == "dat" || (format == "auto" && has_extension(path, ".dat"))) return parse_positioning_dat(text, path);
+  if (format == "auto" && text.substr(0, 4096).find("HEADER::") != std::string::npos)
+    return parse_laser_file(text, path, false).runs;
+  if (format == "auto" && text.find("TGT_DATA[") != std::string::npos) return parse_positioning_dat(text, path);
+  return parse_positioning_csv(text, path, unit, target_unit);
+}
+
 BallbarTrace read_ballbar_csv(const std::string& path) {
-  const TextTable t = read_text_csv(path, "ballbar trace");
+  return parse_ballbar_csv(read_text_file(path, "ballbar trace"), path);
+}
+
+BallbarTrace parse_ballbar_csv(const std::string& text, const std::string& path) {
+  const TextTable t = parse_text_csv(text, path);
   const auto c = t.require_columns({"direction", "angle_deg", "radius_mm"}, path);
   std::vector<TracePoint> out;
   for (std::size_t r = 0; r < t.rows.size(); ++r) {

@@ -48,7 +48,8 @@ HistoryImport import_files(HistoryStore& store, const std::vector<std::string>& 
                            const std::map<std::string, std::string>& metadata);
 
 // A model file of a recorded result as the store keeps it (docs/history.md, "Model files"): its
-// text and SHA-256, kind "machine" or "parameters"; nullopt when the text is not UTF-8 (the store
+// text and SHA-256, kind "machine", "parameters" or "measurements" (its measurements, schema
+// version 6; capped as every text file read, input_limits().text); nullopt when the text is not UTF-8 (the store
 // keeps text only). Throws InputError when the file cannot be read. `mtcal CMD --record` and
 // Python's HistoryStore.record keep the machine file and parameter files the result was made with.
 std::optional<ModelFile> read_model_file(const std::string& kind, const std::string& path);

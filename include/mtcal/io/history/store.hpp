@@ -59,12 +59,14 @@ struct LatestCalibration {
   long long count = 0;  // records of this machine and command
 };
 
-// A model file a recorded result was computed from (schema version 5): a machine file or a
-// parameter file, kept once by the SHA-256 of its content (the key the records' inputs name), so
-// that a record's model can be made again (mtcal serve's "write compensation" of a record).
+// A file a recorded result was computed from, kept once by the SHA-256 of its content (the key
+// the records' inputs name): a machine file or a parameter file (schema version 5), so that a
+// record's model can be made again (mtcal serve's "write compensation" of a record), or its
+// measurements (schema version 6: iso230-2's positioning runs, ballbar's trace), so that the command's
+// report can be made again (report/recorded.hpp).
 struct ModelFile {
   std::string sha256;   // of content: 64 lowercase hex digits
-  std::string kind;     // "machine" or "parameters"
+  std::string kind;     // "machine", "parameters" or "measurements"
   std::string content;  // the file's text, UTF-8
   friend bool operator==(const ModelFile&, const ModelFile&) = default;
 };
@@ -115,7 +117,8 @@ class HistoryStore {
 
   // Writes that name their author: the record / event and its audit row in one transaction.
   // A duplicate record (same content hash) returns the stored id and adds no audit row.
-  virtual std::string record_by(CalibrationRecord r, const std::string& user) = 0;
+  // model_files: stored with it as record_all stores them.
+  virtual std::string record_by(CalibrationRecord r, const std::string& user, std::vector<ModelFile> model_files = {}) = 0;
   virtual std::string add_event_by(Event e, const std::string& user) = 0;
   // The audit rows in time order; object_id non-empty: those of one record or event.
   virtual std::vector<AuditEntry> audit(const std::string& object_id = {}) = 0;
@@ -153,14 +156,14 @@ class HistoryStore {
   // indices returned in `skipped` when given. model_files are stored in the same transaction,
   // each content once (one already stored under its SHA-256 is kept, even when the records are
   // duplicates); InputError for one whose SHA-256 is not its content's, of another kind than
-  // "machine" or "parameters", or not UTF-8.
+  // "machine", "parameters" or "measurements", or not UTF-8.
   virtual std::vector<std::string> record_all(std::vector<CalibrationRecord> records, std::vector<Event> events = {},
                                               std::vector<std::size_t>* skipped = nullptr,
                                               std::vector<ModelFile> model_files = {}) = 0;
 };
 
 // The schema this program writes (docs/history.md lists the versions and their migrations).
-inline constexpr int kHistorySchemaVersion = 5;
+inline constexpr int kHistorySchemaVersion = 6;
 
 // Opens (creating it when absent, migrating it to kHistorySchemaVersion) the store named by
 // connection: "postgresql://..." or "postgres://..." (libpq URI; also "postgresql:" followed by

@@ -33,9 +33,15 @@ PositioningRuns parse_positioning_dat(const std::string& text, const std::string
 // .dat; else the table). unit / target_unit: of a table (the other forms say their own).
 PositioningRuns read_positioning_file(const std::string& path, const std::string& format, const std::string& unit,
                                       const std::string& target_unit = "");
+// The same of a file's text read already (path: its name, for the form's extension and messages):
+// a recorded result's measurements kept in the history store (report/recorded.hpp).
+PositioningRuns parse_positioning_file(const std::string& text, const std::string& path, const std::string& format,
+                                       const std::string& unit, const std::string& target_unit = "");
 
 // Reads the CSV `direction,angle_deg,radius_mm` (direction cw/ccw); InputError with file, line, column.
 BallbarTrace read_ballbar_csv(const std::string& path);
+// The same of the file's text read already (source: its name), as parse_positioning_file.
+BallbarTrace parse_ballbar_csv(const std::string& text, const std::string& source);
 // Writes a trace in the same form (angles in deg with 6 decimals, radii in mm with 9).
 void write_ballbar_csv(const std::string& path, const std::vector<TracePoint>& trace);
 std::string ballbar_csv(const std::vector<TracePoint>& trace);

@@ -1,0 +1,48 @@
+// A recorded result's own report (its command's --report) made again from the history store.
+#pragma once
+
+#include <string>
+
+#include "mtcal/evaluation/metadata.hpp"
+#include "mtcal/evaluation/tolerance.hpp"
+#include "mtcal/history/record.hpp"
+#include "mtcal/io/history/store.hpp"
+#include "mtcal/io/json/json.hpp"
+
+namespace mtcal {
+
+// How `mtcal iso230-2 FILE ... --record` ran, as the record keeps it (CalibrationRecord::
+// invocation, docs/history.md "Measurement files"): {"command_line", "file", "options":
+// {"format", "unit", "target_unit", "wrap"}, "verdict": [{"quantity", "value", "limit", "pass"}],
+// "report_metadata": [[key, value], ...]}: the positioning file as given (one of the record's
+// inputs), the options it was read and evaluated with, the verdict the command checked and the
+// test metadata its report shows (the file's header filled in).
+Json positioning_invocation(const std::string& command_line, const std::string& file, const std::string& format,
+                            const std::string& unit, const std::string& target_unit, double wrap,
+                            const ToleranceVerdict& verdict, const ReportMetadata& metadata);
+// How `mtcal ballbar TRACE ... --record` ran, the same way: "options": {"plane", "radius",
+// "feed", "overshoot_start", "overshoot_stop", "direction"} (direction "", "cw" or "ccw").
+Json ballbar_invocation(const std::string& command_line, const std::string& file, const std::string& plane,
+                        double radius, double feed, double overshoot_start, double overshoot_stop,
+                        const std::string& direction, const ToleranceVerdict& verdict, const ReportMetadata& metadata);
+
+// A record's report, or why there is none.
+struct RecordedReport {
+  std::string html;  // the report's HTML; empty when it cannot be made
+  std::string why;   // when html is empty: why, naming what the store lacks
+};
+
+// The report `mtcal COMMAND ... --report F` wrote (or would have written) for record r, made
+// from the store's copy of its measurement file and the record's invocation, through the same
+// report functions as the command (positioning_report): equal to the command's file byte for
+// byte when date is the command's date line (Report::date_now()). Commands: iso230-2 and
+// ballbar (positioning_report, ballbar_report). No report
+// (why set): another command, a record without an invocation (made before schema version 6, by
+// history import or by Python), a measurement file the store lacks.
+// Throws InputError when the stored file or invocation cannot be read (a changed store).
+RecordedReport recorded_report(HistoryStore& store, const CalibrationRecord& r, const std::string& date);
+// Why recorded_report makes no report of r (the same sentence), without making it; empty when
+// it makes one.
+std::string recorded_report_missing(HistoryStore& store, const CalibrationRecord& r);
+
+}  // namespace mtcal

@@ -1,0 +1,186 @@
+// A recorded result's report made again: the command's path with the store's files.
+#include "mtcal/report/recorded.hpp"
+
+#include <fmt/format.h>
+
+#include "mtcal/evaluation/ballbar.hpp"
+#include "mtcal/evaluation/iso230_2.hpp"
+#include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/report/evaluation.hpp"
+#include "mtcal/report/report.hpp"
+#include "mtcal/util/errors.hpp"
+
+namespace mtcal {
+
+namespace {
+
+Json invocation_json(const std::string& command_line, const std::string& file, Json options,
+                     const ToleranceVerdict& verdict, const ReportMetadata& metadata) {
+  Json j = Json::object();
+  j["command_line"] = command_line;
+  j["file"] = file;
+  j["options"] = std::move(options);
+  Json checks = Json::array();
+  for (const auto& c : verdict.checks)
+    checks.push_back({{"quantity", c.quantity}, {"value", c.value}, {"limit", c.limit}, {"pass", c.pass}});
+  j["verdict"] = checks;
+  Json meta = Json::array();
+  for (const auto& [k, v] : metadata.entries()) meta.push_back({k, v});
+  j["report_metadata"] = meta;
+  return j;
+}
+
+}  // namespace
+
+Json positioning_invocation(const std::string& command_line, const std::string& file, const std::string& format,
+                            const std::string& unit, const std::string& target_unit, double wrap,
+                            const ToleranceVerdict& verdict, const ReportMetadata& metadata) {
+  return invocation_json(command_line, file,
+                         {{"format", format}, {"unit", unit}, {"target_unit", target_unit}, {"wrap", wrap}}, verdict,
+                         metadata);
+}
+
+Json ballbar_invocation(const std::string& command_line, const std::string& file, const std::string& plane,
+                        double radius, double feed, double overshoot_start, double overshoot_stop,
+                        const std::string& direction, const ToleranceVerdict& verdict, const ReportMetadata& metadata) {
+  return invocation_json(command_line, file,
+                         {{"plane", plane},
+                          {"radius", radius},
+                          {"feed", feed},
+                          {"overshoot_start", overshoot_start},
+                          {"overshoot_stop", overshoot_stop},
+                          {"direction", direction}},
+                         verdict, metadata);
+}
+
+namespace {
+
+// Strict reads of the invocation the recording command wrote (InputError naming the record).
+struct RecordInvocation {
+  const Json& j;
+  std::string where;
+  const Json& at(const Json& o, const char* key) const {
+    if (!o.is_object() || !o.contains(key)) throw InputError({where, 0, key}, std::string("expected the key '") + key + "', found none");
+    return o.at(key);
+  }
+  std::string text(const Json& o, const char* key) const {
+    const Json& v = at(o, key);
+    if (!v.is_string()) throw InputError({where, 0, key}, "expected text, found " + std::string(v.type_name()));
+    return v.get<std::string>();
+  }
+  double number(const Json& o, const char* key) const {
+    const Json& v = at(o, key);
+    if (!v.is_number()) throw InputError({where, 0, key}, "expected a number, found " + std::string(v.type_name()));
+    return v.get<double>();
+  }
+};
+
+// The record's input that the invocation names as its measurement file.
+const InputHash& recorded_measurement_input(const CalibrationRecord& r, const RecordInvocation& in) {
+  const std::string file = in.text(in.j, "file");
+  for (const auto& i : r.inputs)
+    if (i.path == file) return i;
+  throw InputError({in.where, 0, "file"}, "the measurement file '" + printable(file) + "' is none of the record's inputs");
+}
+
+std::string missing_measurement_file(const InputHash& i) {
+  return fmt::format("the store does not hold the measurement file {} (SHA-256 {}) of this record", i.path, i.sha256);
+}
+
+Json parsed_record_invocation(const CalibrationRecord& r) {
+  const Json j = Json::parse(r.invocation, nullptr, false);
+  if (!j.is_object()) throw InputError({"record " + r.id, 0, "invocation"}, "expected a JSON object");
+  return j;
+}
+
+// Why there is no report before the invocation is read: another command, or none kept.
+std::string report_unsupported(HistoryStore& store, const CalibrationRecord& r) {
+  if (r.command != "iso230-2" && r.command != "ballbar")
+    return "the report of mtcal " + r.command + " is not made from the store (those of iso230-2 and ballbar are)";
+  if (!r.invocation.empty()) return "";
+  std::string why =
+      "the record does not say how its command ran (records made before schema version 6, by history import or from "
+      "Python)";
+  std::string files;
+  std::size_t n = 0;
+  for (const auto& i : r.inputs)
+    if (const auto f = store.model_file(i.sha256); !f || f->kind != "measurements")
+      files += (n++ ? ", " : "") + i.path + " (SHA-256 " + i.sha256 + ")";
+  if (n > 0) why += std::string(", and the store does not hold its input file") + (n > 1 ? "s " : " ") + files;
+  return why;
+}
+
+ToleranceVerdict recorded_verdict(const RecordInvocation& in) {
+  ToleranceVerdict verdict;
+  for (const auto& c : in.at(in.j, "verdict")) {
+    const Json& pass = in.at(c, "pass");
+    if (!pass.is_boolean()) throw InputError({in.where, 0, "pass"}, "expected true or false");
+    verdict.checks.push_back({in.text(c, "quantity"), in.number(c, "value"), in.number(c, "limit"), pass.get<bool>()});
+  }
+  return verdict;
+}
+
+ReportMetadata recorded_metadata(const RecordInvocation& in) {
+  ReportMetadata metadata;
+  for (const auto& kv : in.at(in.j, "report_metadata")) {
+    if (!kv.is_array() || kv.size() != 2 || !kv[0].is_string() || !kv[1].is_string())
+      throw InputError({in.where, 0, "report_metadata"}, "expected [key, value] pairs of text");
+    metadata.set(kv[0].get<std::string>(), kv[1].get<std::string>(), in.where + " report_metadata");
+  }
+  return metadata;
+}
+
+// The command's path (cmd_evaluation.cpp) with the stored file's text and the recorded options.
+std::string recorded_html(const CalibrationRecord& r, const RecordInvocation& in, const InputHash& input,
+                          const std::string& text, const std::string& date) {
+  const Json& o = in.at(in.j, "options");
+  const std::string command = in.text(in.j, "command_line");
+  if (r.command == "iso230-2") {
+    PositioningRuns runs =
+        parse_positioning_file(text, input.path, in.text(o, "format"), in.text(o, "unit"), in.text(o, "target_unit"));
+    if (const double wrap = in.number(o, "wrap"); wrap > 0) runs = merge_wrapped_targets(runs, wrap);
+    const PositioningEvaluation e = evaluate_positioning(runs);
+    return positioning_report(command, runs, input.sha256, e, recorded_verdict(in), recorded_metadata(in)).html(date);
+  }
+  BallbarOptions bo;
+  bo.nominal_radius = in.number(o, "radius");
+  bo.overshoot_start = in.number(o, "overshoot_start");
+  bo.overshoot_stop = in.number(o, "overshoot_stop");
+  const std::string direction = in.text(o, "direction");
+  if (direction == "cw") bo.only = CircleDirection::CW;
+  if (direction == "ccw") bo.only = CircleDirection::CCW;
+  const std::string plane = in.text(o, "plane");
+  const BallbarTrace t = parse_ballbar_csv(text, input.path);
+  const auto e = evaluate_ballbar(t, bo);
+  std::optional<TraceDiagnosis> diagnosis;
+  if (!bo.only) diagnosis = diagnose_ballbar(t, bo, plane);
+  return ballbar_report(command, t, input.sha256, e, diagnosis, plane, bo.nominal_radius, in.number(o, "feed"),
+                        recorded_verdict(in), recorded_metadata(in))
+      .html(date);
+}
+
+RecordedReport recorded_report_of(HistoryStore& store, const CalibrationRecord& r, const Json& j, const std::string& date) {
+  const RecordInvocation in{j, "record " + r.id + " invocation"};
+  const InputHash& input = recorded_measurement_input(r, in);
+  const auto stored = store.model_file(input.sha256);
+  if (!stored || stored->kind != "measurements") return {"", missing_measurement_file(input)};
+  return {recorded_html(r, in, input, stored->content, date), ""};
+}
+
+}  // namespace
+
+RecordedReport recorded_report(HistoryStore& store, const CalibrationRecord& r, const std::string& date) {
+  if (std::string why = report_unsupported(store, r); !why.empty()) return {"", std::move(why)};
+  return recorded_report_of(store, r, parsed_record_invocation(r), date);
+}
+
+std::string recorded_report_missing(HistoryStore& store, const CalibrationRecord& r) {
+  if (std::string why = report_unsupported(store, r); !why.empty()) return why;
+  const Json j = parsed_record_invocation(r);
+  const RecordInvocation in{j, "record " + r.id + " invocation"};
+  const InputHash& input = recorded_measurement_input(r, in);
+  const auto stored = store.model_file(input.sha256);
+  return stored && stored->kind == "measurements" ? std::string() : missing_measurement_file(input);
+}
+
+}  // namespace mtcal
