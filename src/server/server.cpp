@@ -1026,10 +1026,12 @@ struct Server::Impl {
       } else {
         const auto mf = req.get_file_value("machine_file");
         m = parse_machine(mf.content, upload_display_name(mf.filename));
-        // Parameter files in the order given (each error given replaces the machine's, as --params).
+        // Parameter files in the order given (each error given replaces the machine's, as --params),
+        // in either form --params reads: an Etalon exchange file or mtcal's YAML.
         const auto [from, to] = req.files.equal_range("params");
         for (auto p = from; p != to; ++p)
-          if (!p->second.content.empty()) apply_parameters(m, p->second.content, upload_display_name(p->second.filename));
+          if (!p->second.content.empty())
+            apply_parameter_file(m, p->second.content, upload_display_name(p->second.filename));
       }
       TargetOutput out = compensation_target(format).run(m, co);
       return {m.name, std::move(out)};

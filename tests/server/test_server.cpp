@@ -470,6 +470,38 @@ TEST_P(Serve, RecordReportIsMadeFromTheStoredMeasurements) {
   }
 }
 
+// "Write compensation" from uploaded files reads a parameter file in either form --params reads:
+// an Etalon exchange file ([C0Y] VALUE in rad, TF5280's format) gives the same compensation as
+// mtcal's YAML with the same value, and a different one from the machine file alone (the ISG
+// target: its parameters include the squareness EC0Y).
+TEST_P(Serve, CompensationOfUploadedFilesReadsEtalonParameterFiles) {
+  const std::string machine =
+      "mtcal_machine: 1\nname: T1\ntopology: wXYfZt\nunits: {length: mm, angle: deg}\naxes:\n  X: {travel: [-100, 100]}\n"
+      "  Y: {travel: [-100, 100]}\n  Z: {travel: [-100, 0]}\ntool: {length: 100, spindle_point: [0, 0, 0]}\n"
+      "workpiece: {origin: [0, 0, -50]}\n";
+  const std::string yaml = "mtcal_parameters: 1\nunits: {length: mm, angle: rad}\nerrors:\n  EC0Y: 2e-5 rad\n";
+  const std::string etalon = "// exported\n[C0Y]\nVALUE = 2e-5\n";
+  const Login l = login("eng");
+  auto c = client();
+  const httplib::Headers h{{"Cookie", "mtcal_session=" + l.cookie}, {"X-CSRF-Token", l.csrf}};
+  auto post = [&](const std::string* params, const std::string& name) {
+    httplib::MultipartFormDataItems items{{"machine_file", machine, "t1.yaml", "application/yaml"},
+                                          {"format", "isg", "", ""},
+                                          {"summary", "1", "", ""}};
+    if (params) items.push_back({"params", *params, name, "text/plain"});
+    return c.Post("/api/compensation", h, items);
+  };
+  const auto from_etalon = post(&etalon, "volcomp.etalon");
+  ASSERT_EQ(from_etalon->status, 200) << from_etalon->body;
+  const auto from_yaml = post(&yaml, "p.yaml");
+  ASSERT_EQ(from_yaml->status, 200) << from_yaml->body;
+  EXPECT_EQ(from_etalon->body, from_yaml->body);
+  EXPECT_NE(post(nullptr, "")->body, from_etalon->body);  // the parameter changed the answer
+  // A block that names no error of the machine is refused (422), as --params refuses it.
+  const std::string unknown = "[EXU]\nVALUE = 1\n";
+  EXPECT_EQ(post(&unknown, "bad.etalon")->status, 422);
+}
+
 TEST_P(Serve, PathTraversalInFileNamesAndParameters) {
   const Login l = login("eng");
   auto c = client();
