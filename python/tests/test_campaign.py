@@ -236,7 +236,8 @@ def test_history_store_matches_cli(store_with_history, tmp_path):
     assert (tmp_path / "py.jsonl").read_bytes() == (tmp_path / "cli.jsonl").read_bytes()
     other = mtcal.HistoryStore(str(tmp_path / "copy.db"))
     s = other.import_(str(tmp_path / "py.jsonl"))
-    assert s == {"store": other.description, "records_added": 4, "events_added": 1, "model_files_added": 0, "skipped": [],
+    # The files: the three ISO 230-2 runs' and the ballbar trace, which --record keeps (schema 6).
+    assert s == {"store": other.description, "records_added": 4, "events_added": 1, "model_files_added": 4, "skipped": [],
                  "records": []}
     assert other.export() == st.export()
     # The trend report: the command's page (the date fixed, the note on copies left aside).
