@@ -159,28 +159,38 @@ std::string recorded_html(const CalibrationRecord& r, const RecordInvocation& in
       .html(date);
 }
 
-RecordedReport recorded_report_of(HistoryStore& store, const CalibrationRecord& r, const Json& j, const std::string& date) {
-  const RecordInvocation in{j, "record " + r.id + " invocation"};
-  const InputHash& input = recorded_measurement_input(r, in);
-  const auto stored = store.model_file(input.sha256);
-  if (!stored || stored->kind != "measurements") return {"", missing_measurement_file(input)};
-  return {recorded_html(r, in, input, stored->content, date), ""};
+std::string invocation_where(const CalibrationRecord& r) { return "record " + r.id + " invocation"; }
+
+// The record's invocation and its measurement file's text from the store, or why the report
+// cannot be made (the reason of report_unsupported, or the file the store lacks).
+struct StoredMeasurement {
+  Json invocation;
+  InputHash input;
+  std::string text;
+  std::string why;
+};
+StoredMeasurement stored_measurement(HistoryStore& store, const CalibrationRecord& r) {
+  StoredMeasurement s;
+  if (s.why = report_unsupported(store, r); !s.why.empty()) return s;
+  s.invocation = parsed_record_invocation(r);
+  s.input = recorded_measurement_input(r, RecordInvocation{s.invocation, invocation_where(r)});
+  if (auto stored = store.model_file(s.input.sha256); stored && stored->kind == "measurements")
+    s.text = std::move(stored->content);
+  else
+    s.why = missing_measurement_file(s.input);
+  return s;
 }
 
 }  // namespace
 
 RecordedReport recorded_report(HistoryStore& store, const CalibrationRecord& r, const std::string& date) {
-  if (std::string why = report_unsupported(store, r); !why.empty()) return {"", std::move(why)};
-  return recorded_report_of(store, r, parsed_record_invocation(r), date);
+  StoredMeasurement s = stored_measurement(store, r);
+  if (!s.why.empty()) return {"", std::move(s.why)};
+  return {recorded_html(r, RecordInvocation{s.invocation, invocation_where(r)}, s.input, s.text, date), ""};
 }
 
 std::string recorded_report_missing(HistoryStore& store, const CalibrationRecord& r) {
-  if (std::string why = report_unsupported(store, r); !why.empty()) return why;
-  const Json j = parsed_record_invocation(r);
-  const RecordInvocation in{j, "record " + r.id + " invocation"};
-  const InputHash& input = recorded_measurement_input(r, in);
-  const auto stored = store.model_file(input.sha256);
-  return stored && stored->kind == "measurements" ? std::string() : missing_measurement_file(input);
+  return stored_measurement(store, r).why;
 }
 
 }  // namespace mtcal

@@ -240,30 +240,35 @@ bool has_extension(const std::string& path, std::string_view ext) {
   return true;
 }
 
+// Which reader a file goes to when its extension or the format decides; Content: its text decides.
+enum class PositioningForm { Laser, Dat, Content };
+PositioningForm positioning_form(const std::string& path, const std::string& format) {
+  if (format == "laser" || (format == "auto" && (has_extension(path, ".rtl") || has_extension(path, ".rta"))))
+    return PositioningForm::Laser;
+  if (format == "dat" || (format == "auto" && has_extension(path, ".dat"))) return PositioningForm::Dat;
+  return PositioningForm::Content;
+}
+
 }  // namespace
 
 PositioningRuns read_positioning_file(const std::string& path, const std::string& format, const std::string& unit,
                                       const std::string& target_unit) {
-  const bool laser_ext = has_extension(path, ".rtl") || has_extension(path, ".rta");
-  if (format == "laser" || (format == "auto" && laser_ext)) return read_laser_file(path).runs;
-  if (format == "dat" || (format == "auto" && has_extension(path, ".dat"))) return read_positioning_dat(path);
-  // One read; the content decides: a section line is a laser export, a TGT_DATA[ key the .dat form.
-  const std::string text = read_text_file(path, "positioning file");
-  if (format == "auto" && text.substr(0, 4096).find("HEADER::") != std::string::npos)
-    return parse_laser_file(text, path, false).runs;
-  if (format == "auto" && text.find("TGT_DATA[") != std::string::npos) return parse_positioning_dat(text, path);
-  return parse_positioning_csv(text, path, unit, target_unit);
+  // One read, named as the reader it goes to names it (read_laser_file: "laser file").
+  const char* what = positioning_form(path, format) == PositioningForm::Laser ? "laser file" : "positioning file";
+  return parse_positioning_file(read_text_file(path, what), path, format, unit, target_unit);
 }
 
 PositioningRuns parse_positioning_file(const std::string& text, const std::string& path, const std::string& format,
                                        const std::string& unit, const std::string& target_unit) {
-  // The choices of read_positioning_file, in its order.
-  const bool laser_ext = has_extension(path, ".rtl") || has_extension(path, ".rta");
-  if (format == "laser" || (format == "auto" && laser_ext)) {
-    const bool rotary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".rta") == 0;  // as read_laser_file
-    return parse_laser_file(text, path, rotary).runs;
+  switch (positioning_form(path, format)) {
+    case PositioningForm::Laser:
+      return parse_laser_file(text, path, path.ends_with(".rta")).runs;  // rotary as read_laser_file decides
+    case PositioningForm::Dat:
+      return parse_positioning_dat(text, path);
+    case PositioningForm::Content:
+      break;
   }
-  if (format == "dat" || (format == "auto" && has_extension(path, ".dat"))) return parse_positioning_dat(text, path);
+  // The content decides: a section line is a laser export, a TGT_DATA[ key the .dat form.
   if (format == "auto" && text.substr(0, 4096).find("HEADER::") != std::string::npos)
     return parse_laser_file(text, path, false).runs;
   if (format == "auto" && text.find("TGT_DATA[") != std::string::npos) return parse_positioning_dat(text, path);
