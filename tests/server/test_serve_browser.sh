@@ -22,6 +22,7 @@ expect_error "an unreachable store is one line at start" "cannot connect" -- \
   "$MTCAL" serve --store "postgresql://x@127.0.0.1:1/none?connect_timeout=2" --listen 127.0.0.1:0
 
 start_server() {
+  : >"$tmp/serve.log"  # emptied before the server's shell opens it (see test_serve_cli.sh)
   "$MTCAL" serve --store "$store" --listen 127.0.0.1:0 2>"$tmp/serve.log" &
   pid=$!
   for _ in $(seq 1 100); do

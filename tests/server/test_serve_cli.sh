@@ -25,6 +25,10 @@ done
 
 pid=
 start_server() {
+  # The log emptied here, before the server's shell opens it: a log left by a server killed before
+  # would give its port (CI saw a restart read the dead server's port and then SIGTERM the new one
+  # while it was still bash, whose EXIT trap removed $tmp).
+  : >"$tmp/serve.log"
   # Reports dated as the commands' below (SOURCE_DATE_EPOCH): a record's report page is byte for byte theirs.
   SOURCE_DATE_EPOCH=1764000000 "$MTCAL" serve --store "$store" --listen 127.0.0.1:0 --tolerance-file "$tol" \
     --interval-days 200 2>"$tmp/serve.log" &
