@@ -1087,6 +1087,10 @@ void Server::Impl::register_routes() {
   add({"GET", "/static/plotly.min.js", Role::Viewer, true, false, ""}, [](const Req&, Res& res, const Context*) {
     const auto js = plotly_js();
     send_uncompressed(res, std::string(js.data(), js.size()), "application/javascript");
+    // The default headers are already in res.headers: set_header would add a second Cache-Control
+    // beside "no-store", which forbids storing the response whatever else is said (RFC 9111 5.2.2.5), so
+    // every page with plots downloaded and compiled the 4.8 MB again.
+    res.headers.erase("Cache-Control");
     res.set_header("Cache-Control", "public, max-age=86400");
   });
   add({"GET", "/static/app.js", Role::Viewer, true, false, ""}, [](const Req&, Res& res, const Context*) {

@@ -283,6 +283,21 @@ TEST_P(Serve, PostsWithoutTheCsrfTokenAreRefusedAndWriteNothing) {
   EXPECT_EQ(event_count(), 2u);
 }
 
+// The pages are never stored (no-store); Plotly (4.8 MB, no user data) is cached a day, with one
+// Cache-Control header: a second "no-store" beside it made browsers fetch and compile it per page.
+TEST_P(Serve, PlotlyIsCachedAndPagesAreNot) {
+  auto c = client();
+  const auto js = c.Get("/static/plotly.min.js");
+  ASSERT_TRUE(js);
+  EXPECT_EQ(js->status, 200);
+  EXPECT_EQ(js->headers.count("Cache-Control"), 1u);
+  EXPECT_EQ(js->get_header_value("Cache-Control"), "public, max-age=86400");
+  const auto page = c.Get("/login");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->headers.count("Cache-Control"), 1u);
+  EXPECT_EQ(page->get_header_value("Cache-Control"), "no-store");
+}
+
 TEST_P(Serve, SessionFixationLogoutAndCookieFlags) {
   const std::string fixed(64, 'b');
   const Login l = login("eng", kPassword, fixed);
