@@ -100,8 +100,10 @@ struct Block {
 
 [[gnu::always_inline]] inline void set_identity(Block& b) {
   for (int i = 0; i < 9; ++i)
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) b.r[i][l] = (i % 4 == 0) ? 1.0 : 0.0;
   for (int i = 0; i < 3; ++i)
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) b.t[i][l] = 0.0;
 }
 
@@ -115,6 +117,7 @@ template <class Get>
     double* p1 = P.r[3 * i + 1];
     double* p2 = P.r[3 * i + 2];
     double* pt = P.t[i];
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) {
       const double a = p0[l], b = p1[l], c = p2[l];
       p0[l] = a * x(0, 0, l) + b * x(1, 0, l) + c * x(2, 0, l);
@@ -141,6 +144,7 @@ template <class Get>
   for (int row = 0; row < 3; ++row) {
     double* ci = P.r[3 * row + i];
     double* cj = P.r[3 * row + j];
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) {
       const double x = ci[l], y = cj[l];
       ci[l] = x * c[l] + y * s[l];
@@ -152,17 +156,20 @@ template <class Get>
 // P = P * Trans(d * e_a).
 [[gnu::always_inline]] inline void mul_translation(Block& P, int a, const Lane& d) {
   for (int row = 0; row < 3; ++row)
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) P.t[row][l] += P.r[3 * row + a][l] * d[l];
 }
 
 // Exact error transform Trans(d) Rz(c) Ry(b) Rx(a) per lane (see error_transform).
 [[gnu::always_inline]] inline void error_block(Block& E, const Lane (&e)[6]) {
   Lane sa, ca, sb, cb, sc, cc;
+  MTCAL_VECTORIZE_LOOP
   for (int l = 0; l < kLanes; ++l) {
     sincos_lane(e[3][l], sa[l], ca[l]);
     sincos_lane(e[4][l], sb[l], cb[l]);
     sincos_lane(e[5][l], sc[l], cc[l]);
   }
+  MTCAL_VECTORIZE_LOOP
   for (int l = 0; l < kLanes; ++l) {
     E.r[0][l] = cb[l] * cc[l];
     E.r[1][l] = sa[l] * sb[l] * cc[l] - ca[l] * sc[l];
@@ -220,12 +227,14 @@ template <bool Libm>
 template <bool Libm>
 [[gnu::always_inline]] inline void prepare_axis(const ErrorModel::Program::AxisInfo& a, AxisLanes& L) {
   if (a.rotary) {
-    for (int l = 0; l < kLanes; ++l) detail::sincos_of<Libm>(a.sign * L.q[l], L.nom_s[l], L.nom_c[l]);
+    detail::sincos_lanes<Libm>([&](int l) { return a.sign * L.q[l]; }, L.nom_s, L.nom_c);
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) {
       L.act_c[l] = L.nom_c[l] * a.cos_zero - L.nom_s[l] * a.sin_zero;
       L.act_s[l] = L.nom_s[l] * a.cos_zero + L.nom_c[l] * a.sin_zero;
     }
   } else {
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) {
       L.nom_d[l] = a.sign * L.q[l];
       L.act_d[l] = a.sign * (L.q[l] + a.zero);
@@ -237,6 +246,7 @@ template <bool Libm>
 [[gnu::always_inline]] inline void finish_block(const Block& P, const Block& N, std::size_t count, double* out) {
   Lane res[6], sin_t, cos_t;
   bool small = true;
+  MTCAL_VECTORIZE_LOOP
   for (int l = 0; l < kLanes; ++l) {
     double d[9];
     for (int i = 0; i < 3; ++i)
@@ -251,10 +261,12 @@ template <bool Libm>
     cos_t[l] = 0.5 * (d[0] + d[4] + d[8] - 1.0);
   }
   // `&`, not `&&`: one vector comparison, not a branch per lane.
+  MTCAL_VECTORIZE_LOOP
   for (int l = 0; l < kLanes; ++l) small = small & (sin_t[l] < 1e-2) & (cos_t[l] > 0.0);
   if (small) {
     // theta / sin(theta) = asin(s) / s = 1 + s^2/6 + 3 s^4/40 + 5 s^6/112 + 35 s^8/1152 + ...;
     // for s < 1e-2 the omitted terms are below 1e-21 relative.
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) {
       const double s2 = sin_t[l] * sin_t[l];
       const double f = 1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0 + s2 * (5.0 / 112.0 + s2 * (35.0 / 1152.0))));
@@ -280,6 +292,7 @@ template <bool Libm>
 // Whether a block's positions reach beyond kSincosLaneLimit for some axis' sines and cosines.
 [[gnu::always_inline]] inline bool needs_libm(const ErrorModel::Program::AxisInfo& a, const AxisLanes& L) {
   bool big = false;
+  MTCAL_VECTORIZE_LOOP
   for (int l = 0; l < kLanes; ++l) big = big | !(std::fabs(L.q[l]) * a.sincos_scale <= detail::kSincosLaneLimit);
   return big;
 }
@@ -301,6 +314,7 @@ template <bool Libm>
   bool libm = false;
   for (std::size_t k = 0; k < n; ++k) {
     AxisLanes& L = ax[k];
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) {
       const std::size_t src = std::min<std::size_t>(static_cast<std::size_t>(l), count - 1);
       L.q[l] = q[src * n + k];
@@ -323,6 +337,7 @@ template <bool Libm>
   const std::size_t count = v.size();
   for (std::size_t j0 = 0; j0 < count; j0 += kLanes) {
     AxisLanes& L = ax[k];
+    MTCAL_VECTORIZE_LOOP
     for (std::size_t l = 0; l < kLanes; ++l) {
       L.q[l] = v[std::min(j0 + l, count - 1)];
       L.dir[l] = 0.0;  // a grid has no directions of motion
@@ -373,6 +388,7 @@ inline void compose(const Pose& a, const double* tab, std::size_t count, std::si
       const double* f0 = fa + c * stride;
       const double* f1 = fa + (3 + c) * stride;
       const double* f2 = fa + (6 + c) * stride;
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) P.r[3 * i + c][l] = x * f0[l] + y * f1[l] + z * f2[l];
     }
   }
@@ -382,6 +398,7 @@ inline void compose(const Pose& a, const double* tab, std::size_t count, std::si
       const double* f0 = fn + c * stride;
       const double* f1 = fn + (3 + c) * stride;
       const double* f2 = fn + (6 + c) * stride;
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) Q.r[3 * i + c][l] = x * f0[l] + y * f1[l] + z * f2[l];
     }
   }
@@ -392,11 +409,13 @@ inline void compose(const Pose& a, const double* tab, std::size_t count, std::si
   const double* ftn[3] = {fn + 9 * stride, fn + 10 * stride, fn + 11 * stride};
   for (std::size_t c = 0; c < 3; ++c) {
     const double* fat = fa + (9 + c) * stride;
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) dft[c][l] = fat[l] - ftn[c][l];
   }
   for (int i = 0; i < 3; ++i) {
     const double x = A.r[3 * i], y = A.r[3 * i + 1], z = A.r[3 * i + 2];
     const double u = x - N.r[3 * i], v = y - N.r[3 * i + 1], w = z - N.r[3 * i + 2], d = A.t[i] - N.t[i];
+    MTCAL_VECTORIZE_LOOP
     for (int l = 0; l < kLanes; ++l) {
       P.t[i][l] =
           (x * dft[0][l] + y * dft[1][l] + z * dft[2][l]) + (u * ftn[0][l] + v * ftn[1][l] + w * ftn[2][l]) + d;
@@ -416,6 +435,7 @@ inline void compose(const Pose& a, const double* tab, std::size_t count, std::si
   if (b == l1) return;
   double ta[12 * kLanes], tn[12 * kLanes];
   for (std::size_t c = 0; c < 12; ++c)
+    MTCAL_VECTORIZE_LOOP
     for (std::size_t l = 0; l < kLanes; ++l) {
       const std::size_t j = std::min(b + l, l1 - 1);
       ta[c * kLanes + l] = fa[c * count + j];

@@ -19,6 +19,25 @@ namespace mtcal::detail {
 constexpr int kLanes = 8;
 using Lane = double[kLanes];
 
+// Put before a loop over the kLanes lanes of a kernel. GCC vectorises these loops on its own
+// (-O3); clang 14's cost model declines them (-Rpass-missed=loop-vectorize on batch.cpp: "the
+// cost-model indicates that vectorization is not beneficial", and its full unroll of the 8
+// iterations leaves scalar code), which made the clang kernels 2-3x slower than GCC's (bench/,
+// docs/building.md). assume_safety also says that the lane arrays of one loop do not overlap,
+// which holds for every loop it marks: they are distinct rows of a Block, Lane or table. A
+// marked loop that clang cannot vectorise is a warning (-Wpass-failed), an error under
+// MTCAL_WERROR, so a loop that calls the C library's sine (Libm) must not carry it.
+#if defined(__clang__)
+#define MTCAL_VECTORIZE_LOOP _Pragma("clang loop vectorize(assume_safety)")
+#else
+#define MTCAL_VECTORIZE_LOOP
+#endif
+
+// for (l) sincos_of<Libm>(x(l), s[l], c[l]) over the lanes, marked for clang only where it can
+// vectorise (the kernel's own sine, not the C library's).
+template <bool Libm, class X>
+[[gnu::always_inline]] inline void sincos_lanes(X x, Lane& s, Lane& c);
+
 // sin and cos to about 1 ulp, written in double arithmetic and selects only, without branches,
 // calls or integer work, so that loops over lanes vectorise: Cody-Waite reduction by pi/2 and
 // the fdlibm kernel polynomials on [-pi/4, pi/4] (fdlibm k_sin.c, k_cos.c).
@@ -74,6 +93,16 @@ template <bool Libm>
   }
 }
 
+template <bool Libm, class X>
+[[gnu::always_inline]] inline void sincos_lanes(X x, Lane& s, Lane& c) {
+  if constexpr (Libm) {
+    for (int l = 0; l < kLanes; ++l) sincos_of<true>(x(l), s[l], c[l]);
+  } else {
+    MTCAL_VECTORIZE_LOOP
+    for (int l = 0; l < kLanes; ++l) sincos_lane(x(l), s[l], c[l]);
+  }
+}
+
 // One motion-error function compiled for the lanes: its form's numbers in flat arrays.
 struct LaneForm {
   enum class Kind { Polynomial, Fourier, Table };
@@ -125,6 +154,7 @@ template <bool Libm = false>
   switch (f.kind) {
     case LaneForm::Kind::Polynomial: {
       const double* p = f.poly;
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) out[l] = ((p[3] * q[l] + p[2]) * q[l] + p[1]) * q[l] + p[0] + p[4] * dir[l];
       return;
     }
@@ -139,6 +169,7 @@ template <bool Libm = false>
       // The sines start at -0, which adds to anything exactly: with no sine term the sum below
       // leaves value's bits, a -0 included.
       double sines[kLanes];
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) {
         out[l] = f.constant + f.reversal * dir[l];
         sines[l] = -0.0;
@@ -147,12 +178,14 @@ template <bool Libm = false>
         const double a = k < nc ? f.cos_terms[k] : 0.0, b = k < ns ? f.sin_terms[k] : 0.0;
         const double h = static_cast<double>(k + 1);
         double s[kLanes], c[kLanes];
-        for (int l = 0; l < kLanes; ++l) sincos_of<Libm>(h * q[l], s[l], c[l]);
+        sincos_lanes<Libm>([&](int l) { return h * q[l]; }, s, c);
+        MTCAL_VECTORIZE_LOOP
         for (int l = 0; l < kLanes; ++l) {
           out[l] += a * c[l];
           sines[l] += b * s[l];
         }
       }
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) out[l] += sines[l];
       return;
     }
@@ -166,20 +199,24 @@ template <bool Libm = false>
       const double lo = x[0], hi = x[last + 1];
       double qc[kLanes];
       std::int64_t i0[kLanes];
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) {
         qc[l] = q[l] < lo ? lo : (q[l] > hi ? hi : q[l]);
         i0[l] = 0;
       }
       for (std::int64_t step = f.first_step; step > 0; step >>= 1)
+        MTCAL_VECTORIZE_LOOP
         for (int l = 0; l < kLanes; ++l) {
           const std::int64_t j = std::min(i0[l] + step, last);
           i0[l] = x[j] <= qc[l] ? j : i0[l];
         }
       double w0[kLanes], w1[kLanes], x0[kLanes], x1[kLanes];
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) {
         x0[l] = x[i0[l]];
         x1[l] = x[i0[l] + 1];
       }
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) {
         // The bracket's exact end weights (also where the last interval's width overflows, and
         // for -0 at a first position 0); t itself between the ends.
@@ -190,10 +227,12 @@ template <bool Libm = false>
       const double* fw = f.forward.data();
       if (f.backward.empty()) {
         // MotionFunction's 1.0 * (...) is exact.
+        MTCAL_VECTORIZE_LOOP
         for (int l = 0; l < kLanes; ++l) out[l] = w0[l] * fw[i0[l]] + w1[l] * fw[i0[l] + 1];
         return;
       }
       const double* bw = f.backward.data();
+      MTCAL_VECTORIZE_LOOP
       for (int l = 0; l < kLanes; ++l) {
         // The direction weights of MotionFunction::value: + forward, - backward, 0 their mean.
         const double wf = dir[l] > 0.0 ? 1.0 : (dir[l] < 0.0 ? 0.0 : 0.5);
