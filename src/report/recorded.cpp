@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "mtcal/evaluation/ballbar.hpp"
+#include "mtcal/evaluation/compare.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/io/instruments/iso230_files.hpp"
 #include "mtcal/report/evaluation.hpp"
@@ -53,7 +54,21 @@ Json ballbar_invocation(const std::string& command_line, const std::string& file
                          verdict, metadata);
 }
 
+Json comparison_invocation(const std::string& command_line, const std::string& file, const ReportMetadata& metadata) {
+  return invocation_json(command_line, file, Json::object(), ToleranceVerdict{}, metadata);
+}
+
 namespace {
+
+// The commands whose report is made from the store, and how their reports list them.
+constexpr const char* kReportedCommands[] = {"iso230-2", "ballbar", "compare"};
+constexpr const char* kReportedCommandsText = "iso230-2, ballbar and compare";
+
+bool report_made_from_store(const std::string& command) {
+  for (const char* c : kReportedCommands)
+    if (command == c) return true;
+  return false;
+}
 
 // Strict reads of the invocation the recording command wrote (InputError naming the record).
 struct RecordInvocation {
@@ -95,8 +110,9 @@ Json parsed_record_invocation(const CalibrationRecord& r) {
 
 // Why there is no report before the invocation is read: another command, or none kept.
 std::string report_unsupported(HistoryStore& store, const CalibrationRecord& r) {
-  if (r.command != "iso230-2" && r.command != "ballbar")
-    return "the report of mtcal " + r.command + " is not made from the store (those of iso230-2 and ballbar are)";
+  if (!report_made_from_store(r.command))
+    return "the report of mtcal " + r.command + " is not made from the store (those of " + kReportedCommandsText +
+           " are)";
   if (!r.invocation.empty()) return "";
   std::string why =
       "the record does not say how its command ran (records made before schema version 6, by history import or from "
@@ -142,6 +158,10 @@ std::string recorded_html(const CalibrationRecord& r, const RecordInvocation& in
     const PositioningEvaluation e = evaluate_positioning(runs);
     return positioning_report(command, runs, input.sha256, e, recorded_verdict(in), recorded_metadata(in)).html(date);
   }
+  if (r.command == "compare")
+    return comparison_report(command, compare_methods(parse_comparison_csv(text, input.path)), input.sha256,
+                             recorded_metadata(in))
+        .html(date);
   BallbarOptions bo;
   bo.nominal_radius = in.number(o, "radius");
   bo.overshoot_start = in.number(o, "overshoot_start");

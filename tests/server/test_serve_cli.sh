@@ -159,19 +159,19 @@ python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_ad
 "$MTCAL" history export --store "sqlite:$tmp/copy.db" --out "$tmp/copy.jsonl" >/dev/null 2>&1
 cmp -s "$tmp/all.jsonl" "$tmp/copy.jsonl" && ok || bad "the imported copy exports other bytes"
 
-# Each result's report: `mtcal iso230-2|ballbar FILE --record --report F` keeps the measurements
+# Each result's report: `mtcal iso230-2|ballbar|compare FILE --record --report F` keeps the measurements
 # (model file kind measurements) and how the command ran; the record's report page is F byte for
 # byte: the .dat of ../shared/data with tolerances checked, a laser file whose header fills the
-# report's metadata, a ballbar trace.
+# report's metadata, a ballbar trace, a method comparison's data.
 for spec in "R1|iso230-2|$DATA|--tolerance-file|$tol" "R2|iso230-2|$EX/instruments/x-axis.rtl|--meta|operator=cli" \
-  "R3|ballbar|$EX/instruments/xy-ballbar.csv|--radius|100"; do
+  "R3|ballbar|$EX/instruments/xy-ballbar.csv|--radius|100" "R4|compare|$EX/data/mohammed2019-ballbar-vs-samba.csv|--meta|operator=cli"; do
   IFS='|' read -r m cmd f opt val <<<"$spec"
   SOURCE_DATE_EPOCH=1764000000 "$MTCAL" $cmd "$f" "$opt" "$val" --meta machine=$m --meta date=2026-03-01 \
     --meta axis=X --report "$tmp/$m.html" --record "$store" >/dev/null 2>"$tmp/err" || bad "$cmd --record: $(cat "$tmp/err")"
   id=$("$MTCAL" history list --store "$store" --machine $m --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
   curl -b "$jar" -D "$tmp/$m.head" -o "$tmp/$m-page.html" "$base/record/report?id=$id"
   [ -s "$tmp/$m.html" ] && cmp -s "$tmp/$m.html" "$tmp/$m-page.html" && ok \
-    || bad "$m: the record's report differs from iso230-2 --report's: $(cmp "$tmp/$m.html" "$tmp/$m-page.html" 2>&1 | head -c 300)"
+    || bad "$m: the record's report differs from $cmd --report's: $(cmp "$tmp/$m.html" "$tmp/$m-page.html" 2>&1 | head -c 300)"
   grep -qi "^content-security-policy: default-src 'none'; script-src 'unsafe-inline'" "$tmp/$m.head" && ok \
     || bad "$m: the report is not served with the reports' CSP: $(cat "$tmp/$m.head")"
   curl -b "$jar" "$base/record?id=$id" | grep -q 'id="report-link"' && ok || bad "$m: the record page does not link its report"

@@ -26,6 +26,10 @@ Json ballbar_invocation(const std::string& command_line, const std::string& file
                         double radius, double feed, double overshoot_start, double overshoot_stop,
                         const std::string& direction, const ToleranceVerdict& verdict, const ReportMetadata& metadata);
 
+// How `mtcal compare DATA ... --record` ran, the same way: "options": {} (compare has none that
+// change its report), "verdict": [] (it checks no tolerances).
+Json comparison_invocation(const std::string& command_line, const std::string& file, const ReportMetadata& metadata);
+
 // A record's report, or why there is none.
 struct RecordedReport {
   std::string html;  // the report's HTML; empty when it cannot be made
@@ -35,8 +39,8 @@ struct RecordedReport {
 // The report `mtcal COMMAND ... --report F` wrote (or would have written) for record r, made
 // from the store's copy of its measurement file and the record's invocation, through the same
 // report functions as the command (positioning_report): equal to the command's file byte for
-// byte when date is the command's date line (Report::date_now()). Commands: iso230-2 and
-// ballbar (positioning_report, ballbar_report). No report
+// byte when date is the command's date line (Report::date_now()). Commands: iso230-2,
+// ballbar and compare (positioning_report, ballbar_report, comparison_report). No report
 // (why set): another command, a record without an invocation (made before schema version 6, by
 // history import or by Python), a measurement file the store lacks.
 // Throws InputError when the stored file or invocation cannot be read (a changed store).
