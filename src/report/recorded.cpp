@@ -8,6 +8,7 @@
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/io/instruments/iso230_files.hpp"
 #include "mtcal/report/evaluation.hpp"
+#include "mtcal/report/prediction.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -58,11 +59,16 @@ Json comparison_invocation(const std::string& command_line, const std::string& f
   return invocation_json(command_line, file, Json::object(), ToleranceVerdict{}, metadata);
 }
 
+Json regression_invocation(const std::string& command_line, const std::string& file, const std::string& x,
+                           const std::string& y, const std::string& models, const ReportMetadata& metadata) {
+  return invocation_json(command_line, file, {{"x", x}, {"y", y}, {"models", models}}, ToleranceVerdict{}, metadata);
+}
+
 namespace {
 
 // The commands whose report is made from the store, and how their reports list them.
-constexpr const char* kReportedCommands[] = {"iso230-2", "ballbar", "compare"};
-constexpr const char* kReportedCommandsText = "iso230-2, ballbar and compare";
+constexpr const char* kReportedCommands[] = {"iso230-2", "ballbar", "compare", "regress"};
+constexpr const char* kReportedCommandsText = "iso230-2, ballbar, compare and regress";
 
 bool report_made_from_store(const std::string& command) {
   for (const char* c : kReportedCommands)
@@ -157,6 +163,13 @@ std::string recorded_html(const CalibrationRecord& r, const RecordInvocation& in
     if (const double wrap = in.number(o, "wrap"); wrap > 0) runs = merge_wrapped_targets(runs, wrap);
     const PositioningEvaluation e = evaluate_positioning(runs);
     return positioning_report(command, runs, input.sha256, e, recorded_verdict(in), recorded_metadata(in)).html(date);
+  }
+  if (r.command == "regress") {
+    const std::string x = in.text(o, "x"), y = in.text(o, "y");
+    const TableRegression g = regress_table(parse_csv(text, input.path), input.path, x, y,
+                                            parse_model_specs(in.text(o, "models"), in.where + " models"));
+    return regression_report(g.comparison, g.x, g.y, input.path, input.sha256, x, y, command, recorded_metadata(in))
+        .html(date);
   }
   if (r.command == "compare")
     return comparison_report(command, compare_methods(parse_comparison_csv(text, input.path)), input.sha256,

@@ -163,10 +163,12 @@ cmp -s "$tmp/all.jsonl" "$tmp/copy.jsonl" && ok || bad "the imported copy export
 # (model file kind measurements) and how the command ran; the record's report page is F byte for
 # byte: the .dat of ../shared/data with tolerances checked, a laser file whose header fills the
 # report's metadata, a ballbar trace, a method comparison's data.
-for spec in "R1|iso230-2|$DATA|--tolerance-file|$tol" "R2|iso230-2|$EX/instruments/x-axis.rtl|--meta|operator=cli" \
-  "R3|ballbar|$EX/instruments/xy-ballbar.csv|--radius|100" "R4|compare|$EX/data/mohammed2019-ballbar-vs-samba.csv|--meta|operator=cli"; do
-  IFS='|' read -r m cmd f opt val <<<"$spec"
-  SOURCE_DATE_EPOCH=1764000000 "$MTCAL" $cmd "$f" "$opt" "$val" --meta machine=$m --meta date=2026-03-01 \
+for spec in "R1|iso230-2|$DATA|--tolerance-file $tol" "R2|iso230-2|$EX/instruments/x-axis.rtl|--meta operator=cli" \
+  "R3|ballbar|$EX/instruments/xy-ballbar.csv|--radius 100" "R4|compare|$EX/data/mohammed2019-ballbar-vs-samba.csv|" \
+  "R5|regress|$EX/prediction/yaqoob2017-table5_8.csv|--x t --y e_splz --models exp_approach,polynomial(2)"; do
+  IFS='|' read -r m cmd f args <<<"$spec"
+  # shellcheck disable=SC2086 # args: the command's options, split into words
+  SOURCE_DATE_EPOCH=1764000000 "$MTCAL" $cmd "$f" $args --meta machine=$m --meta date=2026-03-01 \
     --meta axis=X --report "$tmp/$m.html" --record "$store" >/dev/null 2>"$tmp/err" || bad "$cmd --record: $(cat "$tmp/err")"
   id=$("$MTCAL" history list --store "$store" --machine $m --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
   curl -b "$jar" -D "$tmp/$m.head" -o "$tmp/$m-page.html" "$base/record/report?id=$id"

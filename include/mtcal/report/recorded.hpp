@@ -30,6 +30,11 @@ Json ballbar_invocation(const std::string& command_line, const std::string& file
 // change its report), "verdict": [] (it checks no tolerances).
 Json comparison_invocation(const std::string& command_line, const std::string& file, const ReportMetadata& metadata);
 
+// How `mtcal regress DATA --x X --y Y --models M ... --record` ran: "options": {"x", "y",
+// "models"} (the columns and the list of model forms), "verdict": [].
+Json regression_invocation(const std::string& command_line, const std::string& file, const std::string& x,
+                           const std::string& y, const std::string& models, const ReportMetadata& metadata);
+
 // A record's report, or why there is none.
 struct RecordedReport {
   std::string html;  // the report's HTML; empty when it cannot be made
@@ -40,7 +45,8 @@ struct RecordedReport {
 // from the store's copy of its measurement file and the record's invocation, through the same
 // report functions as the command (positioning_report): equal to the command's file byte for
 // byte when date is the command's date line (Report::date_now()). Commands: iso230-2,
-// ballbar and compare (positioning_report, ballbar_report, comparison_report). No report
+// ballbar, compare and regress (positioning_report, ballbar_report, comparison_report,
+// regression_report). No report
 // (why set): another command, a record without an invocation (made before schema version 6, by
 // history import or by Python), a measurement file the store lacks.
 // Throws InputError when the stored file or invocation cannot be read (a changed store).
