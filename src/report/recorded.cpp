@@ -1,14 +1,22 @@
 // A recorded result's report made again: the command's path with the store's files.
 #include "mtcal/report/recorded.hpp"
 
+#include <algorithm>
+#include <optional>
+
 #include <fmt/format.h>
 
 #include "mtcal/evaluation/ballbar.hpp"
 #include "mtcal/evaluation/compare.hpp"
 #include "mtcal/evaluation/iso230_2.hpp"
 #include "mtcal/io/instruments/iso230_files.hpp"
+#include "mtcal/io/instruments/probe_log.hpp"
+#include "mtcal/io/instruments/probing_files.hpp"
+#include "mtcal/io/model/machine_file.hpp"
+#include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/report/evaluation.hpp"
 #include "mtcal/report/prediction.hpp"
+#include "mtcal/report/probing.hpp"
 #include "mtcal/report/report.hpp"
 #include "mtcal/util/errors.hpp"
 
@@ -64,11 +72,35 @@ Json regression_invocation(const std::string& command_line, const std::string& f
   return invocation_json(command_line, file, {{"x", x}, {"y", y}, {"models", models}}, ToleranceVerdict{}, metadata);
 }
 
+Json rotary_invocation(const std::string& command_line, const std::string& file, char axis,
+                       const std::string& dialect, const std::string& machine, double sphere_diameter,
+                       double stylus_diameter, double max_rms, const std::optional<InstrumentFrame>& frame,
+                       const std::string& method, double reject_sigma, int bins, const ReportMetadata& metadata) {
+  Json f = Json::array();
+  if (frame) {
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) f.push_back(frame->rotation(i, k));
+    for (int i = 0; i < 3; ++i) f.push_back(frame->translation[i]);
+  }
+  return invocation_json(command_line, file,
+                         {{"axis", std::string(1, axis)},
+                          {"dialect", dialect},
+                          {"machine", machine},
+                          {"sphere_diameter", sphere_diameter},
+                          {"stylus_diameter", stylus_diameter},
+                          {"max_rms", max_rms},
+                          {"frame", f},
+                          {"method", method},
+                          {"reject_sigma", reject_sigma},
+                          {"bins", bins}},
+                         ToleranceVerdict{}, metadata);
+}
+
 namespace {
 
 // The commands whose report is made from the store, and how their reports list them.
-constexpr const char* kReportedCommands[] = {"iso230-2", "ballbar", "compare", "regress"};
-constexpr const char* kReportedCommandsText = "iso230-2, ballbar, compare and regress";
+constexpr const char* kReportedCommands[] = {"iso230-2", "ballbar", "compare", "regress", "rotary-axis"};
+constexpr const char* kReportedCommandsText = "iso230-2, ballbar, compare, regress and rotary-axis";
 
 bool report_made_from_store(const std::string& command) {
   for (const char* c : kReportedCommands)
@@ -152,9 +184,79 @@ ReportMetadata recorded_metadata(const RecordInvocation& in) {
   return metadata;
 }
 
+// rotary-axis's path (cmd_probing.cpp run_rotary) with the stored contacts or centres, the stored
+// machine file (machine_file: null when the command had no --machine) and the recorded options.
+std::string recorded_rotary_html(const RecordInvocation& in, const InputHash& input, const std::string& text,
+                                 const ModelFile* machine_file, const std::string& machine_path,
+                                 const std::string& date) {
+  const Json& o = in.at(in.j, "options");
+  const std::string letter = in.text(o, "axis");
+  if (letter.size() != 1 || letter[0] < 'A' || letter[0] > 'C')
+    throw InputError({in.where, 0, "axis"}, "expected A, B or C, found '" + printable(letter) + "'");
+  const char a = letter[0];
+  NominalRotaryAxis axis = NominalRotaryAxis::by_letter(a);
+  std::optional<Machine> machine;
+  if (machine_file) {
+    machine = parse_machine(machine_file->content, machine_path);
+    axis = NominalRotaryAxis::from(machine->axis(a));
+  }
+  const double max_rms = in.number(o, "max_rms");
+  const std::string dialect = in.text(o, "dialect");
+  IndexedCentres centres;
+  if (dialect == "centres") {
+    centres = parse_centres_csv(text, input.path, a);
+  } else {
+    ContactSet contacts;
+    if (dialect == "csv") {
+      contacts = parse_contacts_csv(text, input.path, a);
+    } else if (dialect == "iso" || dialect == "linuxcnc") {
+      if (!machine) throw InputError({in.where, 0, "machine"}, "expected the machine file a probe log needs, found none");
+      std::vector<LoggedAxisValues> log;
+      for (auto& c : parse_probe_log(*machine, text, input.path,
+                                     dialect == "iso" ? ProbeLogFormat::IsoCsv : ProbeLogFormat::LinuxCNC))
+        log.push_back({std::move(c.q), c.line});
+      contacts = contacts_from_log(*machine, a, log, input.path);
+    } else {
+      throw InputError({in.where, 0, "dialect"},
+                       "expected csv, iso, linuxcnc or centres, found '" + printable(dialect) + "'");
+    }
+    centres = centres_from_contacts(contacts, SphereProbing{in.number(o, "sphere_diameter"),
+                                                            in.number(o, "stylus_diameter"), max_rms});
+  }
+  // The instrument's frame as the command applied it: rotation row by row, then translation.
+  const Json& f = in.at(o, "frame");
+  if (!f.is_array() || (!f.empty() && f.size() != 12))
+    throw InputError({in.where, 0, "frame"}, "expected [] or 12 numbers (rotation by rows, translation)");
+  if (!f.empty()) {
+    InstrumentFrame frame;
+    for (std::size_t k = 0; k < 12; ++k) {
+      if (!f[k].is_number()) throw InputError({in.where, 0, "frame"}, "expected a number, found " + std::string(f[k].type_name()));
+      const double v = f[k].get<double>();
+      if (k < 9)
+        frame.rotation(static_cast<int>(k / 3), static_cast<int>(k % 3)) = v;
+      else
+        frame.translation[static_cast<int>(k - 9)] = v;
+    }
+    apply_frame(centres, frame);
+  }
+  const std::string method = in.text(o, "method");
+  const RotaryAxisOptions options{
+      method != "lsq", method != "triples",
+      TriplesOptions{in.number(o, "reject_sigma"), static_cast<int>(in.number(o, "bins")), 0, {}}, 0.1};
+  const RotaryAxisResult result = locate_rotary_axis(axis, std::move(centres), options);
+  if (!result.located)
+    throw InputError({in.where, 0, "axis"}, "the centres turn about a line far from the axis's nominal direction: "
+                                            "the command made no report of them");
+  return rotary_report(in.text(in.j, "command_line"), machine ? &*machine : nullptr, result, max_rms, input.sha256,
+                       recorded_metadata(in))
+      .html(date);
+}
+
 // The command's path (cmd_evaluation.cpp) with the stored file's text and the recorded options.
 std::string recorded_html(const CalibrationRecord& r, const RecordInvocation& in, const InputHash& input,
-                          const std::string& text, const std::string& date) {
+                          const std::string& text, const ModelFile* machine_file, const std::string& machine_path,
+                          const std::string& date) {
+  if (r.command == "rotary-axis") return recorded_rotary_html(in, input, text, machine_file, machine_path, date);
   const Json& o = in.at(in.j, "options");
   const std::string command = in.text(in.j, "command_line");
   if (r.command == "iso230-2") {
@@ -196,21 +298,39 @@ std::string invocation_where(const CalibrationRecord& r) { return "record " + r.
 
 // The record's invocation and its measurement file's text from the store, or why the report
 // cannot be made (the reason of report_unsupported, or the file the store lacks).
+// The machine file too where the invocation names one (options "machine": rotary-axis --machine).
 struct StoredMeasurement {
   Json invocation;
   InputHash input;
   std::string text;
+  std::optional<ModelFile> machine;
+  std::string machine_path;
   std::string why;
 };
 StoredMeasurement stored_measurement(HistoryStore& store, const CalibrationRecord& r) {
   StoredMeasurement s;
   if (s.why = report_unsupported(store, r); !s.why.empty()) return s;
   s.invocation = parsed_record_invocation(r);
-  s.input = recorded_measurement_input(r, RecordInvocation{s.invocation, invocation_where(r)});
-  if (auto stored = store.model_file(s.input.sha256); stored && stored->kind == "measurements")
+  const RecordInvocation in{s.invocation, invocation_where(r)};
+  s.input = recorded_measurement_input(r, in);
+  if (auto stored = store.model_file(s.input.sha256); stored && stored->kind == "measurements") {
     s.text = std::move(stored->content);
-  else
+  } else {
     s.why = missing_measurement_file(s.input);
+    return s;
+  }
+  const Json& o = in.at(s.invocation, "options");
+  if (!o.is_object() || !o.contains("machine")) return s;
+  s.machine_path = in.text(o, "machine");
+  if (s.machine_path.empty()) return s;
+  const auto i = std::find_if(r.inputs.begin(), r.inputs.end(), [&](const InputHash& x) { return x.path == s.machine_path; });
+  if (i == r.inputs.end())
+    throw InputError({in.where, 0, "machine"},
+                     "the machine file '" + printable(s.machine_path) + "' is none of the record's inputs");
+  if (auto stored = store.model_file(i->sha256); stored && stored->kind == "machine")
+    s.machine = std::move(stored);
+  else
+    s.why = fmt::format("the store does not hold the machine file {} (SHA-256 {}) of this record", i->path, i->sha256);
   return s;
 }
 
@@ -219,7 +339,9 @@ StoredMeasurement stored_measurement(HistoryStore& store, const CalibrationRecor
 RecordedReport recorded_report(HistoryStore& store, const CalibrationRecord& r, const std::string& date) {
   StoredMeasurement s = stored_measurement(store, r);
   if (!s.why.empty()) return {"", std::move(s.why)};
-  return {recorded_html(r, RecordInvocation{s.invocation, invocation_where(r)}, s.input, s.text, date), ""};
+  return {recorded_html(r, RecordInvocation{s.invocation, invocation_where(r)}, s.input, s.text,
+                        s.machine ? &*s.machine : nullptr, s.machine_path, date),
+          ""};
 }
 
 std::string recorded_report_missing(HistoryStore& store, const CalibrationRecord& r) {

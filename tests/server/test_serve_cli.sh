@@ -121,7 +121,7 @@ idrec=$("$MTCAL" history list --store "$store" --machine HU1 --json | python3 -c
 python3 - "$tmp/shop.db" <<'PY' && ok || bad "model files are not kept once each"
 import sqlite3, sys
 rows = sqlite3.connect(sys.argv[1]).execute("SELECT kind, COUNT(*) FROM model_files GROUP BY kind ORDER BY kind").fetchall()
-assert rows == [("machine", 1), ("measurements", 1), ("parameters", 1)], rows  # measurements: the ballbar upload
+assert rows == [("machine", 1), ("measurements", 2), ("parameters", 1)], rows  # measurements: the ballbar and contacts uploads
 PY
 api -o "$tmp/rec.zip" -w '%{http_code}' -F "record=$idrec" -F format=linuxcnc "$base/api/compensation" >"$tmp/code"
 [ "$(cat "$tmp/code")" = 200 ] && ok || bad "compensation of record $idrec: $(cat "$tmp/code") $(head -c 400 "$tmp/rec.zip")"
@@ -151,10 +151,10 @@ grep -q 'id="rec-comp-write"' "$tmp/rec.html" && grep -q 'machine file, held in 
   && grep -q 'id="report-why"' "$tmp/rec.html" && ok || bad "the record page lacks the compensation form or the report note"
 # history export/import carry the model files: a copy exports the same bytes.
 "$MTCAL" history export --store "$store" --out "$tmp/all.jsonl" >/dev/null 2>"$tmp/err" || bad "export: $(cat "$tmp/err")"
-grep -c '"type":"model_file"' "$tmp/all.jsonl" | grep -qx 3 && ok || bad "the export lacks the model files"
+grep -c '"type":"model_file"' "$tmp/all.jsonl" | grep -qx 4 && ok || bad "the export lacks the model files"
 "$MTCAL" history import "$tmp/all.jsonl" --store "sqlite:$tmp/copy.db" --json >"$tmp/imp.json" 2>"$tmp/err" \
   || bad "import: $(cat "$tmp/err")"
-python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_added"] == 3' "$tmp/imp.json" && ok \
+python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_added"] == 4' "$tmp/imp.json" && ok \
   || bad "import: $(cat "$tmp/imp.json")"
 "$MTCAL" history export --store "sqlite:$tmp/copy.db" --out "$tmp/copy.jsonl" >/dev/null 2>&1
 cmp -s "$tmp/all.jsonl" "$tmp/copy.jsonl" && ok || bad "the imported copy exports other bytes"
@@ -165,7 +165,8 @@ cmp -s "$tmp/all.jsonl" "$tmp/copy.jsonl" && ok || bad "the imported copy export
 # report's metadata, a ballbar trace, a method comparison's data.
 for spec in "R1|iso230-2|$DATA|--tolerance-file $tol" "R2|iso230-2|$EX/instruments/x-axis.rtl|--meta operator=cli" \
   "R3|ballbar|$EX/instruments/xy-ballbar.csv|--radius 100" "R4|compare|$EX/data/mohammed2019-ballbar-vs-samba.csv|" \
-  "R5|regress|$EX/prediction/yaqoob2017-table5_8.csv|--x t --y e_splz --models exp_approach,polynomial(2)"; do
+  "R5|regress|$EX/prediction/yaqoob2017-table5_8.csv|--x t --y e_splz --models exp_approach,polynomial(2)" \
+  "R6|rotary-axis --contacts|$tmp/contacts.csv|--axis C --sphere-diameter 30 --stylus-diameter 6 --machine $EX/machines/rrttt-table-table.yaml --frame 0.01,0,0,0,0,0.5 --method lsq"; do
   IFS='|' read -r m cmd f args <<<"$spec"
   # shellcheck disable=SC2086 # args: the command's options, split into words
   SOURCE_DATE_EPOCH=1764000000 "$MTCAL" $cmd "$f" $args --meta machine=$m --meta date=2026-03-01 \
@@ -186,6 +187,10 @@ upid=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["record"]
 code=$(curl -b "$jar" -o "$tmp/up.html" -w '%{http_code}' "$base/record/report?id=$upid")
 [ "$code" = 200 ] && grep -q "mtcal iso230-2 $(basename "$DATA") --meta axis=X --meta date=2026-03-02 --meta machine=U1" "$tmp/up.html" \
   && ok || bad "report of an uploaded record: $code $(head -c 300 "$tmp/up.html")"
+rarec=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["record"])' "$tmp/ra.json")
+code=$(curl -b "$jar" -o "$tmp/raup.html" -w '%{http_code}' "$base/record/report?id=$rarec")
+[ "$code" = 200 ] && grep -q "mtcal rotary-axis --axis C --contacts contacts.csv --sphere-diameter 30 --stylus-diameter 6 --meta date=2026-01-06" "$tmp/raup.html" \
+  && ok || bad "report of an uploaded rotary-axis record: $code $(head -c 300 "$tmp/raup.html")"
 code=$(curl -b "$jar" -o "$tmp/bbup.html" -w '%{http_code}' "$base/record/report?id=$bbrec")
 [ "$code" = 200 ] && grep -q "mtcal ballbar xy-ballbar.csv --radius 100 --plane XY --meta date=2026-01-05" "$tmp/bbup.html" \
   && ok || bad "report of an uploaded ballbar record: $code $(head -c 300 "$tmp/bbup.html")"

@@ -1,6 +1,7 @@
 // A recorded result's own report (its command's --report) made again from the history store.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "mtcal/evaluation/metadata.hpp"
@@ -8,6 +9,7 @@
 #include "mtcal/history/record.hpp"
 #include "mtcal/io/history/store.hpp"
 #include "mtcal/io/json/json.hpp"
+#include "mtcal/probing/rotary_probing.hpp"
 
 namespace mtcal {
 
@@ -35,6 +37,16 @@ Json comparison_invocation(const std::string& command_line, const std::string& f
 Json regression_invocation(const std::string& command_line, const std::string& file, const std::string& x,
                            const std::string& y, const std::string& models, const ReportMetadata& metadata);
 
+// How `mtcal rotary-axis --contacts|--centres FILE ... --record` ran: "options": {"axis", "dialect"
+// (csv, iso, linuxcnc: --contacts-dialect; centres: --centres), "machine" (--machine as given, its
+// file kept with the record; "" without), "sphere_diameter", "stylus_diameter", "max_rms", "frame"
+// ([] or the 12 numbers of the applied --frame: rotation by rows, translation in mm), "method",
+// "reject_sigma", "bins"}, "verdict": [].
+Json rotary_invocation(const std::string& command_line, const std::string& file, char axis,
+                       const std::string& dialect, const std::string& machine, double sphere_diameter,
+                       double stylus_diameter, double max_rms, const std::optional<InstrumentFrame>& frame,
+                       const std::string& method, double reject_sigma, int bins, const ReportMetadata& metadata);
+
 // A record's report, or why there is none.
 struct RecordedReport {
   std::string html;  // the report's HTML; empty when it cannot be made
@@ -45,10 +57,10 @@ struct RecordedReport {
 // from the store's copy of its measurement file and the record's invocation, through the same
 // report functions as the command (positioning_report): equal to the command's file byte for
 // byte when date is the command's date line (Report::date_now()). Commands: iso230-2,
-// ballbar, compare and regress (positioning_report, ballbar_report, comparison_report,
-// regression_report). No report
+// ballbar, compare, regress and rotary-axis (positioning_report, ballbar_report, comparison_report,
+// regression_report, rotary_report; rotary-axis with the stored machine file where it had one). No report
 // (why set): another command, a record without an invocation (made before schema version 6, by
-// history import or by Python), a measurement file the store lacks.
+// history import or by Python), a measurement file or machine file the store lacks.
 // Throws InputError when the stored file or invocation cannot be read (a changed store).
 RecordedReport recorded_report(HistoryStore& store, const CalibrationRecord& r, const std::string& date);
 // Why recorded_report makes no report of r (the same sentence), without making it; empty when
