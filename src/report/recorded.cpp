@@ -148,13 +148,15 @@ Json parsed_record_invocation(const CalibrationRecord& r) {
 
 // Why there is no report before the invocation is read: another command, or none kept.
 std::string report_unsupported(HistoryStore& store, const CalibrationRecord& r) {
+  if (r.command == "fit-motion" || r.command == "pose-check")
+    return "mtcal " + r.command + " has no --report";
   if (!report_made_from_store(r.command))
-    return "the report of mtcal " + r.command + " is not made from the store (those of " + kReportedCommandsText +
+    return "the report of mtcal " + r.command + " is not made from the store yet (those of " + kReportedCommandsText +
            " are)";
   if (!r.invocation.empty()) return "";
   std::string why =
-      "the record does not say how its command ran (records made before schema version 6, by history import or from "
-      "Python)";
+      "the record does not say how its command ran (records made before schema version 6, by an mtcal that kept it "
+      "for iso230-2 and ballbar only, by history import or from Python)";
   std::string files;
   std::size_t n = 0;
   for (const auto& i : r.inputs)

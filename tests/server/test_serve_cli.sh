@@ -159,10 +159,13 @@ python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_ad
 "$MTCAL" history export --store "sqlite:$tmp/copy.db" --out "$tmp/copy.jsonl" >/dev/null 2>&1
 cmp -s "$tmp/all.jsonl" "$tmp/copy.jsonl" && ok || bad "the imported copy exports other bytes"
 
-# Each result's report: `mtcal iso230-2|ballbar|compare FILE --record --report F` keeps the measurements
-# (model file kind measurements) and how the command ran; the record's report page is F byte for
-# byte: the .dat of ../shared/data with tolerances checked, a laser file whose header fills the
-# report's metadata, a ballbar trace, a method comparison's data.
+# Each result's report: `mtcal iso230-2|ballbar|compare|regress|rotary-axis FILE --record --report F`
+# keeps the measurements (model file kind measurements), the machine file (rotary-axis --machine) and
+# how the command ran; the record's report page is F byte for byte: the .dat of ../shared/data with
+# tolerances checked, a laser file whose header fills the report's metadata, a ballbar trace, a
+# method comparison's data, a regression's data, probe contacts read on a machine's axis through an
+# instrument frame.
+declare -A recid
 for spec in "R1|iso230-2|$DATA|--tolerance-file $tol" "R2|iso230-2|$EX/instruments/x-axis.rtl|--meta operator=cli" \
   "R3|ballbar|$EX/instruments/xy-ballbar.csv|--radius 100" "R4|compare|$EX/data/mohammed2019-ballbar-vs-samba.csv|" \
   "R5|regress|$EX/prediction/yaqoob2017-table5_8.csv|--x t --y e_splz --models exp_approach,polynomial(2)" \
@@ -178,8 +181,23 @@ for spec in "R1|iso230-2|$DATA|--tolerance-file $tol" "R2|iso230-2|$EX/instrumen
   grep -qi "^content-security-policy: default-src 'none'; script-src 'unsafe-inline'" "$tmp/$m.head" && ok \
     || bad "$m: the report is not served with the reports' CSP: $(cat "$tmp/$m.head")"
   curl -b "$jar" "$base/record?id=$id" | grep -q 'id="report-link"' && ok || bad "$m: the record page does not link its report"
+  recid[$m]=$id
 done
 grep -q 'class="verdict' "$tmp/R1.html" && ok || bad "R1's report shows no verdict"
+# A store without a record's file (removed by hand): no report, and the page names the file: R4's
+# data (a measurement file), R6's machine file.
+cmpsha=$(sha256sum "$EX/data/mohammed2019-ballbar-vs-samba.csv" | cut -c1-64)
+rtsha=$(sha256sum "$EX/machines/rrttt-table-table.yaml" | cut -c1-64)
+python3 -c 'import sqlite3,sys; c=sqlite3.connect(sys.argv[1]); c.execute("DELETE FROM model_files WHERE sha256 IN (?,?)", sys.argv[2:]); c.commit()' \
+  "$tmp/shop.db" "$cmpsha" "$rtsha"
+code=$(curl -b "$jar" -o "$tmp/nodata.txt" -w '%{http_code}' "$base/record/report?id=${recid[R4]}")
+[ "$code" = 404 ] && grep -q "does not hold the measurement file $EX/data/mohammed2019-ballbar-vs-samba.csv (SHA-256 $cmpsha)" "$tmp/nodata.txt" \
+  && ok || bad "report of a record whose data file the store lacks: $code $(cat "$tmp/nodata.txt")"
+code=$(curl -b "$jar" -o "$tmp/nomachine.txt" -w '%{http_code}' "$base/record/report?id=${recid[R6]}")
+[ "$code" = 404 ] && grep -q "does not hold the machine file $EX/machines/rrttt-table-table.yaml (SHA-256 $rtsha)" "$tmp/nomachine.txt" \
+  && ok || bad "report of a record whose machine file the store lacks: $code $(cat "$tmp/nomachine.txt")"
+curl -b "$jar" "$base/record?id=${recid[R6]}" | grep -q "does not hold the machine file" && ok \
+  || bad "the record page of R6 does not say which file its report lacks"
 # Uploads keep their files too: the report of `mtcal iso230-2 NAME --meta ...` (ballbar: `mtcal ballbar
 # NAME --radius R --plane P --meta ...`, the upload of BB1 above).
 api -o "$tmp/up.json" -F machine=U1 -F date=2026-03-02 -F axis=X -F confirm=1 -F "file=@$DATA" "$base/api/upload"
