@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -12,9 +14,11 @@
 #include "mtcal/io/instruments/iso230_files.hpp"
 #include "mtcal/io/instruments/probe_log.hpp"
 #include "mtcal/io/instruments/probing_files.hpp"
+#include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/report/evaluation.hpp"
+#include "mtcal/report/identification.hpp"
 #include "mtcal/report/prediction.hpp"
 #include "mtcal/report/probing.hpp"
 #include "mtcal/report/report.hpp"
@@ -96,11 +100,29 @@ Json rotary_invocation(const std::string& command_line, const std::string& file,
                          ToleranceVerdict{}, metadata);
 }
 
+Json identification_invocation(const std::string& command_line, const std::string& file, const std::string& machine,
+                               const std::vector<std::string>& params, const std::vector<std::string>& estimate,
+                               const std::vector<std::string>& scale_bars, bool pretravel, double sigma_um,
+                               double rank_tolerance, const std::string& loss, const std::vector<std::string>& not_kept,
+                               const ReportMetadata& metadata) {
+  return invocation_json(command_line, file,
+                         {{"machine", machine},
+                          {"params", params},
+                          {"estimate", estimate},
+                          {"scale_bars", scale_bars},
+                          {"pretravel", pretravel},
+                          {"sigma_um", sigma_um},
+                          {"rank_tolerance", rank_tolerance},
+                          {"loss", loss},
+                          {"not_kept", not_kept}},
+                         ToleranceVerdict{}, metadata);
+}
+
 namespace {
 
 // The commands whose report is made from the store, and how their reports list them.
-constexpr const char* kReportedCommands[] = {"iso230-2", "ballbar", "compare", "regress", "rotary-axis"};
-constexpr const char* kReportedCommandsText = "iso230-2, ballbar, compare, regress and rotary-axis";
+constexpr const char* kReportedCommands[] = {"iso230-2", "ballbar", "compare", "regress", "rotary-axis", "identify"};
+constexpr const char* kReportedCommandsText = "iso230-2, ballbar, compare, regress, rotary-axis and identify";
 
 bool report_made_from_store(const std::string& command) {
   for (const char* c : kReportedCommands)
@@ -186,6 +208,21 @@ ReportMetadata recorded_metadata(const RecordInvocation& in) {
   return metadata;
 }
 
+// The record's invocation and its measurement file's text from the store, with the machine file
+// and the parameter files where the invocation names them (options "machine", "params":
+// rotary-axis --machine, identify -m and --params), or why the report cannot be made (the reason
+// of report_unsupported, what the record's command line gave that the store does not keep, or
+// the file the store lacks).
+struct StoredMeasurement {
+  Json invocation;
+  InputHash input;
+  std::string text;
+  std::optional<ModelFile> machine;
+  std::string machine_path;
+  std::vector<std::pair<std::string, ModelFile>> params;  // path as given, file
+  std::string why;
+};
+
 // rotary-axis's path (cmd_probing.cpp run_rotary) with the stored contacts or centres, the stored
 // machine file (machine_file: null when the command had no --machine) and the recorded options.
 std::string recorded_rotary_html(const RecordInvocation& in, const InputHash& input, const std::string& text,
@@ -254,11 +291,63 @@ std::string recorded_rotary_html(const RecordInvocation& in, const InputHash& in
       .html(date);
 }
 
+std::vector<std::string> texts(const RecordInvocation& in, const Json& o, const char* key) {
+  std::vector<std::string> v;
+  const Json& a = in.at(o, key);
+  if (!a.is_array()) throw InputError({in.where, 0, key}, "expected a list of text");
+  for (const auto& x : a) {
+    if (!x.is_string()) throw InputError({in.where, 0, key}, "expected text, found " + std::string(x.type_name()));
+    v.push_back(x.get<std::string>());
+  }
+  return v;
+}
+
+// identify's path (cmd_identification.cpp run_identify) with the stored machine, parameter and
+// measurement files and the recorded options; a record whose command used what the store does
+// not keep has no report (stored_measurement).
+std::string recorded_identify_html(const RecordInvocation& in, const StoredMeasurement& s, const std::string& date) {
+  const Json& o = in.at(in.j, "options");
+  if (!s.machine) throw InputError({in.where, 0, "machine"}, "expected the machine file identify loaded, found none");
+  Machine prior = parse_machine(s.machine->content, s.machine_path);
+  IdentificationReportInputs files;
+  IdentificationReportHashes hashes;
+  for (const auto& [path, file] : s.params) {
+    apply_parameter_file(prior, file.content, path);
+    files.parameter_files.push_back(path);
+    hashes.parameter_files.push_back(file.sha256);
+  }
+  const ProbingPlan measurements = parse_probing_csv(prior, s.text, s.input.path);
+  IdentificationOptions opt;
+  opt.estimate = texts(in, o, "estimate");
+  opt.estimate_source = "--estimate";
+  for (const auto& b : texts(in, o, "scale_bars")) opt.scale_bars.push_back(parse_scale_bar(b, "--scale-bar"));
+  const Json& pretravel = in.at(o, "pretravel");
+  if (!pretravel.is_boolean()) throw InputError({in.where, 0, "pretravel"}, "expected true or false");
+  opt.estimate_pretravel = pretravel.get<bool>();
+  opt.sigma_ball = opt.sigma_facet = opt.sigma_scale_bar = opt.sigma_ballbar = opt.sigma_laser =
+      in.number(o, "sigma_um") * 1e-3;
+  opt.rank_tolerance = in.number(o, "rank_tolerance");
+  const std::string loss = in.text(o, "loss");
+  if (loss != "none" && loss != "huber" && loss != "cauchy")
+    throw InputError({in.where, 0, "loss"}, "expected none, huber or cauchy, found '" + printable(loss) + "'");
+  opt.loss = loss == "huber"    ? IdentificationOptions::Loss::Huber
+             : loss == "cauchy" ? IdentificationOptions::Loss::Cauchy
+                                : IdentificationOptions::Loss::None;
+  const IdentificationRun run = identify_and_assess(prior, measurements, opt, AssessmentOptions{});
+  files.measurements = s.input.path;
+  hashes.measurements = s.input.sha256;
+  return identification_report(prior, run, files, hashes, in.text(in.j, "command_line"), recorded_metadata(in))
+      .html(date);
+}
+
 // The command's path (cmd_evaluation.cpp) with the stored file's text and the recorded options.
-std::string recorded_html(const CalibrationRecord& r, const RecordInvocation& in, const InputHash& input,
-                          const std::string& text, const ModelFile* machine_file, const std::string& machine_path,
+std::string recorded_html(const CalibrationRecord& r, const RecordInvocation& in, const StoredMeasurement& s,
                           const std::string& date) {
-  if (r.command == "rotary-axis") return recorded_rotary_html(in, input, text, machine_file, machine_path, date);
+  const InputHash& input = s.input;
+  const std::string& text = s.text;
+  if (r.command == "rotary-axis")
+    return recorded_rotary_html(in, input, text, s.machine ? &*s.machine : nullptr, s.machine_path, date);
+  if (r.command == "identify") return recorded_identify_html(in, s, date);
   const Json& o = in.at(in.j, "options");
   const std::string command = in.text(in.j, "command_line");
   if (r.command == "iso230-2") {
@@ -298,22 +387,22 @@ std::string recorded_html(const CalibrationRecord& r, const RecordInvocation& in
 
 std::string invocation_where(const CalibrationRecord& r) { return "record " + r.id + " invocation"; }
 
-// The record's invocation and its measurement file's text from the store, or why the report
-// cannot be made (the reason of report_unsupported, or the file the store lacks).
-// The machine file too where the invocation names one (options "machine": rotary-axis --machine).
-struct StoredMeasurement {
-  Json invocation;
-  InputHash input;
-  std::string text;
-  std::optional<ModelFile> machine;
-  std::string machine_path;
-  std::string why;
-};
 StoredMeasurement stored_measurement(HistoryStore& store, const CalibrationRecord& r) {
   StoredMeasurement s;
   if (s.why = report_unsupported(store, r); !s.why.empty()) return s;
   s.invocation = parsed_record_invocation(r);
   const RecordInvocation in{s.invocation, invocation_where(r)};
+  if (const Json& o = in.at(s.invocation, "options"); o.is_object() && o.contains("not_kept")) {
+    const auto not_kept = texts(in, o, "not_kept");
+    std::string list;
+    for (std::size_t i = 0; i < not_kept.size(); ++i)
+      list += (i == 0 ? "" : i + 1 == not_kept.size() ? " and " : ", ") + not_kept[i];
+    if (!list.empty()) {
+      s.why = "the report of this mtcal " + r.command + " depends on " + list +
+              " of its command line, which the store does not keep";
+      return s;
+    }
+  }
   s.input = recorded_measurement_input(r, in);
   if (auto stored = store.model_file(s.input.sha256); stored && stored->kind == "measurements") {
     s.text = std::move(stored->content);
@@ -329,10 +418,24 @@ StoredMeasurement stored_measurement(HistoryStore& store, const CalibrationRecor
   if (i == r.inputs.end())
     throw InputError({in.where, 0, "machine"},
                      "the machine file '" + printable(s.machine_path) + "' is none of the record's inputs");
-  if (auto stored = store.model_file(i->sha256); stored && stored->kind == "machine")
+  if (auto stored = store.model_file(i->sha256); stored && stored->kind == "machine") {
     s.machine = std::move(stored);
-  else
+  } else {
     s.why = fmt::format("the store does not hold the machine file {} (SHA-256 {}) of this record", i->path, i->sha256);
+    return s;
+  }
+  if (!o.contains("params")) return s;
+  for (const auto& path : texts(in, o, "params")) {
+    const auto p = std::find_if(r.inputs.begin(), r.inputs.end(), [&](const InputHash& x) { return x.path == path; });
+    if (p == r.inputs.end())
+      throw InputError({in.where, 0, "params"}, "the parameter file '" + printable(path) + "' is none of the record's inputs");
+    auto stored = store.model_file(p->sha256);
+    if (!stored || stored->kind != "parameters") {
+      s.why = fmt::format("the store does not hold the parameter file {} (SHA-256 {}) of this record", p->path, p->sha256);
+      return s;
+    }
+    s.params.emplace_back(path, std::move(*stored));
+  }
   return s;
 }
 
@@ -341,9 +444,7 @@ StoredMeasurement stored_measurement(HistoryStore& store, const CalibrationRecor
 RecordedReport recorded_report(HistoryStore& store, const CalibrationRecord& r, const std::string& date) {
   StoredMeasurement s = stored_measurement(store, r);
   if (!s.why.empty()) return {"", std::move(s.why)};
-  return {recorded_html(r, RecordInvocation{s.invocation, invocation_where(r)}, s.input, s.text,
-                        s.machine ? &*s.machine : nullptr, s.machine_path, date),
-          ""};
+  return {recorded_html(r, RecordInvocation{s.invocation, invocation_where(r)}, s, date), ""};
 }
 
 std::string recorded_report_missing(HistoryStore& store, const CalibrationRecord& r) {

@@ -113,16 +113,29 @@ printf 'mtcal_parameters: 1\nerrors:\n  EZY: {unit: um, argument_unit: m, polyno
 "$MTCAL" simulate -m "$H" --plan "$EX/plans/vmc-ballbar-laser.csv" --noise-um 1 --seed 7 --artefact-error-um 5 \
   --scale-bar $SB --out "$tmp/m1.csv" >/dev/null 2>"$tmp/err" || bad "simulate: $(cat "$tmp/err")"
 for run in 1 2; do  # the same files twice: the store keeps each file once
-  "$MTCAL" identify -m "$H" --params "$tmp/prior.yaml" --measurements "$tmp/m1.csv" --estimate "$EST" \
-    --scale-bar $SB --out "$tmp/id.yaml" --meta machine=HU1 --meta date=2026-02-0$run --record "$store" \
-    >/dev/null 2>"$tmp/err" || bad "identify --record: $(cat "$tmp/err")"
+  SOURCE_DATE_EPOCH=1764000000 "$MTCAL" identify -m "$H" --params "$tmp/prior.yaml" --measurements "$tmp/m1.csv" \
+    --estimate "$EST" --scale-bar $SB --out "$tmp/id.yaml" --meta machine=HU1 --meta date=2026-02-0$run \
+    --report "$tmp/HU1.html" --record "$store" >/dev/null 2>"$tmp/err" || bad "identify --record: $(cat "$tmp/err")"
 done
 idrec=$("$MTCAL" history list --store "$store" --machine HU1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
 python3 - "$tmp/shop.db" <<'PY' && ok || bad "model files are not kept once each"
 import sqlite3, sys
 rows = sqlite3.connect(sys.argv[1]).execute("SELECT kind, COUNT(*) FROM model_files GROUP BY kind ORDER BY kind").fetchall()
-assert rows == [("machine", 1), ("measurements", 2), ("parameters", 1)], rows  # measurements: the ballbar and contacts uploads
+# measurements: the ballbar and contacts uploads, identify's measurements
+assert rows == [("machine", 1), ("measurements", 3), ("parameters", 1)], rows
 PY
+# The identification's own report, made from the stored machine, parameter and measurement files.
+curl -b "$jar" -o "$tmp/HU1-page.html" "$base/record/report?id=$idrec"
+[ -s "$tmp/HU1.html" ] && cmp -s "$tmp/HU1.html" "$tmp/HU1-page.html" && ok \
+  || bad "HU1: the record's report differs from identify --report's: $(cmp "$tmp/HU1.html" "$tmp/HU1-page.html" 2>&1 | head -c 300)"
+# With --set (a model change the store does not keep): no report, and the page says why.
+"$MTCAL" identify -m "$H" --params "$tmp/prior.yaml" --measurements "$tmp/m1.csv" --estimate "$EST" --scale-bar $SB \
+  --set EXY.1=1um/m --meta machine=HU2 --meta date=2026-02-03 --record "$store" >/dev/null 2>"$tmp/err" \
+  || bad "identify --set --record: $(cat "$tmp/err")"
+hu2=$("$MTCAL" history list --store "$store" --machine HU2 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
+code=$(curl -b "$jar" -o "$tmp/hu2.txt" -w '%{http_code}' "$base/record/report?id=$hu2")
+[ "$code" = 404 ] && grep -q "depends on --set of its command line, which the store does not keep" "$tmp/hu2.txt" \
+  && ok || bad "report of an identify with --set: $code $(cat "$tmp/hu2.txt")"
 api -o "$tmp/rec.zip" -w '%{http_code}' -F "record=$idrec" -F format=linuxcnc "$base/api/compensation" >"$tmp/code"
 [ "$(cat "$tmp/code")" = 200 ] && ok || bad "compensation of record $idrec: $(cat "$tmp/code") $(head -c 400 "$tmp/rec.zip")"
 "$MTCAL" compensate -m "$H" --params "$tmp/prior.yaml" --params "$tmp/id.yaml" --format linuxcnc --out "$tmp/rec-cli" \
@@ -148,13 +161,13 @@ bbsha=$(sha256sum "$EX/instruments/xy-ballbar.csv" | cut -c1-64)
   || bad "compensation of a record without model files: $code $(cat "$tmp/nofile.json")"
 curl -b "$jar" "$base/record?id=$idrec" >"$tmp/rec.html"
 grep -q 'id="rec-comp-write"' "$tmp/rec.html" && grep -q 'machine file, held in the store' "$tmp/rec.html" \
-  && grep -q 'id="report-why"' "$tmp/rec.html" && ok || bad "the record page lacks the compensation form or the report note"
+  && grep -q 'id="report-link"' "$tmp/rec.html" && ok || bad "the record page lacks the compensation form or the report link"
 # history export/import carry the model files: a copy exports the same bytes.
 "$MTCAL" history export --store "$store" --out "$tmp/all.jsonl" >/dev/null 2>"$tmp/err" || bad "export: $(cat "$tmp/err")"
-grep -c '"type":"model_file"' "$tmp/all.jsonl" | grep -qx 4 && ok || bad "the export lacks the model files"
+grep -c '"type":"model_file"' "$tmp/all.jsonl" | grep -qx 5 && ok || bad "the export lacks the model files"
 "$MTCAL" history import "$tmp/all.jsonl" --store "sqlite:$tmp/copy.db" --json >"$tmp/imp.json" 2>"$tmp/err" \
   || bad "import: $(cat "$tmp/err")"
-python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_added"] == 4' "$tmp/imp.json" && ok \
+python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_added"] == 5' "$tmp/imp.json" && ok \
   || bad "import: $(cat "$tmp/imp.json")"
 "$MTCAL" history export --store "sqlite:$tmp/copy.db" --out "$tmp/copy.jsonl" >/dev/null 2>&1
 cmp -s "$tmp/all.jsonl" "$tmp/copy.jsonl" && ok || bad "the imported copy exports other bytes"

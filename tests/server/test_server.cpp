@@ -471,7 +471,7 @@ TEST_P(Serve, RecordReportIsMadeFromTheStoredMeasurements) {
   // Why other commands' records have no report: a regress record of an mtcal that kept no
   // invocation for it, a command whose report is not made from the store, one without --report.
   for (const auto& [other, why] : {std::pair<std::string, std::string>{"regress", "does not say how its command ran"},
-                                     {"identify", "the report of mtcal identify is not made from the store yet"},
+                                     {"volumetric", "the report of mtcal volumetric is not made from the store yet"},
                                      {"fit-motion", "mtcal fit-motion has no --report"}}) {
     CalibrationRecord o = sample("R2", "2026-07-01", 2.0);
     o.command = other;
