@@ -14,6 +14,7 @@
 #include "mtcal/io/json/evaluation_json.hpp"
 #include "mtcal/io/system/files.hpp"
 #include "mtcal/report/evaluation.hpp"
+#include "mtcal/report/recorded.hpp"
 
 namespace mtcal::cli {
 namespace {
@@ -62,6 +63,7 @@ int run_compare(const CompareOptions& o) {
   if (!o.report.empty()) AtomicFile check(o.report);  // refuse a bad report path before the work
   const MethodComparison c = compare_methods(read_comparison_csv(o.data));
   if (!o.report.empty()) write_comparison_report(o.report, command_line(), c);
+  if (recording()) note_report_source(o.data, comparison_invocation(command_line(), o.data, session_metadata()));
   if (o.json_out || recording()) {
     Json j = to_json(c);
     if (!o.report.empty()) j["report"] = o.report;

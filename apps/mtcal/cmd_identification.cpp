@@ -22,6 +22,7 @@
 #include "mtcal/io/model/machine_file.hpp"
 #include "mtcal/io/instruments/probing_plan_file.hpp"
 #include "mtcal/report/identification.hpp"
+#include "mtcal/report/recorded.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parallel.hpp"
 
@@ -262,6 +263,21 @@ int run_identify(const IdentifyOptions& o) {
   if (!o.report.empty())
     identification_report(prior, run, {o.model.params, o.measurements, o.truth, o.workspace}, command_line())
         .write(o.report);
+  if (recording()) {
+    // The measurements and options the report is made from again (docs/history.md "Measurement
+    // files"); what the store does not keep is named, and such a record has no report from it.
+    std::vector<std::string> not_kept;
+    if (!o.model.set.empty()) not_kept.push_back("--set");
+    if (!o.model.only.empty()) not_kept.push_back("--only");
+    if (o.model.tool_length) not_kept.push_back("--tool-length");
+    if (!o.truth.empty()) not_kept.push_back("--truth");
+    if (!o.workspace.empty()) not_kept.push_back("--workspace");
+    if (o.monte_carlo > 0) not_kept.push_back("--monte-carlo");
+    note_report_source(o.measurements,
+                       identification_invocation(command_line(), o.measurements, o.model.machine, o.model.params,
+                                                 o.est.estimate, o.est.scale_bars, o.est.pretravel, o.est.sigma_um,
+                                                 o.est.rank_tolerance, o.loss, not_kept, session_metadata()));
+  }
   if ((o.json_out || recording()) && emit_json(to_json(run, o.out, o.report), o.json_out)) return 0;
   print_identification(o, run);
   return 0;

@@ -22,6 +22,7 @@
 #include "mtcal/prediction/regression.hpp"
 #include "mtcal/prediction/separation.hpp"
 #include "mtcal/report/prediction.hpp"
+#include "mtcal/report/recorded.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parse.hpp"
 
@@ -29,12 +30,6 @@ namespace mtcal::cli {
 namespace {
 
 std::string g6(double v) { return significant6(v); }
-
-std::vector<double> column_values(const CsvTable& t, int column) {
-  std::vector<double> v;
-  for (const auto& r : t.rows) v.push_back(r[static_cast<std::size_t>(column)]);
-  return v;
-}
 
 // ---------------------------------------------------------------- regress
 struct RegressOptions {
@@ -62,16 +57,12 @@ int run_regress(const RegressOptions& o) {
   check_outputs({o.data}, {o.report});
   if (!o.report.empty()) AtomicFile check(o.report);
   const auto specs = parse_model_specs(o.models, "--models");
-  const CsvTable t = read_csv(o.data);
-  const int cx = t.column(o.x), cy = t.column(o.y);
-  if (cx < 0) throw InputError({o.data, 0, o.x}, "no column '" + printable(o.x) + "' (--x)");
-  if (cy < 0) throw InputError({o.data, 0, o.y}, "no column '" + printable(o.y) + "' (--y)");
-  const std::vector<double> x = column_values(t, cx), y = column_values(t, cy);
-  if (x.size() < 2) throw InputError({o.data, 0, o.y}, fmt::format("expected at least 2 rows, found {}", x.size()));
-  const ModelComparison c = compare_models(specs, x, y);
-  if (c.fits.empty())
-    throw Error("no model could be fitted: " + (c.skipped.empty() ? std::string() : c.skipped[0].reason));
+  const TableRegression g = regress_table(read_csv(o.data), o.data, o.x, o.y, specs);
+  const ModelComparison& c = g.comparison;
+  const std::vector<double>&x = g.x, &y = g.y;
   if (!o.report.empty()) regression_report(c, x, y, o.data, o.x, o.y, command_line()).write(o.report);
+  if (recording())
+    note_report_source(o.data, regression_invocation(command_line(), o.data, o.x, o.y, o.models, session_metadata()));
   if ((o.json_out || recording()) && emit_json(to_json(c, o.data, o.x, o.y, x.size(), o.report), o.json_out)) {
     return 0;
   }

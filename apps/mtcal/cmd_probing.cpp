@@ -27,6 +27,7 @@
 #include "mtcal/probing/rotary_probing.hpp"
 #include "mtcal/probing/sphere_probing.hpp"
 #include "mtcal/report/probing.hpp"
+#include "mtcal/report/recorded.hpp"
 #include "mtcal/util/errors.hpp"
 #include "mtcal/util/parallel.hpp"
 #include "mtcal/util/parse.hpp"
@@ -146,7 +147,8 @@ int run_rotary(const RotaryOptions& o) {
       o.contacts.empty()
           ? read_centres_csv(o.centres, o.axis[0])
           : centres_from_contacts(contact_set(), SphereProbing{o.sphere_diameter, o.stylus_diameter, o.max_rms});
-  if (!o.frame.empty()) apply_frame(centres, parse_frame(o.frame));
+  std::optional<InstrumentFrame> frame;
+  if (!o.frame.empty()) apply_frame(centres, *(frame = parse_frame(o.frame)));
   if (!o.out.empty()) AtomicFile check(o.out);  // refuse a bad path before the work
   if (!o.report.empty()) AtomicFile check(o.report);
   RotaryAxisOptions options{o.method != "lsq", o.method != "triples", TriplesOptions{o.reject_sigma, o.bins, o.threads},
@@ -200,6 +202,16 @@ int run_rotary(const RotaryOptions& o) {
   for (const auto& n : r.notes) std::cerr << "mtcal: note: " << n << "\n";
   if (!o.out.empty()) write_rotary_parameters(o.out, r);
   if (!o.report.empty()) write_rotary_report(o.report, command_line(), machine ? &*machine : nullptr, r, o.max_rms);
+  if (recording()) {
+    // The contacts or centres and how they were read and evaluated, for the record's report
+    // (docs/history.md "Measurement files"); the machine file is kept as the record's model file.
+    note_model_files(o.machine, {});
+    const std::string file = o.contacts.empty() ? o.centres : o.contacts;
+    note_report_source(file, rotary_invocation(command_line(), file, o.axis[0],
+                                               o.contacts.empty() ? "centres" : o.contacts_dialect, o.machine,
+                                               o.sphere_diameter, o.stylus_diameter, o.max_rms, frame, o.method,
+                                               o.reject_sigma, o.bins, session_metadata()));
+  }
   if (o.json_out || recording()) {
     Json j = to_json(r);
     if (!o.out.empty()) j["out"] = o.out;

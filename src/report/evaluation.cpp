@@ -486,10 +486,12 @@ void write_ballbar_report(const std::string& path, const std::string& command, c
       .write(path);
 }
 
-void write_comparison_report(const std::string& path, const std::string& command, const MethodComparison& c) {
+Report comparison_report(const std::string& command, const MethodComparison& c, const std::string& data_sha256,
+                         const ReportMetadata& metadata) {
   const auto& s = c.summary;
   Report r(fmt::format("Method comparison: {} and {}", c.methods[0], c.methods[1]), command);
-  r.add_input("data", c.source);
+  r.set_metadata(metadata);
+  r.add_input("data", c.source, data_sha256);
   r.add_figure("parameters", fmt::format("{}", s.parameters),
                fmt::format("({} measured by both methods)", s.both_methods));
   r.add_figure("mean ± 1σ bands overlap", fmt::format("{} of {}", s.overlap, s.overlap + s.no_overlap), "parameters");
@@ -540,7 +542,12 @@ void write_comparison_report(const std::string& path, const std::string& command
               {"parameter", "n " + a, "mean " + a, "stdev " + a, "n " + b, "mean " + b, "stdev " + b, "|difference|",
                "±1σ overlap", "Pearson r", "paired tests"},
               rows);
-  r.write(path);
+  return r;
+}
+
+void write_comparison_report(const std::string& path, const std::string& command, const MethodComparison& c) {
+  comparison_report(command, c, sha256_hex(read_text_file(c.source, "data")), session_metadata())
+      .write(path);
 }
 
 }  // namespace mtcal

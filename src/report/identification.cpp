@@ -4,19 +4,34 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "mtcal/io/system/files.hpp"
+
 namespace mtcal {
 
 Report identification_report(const Machine& prior, const IdentificationRun& run, const IdentificationReportInputs& in,
                              const std::string& command) {
+  IdentificationReportHashes hashes;
+  for (const auto& p : in.parameter_files) hashes.parameter_files.push_back(sha256_hex(read_text_file(p, "parameter file")));
+  if (!in.measurements.empty()) hashes.measurements = sha256_hex(read_text_file(in.measurements, "measurements"));
+  if (!in.truth.empty()) hashes.truth = sha256_hex(read_text_file(in.truth, "imposed machine"));
+  return identification_report(prior, run, in, hashes, command, session_metadata());
+}
+
+Report identification_report(const Machine& prior, const IdentificationRun& run, const IdentificationReportInputs& in,
+                             const IdentificationReportHashes& hashes, const std::string& command,
+                             const ReportMetadata& metadata) {
   using json = nlohmann::ordered_json;
   const IdentificationResult& r = run.result;
   const auto& mc = run.monte_carlo;
   const bool truth = !in.truth.empty();
   Report rep("Identification of " + prior.name, command);
+  rep.set_metadata(metadata);
   rep.set_machine(prior);
-  for (const auto& p : in.parameter_files) rep.add_input("parameter file", p);
-  if (!in.measurements.empty()) rep.add_input("measurements", in.measurements);  // empty: made in memory (Python)
-  if (truth) rep.add_input("imposed machine", in.truth);
+  for (std::size_t i = 0; i < in.parameter_files.size(); ++i)
+    rep.add_input("parameter file", in.parameter_files[i], hashes.parameter_files.at(i));
+  // Empty: made in memory (Python).
+  if (!in.measurements.empty()) rep.add_input("measurements", in.measurements, hashes.measurements);
+  if (truth) rep.add_input("imposed machine", in.truth, hashes.truth);
   rep.add_figure("residual RMS", fmt::format("{:.3f} (balls), {:.3f} (facets)", r.rms_ball * 1e3, r.rms_facet * 1e3),
                  "µm");
   rep.add_figure("rank / unknowns", fmt::format("{} / {}", r.identifiability.rank, r.unknowns), "");

@@ -7,6 +7,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "mtcal/io/system/files.hpp"
+#include "mtcal/util/errors.hpp"
+
 namespace mtcal {
 
 std::string significant6(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string("-"); }
@@ -27,13 +30,40 @@ std::string fit_parameters_text(const FitResult& f) {
   return s;
 }
 
+TableRegression regress_table(const CsvTable& t, const std::string& source, const std::string& x_name,
+                         const std::string& y_name, const std::vector<ModelSpec>& specs) {
+  const int cx = t.column(x_name), cy = t.column(y_name);
+  if (cx < 0) throw InputError({source, 0, x_name}, "no column '" + printable(x_name) + "' (--x)");
+  if (cy < 0) throw InputError({source, 0, y_name}, "no column '" + printable(y_name) + "' (--y)");
+  TableRegression g;
+  for (const auto& row : t.rows) {
+    g.x.push_back(row[static_cast<std::size_t>(cx)]);
+    g.y.push_back(row[static_cast<std::size_t>(cy)]);
+  }
+  if (g.x.size() < 2)
+    throw InputError({source, 0, y_name}, fmt::format("expected at least 2 rows, found {}", g.x.size()));
+  g.comparison = compare_models(specs, g.x, g.y);
+  if (g.comparison.fits.empty())
+    throw Error("no model could be fitted: " +
+                (g.comparison.skipped.empty() ? std::string() : g.comparison.skipped[0].reason));
+  return g;
+}
+
 Report regression_report(const ModelComparison& c, std::span<const double> x, std::span<const double> y,
                          const std::string& file, const std::string& x_name, const std::string& y_name,
                          const std::string& command) {
+  return regression_report(c, x, y, file, file.empty() ? "" : sha256_hex(read_text_file(file, "data")), x_name,
+                           y_name, command, session_metadata());
+}
+
+Report regression_report(const ModelComparison& c, std::span<const double> x, std::span<const double> y,
+                         const std::string& file, const std::string& file_sha256, const std::string& x_name,
+                         const std::string& y_name, const std::string& command, const ReportMetadata& metadata) {
   const FitResult& bb = c.fits[c.by_backward[0]];
   const FitResult& bl = c.fits[c.by_loocv[0]];
   Report r("Regression: " + y_name + " vs " + x_name, command);
-  if (!file.empty()) r.add_input("data", file);
+  r.set_metadata(metadata);
+  if (!file.empty()) r.add_input("data", file, file_sha256);
   r.add_figure("points", fmt::format("{}", x.size()), "");
   r.add_figure("best by backward prediction (sec. 3.8)", bb.model.spec.label(),
                fmt::format("mean |diff| {}", significant6(bb.backward.mean)));

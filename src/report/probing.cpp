@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "mtcal/io/system/files.hpp"
 #include "mtcal/report/report.hpp"
 
 namespace mtcal {
@@ -27,8 +28,8 @@ std::pair<double, const char*> display(std::size_t q) {
 
 }  // namespace
 
-void write_rotary_report(const std::string& path, const std::string& command, const Machine* machine,
-                         const RotaryAxisResult& result, double max_rms) {
+Report rotary_report(const std::string& command, const Machine* machine, const RotaryAxisResult& result,
+                     double max_rms, const std::string& input_sha256, const ReportMetadata& metadata) {
   const NominalRotaryAxis& axis = result.axis;
   const std::vector<MeasuredCentre>& centres = result.centres.centres;
   const std::vector<SphereCentre>& details = result.centres.fits;
@@ -38,9 +39,10 @@ void write_rotary_report(const std::string& path, const std::string& command, co
   const bool u_known = result.uncertainty_known();
   const auto names = rotary_quantity_names(axis.letter);
   Report r(std::string("Location errors of rotary axis ") + axis.letter, command);
+  r.set_metadata(metadata);
   if (machine) r.set_machine(*machine);
   const bool given = centre_method == "given";
-  r.add_input(given ? "sphere centres" : "probe contacts", result.centres.source);
+  r.add_input(given ? "sphere centres" : "probe contacts", result.centres.source, input_sha256);
   r.add_figure("indexations", fmt::format("{}", centres.size()), centre_method + " sphere centres");
   const RotaryEstimate* best = lsq ? static_cast<const RotaryEstimate*>(lsq) : tri;
   for (std::size_t q = 0; q < 4; ++q) {
@@ -194,7 +196,16 @@ void write_rotary_report(const std::string& path, const std::string& command, co
                        {"line", {{"color", "red"}}}}}}}}});
     }
   }
-  r.write(path);
+  return r;
+}
+
+void write_rotary_report(const std::string& path, const std::string& command, const Machine* machine,
+                         const RotaryAxisResult& result, double max_rms) {
+  const bool given = result.centres.method == "given";
+  rotary_report(command, machine, result, max_rms,
+                sha256_hex(read_text_file(result.centres.source, given ? "sphere centres" : "probe contacts")),
+                session_metadata())
+      .write(path);
 }
 
 }  // namespace mtcal

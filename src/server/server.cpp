@@ -933,6 +933,21 @@ struct Server::Impl {
         const Json j = to_json(r);
         rec = record_from_result("rotary-axis", j.dump(), meta, inputs, name);
         shown = j;
+        // As for ISO 230-2 runs: the report of `mtcal rotary-axis --axis A --contacts NAME
+        // --sphere-diameter D [--stylus-diameter d] --meta ...` (the command's defaults otherwise).
+        if (is_utf8(file.content)) {
+          ReportMetadata shown_meta;
+          std::string command = "mtcal rotary-axis --axis " + axis + " --contacts " + shell_word(name) +
+                                fmt::format(" --sphere-diameter {:g}", *sphere);
+          if (stylus > 0) command += fmt::format(" --stylus-diameter {:g}", stylus);
+          for (const auto& [k, v] : meta) {
+            if (v.find_first_not_of(" \t") != std::string::npos) shown_meta.set(k, v, "upload");
+            command += " --meta " + shell_word(k + "=" + v);
+          }
+          rec.invocation = json_text(rotary_invocation(command, name, axis[0], "csv", "", *sphere, stylus, 0.01,
+                                                       std::nullopt, "both", 2.0, 40, shown_meta));
+          files.push_back({inputs[0].sha256, "measurements", file.content});
+        }
       }
     } catch (const InputError& e) {
       rethrow_named(e, path, name);

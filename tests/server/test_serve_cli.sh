@@ -113,16 +113,29 @@ printf 'mtcal_parameters: 1\nerrors:\n  EZY: {unit: um, argument_unit: m, polyno
 "$MTCAL" simulate -m "$H" --plan "$EX/plans/vmc-ballbar-laser.csv" --noise-um 1 --seed 7 --artefact-error-um 5 \
   --scale-bar $SB --out "$tmp/m1.csv" >/dev/null 2>"$tmp/err" || bad "simulate: $(cat "$tmp/err")"
 for run in 1 2; do  # the same files twice: the store keeps each file once
-  "$MTCAL" identify -m "$H" --params "$tmp/prior.yaml" --measurements "$tmp/m1.csv" --estimate "$EST" \
-    --scale-bar $SB --out "$tmp/id.yaml" --meta machine=HU1 --meta date=2026-02-0$run --record "$store" \
-    >/dev/null 2>"$tmp/err" || bad "identify --record: $(cat "$tmp/err")"
+  SOURCE_DATE_EPOCH=1764000000 "$MTCAL" identify -m "$H" --params "$tmp/prior.yaml" --measurements "$tmp/m1.csv" \
+    --estimate "$EST" --scale-bar $SB --out "$tmp/id.yaml" --meta machine=HU1 --meta date=2026-02-0$run \
+    --report "$tmp/HU1.html" --record "$store" >/dev/null 2>"$tmp/err" || bad "identify --record: $(cat "$tmp/err")"
 done
 idrec=$("$MTCAL" history list --store "$store" --machine HU1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
 python3 - "$tmp/shop.db" <<'PY' && ok || bad "model files are not kept once each"
 import sqlite3, sys
 rows = sqlite3.connect(sys.argv[1]).execute("SELECT kind, COUNT(*) FROM model_files GROUP BY kind ORDER BY kind").fetchall()
-assert rows == [("machine", 1), ("measurements", 1), ("parameters", 1)], rows  # measurements: the ballbar upload
+# measurements: the ballbar and contacts uploads, identify's measurements
+assert rows == [("machine", 1), ("measurements", 3), ("parameters", 1)], rows
 PY
+# The identification's own report, made from the stored machine, parameter and measurement files.
+curl -b "$jar" -o "$tmp/HU1-page.html" "$base/record/report?id=$idrec"
+[ -s "$tmp/HU1.html" ] && cmp -s "$tmp/HU1.html" "$tmp/HU1-page.html" && ok \
+  || bad "HU1: the record's report differs from identify --report's: $(cmp "$tmp/HU1.html" "$tmp/HU1-page.html" 2>&1 | head -c 300)"
+# With --set (a model change the store does not keep): no report, and the page says why.
+"$MTCAL" identify -m "$H" --params "$tmp/prior.yaml" --measurements "$tmp/m1.csv" --estimate "$EST" --scale-bar $SB \
+  --set EXY.1=1um/m --meta machine=HU2 --meta date=2026-02-03 --record "$store" >/dev/null 2>"$tmp/err" \
+  || bad "identify --set --record: $(cat "$tmp/err")"
+hu2=$("$MTCAL" history list --store "$store" --machine HU2 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
+code=$(curl -b "$jar" -o "$tmp/hu2.txt" -w '%{http_code}' "$base/record/report?id=$hu2")
+[ "$code" = 404 ] && grep -q "depends on --set of its command line, which the store does not keep" "$tmp/hu2.txt" \
+  && ok || bad "report of an identify with --set: $code $(cat "$tmp/hu2.txt")"
 api -o "$tmp/rec.zip" -w '%{http_code}' -F "record=$idrec" -F format=linuxcnc "$base/api/compensation" >"$tmp/code"
 [ "$(cat "$tmp/code")" = 200 ] && ok || bad "compensation of record $idrec: $(cat "$tmp/code") $(head -c 400 "$tmp/rec.zip")"
 "$MTCAL" compensate -m "$H" --params "$tmp/prior.yaml" --params "$tmp/id.yaml" --format linuxcnc --out "$tmp/rec-cli" \
@@ -148,35 +161,56 @@ bbsha=$(sha256sum "$EX/instruments/xy-ballbar.csv" | cut -c1-64)
   || bad "compensation of a record without model files: $code $(cat "$tmp/nofile.json")"
 curl -b "$jar" "$base/record?id=$idrec" >"$tmp/rec.html"
 grep -q 'id="rec-comp-write"' "$tmp/rec.html" && grep -q 'machine file, held in the store' "$tmp/rec.html" \
-  && grep -q 'id="report-why"' "$tmp/rec.html" && ok || bad "the record page lacks the compensation form or the report note"
+  && grep -q 'id="report-link"' "$tmp/rec.html" && ok || bad "the record page lacks the compensation form or the report link"
 # history export/import carry the model files: a copy exports the same bytes.
 "$MTCAL" history export --store "$store" --out "$tmp/all.jsonl" >/dev/null 2>"$tmp/err" || bad "export: $(cat "$tmp/err")"
-grep -c '"type":"model_file"' "$tmp/all.jsonl" | grep -qx 3 && ok || bad "the export lacks the model files"
+grep -c '"type":"model_file"' "$tmp/all.jsonl" | grep -qx 5 && ok || bad "the export lacks the model files"
 "$MTCAL" history import "$tmp/all.jsonl" --store "sqlite:$tmp/copy.db" --json >"$tmp/imp.json" 2>"$tmp/err" \
   || bad "import: $(cat "$tmp/err")"
-python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_added"] == 3' "$tmp/imp.json" && ok \
+python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["model_files_added"] == 5' "$tmp/imp.json" && ok \
   || bad "import: $(cat "$tmp/imp.json")"
 "$MTCAL" history export --store "sqlite:$tmp/copy.db" --out "$tmp/copy.jsonl" >/dev/null 2>&1
 cmp -s "$tmp/all.jsonl" "$tmp/copy.jsonl" && ok || bad "the imported copy exports other bytes"
 
-# Each result's report: `mtcal iso230-2|ballbar FILE --record --report F` keeps the measurements
-# (model file kind measurements) and how the command ran; the record's report page is F byte for
-# byte: the .dat of ../shared/data with tolerances checked, a laser file whose header fills the
-# report's metadata, a ballbar trace.
-for spec in "R1|iso230-2|$DATA|--tolerance-file|$tol" "R2|iso230-2|$EX/instruments/x-axis.rtl|--meta|operator=cli" \
-  "R3|ballbar|$EX/instruments/xy-ballbar.csv|--radius|100"; do
-  IFS='|' read -r m cmd f opt val <<<"$spec"
-  SOURCE_DATE_EPOCH=1764000000 "$MTCAL" $cmd "$f" "$opt" "$val" --meta machine=$m --meta date=2026-03-01 \
+# Each result's report: `mtcal iso230-2|ballbar|compare|regress|rotary-axis FILE --record --report F`
+# keeps the measurements (model file kind measurements), the machine file (rotary-axis --machine) and
+# how the command ran; the record's report page is F byte for byte: the .dat of ../shared/data with
+# tolerances checked, a laser file whose header fills the report's metadata, a ballbar trace, a
+# method comparison's data, a regression's data, probe contacts read on a machine's axis through an
+# instrument frame.
+declare -A recid
+for spec in "R1|iso230-2|$DATA|--tolerance-file $tol" "R2|iso230-2|$EX/instruments/x-axis.rtl|--meta operator=cli" \
+  "R3|ballbar|$EX/instruments/xy-ballbar.csv|--radius 100" "R4|compare|$EX/data/mohammed2019-ballbar-vs-samba.csv|" \
+  "R5|regress|$EX/prediction/yaqoob2017-table5_8.csv|--x t --y e_splz --models exp_approach,polynomial(2)" \
+  "R6|rotary-axis --contacts|$tmp/contacts.csv|--axis C --sphere-diameter 30 --stylus-diameter 6 --machine $EX/machines/rrttt-table-table.yaml --frame 0.01,0,0,0,0,0.5 --method lsq"; do
+  IFS='|' read -r m cmd f args <<<"$spec"
+  # shellcheck disable=SC2086 # args: the command's options, split into words
+  SOURCE_DATE_EPOCH=1764000000 "$MTCAL" $cmd "$f" $args --meta machine=$m --meta date=2026-03-01 \
     --meta axis=X --report "$tmp/$m.html" --record "$store" >/dev/null 2>"$tmp/err" || bad "$cmd --record: $(cat "$tmp/err")"
   id=$("$MTCAL" history list --store "$store" --machine $m --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["records"][-1]["id"])')
   curl -b "$jar" -D "$tmp/$m.head" -o "$tmp/$m-page.html" "$base/record/report?id=$id"
   [ -s "$tmp/$m.html" ] && cmp -s "$tmp/$m.html" "$tmp/$m-page.html" && ok \
-    || bad "$m: the record's report differs from iso230-2 --report's: $(cmp "$tmp/$m.html" "$tmp/$m-page.html" 2>&1 | head -c 300)"
+    || bad "$m: the record's report differs from $cmd --report's: $(cmp "$tmp/$m.html" "$tmp/$m-page.html" 2>&1 | head -c 300)"
   grep -qi "^content-security-policy: default-src 'none'; script-src 'unsafe-inline'" "$tmp/$m.head" && ok \
     || bad "$m: the report is not served with the reports' CSP: $(cat "$tmp/$m.head")"
   curl -b "$jar" "$base/record?id=$id" | grep -q 'id="report-link"' && ok || bad "$m: the record page does not link its report"
+  recid[$m]=$id
 done
 grep -q 'class="verdict' "$tmp/R1.html" && ok || bad "R1's report shows no verdict"
+# A store without a record's file (removed by hand): no report, and the page names the file: R4's
+# data (a measurement file), R6's machine file.
+cmpsha=$(sha256sum "$EX/data/mohammed2019-ballbar-vs-samba.csv" | cut -c1-64)
+rtsha=$(sha256sum "$EX/machines/rrttt-table-table.yaml" | cut -c1-64)
+python3 -c 'import sqlite3,sys; c=sqlite3.connect(sys.argv[1]); c.execute("DELETE FROM model_files WHERE sha256 IN (?,?)", sys.argv[2:]); c.commit()' \
+  "$tmp/shop.db" "$cmpsha" "$rtsha"
+code=$(curl -b "$jar" -o "$tmp/nodata.txt" -w '%{http_code}' "$base/record/report?id=${recid[R4]}")
+[ "$code" = 404 ] && grep -q "does not hold the measurement file $EX/data/mohammed2019-ballbar-vs-samba.csv (SHA-256 $cmpsha)" "$tmp/nodata.txt" \
+  && ok || bad "report of a record whose data file the store lacks: $code $(cat "$tmp/nodata.txt")"
+code=$(curl -b "$jar" -o "$tmp/nomachine.txt" -w '%{http_code}' "$base/record/report?id=${recid[R6]}")
+[ "$code" = 404 ] && grep -q "does not hold the machine file $EX/machines/rrttt-table-table.yaml (SHA-256 $rtsha)" "$tmp/nomachine.txt" \
+  && ok || bad "report of a record whose machine file the store lacks: $code $(cat "$tmp/nomachine.txt")"
+curl -b "$jar" "$base/record?id=${recid[R6]}" | grep -q "does not hold the machine file" && ok \
+  || bad "the record page of R6 does not say which file its report lacks"
 # Uploads keep their files too: the report of `mtcal iso230-2 NAME --meta ...` (ballbar: `mtcal ballbar
 # NAME --radius R --plane P --meta ...`, the upload of BB1 above).
 api -o "$tmp/up.json" -F machine=U1 -F date=2026-03-02 -F axis=X -F confirm=1 -F "file=@$DATA" "$base/api/upload"
@@ -184,6 +218,10 @@ upid=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["record"]
 code=$(curl -b "$jar" -o "$tmp/up.html" -w '%{http_code}' "$base/record/report?id=$upid")
 [ "$code" = 200 ] && grep -q "mtcal iso230-2 $(basename "$DATA") --meta axis=X --meta date=2026-03-02 --meta machine=U1" "$tmp/up.html" \
   && ok || bad "report of an uploaded record: $code $(head -c 300 "$tmp/up.html")"
+rarec=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["record"])' "$tmp/ra.json")
+code=$(curl -b "$jar" -o "$tmp/raup.html" -w '%{http_code}' "$base/record/report?id=$rarec")
+[ "$code" = 200 ] && grep -q "mtcal rotary-axis --axis C --contacts contacts.csv --sphere-diameter 30 --stylus-diameter 6 --meta date=2026-01-06" "$tmp/raup.html" \
+  && ok || bad "report of an uploaded rotary-axis record: $code $(head -c 300 "$tmp/raup.html")"
 code=$(curl -b "$jar" -o "$tmp/bbup.html" -w '%{http_code}' "$base/record/report?id=$bbrec")
 [ "$code" = 200 ] && grep -q "mtcal ballbar xy-ballbar.csv --radius 100 --plane XY --meta date=2026-01-05" "$tmp/bbup.html" \
   && ok || bad "report of an uploaded ballbar record: $code $(head -c 300 "$tmp/bbup.html")"

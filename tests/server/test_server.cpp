@@ -483,6 +483,17 @@ TEST_P(Serve, RecordReportIsMadeFromTheStoredMeasurements) {
       EXPECT_NE(page.find("does not say how its command ran"), std::string::npos) << page;
     }
   }
+  // Why other commands' records have no report: a regress record of an mtcal that kept no
+  // invocation for it, a command whose report is not made from the store, one without --report.
+  for (const auto& [other, why] : {std::pair<std::string, std::string>{"regress", "does not say how its command ran"},
+                                     {"volumetric", "the report of mtcal volumetric is not made from the store yet"},
+                                     {"fit-motion", "mtcal fit-motion has no --report"}}) {
+    CalibrationRecord o = sample("R2", "2026-07-01", 2.0);
+    o.command = other;
+    const auto none = c.Get("/record/report?id=" + store_->record(o), l.headers());
+    EXPECT_EQ(none->status, 404) << other;
+    EXPECT_NE(none->body.find(why), std::string::npos) << none->body;
+  }
 }
 
 // "Write compensation" from uploaded files reads a parameter file in either form --params reads:

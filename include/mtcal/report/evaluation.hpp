@@ -71,5 +71,8 @@ Report ballbar_report(const std::string& command, const BallbarTrace& trace, con
 
 // Bar chart of the means with ±1σ error bars, statistics per parameter.
 void write_comparison_report(const std::string& path, const std::string& command, const MethodComparison& c);
+// That report, unwritten, as positioning_report: the data file c.source of this SHA-256.
+Report comparison_report(const std::string& command, const MethodComparison& c, const std::string& data_sha256,
+                         const ReportMetadata& metadata);
 
 }  // namespace mtcal

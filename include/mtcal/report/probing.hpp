@@ -6,6 +6,7 @@
 
 #include "mtcal/model/machine.hpp"
 #include "mtcal/probing/rotary_probing.hpp"
+#include "mtcal/report/report.hpp"
 
 namespace mtcal {
 
@@ -14,5 +15,10 @@ namespace mtcal {
 // from their sphere (mm), against which large fits are flagged.
 void write_rotary_report(const std::string& path, const std::string& command, const Machine* machine,
                          const RotaryAxisResult& result, double max_rms);
+// That report, unwritten, as positioning_report (report/evaluation.hpp): the contacts' or centres'
+// file result.centres.source of this SHA-256, the test metadata shown given (write_rotary_report:
+// the session's). A recorded result's report is made with it from the store (report/recorded.hpp).
+Report rotary_report(const std::string& command, const Machine* machine, const RotaryAxisResult& result,
+                     double max_rms, const std::string& input_sha256, const ReportMetadata& metadata);
 
 }  // namespace mtcal

@@ -37,7 +37,11 @@ std::vector<std::string> axis_columns() { return {"X", "Y", "Z", "A", "B", "C"};
 }  // namespace
 
 ContactSet read_contacts_csv(const std::string& path, char axis) {
-  const CsvTable t = read_csv(path);
+  return parse_contacts_csv(read_text_file(path, "CSV file"), path, axis);
+}
+
+ContactSet parse_contacts_csv(const std::string& text, const std::string& path, char axis) {
+  const CsvTable t = parse_csv(text, path);
   auto allowed = axis_columns();
   for (const char* c : {"x", "y", "z", "approach_x", "approach_y", "approach_z"}) allowed.push_back(c);
   refuse_unknown_columns(t, path, allowed);
@@ -69,7 +73,11 @@ ContactSet read_contacts_csv(const std::string& path, char axis) {
 }
 
 IndexedCentres read_centres_csv(const std::string& path, char axis) {
-  const CsvTable t = read_csv(path);
+  return parse_centres_csv(read_text_file(path, "CSV file"), path, axis);
+}
+
+IndexedCentres parse_centres_csv(const std::string& text, const std::string& path, char axis) {
+  const CsvTable t = parse_csv(text, path);
   auto allowed = axis_columns();
   for (const char* c : {"x", "y", "z"}) allowed.push_back(c);
   refuse_unknown_columns(t, path, allowed);

@@ -16,11 +16,14 @@ namespace mtcal {
 // probe motion, normalised; all three or none; default -z). Other machine-axis columns (X Y Z A
 // B C) are allowed and ignored. Throws InputError naming file, line and column.
 ContactSet read_contacts_csv(const std::string& path, char axis);
+// The same from the file's text (a file kept in the history store), path naming it.
+ContactSet parse_contacts_csv(const std::string& text, const std::string& path, char axis);
 
 // Reads the centres CSV: the axis's angle (deg, the column named by its letter), the sphere
 // centre x,y,z (mm); method "given". An angle given twice (or a turn apart) is one position
 // measured twice: locate_rotary_axis averages the centres.
 IndexedCentres read_centres_csv(const std::string& path, char axis);
+IndexedCentres parse_centres_csv(const std::string& text, const std::string& path, char axis);
 
 // The contacts CSV of simulated probing (read back by read_contacts_csv): header
 // "<letter>,x,y,z,approach_x,approach_y,approach_z", the angle in the axis's user unit.
