@@ -695,26 +695,56 @@ struct Server::Impl {
     return part;
   }
 
+  // Where a fleet request's time goes, in ms, sent as Server-Timing metrics beside "app" (the
+  // load test reports them): waiting for another fleet request (wait), the ranking (rank), the
+  // other inputs read from the store (read), the kept parts compared and made again (parts), the
+  // documents joined (join), their compression (gzip).
+  struct FleetTiming {
+    double wait = 0, rank = 0, read = 0, parts = 0, join = 0, gzip = 0;
+    std::string header() const {
+      return fmt::format("wait;dur={:.2f}, rank;dur={:.2f}, read;dur={:.2f}, parts;dur={:.2f}, join;dur={:.2f}, "
+                         "gzip;dur={:.2f}",
+                         wait, rank, read, parts, join, gzip);
+    }
+  };
+  // Milliseconds since `t`, and `t` moved to now.
+  static double lap(std::chrono::steady_clock::time_point& t) {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - t).count();
+    t = now;
+    return ms;
+  }
+
   // The fleet now (/api/fleet's body and the page's content): per machine its latest
   // calibration per command, overdue after its interval, and its ranking (tolerances given).
-  FleetView fleet_view(HistoryStore& store, bool json_gzip = false, bool html_deflated = false) {
+  FleetView fleet_view(HistoryStore& store, bool json_gzip = false, bool html_deflated = false,
+                       FleetTiming* timing = nullptr) {
+    FleetTiming ignored;
+    FleetTiming& t = timing ? *timing : ignored;
+    auto at = std::chrono::steady_clock::now();
     std::lock_guard lock(fleet_mutex);
-    fleet_update(store);
+    t.wait = lap(at);
+    fleet_update(store, t);
+    at = std::chrono::steady_clock::now();
     auto& v = fleet_view_kept;
     if (json_gzip && !v.json_gzip) {
       const Deflated d = deflate_piece(*v.json, true);
       v.json_gzip = std::make_shared<const std::string>(gzip_of({&d}));
     }
     if (html_deflated && !v.html_deflated) v.html_deflated = std::make_shared<const Deflated>(deflate_piece(*v.html, false));
+    t.gzip = lap(at);
     return v;
   }
   // fleet_view's update of the kept parts (fleet_mutex held).
-  void fleet_update(HistoryStore& store) {
+  void fleet_update(HistoryStore& store, FleetTiming& t) {
+    auto at = std::chrono::steady_clock::now();
     // The inputs, read at every request (the ranking's revisions first, inside ranking()).
     const auto rank = ranking(store);
+    t.rank = lap(at);
     const auto latest = store.latest_calibrations();
     std::map<std::string, int> intervals;
     for (const auto& i : store.machine_intervals()) intervals[i.machine] = i.days;
+    t.read = lap(at);
     const auto now = std::chrono::system_clock::now();
     const bool new_clock = !fleet_as_of || now - *fleet_as_of >= kFleetClock || now < *fleet_as_of;
     if (new_clock) fleet_as_of = now;
@@ -746,6 +776,7 @@ struct Server::Impl {
     if (order.size() != fleet_order.size()) changed = true;
     fleet_parts = std::move(parts);
     fleet_rank = rank;
+    t.parts = lap(at);
     if (!changed) return;
     fleet_order = std::move(order);
     // The document as Json::dump(2) writes it, the machines' entries put in as kept.
@@ -776,6 +807,7 @@ struct Server::Impl {
     fleet_view_kept = {std::make_shared<const std::string>(std::move(json)),
                        std::make_shared<const std::string>(fleet_page_body(head, fleet_order.size(), overdue, rows)),
                        nullptr, nullptr};
+    t.join = lap(at);
   }
 
   // What `history trend --json` gives for a machine: every parameter and figure, no tolerances.
@@ -1176,7 +1208,9 @@ void Server::Impl::register_routes() {
   add({"GET", "/fleet", Role::Viewer, false, false, ""}, [this, html](const Req& req, Res& res, const Context* c) {
     auto store = pool.lease();
     const bool gzip = accepts_gzip(req);
-    const FleetView view = fleet_view(*store, false, gzip);
+    FleetTiming timing;
+    const FleetView view = fleet_view(*store, false, gzip, &timing);
+    res.set_header("Server-Timing", timing.header());
     if (!gzip) return html(res, fleet_page(page_user(c), *view.html));
     const auto [before, after] = fleet_page_frame(page_user(c));
     const Deflated head = deflate_piece(before, false), tail = deflate_piece(after, true);
@@ -1188,7 +1222,9 @@ void Server::Impl::register_routes() {
   add({"GET", "/api/fleet", Role::Viewer, false, true, ""}, [this](const Req& req, Res& res, const Context*) {
     auto store = pool.lease();
     const bool gzip = accepts_gzip(req);
-    const FleetView view = fleet_view(*store, gzip, false);
+    FleetTiming timing;
+    const FleetView view = fleet_view(*store, gzip, false, &timing);
+    res.set_header("Server-Timing", timing.header());
     if (!gzip) return send_uncompressed(res, view.json, "application/json");
     res.set_header("Content-Encoding", "gzip");
     res.set_header("Vary", "Accept-Encoding");
