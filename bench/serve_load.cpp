@@ -56,13 +56,41 @@ CalibrationRecord result(int machine, int month) {
   return r;
 }
 
-// The server's own time for a request: its Server-Timing header ("app;dur=MS"); nullopt without one.
+// The server's Server-Timing metrics of a response ("NAME;dur=MS", comma-separated, in one or
+// more headers): "app" the whole handler; the fleet's routes add their parts (wait, rank, read,
+// parts, join, gzip).
+std::map<std::string, double> server_timing(const httplib::Result& r) {
+  std::map<std::string, double> out;
+  if (!r) return out;
+  for (const auto& [k, v] : r->headers) {
+    if (k != "Server-Timing") continue;
+    std::stringstream items(v);
+    for (std::string item; std::getline(items, item, ',');) {
+      const auto semi = item.find(";dur=");
+      if (semi == std::string::npos) continue;
+      std::string name = item.substr(0, semi);
+      name.erase(0, name.find_first_not_of(' '));
+      out[name] = std::atof(item.c_str() + semi + 5);
+    }
+  }
+  return out;
+}
+// The server's own time for a request ("app"); nullopt without one.
 std::optional<double> server_ms(const httplib::Result& r) {
-  if (!r) return std::nullopt;
-  const std::string t = r->get_header_value("Server-Timing");
-  const auto at = t.find("dur=");
-  if (at == std::string::npos) return std::nullopt;
-  return std::atof(t.c_str() + at + 4);
+  const auto t = server_timing(r);
+  const auto app = t.find("app");
+  if (app == t.end()) return std::nullopt;
+  return app->second;
+}
+double percentile(std::vector<double> v, double p);
+// p50 / p99 of each of the fleet route's parts (Server-Timing other than "app").
+void print_parts(const std::map<std::string, std::vector<double>>& parts) {
+  if (parts.empty()) return;
+  std::printf("    the fleet's parts in the handler, p50 / p99 ms:");
+  for (const char* k : {"wait", "rank", "read", "parts", "join", "gzip"})
+    if (const auto p = parts.find(k); p != parts.end())
+      std::printf(" %s %.1f / %.1f", k, percentile(p->second, 0.5), percentile(p->second, 0.99));
+  std::printf("\n");
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -94,19 +122,23 @@ Session login(int port, const std::string& user, const std::string& password) {
   httplib::Client c("127.0.0.1", port);
   c.set_connection_timeout(10, 0);  // bounded: a server that stops answering ends the run with errors
   c.set_read_timeout(120, 0);
+  // A failed request (no answer within the timeouts) leaves the session empty: the client's
+  // requests are then refused and counted as errors (it does not end the run).
   const auto page = c.Get("/login");
+  if (!page) return {};
   std::string token;
   for (const auto& [k, v] : page->headers)
     if (k == "Set-Cookie" && v.rfind("mtcal_login=", 0) == 0) token = v.substr(12, 64);
   const auto r = c.Post("/login", {{"Cookie", "mtcal_login=" + token}},
                         httplib::Params{{"csrf", token}, {"user", user}, {"password", password}});
   Session s;
+  if (!r) return s;
   for (const auto& [k, v] : r->headers)
     if (k == "Set-Cookie" && v.rfind("mtcal_session=", 0) == 0) s.cookie = v.substr(14, 64);
   const auto fleet = c.Get("/api/machine?name=M0000", {{"Cookie", "mtcal_session=" + s.cookie}});
   std::smatch m;
   const auto page2 = c.Get("/upload", {{"Cookie", "mtcal_session=" + s.cookie}});
-  if (std::regex_search(page2->body, m, std::regex("name=\"csrf\" value=\"([0-9a-f]{64})\""))) s.csrf = m[1];
+  if (page2 && std::regex_search(page2->body, m, std::regex("name=\"csrf\" value=\"([0-9a-f]{64})\""))) s.csrf = m[1];
   (void)fleet;
   return s;
 }
@@ -154,7 +186,10 @@ int main(int argc, char** argv) {
   server::ServerOptions o;
   o.store = conn;
   o.port = 0;
-  o.threads = 8;
+  // MTCAL_LOAD_THREADS=N: the server's request threads (default 8, as mtcal serve's).
+  const char* threads_env = std::getenv("MTCAL_LOAD_THREADS");
+  o.threads = threads_env && std::atoi(threads_env) > 0 ? std::atoi(threads_env) : 8;
+  std::printf("server threads: %d\n", o.threads);
   // The fleet's ranking columns on (history rank over every machine's A_X), as a plant would run
   // it; MTCAL_LOAD_TOLERANCE= (empty) turns them off.
   const char* tol = std::getenv("MTCAL_LOAD_TOLERANCE");
@@ -180,12 +215,15 @@ int main(int argc, char** argv) {
     if (!accept_encoding.empty()) h.emplace("Accept-Encoding", accept_encoding);
     std::string encoding;
     std::vector<double> in_server;
+    std::map<std::string, std::vector<double>> parts;
     for (int i = 0; i < n; ++i) {
       if (before) before(i);
       const auto t = Clock::now();
       const auto r = c.Get(path, h);
       ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t).count());
       if (const auto handler = server_ms(r)) in_server.push_back(*handler);
+      for (const auto& [k, v] : server_timing(r))
+        if (k != "app") parts[k].push_back(v);
       if (!r || r->status != 200) std::printf("  %s: status %d\n", path.c_str(), r ? r->status : -1);
       if (r) encoding = r->get_header_value("Content-Encoding");
     }
@@ -194,6 +232,7 @@ int main(int argc, char** argv) {
     if (!in_server.empty())
       std::printf("  %s: in the server's handler (Server-Timing) p50 %.2f ms, p99 %.2f ms\n", path.c_str(),
                   percentile(in_server, 0.5), percentile(in_server, 0.99));
+    print_parts(parts);
     return ms;
   };
   const auto login_ms = timed("/login", 200, nullptr);
@@ -226,7 +265,7 @@ int main(int argc, char** argv) {
   const std::size_t before = store->list({"LOAD-UP", "", "", ""}).size();
   std::atomic<int> next{0}, uploads_ok{0}, errors{0};
   std::mutex mutex;
-  std::map<std::string, std::vector<double>> lat, lat_server;
+  std::map<std::string, std::vector<double>> lat, lat_server, fleet_parts;
   const auto t0 = Clock::now();
   std::vector<std::thread> threads;
   for (int t = 0; t < clients; ++t)
@@ -236,7 +275,7 @@ int main(int argc, char** argv) {
       c.set_connection_timeout(10, 0);
       c.set_read_timeout(120, 0);
       const httplib::Headers h{{"Cookie", "mtcal_session=" + s.cookie}, {"X-CSRF-Token", s.csrf}};
-      std::map<std::string, std::vector<double>> mine, mine_server;
+      std::map<std::string, std::vector<double>> mine, mine_server, mine_parts;
       for (int i; (i = next++) < requests;) {
         const int kind = i % 20;
         const std::string machine = fmt::format("M{:04}", (i * 7919) % machines);
@@ -266,11 +305,15 @@ int main(int argc, char** argv) {
         }();
         mine[name].push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
         if (const auto handler = server_ms(r)) mine_server[name].push_back(*handler);
+        if (kind == 0)
+          for (const auto& [k, v] : server_timing(r))
+            if (k != "app") mine_parts[k].push_back(v);
         if (!r || r->status != 200) ++errors;
       }
       std::lock_guard lock(mutex);
       for (auto& [k, v] : mine) lat[k].insert(lat[k].end(), v.begin(), v.end());
       for (auto& [k, v] : mine_server) lat_server[k].insert(lat_server[k].end(), v.begin(), v.end());
+      for (auto& [k, v] : mine_parts) fleet_parts[k].insert(fleet_parts[k].end(), v.begin(), v.end());
     });
   for (auto& th : threads) th.join();
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -285,6 +328,7 @@ int main(int argc, char** argv) {
       std::printf("  (in the handler: p50 %7.1f ms, p99 %7.1f ms)", percentile(s->second, 0.5),
                   percentile(s->second, 0.99));
     std::printf("\n");
+    if (k == "fleet") print_parts(fleet_parts);
   }
   const std::size_t after = store->list({"LOAD-UP", "", "", ""}).size();
   std::printf("records of LOAD-UP: before %zu, after %zu, uploads answered 200: %d -> %s\n", before, after,

@@ -344,7 +344,7 @@ struct Server::Impl {
   // date out of tolerance) by machine name, and the notes. A hash map: the fleet page looks up
   // every machine (1,000 lookups in an ordered_json object are a linear scan each).
   struct FleetRanking {
-    std::unordered_map<std::string, Json> machines;
+    std::unordered_map<std::string, std::shared_ptr<const Json>> machines;
     Json notes;
   };
   std::shared_ptr<const FleetRanking> rank_cache;
@@ -551,34 +551,52 @@ struct Server::Impl {
   // refuse (a unit that is not a length under a tolerance file's limit in µm) is left out and
   // named in "notes". The ranker reads the machines' revisions and fits again only the series of
   // machines whose records changed since the last page (a fleet of 1,000 machines: 1,000 series
-  // read and fitted otherwise, after every upload); the JSON is made again only when it did.
+  // read and fitted otherwise, after every upload). Each machine's entry is kept and made again
+  // only for the machines the ranker says changed and those whose rank moved: after an upload
+  // one machine's entry, not 1,000 (under the mixed load the fleet page followed every upload
+  // and made all of them again; docs/serve.md, Load). The fleet's kept rows compare entries by
+  // identity first.
   std::shared_ptr<const FleetRanking> ranking(HistoryStore& store) {
     if (!ranker) return nullptr;
     std::lock_guard lock(rank_mutex);  // one ranking at a time; the others wait for it
     const auto ranked = ranker->rank(store);
     if (rank_cache && ranked == rank_source) return rank_cache;
+    // The kept entries stand for the ranking just before this one only.
+    const bool follows = rank_cache && rank_source && ranked->serial == rank_source->serial + 1;
+    const auto& changed = ranked->changed;
     auto out = std::make_shared<FleetRanking>();
     out->notes = ranked->notes;
-    Json all = to_json(ranked->ranking);
-    for (auto& m : all["machines"]) {
-      // The drift state of the deciding quantity (the first), and the earliest date a line
-      // leaves its tolerance among the machine's quantities.
-      Json drift = m["quantities"][0]["crossing"]["status"];
-      Json date = nullptr;
-      for (const auto& q : m["quantities"]) {
-        const Json& c = q["crossing"];
-        if (c["status"] == "predicted" && c["date"].is_string() &&
-            (date.is_null() || c["date"].get<std::string>() < date.get<std::string>()))
-          date = c["date"];
-      }
-      m["drift"] = std::move(drift);
-      m["out_of_tolerance_on"] = std::move(date);
-      std::string name = m["machine"].get<std::string>();
-      out->machines.insert_or_assign(std::move(name), std::move(m));
+    out->machines.reserve(ranked->ranking.machines.size());
+    for (const auto& rm : ranked->ranking.machines) {
+      if (follows && !std::binary_search(changed.begin(), changed.end(), rm.machine))
+        if (const auto kept = rank_cache->machines.find(rm.machine);
+            kept != rank_cache->machines.end() && kept->second->at("rank").get<std::size_t>() == rm.rank) {
+          out->machines.emplace(rm.machine, kept->second);
+          continue;
+        }
+      out->machines.emplace(rm.machine, std::make_shared<const Json>(fleet_rank_entry(rm)));
     }
     rank_source = ranked;
     rank_cache = out;
     return out;
+  }
+
+  // A machine's entry of the fleet's ranking: its `history rank --json` entry, with the drift
+  // state of the deciding quantity (the first) and the earliest date a line leaves its
+  // tolerance among the machine's quantities.
+  static Json fleet_rank_entry(const RankedMachine& rm) {
+    Json m = to_json(rm);
+    Json drift = m["quantities"][0]["crossing"]["status"];
+    Json date = nullptr;
+    for (const auto& q : m["quantities"]) {
+      const Json& c = q["crossing"];
+      if (c["status"] == "predicted" && c["date"].is_string() &&
+          (date.is_null() || c["date"].get<std::string>() < date.get<std::string>()))
+        date = c["date"];
+    }
+    m["drift"] = std::move(drift);
+    m["out_of_tolerance_on"] = std::move(date);
+    return m;
   }
 
   // ---- the fleet, kept between requests ----------------------------------------------------
@@ -597,7 +615,7 @@ struct Server::Impl {
     std::vector<LatestCalibration> latest;  // this machine's, by command
     int interval = 0;
     bool interval_own = false;
-    Json rank;          // its entry of the ranking (null: not ranked)
+    std::shared_ptr<const Json> rank;  // its entry of the ranking (null: not ranked)
     bool overdue = false;
     std::string json;   // its entry of /api/fleet's "machines" as dump(2) writes it there
     std::string html;   // its rows of the fleet table
@@ -616,6 +634,11 @@ struct Server::Impl {
   std::shared_ptr<const FleetRanking> fleet_rank;  // the ranking the parts were made with
   FleetView fleet_view_kept;
 
+  // Ranking entries kept from the last ranking are the same objects; others are compared.
+  static bool same_rank(const std::shared_ptr<const Json>& a, const std::shared_ptr<const Json>& b) {
+    return a == b || (a && b && *a == *b);
+  }
+
   static bool same_latest(const std::vector<LatestCalibration>& a, const LatestCalibration* b, std::size_t n) {
     if (a.size() != n) return false;
     for (std::size_t i = 0; i < n; ++i)
@@ -628,7 +651,7 @@ struct Server::Impl {
   // One machine's entry of the fleet: its latest calibration per command, overdue after its
   // interval (an admin's, else interval_days) counted to as_of, and its ranking entry.
   std::shared_ptr<const FleetPart> fleet_part(const LatestCalibration* latest, std::size_t n, int interval, bool own,
-                                              const Json& rank, bool ranked,
+                                              const std::shared_ptr<const Json>& rank, bool ranked,
                                               std::chrono::system_clock::time_point as_of) const {
     auto part = std::make_shared<FleetPart>();
     part->latest.assign(latest, latest + n);
@@ -641,7 +664,7 @@ struct Server::Impl {
     m["interval_own"] = own;
     m["calibrations"] = Json::array();
     m["overdue"] = false;
-    m["rank"] = rank;
+    m["rank"] = rank ? *rank : Json();
     for (std::size_t i = 0; i < n; ++i) {
       const auto& l = latest[i];
       bool overdue = false;
@@ -672,31 +695,60 @@ struct Server::Impl {
     return part;
   }
 
+  // Where a fleet request's time goes, in ms, sent as Server-Timing metrics beside "app" (the
+  // load test reports them): waiting for another fleet request (wait), the ranking (rank), the
+  // other inputs read from the store (read), the kept parts compared and made again (parts), the
+  // documents joined (join), their compression (gzip).
+  struct FleetTiming {
+    double wait = 0, rank = 0, read = 0, parts = 0, join = 0, gzip = 0;
+    std::string header() const {
+      return fmt::format("wait;dur={:.2f}, rank;dur={:.2f}, read;dur={:.2f}, parts;dur={:.2f}, join;dur={:.2f}, "
+                         "gzip;dur={:.2f}",
+                         wait, rank, read, parts, join, gzip);
+    }
+  };
+  // Milliseconds since `t`, and `t` moved to now.
+  static double lap(std::chrono::steady_clock::time_point& t) {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - t).count();
+    t = now;
+    return ms;
+  }
+
   // The fleet now (/api/fleet's body and the page's content): per machine its latest
   // calibration per command, overdue after its interval, and its ranking (tolerances given).
-  FleetView fleet_view(HistoryStore& store, bool json_gzip = false, bool html_deflated = false) {
+  FleetView fleet_view(HistoryStore& store, bool json_gzip = false, bool html_deflated = false,
+                       FleetTiming* timing = nullptr) {
+    FleetTiming ignored;
+    FleetTiming& t = timing ? *timing : ignored;
+    auto at = std::chrono::steady_clock::now();
     std::lock_guard lock(fleet_mutex);
-    fleet_update(store);
+    t.wait = lap(at);
+    fleet_update(store, t);
+    at = std::chrono::steady_clock::now();
     auto& v = fleet_view_kept;
     if (json_gzip && !v.json_gzip) {
       const Deflated d = deflate_piece(*v.json, true);
       v.json_gzip = std::make_shared<const std::string>(gzip_of({&d}));
     }
     if (html_deflated && !v.html_deflated) v.html_deflated = std::make_shared<const Deflated>(deflate_piece(*v.html, false));
+    t.gzip = lap(at);
     return v;
   }
   // fleet_view's update of the kept parts (fleet_mutex held).
-  void fleet_update(HistoryStore& store) {
+  void fleet_update(HistoryStore& store, FleetTiming& t) {
+    auto at = std::chrono::steady_clock::now();
     // The inputs, read at every request (the ranking's revisions first, inside ranking()).
     const auto rank = ranking(store);
+    t.rank = lap(at);
     const auto latest = store.latest_calibrations();
     std::map<std::string, int> intervals;
     for (const auto& i : store.machine_intervals()) intervals[i.machine] = i.days;
+    t.read = lap(at);
     const auto now = std::chrono::system_clock::now();
     const bool new_clock = !fleet_as_of || now - *fleet_as_of >= kFleetClock || now < *fleet_as_of;
     if (new_clock) fleet_as_of = now;
     const bool new_rank = rank != fleet_rank;
-    const Json no_rank;
     bool changed = new_clock || new_rank || !fleet_view_kept.json;
     std::vector<std::shared_ptr<const FleetPart>> order;
     std::unordered_map<std::string, std::shared_ptr<const FleetPart>> parts;
@@ -705,18 +757,18 @@ struct Server::Impl {
       for (e = b + 1; e < latest.size() && latest[e].machine == name;) ++e;
       const auto own = intervals.find(name);
       const int interval = own != intervals.end() ? own->second : opt.interval_days;
-      const Json* r = &no_rank;
+      std::shared_ptr<const Json> r;
       if (rank)
-        if (const auto it = rank->machines.find(name); it != rank->machines.end()) r = &it->second;
+        if (const auto it = rank->machines.find(name); it != rank->machines.end()) r = it->second;
       std::shared_ptr<const FleetPart> part;
       if (const auto kept = fleet_parts.find(name); kept != fleet_parts.end() && !new_clock &&
                                                     kept->second->interval == interval &&
                                                     kept->second->interval_own == (own != intervals.end()) &&
                                                     same_latest(kept->second->latest, &latest[b], e - b) &&
-                                                    (!new_rank || kept->second->rank == *r))
+                                                    (!new_rank || same_rank(kept->second->rank, r)))
         part = kept->second;
       else
-        part = fleet_part(&latest[b], e - b, interval, own != intervals.end(), *r, rank != nullptr, *fleet_as_of);
+        part = fleet_part(&latest[b], e - b, interval, own != intervals.end(), r, rank != nullptr, *fleet_as_of);
       if (order.size() >= fleet_order.size() || fleet_order[order.size()] != part) changed = true;
       order.push_back(part);
       parts.emplace(name, std::move(part));
@@ -724,6 +776,7 @@ struct Server::Impl {
     if (order.size() != fleet_order.size()) changed = true;
     fleet_parts = std::move(parts);
     fleet_rank = rank;
+    t.parts = lap(at);
     if (!changed) return;
     fleet_order = std::move(order);
     // The document as Json::dump(2) writes it, the machines' entries put in as kept.
@@ -754,6 +807,7 @@ struct Server::Impl {
     fleet_view_kept = {std::make_shared<const std::string>(std::move(json)),
                        std::make_shared<const std::string>(fleet_page_body(head, fleet_order.size(), overdue, rows)),
                        nullptr, nullptr};
+    t.join = lap(at);
   }
 
   // What `history trend --json` gives for a machine: every parameter and figure, no tolerances.
@@ -1173,7 +1227,9 @@ void Server::Impl::register_routes() {
   add({"GET", "/fleet", Role::Viewer, false, false, ""}, [this, html](const Req& req, Res& res, const Context* c) {
     auto store = pool.lease();
     const bool gzip = accepts_gzip(req);
-    const FleetView view = fleet_view(*store, false, gzip);
+    FleetTiming timing;
+    const FleetView view = fleet_view(*store, false, gzip, &timing);
+    res.set_header("Server-Timing", timing.header());
     if (!gzip) return html(res, fleet_page(page_user(c), *view.html));
     const auto [before, after] = fleet_page_frame(page_user(c));
     const Deflated head = deflate_piece(before, false), tail = deflate_piece(after, true);
@@ -1185,7 +1241,9 @@ void Server::Impl::register_routes() {
   add({"GET", "/api/fleet", Role::Viewer, false, true, ""}, [this](const Req& req, Res& res, const Context*) {
     auto store = pool.lease();
     const bool gzip = accepts_gzip(req);
-    const FleetView view = fleet_view(*store, gzip, false);
+    FleetTiming timing;
+    const FleetView view = fleet_view(*store, gzip, false, &timing);
+    res.set_header("Server-Timing", timing.header());
     if (!gzip) return send_uncompressed(res, view.json, "application/json");
     res.set_header("Content-Encoding", "gzip");
     res.set_header("Vary", "Accept-Encoding");

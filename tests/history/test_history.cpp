@@ -566,9 +566,26 @@ TEST_P(Store, FleetRankerIsRankStoreAfterEveryWrite) {
     EXPECT_EQ(got, reference());
     return got == to_json(rank_store(*store_, request).ranking);
   };
+  // `changed`: the machines whose entry may differ from the last ranking's; every other
+  // machine's entry is the last one's but for its rank number.
+  const auto kept_but_rank = [](const FleetRanker::Ranking& now, const FleetRanker::Ranking& last) {
+    std::map<std::string, Json> before;
+    for (const auto& m : last.ranking.machines) before[m.machine] = to_json(m);
+    ASSERT_EQ(now.serial, last.serial + 1);
+    for (const auto& m : now.ranking.machines) {
+      if (std::binary_search(now.changed.begin(), now.changed.end(), m.machine)) continue;
+      ASSERT_TRUE(before.count(m.machine)) << m.machine << " is new but not said to have changed";
+      Json a = to_json(m), b = before[m.machine];
+      a.erase("rank");
+      b.erase("rank");
+      EXPECT_EQ(a, b) << m.machine;
+    }
+  };
   const auto r1 = ranker.rank(*store_);
   EXPECT_TRUE(same(*r1));
   EXPECT_EQ(r1->fitted, 6u);  // 3 machines x (EXX, VA)
+  EXPECT_EQ(r1->serial, 1u);
+  EXPECT_EQ(r1->changed, (std::vector<std::string>{"M1", "M2", "M3"}));
   EXPECT_EQ(r1->ranking.machines.front().machine, "M3");
   EXPECT_EQ(ranker.rank(*store_), r1);  // nothing changed: the same ranking
   store_->add_event({"", "M2", "2026-03-15", EventKind::Repair, ""});
@@ -579,6 +596,8 @@ TEST_P(Store, FleetRankerIsRankStoreAfterEveryWrite) {
   EXPECT_TRUE(same(*r2));
   EXPECT_EQ(r2->fitted, 2u);
   EXPECT_EQ(r2->ranking.machines.front().machine, "M1");
+  EXPECT_EQ(r2->changed, std::vector<std::string>{"M1"});
+  kept_but_rank(*r2, *r1);
   // M3: one record removed and an older one of another value added, so its latest record and
   // count are as before: the ranking still follows.
   const auto m3 = store_->list({"M3", "", "", ""});
@@ -590,6 +609,8 @@ TEST_P(Store, FleetRankerIsRankStoreAfterEveryWrite) {
   EXPECT_TRUE(same(*r3));
   EXPECT_EQ(r3->fitted, 2u);
   EXPECT_NE(to_json(r3->ranking), before);
+  EXPECT_EQ(r3->changed, std::vector<std::string>{"M3"});
+  kept_but_rank(*r3, *r2);
   // Another connection writes (another server on this store).
   auto other = open_history_store(conn_);
   other->record(sample("M2", "2026-06-01", 9.0, 77));
@@ -597,12 +618,25 @@ TEST_P(Store, FleetRankerIsRankStoreAfterEveryWrite) {
   EXPECT_TRUE(same(*r4));
   EXPECT_EQ(r4->fitted, 2u);
   EXPECT_EQ(r4->ranking.machines.front().machine, "M2");
+  EXPECT_EQ(r4->changed, std::vector<std::string>{"M2"});
+  kept_but_rank(*r4, *r3);
   // A new machine: its series read, the others kept.
   other->record(sample("M4", "2026-06-01", 1.0, 88));
   const auto r5 = ranker.rank(*store_);
   EXPECT_TRUE(same(*r5));
   EXPECT_EQ(r5->fitted, 2u);
   EXPECT_EQ(r5->ranking.machines.size(), 4u);
+  EXPECT_EQ(r5->changed, std::vector<std::string>{"M4"});
+  kept_but_rank(*r5, *r4);
+  // M4's only record removed: M4 leaves the ranking; nobody else changed.
+  const auto m4 = store_->list({"M4", "", "", ""});
+  ASSERT_EQ(m4.size(), 1u);
+  ASSERT_TRUE(store_->remove(m4[0].id));
+  const auto r6 = ranker.rank(*store_);
+  EXPECT_TRUE(same(*r6));
+  EXPECT_EQ(r6->ranking.machines.size(), 3u);
+  EXPECT_TRUE(r6->changed.empty());
+  kept_but_rank(*r6, *r5);
 }
 
 // Lenient (the server): a tolerance of a quantity no machine has yet is skipped, and no series at

@@ -264,6 +264,20 @@ std::shared_ptr<const FleetRanker::Ranking> FleetRanker::rank(HistoryStore& stor
                      "no machine in the store has any of the quantities with a tolerance (" + names + ")");
   }
   out->ranking = rank_fitted(fitted, o.options);
+  // The machines whose fitted series (the entries, in quantity order) are not the last ranking's:
+  // compared by identity while the last ranking's entries are still held in entries_.
+  const auto fits_by_machine = [](const auto& map) {
+    std::map<std::string, std::vector<const Entry*>> by;
+    for (const auto& [key, entry] : map)
+      if (entry->fitted) by[key.first].push_back(entry.get());
+    return by;
+  };
+  const auto now_fits = fits_by_machine(entries);
+  const auto last_fits = fits_by_machine(entries_);
+  for (const auto& [machine, fits] : now_fits)
+    if (const auto was = last_fits.find(machine); !last_ || was == last_fits.end() || was->second != fits)
+      out->changed.push_back(machine);
+  out->serial = ++serial_;
   entries_ = std::move(entries);
   revisions_ = std::move(revisions);
   last_ = out;

@@ -16,6 +16,15 @@ Json band_json(const std::optional<ToleranceBand>& b) {
   return {{"lo", number_or_null(b->lo)}, {"hi", number_or_null(b->hi)}};
 }
 
+Json crossing_json(const LimitCrossing& c) {
+  return {{"status", to_string(c.status)},
+          {"limit", or_null(c.limit)},
+          {"date", date_or_null(c.date)},
+          {"years_from_last", or_null(c.years_from_last)},
+          {"earliest", date_or_null(c.earliest)},
+          {"latest", date_or_null(c.latest)}};
+}
+
 }  // namespace
 
 Json to_json(const CalibrationDiff& d) {
@@ -52,7 +61,6 @@ Json to_json(const RecordDiff& d) {
 
 Json to_json(const TrendResult& t) {
   const bool fitted = t.kind != TrendFitKind::None;
-  const LimitCrossing& c = t.crossing;
   return {{"n", t.n},
           {"fit", to_string(t.kind)},
           {"t_ref", fitted ? Json(format_history_time(t.t_ref)) : Json(nullptr)},
@@ -68,13 +76,7 @@ Json to_json(const TrendResult& t) {
           {"last_value", t.n ? number_or_null(t.last_value) : Json(nullptr)},
           {"tolerance", band_json(t.band)},
           {"utilisation", or_null(t.utilisation)},
-          {"crossing",
-           {{"status", to_string(c.status)},
-            {"limit", or_null(c.limit)},
-            {"date", date_or_null(c.date)},
-            {"years_from_last", or_null(c.years_from_last)},
-            {"earliest", date_or_null(c.earliest)},
-            {"latest", date_or_null(c.latest)}}},
+          {"crossing", crossing_json(t.crossing)},
           {"note", t.note.empty() ? Json(nullptr) : Json(t.note)}};
 }
 
@@ -101,30 +103,32 @@ Json to_json(const MachineTrends& m) {
           {"events", events}};
 }
 
+Json to_json(const RankedMachine& m) {
+  Json qs = Json::array();
+  for (const auto& q : m.quantities) {
+    const TrendResult& t = q.trend;
+    qs.push_back({{"quantity", q.quantity},
+                  {"unit", q.unit},
+                  {"latest", number_or_null(t.last_value)},
+                  {"latest_at", format_history_time(t.last)},
+                  {"tolerance", band_json(t.band)},
+                  {"utilisation", or_null(t.utilisation)},
+                  {"n", t.n},
+                  {"rate_per_year", t.kind != TrendFitKind::None ? number_or_null(t.rate_per_year) : Json(nullptr)},
+                  {"u_rate_per_year", or_null(t.u_rate)},
+                  {"crossing", crossing_json(t.crossing)}});
+  }
+  return {{"rank", m.rank},
+          {"machine", m.machine},
+          {"utilisation", number_or_null(m.utilisation)},
+          {"years_to_limit", or_null(m.years_to_limit)},
+          {"outside", m.outside},
+          {"quantities", qs}};
+}
+
 Json to_json(const FleetRanking& r) {
   Json machines = Json::array();
-  for (const auto& m : r.machines) {
-    Json qs = Json::array();
-    for (const auto& q : m.quantities) {
-      const TrendResult& t = q.trend;
-      qs.push_back({{"quantity", q.quantity},
-                    {"unit", q.unit},
-                    {"latest", number_or_null(t.last_value)},
-                    {"latest_at", format_history_time(t.last)},
-                    {"tolerance", band_json(t.band)},
-                    {"utilisation", or_null(t.utilisation)},
-                    {"n", t.n},
-                    {"rate_per_year", t.kind != TrendFitKind::None ? number_or_null(t.rate_per_year) : Json(nullptr)},
-                    {"u_rate_per_year", or_null(t.u_rate)},
-                    {"crossing", to_json(t)["crossing"]}});
-    }
-    machines.push_back({{"rank", m.rank},
-                        {"machine", m.machine},
-                        {"utilisation", number_or_null(m.utilisation)},
-                        {"years_to_limit", or_null(m.years_to_limit)},
-                        {"outside", m.outside},
-                        {"quantities", qs}});
-  }
+  for (const auto& m : r.machines) machines.push_back(to_json(m));
   return {{"order", r.options.order == RankOrder::Utilisation ? "utilisation" : "time_to_limit"},
           {"machines", machines}};
 }

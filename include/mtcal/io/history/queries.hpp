@@ -1,6 +1,7 @@
 // What history diff, trend and rank ask of a store: a machine's records, its trends with tolerances, the fleet ranked.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -87,6 +88,13 @@ class FleetRanker {
     FleetRanking ranking;
     std::vector<std::string> notes;  // lenient: the series left out and why
     std::size_t fitted = 0;          // series read and fitted for this ranking (the rest kept)
+    // The rankings this object returned, counted from 1; `changed`: the machines (sorted) whose
+    // entry may differ from the one in ranking `serial - 1` apart from its rank number: a
+    // series of theirs fitted again, one added or one left out (every machine when serial is 1).
+    // The others' entries are made from the same fits, so equal but for `rank` (mtcal serve
+    // makes their JSON again only where the rank moved).
+    std::uint64_t serial = 0;
+    std::vector<std::string> changed;
   };
   // The ranking of the store now: the same object as the last call's while no machine's revision changed.
   std::shared_ptr<const Ranking> rank(HistoryStore& store);
@@ -98,6 +106,7 @@ class FleetRanker {
   std::shared_ptr<const ToleranceFile> file_;  // read once
   std::vector<MachineRevision> revisions_;
   std::shared_ptr<const Ranking> last_;
+  std::uint64_t serial_ = 0;
   std::map<std::pair<std::string, std::string>, std::shared_ptr<const Entry>> entries_;  // (machine, quantity)
 };
 

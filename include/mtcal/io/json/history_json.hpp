@@ -32,5 +32,8 @@ Json to_json(const MachineTrends& m);
 // {"order", "machines": [{rank, machine, utilisation, years_to_limit, outside, quantities: [{quantity,
 // unit, latest, latest_at, tolerance, utilisation, rate_per_year, u_rate_per_year, crossing}]}]}.
 Json to_json(const FleetRanking& r);
+// One machine's entry of to_json(FleetRanking)'s "machines" (mtcal serve keeps each machine's
+// entry and makes again only those of machines whose ranking changed).
+Json to_json(const RankedMachine& m);
 
 }  // namespace mtcal
