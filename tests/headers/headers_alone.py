@@ -16,6 +16,7 @@ import json
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 
@@ -96,6 +97,7 @@ def selftest():
     with open(os.path.join(d, "compile_commands.json"), "w", encoding="utf-8") as f:
         json.dump(commands, f)
     got = sorted(proven_headers(d, [inc]))
+    shutil.rmtree(d, ignore_errors=True)
     want = ["mtcal/a.hpp"]
     print(f"selftest: proven {got}, expected {want}")
     return 0 if got == want else 1

@@ -126,6 +126,7 @@ TEST(Files, OutputGroupWritesAllOrNothing) {
   std::size_t files = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(d)) ++files;
   EXPECT_EQ(files, 2u);
+  fs::remove_all(d);
 }
 
 TEST(Files, OutputGroupRestoresReplacedTargetsWhenALaterRenameFails) {
@@ -150,6 +151,8 @@ TEST(Files, OutputGroupRestoresReplacedTargetsWhenALaterRenameFails) {
   std::size_t files = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(d)) ++files;
   EXPECT_EQ(files, 1u);  // no temporaries or backups left
+  fs::remove_all(d);
+  fs::remove_all(other);
 }
 
 // Issue 29, item 4: a folder made for outputs (--report-png DIR) is one of the group's outputs:
@@ -187,6 +190,8 @@ TEST(Files, OutputDirectoryBelongsToTheGroup) {
   EXPECT_TRUE(fs::is_directory(made));
   EXPECT_THROW(create_output_directory((d / "no" / "such").string()), Error);  // the parent must exist
   EXPECT_THROW(create_output_directory(made.string()), Error);                 // exists already
+  fs::remove_all(d);
+  fs::remove_all(other);
 }
 
 TEST(Files, InputLimitIsALimitError) {
@@ -204,4 +209,5 @@ TEST(Files, InputLimitIsALimitError) {
   }
   input_limits() = saved;
   EXPECT_EQ(read_text_file(p.string()).size(), 5000u);
+  fs::remove_all(d);
 }

@@ -41,7 +41,11 @@ mkdirSync(outDir, { recursive: true });
 // and clears the multisampled buffers: 0.1-1 s each, 3.5 s of an eval-points load, 0.6 s without.
 // No check here looks at edge smoothing: the plots, their fit, the print images and the PDF's
 // non-blank images and colours are the same checks on the same page code.
-const context = await playwright.chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), 'mtcal-chromium-')), {
+// The browser's profile and each PDF's extracted images go when the run ends (15 MB a report with
+// plots: they were left in the temporary folder).
+const profile = mkdtempSync(join(tmpdir(), 'mtcal-chromium-'));
+process.on('exit', () => rmSync(profile, { recursive: true, force: true }));
+const context = await playwright.chromium.launchPersistentContext(profile, {
   executablePath: chromiumPath,
   headless: true,
   viewport: { width: 1280, height: 800 },
@@ -167,6 +171,7 @@ for (const spec of specs) {
   await page.pdf({ path: pdf, format: 'A4', printBackground: true });
   if (poppler && expected > 0) {
     const dir = mkdtempSync(join(tmpdir(), 'mtcal-pdf-'));
+    process.on('exit', () => rmSync(dir, { recursive: true, force: true }));
     // Embedded images (the plots; soft masks come out as .pgm and are skipped).
     spawnSync('pdfimages', [pdf, join(dir, 'img')]);
     const imgs = readdirSync(dir).filter((f) => f.endsWith('.ppm')).map((f) => pixelStats(readPpm(join(dir, f))));

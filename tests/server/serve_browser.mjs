@@ -4,7 +4,7 @@
 // overflow and without JavaScript errors; screenshots into SHOTS.
 // Usage: node serve_browser.mjs BASE_URL USER PASSWORD DATA_FILE SHOTS MACHINE_FILE
 // Exit 77 (ctest SKIPPED) when Chromium or playwright-core is missing.
-import { existsSync, mkdirSync, mkdtempSync, readFileSync } from 'node:fs';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
@@ -27,7 +27,10 @@ mkdirSync(shots, { recursive: true });
 let passed = 0, failed = 0;
 const check = (cond, what) => { if (cond) passed++; else { failed++; console.log(`FAIL: ${what}`); } };
 
-const context = await playwright.chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), 'mtcal-chromium-')), {
+// The browser's profile goes when the run ends (it was left in the temporary folder).
+const profile = mkdtempSync(join(tmpdir(), 'mtcal-chromium-'));
+process.on('exit', () => rmSync(profile, { recursive: true, force: true }));
+const context = await playwright.chromium.launchPersistentContext(profile, {
   executablePath: chromiumPath, headless: true, viewport: { width: 1280, height: 800 },
   args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
          '--no-first-run', '--disable-quic', '--disable-sync'],
