@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -29,9 +30,18 @@ void expect_mtcal_errors_only(F&& f) {
   }
 }
 
-// The readers that take a path: the input goes to one file per process (rewritten every run).
+// The readers that take a path: the input goes to one file per process (rewritten every run),
+// removed when the process ends (the replays in ctest left theirs in /tmp).
 inline std::string write_input(const std::uint8_t* data, std::size_t size, const char* suffix) {
+  struct RemovedAtExit {
+    std::set<std::string> paths;
+    ~RemovedAtExit() {
+      for (const auto& p : paths) std::remove(p.c_str());
+    }
+  };
+  static RemovedAtExit written;
   const std::string path = "/tmp/mtcal-fuzz-" + std::to_string(::getpid()) + suffix;
+  written.paths.insert(path);
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) __builtin_trap();
   if (size && std::fwrite(data, 1, size, f) != size) __builtin_trap();
