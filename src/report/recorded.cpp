@@ -150,16 +150,26 @@ struct RecordInvocation {
   }
 };
 
-// The record's input that the invocation names as its measurement file.
-const InputHash& recorded_measurement_input(const CalibrationRecord& r, const RecordInvocation& in) {
-  const std::string file = in.text(in.j, "file");
-  for (const auto& i : r.inputs)
-    if (i.path == file) return i;
-  throw InputError({in.where, 0, "file"}, "the measurement file '" + printable(file) + "' is none of the record's inputs");
-}
+// The record's input at `path` (which the invocation names under `key`) and the store's copy of
+// it when the store holds one of `kind`; `what` names the file in the messages.
+struct StoredInput {
+  InputHash input;
+  std::optional<ModelFile> file;
+  const char* what;
+  // Why the report cannot be made without it.
+  std::string missing() const {
+    return fmt::format("the store does not hold the {} {} (SHA-256 {}) of this record", what, input.path, input.sha256);
+  }
+};
 
-std::string missing_measurement_file(const InputHash& i) {
-  return fmt::format("the store does not hold the measurement file {} (SHA-256 {}) of this record", i.path, i.sha256);
+StoredInput stored_input(HistoryStore& store, const CalibrationRecord& r, const RecordInvocation& in,
+                         const std::string& path, const char* key, const char* kind, const char* what) {
+  const auto i = std::find_if(r.inputs.begin(), r.inputs.end(), [&](const InputHash& x) { return x.path == path; });
+  if (i == r.inputs.end())
+    throw InputError({in.where, 0, key}, fmt::format("the {} '{}' is none of the record's inputs", what, printable(path)));
+  StoredInput s{*i, store.model_file(i->sha256), what};
+  if (s.file && s.file->kind != kind) s.file.reset();
+  return s;
 }
 
 Json parsed_record_invocation(const CalibrationRecord& r) {
@@ -403,38 +413,32 @@ StoredMeasurement stored_measurement(HistoryStore& store, const CalibrationRecor
       return s;
     }
   }
-  s.input = recorded_measurement_input(r, in);
-  if (auto stored = store.model_file(s.input.sha256); stored && stored->kind == "measurements") {
-    s.text = std::move(stored->content);
-  } else {
-    s.why = missing_measurement_file(s.input);
+  StoredInput measurements =
+      stored_input(store, r, in, in.text(in.j, "file"), "file", "measurements", "measurement file");
+  s.input = measurements.input;
+  if (!measurements.file) {
+    s.why = measurements.missing();
     return s;
   }
+  s.text = std::move(measurements.file->content);
   const Json& o = in.at(s.invocation, "options");
   if (!o.is_object() || !o.contains("machine")) return s;
   s.machine_path = in.text(o, "machine");
   if (s.machine_path.empty()) return s;
-  const auto i = std::find_if(r.inputs.begin(), r.inputs.end(), [&](const InputHash& x) { return x.path == s.machine_path; });
-  if (i == r.inputs.end())
-    throw InputError({in.where, 0, "machine"},
-                     "the machine file '" + printable(s.machine_path) + "' is none of the record's inputs");
-  if (auto stored = store.model_file(i->sha256); stored && stored->kind == "machine") {
-    s.machine = std::move(stored);
-  } else {
-    s.why = fmt::format("the store does not hold the machine file {} (SHA-256 {}) of this record", i->path, i->sha256);
+  StoredInput machine = stored_input(store, r, in, s.machine_path, "machine", "machine", "machine file");
+  if (!machine.file) {
+    s.why = machine.missing();
     return s;
   }
+  s.machine = std::move(machine.file);
   if (!o.contains("params")) return s;
   for (const auto& path : texts(in, o, "params")) {
-    const auto p = std::find_if(r.inputs.begin(), r.inputs.end(), [&](const InputHash& x) { return x.path == path; });
-    if (p == r.inputs.end())
-      throw InputError({in.where, 0, "params"}, "the parameter file '" + printable(path) + "' is none of the record's inputs");
-    auto stored = store.model_file(p->sha256);
-    if (!stored || stored->kind != "parameters") {
-      s.why = fmt::format("the store does not hold the parameter file {} (SHA-256 {}) of this record", p->path, p->sha256);
+    StoredInput p = stored_input(store, r, in, path, "params", "parameters", "parameter file");
+    if (!p.file) {
+      s.why = p.missing();
       return s;
     }
-    s.params.emplace_back(path, std::move(*stored));
+    s.params.emplace_back(path, std::move(*p.file));
   }
   return s;
 }
