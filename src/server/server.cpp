@@ -312,6 +312,17 @@ std::string shell_word(const std::string& a) {
   return out + "'";
 }
 
+// The upload form's metadata as the command's `--meta KEY=VALUE` words, appended to `command`, and
+// as the command's report shows them (a blank value shows nothing there).
+ReportMetadata meta_words(const std::map<std::string, std::string>& meta, std::string& command) {
+  ReportMetadata shown;
+  for (const auto& [k, v] : meta) {
+    if (v.find_first_not_of(" \t") != std::string::npos) shown.set(k, v, "upload");
+    command += " --meta " + shell_word(k + "=" + v);
+  }
+  return shown;
+}
+
 // The name of an uploaded file as recorded: its last path component, printable, at most 100 characters.
 std::string upload_display_name(const std::string& filename) {
   std::string base = filename;
@@ -926,12 +937,8 @@ struct Server::Impl {
         // the record page shows the report `mtcal iso230-2 NAME --meta ... --report F` writes
         // (report/recorded.hpp): the form's metadata, the file's header filling it in.
         if (is_utf8(file.content)) {
-          ReportMetadata shown_meta;
           std::string command = "mtcal iso230-2 " + shell_word(name);
-          for (const auto& [k, v] : meta) {
-            if (v.find_first_not_of(" \t") != std::string::npos) shown_meta.set(k, v, "upload");
-            command += " --meta " + shell_word(k + "=" + v);
-          }
+          ReportMetadata shown_meta = meta_words(meta, command);
           shown_meta.fill_missing_from(laser_report_metadata(runs));
           rec.invocation = json_text(positioning_invocation(command, name, "auto", "mm", "", 0, {}, shown_meta));
           files.push_back({inputs[0].sha256, "measurements", file.content});
@@ -954,13 +961,9 @@ struct Server::Impl {
         shown = r;
         // As for ISO 230-2 runs: the report of `mtcal ballbar NAME --radius R --plane P [--feed F] --meta ...`.
         if (is_utf8(file.content)) {
-          ReportMetadata shown_meta;
           std::string command = "mtcal ballbar " + shell_word(name) + fmt::format(" --radius {:g} --plane {}", *radius, plane);
           if (feed > 0) command += fmt::format(" --feed {:g}", feed);
-          for (const auto& [k, v] : meta) {
-            if (v.find_first_not_of(" \t") != std::string::npos) shown_meta.set(k, v, "upload");
-            command += " --meta " + shell_word(k + "=" + v);  // feed too: the form's text wins, as --meta does
-          }
+          const ReportMetadata shown_meta = meta_words(meta, command);  // feed too: the form's text wins, as --meta does
           rec.invocation = json_text(ballbar_invocation(command, name, plane, *radius, feed, 0, 0, "", {}, shown_meta));
           files.push_back({inputs[0].sha256, "measurements", file.content});
         }
@@ -990,14 +993,10 @@ struct Server::Impl {
         // As for ISO 230-2 runs: the report of `mtcal rotary-axis --axis A --contacts NAME
         // --sphere-diameter D [--stylus-diameter d] --meta ...` (the command's defaults otherwise).
         if (is_utf8(file.content)) {
-          ReportMetadata shown_meta;
           std::string command = "mtcal rotary-axis --axis " + axis + " --contacts " + shell_word(name) +
                                 fmt::format(" --sphere-diameter {:g}", *sphere);
           if (stylus > 0) command += fmt::format(" --stylus-diameter {:g}", stylus);
-          for (const auto& [k, v] : meta) {
-            if (v.find_first_not_of(" \t") != std::string::npos) shown_meta.set(k, v, "upload");
-            command += " --meta " + shell_word(k + "=" + v);
-          }
+          const ReportMetadata shown_meta = meta_words(meta, command);
           rec.invocation = json_text(rotary_invocation(command, name, axis[0], "csv", "", *sphere, stylus, 0.01,
                                                        std::nullopt, "both", 2.0, 40, shown_meta));
           files.push_back({inputs[0].sha256, "measurements", file.content});
