@@ -33,11 +33,6 @@ using Lane = double[kLanes];
 #define MTCAL_VECTORIZE_LOOP
 #endif
 
-// for (l) sincos_of<Libm>(x(l), s[l], c[l]) over the lanes, marked for clang only where it can
-// vectorise (the kernel's own sine, not the C library's).
-template <bool Libm, class X>
-[[gnu::always_inline]] inline void sincos_lanes(X x, Lane& s, Lane& c);
-
 // sin and cos to about 1 ulp, written in double arithmetic and selects only, without branches,
 // calls or integer work, so that loops over lanes vectorise: Cody-Waite reduction by pi/2 and
 // the fdlibm kernel polynomials on [-pi/4, pi/4] (fdlibm k_sin.c, k_cos.c).
@@ -93,6 +88,8 @@ template <bool Libm>
   }
 }
 
+// for (l) sincos_of<Libm>(x(l), s[l], c[l]) over the lanes, marked for clang only where it can
+// vectorise (the kernel's own sine, not the C library's).
 template <bool Libm, class X>
 [[gnu::always_inline]] inline void sincos_lanes(X x, Lane& s, Lane& c) {
   if constexpr (Libm) {
